@@ -1,0 +1,1 @@
+//! Input and output: gmsh meshes, ParaView files.

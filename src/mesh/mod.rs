@@ -1,0 +1,150 @@
+//! Triangle meshes of degree 1 or 2 with physical tags.
+//!
+//! A [`Mesh`] stores node coordinates, cells (3-node or 6-node triangles in gmsh/VTK order:
+//! vertices 0, 1, 2, then the midpoints of edges 01, 12, 20), boundary facets (2-node or 3-node
+//! segments: end points, then the midpoint) and the physical groups that tag them. Geometry is
+//! affine: midpoint nodes of a degree-2 mesh sit at the middle of straight edges.
+//!
+//! The mesh knows nothing of finite elements: it only describes the domain.
+
+pub mod structured;
+pub mod topology;
+
+pub use topology::Topology;
+
+/// A named physical group of gmsh: `dim` 2 for material regions, 1 for boundary curves.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PhysicalGroup {
+    pub dim: u8,
+    pub tag: i32,
+    pub name: String,
+}
+
+/// Triangle mesh of degree `order` (1 or 2).
+#[derive(Debug, Clone)]
+pub struct Mesh {
+    /// Coordinates of every node (vertices and, for degree 2, edge midpoints).
+    pub points: Vec<[f64; 2]>,
+    /// Polynomial degree of the geometry and of the Lagrange space built on it.
+    pub order: usize,
+    /// Cell connectivity, `nodes_per_cell()` entries per cell.
+    pub cell_nodes: Vec<usize>,
+    /// Physical surface tag of each cell.
+    pub cell_tags: Vec<i32>,
+    /// Boundary facet connectivity, `nodes_per_facet()` entries per facet.
+    pub facet_nodes: Vec<usize>,
+    /// Physical curve tag of each boundary facet.
+    pub facet_tags: Vec<i32>,
+    /// Physical groups of dimension 1 and 2.
+    pub groups: Vec<PhysicalGroup>,
+}
+
+impl Mesh {
+    /// 3 for P1 triangles, 6 for P2 triangles.
+    pub fn nodes_per_cell(&self) -> usize {
+        if self.order == 1 {
+            3
+        } else {
+            6
+        }
+    }
+
+    /// 2 for P1 segments, 3 for P2 segments.
+    pub fn nodes_per_facet(&self) -> usize {
+        self.order + 1
+    }
+
+    pub fn n_cells(&self) -> usize {
+        self.cell_tags.len()
+    }
+
+    pub fn n_facets(&self) -> usize {
+        self.facet_tags.len()
+    }
+
+    pub fn n_points(&self) -> usize {
+        self.points.len()
+    }
+
+    /// Node indices of cell `c`.
+    pub fn cell(&self, c: usize) -> &[usize] {
+        let n = self.nodes_per_cell();
+        &self.cell_nodes[c * n..(c + 1) * n]
+    }
+
+    /// Node indices of boundary facet `f`.
+    pub fn facet(&self, f: usize) -> &[usize] {
+        let n = self.nodes_per_facet();
+        &self.facet_nodes[f * n..(f + 1) * n]
+    }
+
+    /// Vertex coordinates of cell `c`.
+    pub fn cell_vertices(&self, c: usize) -> [[f64; 2]; 3] {
+        let n = self.cell(c);
+        [self.points[n[0]], self.points[n[1]], self.points[n[2]]]
+    }
+
+    /// The physical group of dimension `dim` called `name` (case-insensitive).
+    pub fn group(&self, dim: u8, name: &str) -> Option<&PhysicalGroup> {
+        self.groups
+            .iter()
+            .find(|g| g.dim == dim && g.name.eq_ignore_ascii_case(name))
+    }
+
+    /// Names of the physical groups of dimension `dim`.
+    pub fn group_names(&self, dim: u8) -> Vec<&str> {
+        self.groups
+            .iter()
+            .filter(|g| g.dim == dim)
+            .map(|g| g.name.as_str())
+            .collect()
+    }
+
+    /// Signed area of cell `c` (positive for counter-clockwise vertices).
+    pub fn cell_area(&self, c: usize) -> f64 {
+        let [a, b, d] = self.cell_vertices(c);
+        0.5 * ((b[0] - a[0]) * (d[1] - a[1]) - (d[0] - a[0]) * (b[1] - a[1]))
+    }
+
+    /// Diameter h_T of cell `c` (its longest edge).
+    pub fn cell_diameter(&self, c: usize) -> f64 {
+        let v = self.cell_vertices(c);
+        (0..3)
+            .map(|i| distance(v[i], v[(i + 1) % 3]))
+            .fold(0.0, f64::max)
+    }
+
+    /// Length of boundary facet `f`.
+    pub fn facet_length(&self, f: usize) -> f64 {
+        let n = self.facet(f);
+        distance(self.points[n[0]], self.points[n[1]])
+    }
+
+    /// Total length of the facets carrying physical tag `tag`.
+    pub fn boundary_length(&self, tag: i32) -> f64 {
+        (0..self.n_facets())
+            .filter(|&f| self.facet_tags[f] == tag)
+            .map(|f| self.facet_length(f))
+            .sum()
+    }
+
+    /// Reorders every cell counter-clockwise (gmsh may hand out either orientation).
+    pub fn orient_counter_clockwise(&mut self) {
+        let n = self.nodes_per_cell();
+        for c in 0..self.n_cells() {
+            if self.cell_area(c) < 0.0 {
+                let cell = &mut self.cell_nodes[c * n..(c + 1) * n];
+                // swap vertices 1 and 2; midpoints 01 ↔ 20, 12 stays
+                cell.swap(1, 2);
+                if n == 6 {
+                    cell.swap(3, 5);
+                }
+            }
+        }
+    }
+}
+
+/// Euclidean distance between two points.
+pub fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (b[0] - a[0]).hypot(b[1] - a[1])
+}

@@ -1,0 +1,129 @@
+//! Cell ↔ edge ↔ vertex adjacency and vertex patches.
+//!
+//! Edges are numbered once per mesh. Edge `e` joins vertex nodes `edges[e] = [a, b]` with
+//! a < b. Local edge i of a cell is opposite local vertex i, i.e. it joins local vertices
+//! (i+1) mod 3 and (i+2) mod 3. The patch ω_a of a vertex a is the set of cells that share it.
+
+use super::Mesh;
+use std::collections::HashMap;
+
+/// Marker for "no neighbour" in [`Topology::edge_cells`].
+pub const NONE: usize = usize::MAX;
+
+/// Adjacency of a [`Mesh`].
+#[derive(Debug, Clone)]
+pub struct Topology {
+    /// Vertex node pairs of every edge, smaller index first.
+    pub edges: Vec<[usize; 2]>,
+    /// Edges of each cell; local edge i is opposite local vertex i.
+    pub cell_edges: Vec<[usize; 3]>,
+    /// The one or two cells sharing each edge (second is [`NONE`] on the boundary).
+    pub edge_cells: Vec<[usize; 2]>,
+    /// Edge of each boundary facet.
+    pub facet_edges: Vec<usize>,
+    /// Vertex nodes (nodes that are a corner of some cell), in increasing order.
+    pub vertices: Vec<usize>,
+    /// CSR offsets into `patch_cells`, one range per entry of `vertices`.
+    pub patch_offsets: Vec<usize>,
+    /// Cells of each vertex patch.
+    pub patch_cells: Vec<usize>,
+}
+
+impl Topology {
+    /// Builds the adjacency of `mesh`. Panics if a boundary facet is not a cell edge.
+    pub fn new(mesh: &Mesh) -> Self {
+        let mut index: HashMap<[usize; 2], usize> = HashMap::new();
+        let mut edges = Vec::new();
+        let mut edge_cells: Vec<[usize; 2]> = Vec::new();
+        let mut cell_edges = Vec::with_capacity(mesh.n_cells());
+        for c in 0..mesh.n_cells() {
+            let v = &mesh.cell(c)[..3];
+            let mut local = [0; 3];
+            for (i, e_local) in local.iter_mut().enumerate() {
+                let key = sorted([v[(i + 1) % 3], v[(i + 2) % 3]]);
+                let e = *index.entry(key).or_insert_with(|| {
+                    edges.push(key);
+                    edge_cells.push([NONE, NONE]);
+                    edges.len() - 1
+                });
+                let slot = if edge_cells[e][0] == NONE { 0 } else { 1 };
+                edge_cells[e][slot] = c;
+                *e_local = e;
+            }
+            cell_edges.push(local);
+        }
+        let facet_edges = (0..mesh.n_facets())
+            .map(|f| {
+                let n = mesh.facet(f);
+                index[&sorted([n[0], n[1]])]
+            })
+            .collect();
+        let (vertices, patch_offsets, patch_cells) = patches(mesh);
+        Topology { edges, cell_edges, edge_cells, facet_edges, vertices, patch_offsets, patch_cells }
+    }
+
+    pub fn n_edges(&self) -> usize {
+        self.edges.len()
+    }
+
+    /// Cells of the patch of the `k`-th vertex (`self.vertices[k]`).
+    pub fn patch(&self, k: usize) -> &[usize] {
+        &self.patch_cells[self.patch_offsets[k]..self.patch_offsets[k + 1]]
+    }
+
+    /// True if edge `e` lies on the boundary (has one cell).
+    pub fn is_boundary_edge(&self, e: usize) -> bool {
+        self.edge_cells[e][1] == NONE
+    }
+}
+
+fn sorted([a, b]: [usize; 2]) -> [usize; 2] {
+    [a.min(b), a.max(b)]
+}
+
+/// Vertex list and the CSR arrays of vertex patches.
+fn patches(mesh: &Mesh) -> (Vec<usize>, Vec<usize>, Vec<usize>) {
+    let mut count = vec![0usize; mesh.n_points()];
+    for c in 0..mesh.n_cells() {
+        for &v in &mesh.cell(c)[..3] {
+            count[v] += 1;
+        }
+    }
+    let vertices: Vec<usize> = (0..mesh.n_points()).filter(|&v| count[v] > 0).collect();
+    let mut slot = vec![NONE; mesh.n_points()];
+    let mut offsets = vec![0; vertices.len() + 1];
+    for (k, &v) in vertices.iter().enumerate() {
+        slot[v] = k;
+        offsets[k + 1] = offsets[k] + count[v];
+    }
+    let mut fill = offsets.clone();
+    let mut cells = vec![0; offsets[vertices.len()]];
+    for c in 0..mesh.n_cells() {
+        for &v in &mesh.cell(c)[..3] {
+            let k = slot[v];
+            cells[fill[k]] = c;
+            fill[k] += 1;
+        }
+    }
+    (vertices, offsets, cells)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::structured::unit_square;
+
+    #[test]
+    fn euler_and_patches() {
+        let mesh = unit_square(3, 2);
+        let topo = Topology::new(&mesh);
+        let (v, e, c) = (topo.vertices.len(), topo.n_edges(), mesh.n_cells());
+        assert_eq!(v as i64 - e as i64 + c as i64, 1); // Euler characteristic of a disk
+        let boundary = (0..e).filter(|&k| topo.is_boundary_edge(k)).count();
+        assert_eq!(boundary, mesh.n_facets());
+        assert_eq!(topo.patch_cells.len(), 3 * c);
+        // the centre vertex (1,1)/3 of a 3×3 grid lies in 6 cells
+        let centre = topo.vertices.iter().position(|&p| p == 5).unwrap();
+        assert_eq!(topo.patch(centre).len(), 6);
+    }
+}
