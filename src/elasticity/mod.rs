@@ -1,1 +1,10 @@
-//! placeholder
+//! Isotropic linear elasticity in plane strain: material law, element kernels, the boundary
+//! value problem and its stresses.
+
+pub mod kernels;
+pub mod material;
+pub mod problem;
+pub mod stress;
+
+pub use material::Material;
+pub use problem::{BodyForce, Dirichlet, Discretisation, Neumann, Problem, Traction, VectorFn};

@@ -1,1 +1,10 @@
-//! placeholder
+//! Finite elements on affine triangles: quadrature, Lagrange P1/P2 bases, affine maps,
+//! degrees of freedom and sparse assembly.
+
+pub mod affine;
+pub mod dofs;
+pub mod lagrange;
+pub mod norms;
+pub mod quadrature;
+pub mod sparse;
+pub mod tabulate;

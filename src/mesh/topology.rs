@@ -75,6 +75,29 @@ impl Topology {
     pub fn is_boundary_edge(&self, e: usize) -> bool {
         self.edge_cells[e][1] == NONE
     }
+
+    /// The cell owning boundary facet `f`.
+    pub fn facet_cell(&self, f: usize) -> usize {
+        self.edge_cells[self.facet_edges[f]][0]
+    }
+
+    /// Outward unit normal of boundary facet `f`: perpendicular to the facet, pointing away
+    /// from the vertex of the owning cell that is not on the facet.
+    pub fn outward_normal(&self, mesh: &Mesh, f: usize) -> [f64; 2] {
+        let nodes = mesh.facet(f);
+        let (a, b) = (mesh.points[nodes[0]], mesh.points[nodes[1]]);
+        let length = super::distance(a, b);
+        let mut n = [(b[1] - a[1]) / length, -(b[0] - a[0]) / length];
+        let opposite = mesh.cell(self.facet_cell(f))[..3]
+            .iter()
+            .find(|&&v| v != nodes[0] && v != nodes[1])
+            .map(|&v| mesh.points[v])
+            .expect("a triangle has a vertex off each edge");
+        if (opposite[0] - a[0]) * n[0] + (opposite[1] - a[1]) * n[1] > 0.0 {
+            n = [-n[0], -n[1]];
+        }
+        n
+    }
 }
 
 fn sorted([a, b]: [usize; 2]) -> [usize; 2] {
@@ -125,5 +148,17 @@ mod tests {
         // the centre vertex (1,1)/3 of a 3×3 grid lies in 6 cells
         let centre = topo.vertices.iter().position(|&p| p == 5).unwrap();
         assert_eq!(topo.patch(centre).len(), 6);
+        // outward normals of the unit square's sides
+        for f in 0..mesh.n_facets() {
+            let n = topo.outward_normal(&mesh, f);
+            let m = mesh.points[mesh.facet(f)[0]];
+            let expected = match mesh.facet_tags[f] {
+                1 => [0.0, -1.0],
+                2 => [1.0, 0.0],
+                3 => [0.0, 1.0],
+                _ => [-1.0, 0.0],
+            };
+            assert_eq!(n, expected, "facet at {m:?}");
+        }
     }
 }

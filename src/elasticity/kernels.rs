@@ -1,0 +1,152 @@
+//! Element kernels of plane-strain elasticity.
+//!
+//! Local dofs are ordered node by node, x before y: local dof 2i + a is component a of node i.
+//! Kernels write into caller-owned buffers and allocate nothing.
+
+use crate::fem::affine::AffineMap;
+use crate::fem::lagrange;
+use crate::fem::quadrature::Rule1d;
+use crate::fem::tabulate::Tabulation;
+
+/// Element stiffness K_{2i+a, 2j+b} = ∫_T ε(φ_i e_a) : C ε(φ_j e_b), row-major in `k`.
+/// `tab` must integrate degree 2(p−1) exactly; `grads` is scratch of length n_basis.
+pub fn stiffness(map: &AffineMap, tab: &Tabulation, lambda: f64, mu: f64, grads: &mut [[f64; 2]], k: &mut [f64]) {
+    let nb = tab.n_basis;
+    let n = 2 * nb;
+    k[..n * n].fill(0.0);
+    for q in 0..tab.n_points() {
+        let w = tab.weights[q] * map.det.abs();
+        for (g, &gr) in grads.iter_mut().zip(tab.grad(q)) {
+            *g = map.physical_gradient(gr);
+        }
+        for i in 0..nb {
+            for j in 0..nb {
+                let (gi, gj) = (grads[i], grads[j]);
+                let dot = gi[0] * gj[0] + gi[1] * gj[1];
+                for a in 0..2 {
+                    for b in 0..2 {
+                        let delta = if a == b { dot } else { 0.0 };
+                        k[(2 * i + a) * n + 2 * j + b] += (lambda * gi[a] * gj[b] // λ div φ_i div φ_j
+                            + mu * (delta + gi[b] * gj[a])) // 2μ ε(φ_i) : ε(φ_j)
+                            * w; // |J| w_q
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Element load F_{2i+a} = ∫_T f_a φ_i for a body force `f(x)`.
+pub fn body_load(map: &AffineMap, tab: &Tabulation, f: impl Fn([f64; 2]) -> [f64; 2], out: &mut [f64]) {
+    let nb = tab.n_basis;
+    out[..2 * nb].fill(0.0);
+    for q in 0..tab.n_points() {
+        let w = tab.weights[q] * map.det.abs();
+        let fx = f(map.to_physical(tab.points[q]));
+        for (i, &phi) in tab.phi(q).iter().enumerate() {
+            out[2 * i] += fx[0] * phi * w; // f_x φ_i |J| w_q
+            out[2 * i + 1] += fx[1] * phi * w; // f_y φ_i |J| w_q
+        }
+    }
+}
+
+/// Facet load F_{2i+a} = ∫_F g_a φ_i for a traction `g(x)` on the straight segment a → b whose
+/// nodes are ordered (a, b, midpoint). `phi` is scratch of length order + 1.
+pub fn traction_load(
+    ends: [[f64; 2]; 2],
+    order: usize,
+    rule: &Rule1d,
+    g: impl Fn([f64; 2]) -> [f64; 2],
+    phi: &mut [f64],
+    out: &mut [f64],
+) {
+    let [a, b] = ends;
+    let length = (b[0] - a[0]).hypot(b[1] - a[1]);
+    out[..2 * (order + 1)].fill(0.0);
+    for (&s, &ws) in rule.points.iter().zip(&rule.weights) {
+        let x = [a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1])];
+        let gx = g(x);
+        lagrange::segment_values(order, s, phi);
+        for (i, &p) in phi.iter().enumerate() {
+            out[2 * i] += gx[0] * p * ws * length; // g_x φ_i |F| w_q
+            out[2 * i + 1] += gx[1] * p * ws * length; // g_y φ_i |F| w_q
+        }
+    }
+}
+
+/// Displacement gradient ∇u_h (∂_j u_i at `[i][j]`) at reference point `xi` of a cell with
+/// nodal displacements `u`. `grads` is scratch of length n_basis.
+pub fn displacement_gradient(map: &AffineMap, order: usize, xi: [f64; 2], u: &[[f64; 2]], grads: &mut [[f64; 2]]) -> [[f64; 2]; 2] {
+    lagrange::gradients(order, xi, grads);
+    let mut g = [[0.0; 2]; 2];
+    for (gr, ui) in grads.iter().zip(u) {
+        let d = map.physical_gradient(*gr);
+        for a in 0..2 {
+            for b in 0..2 {
+                g[a][b] += ui[a] * d[b];
+            }
+        }
+    }
+    g
+}
+
+/// Plane-strain stress σ = λ tr ε I + 2μ ε from a displacement gradient, as
+/// [σ_xx, σ_yy, σ_xy, σ_zz] with σ_zz = λ tr ε.
+pub fn stress(grad_u: [[f64; 2]; 2], lambda: f64, mu: f64) -> [f64; 4] {
+    let tr = grad_u[0][0] + grad_u[1][1];
+    let exy = 0.5 * (grad_u[0][1] + grad_u[1][0]);
+    [
+        lambda * tr + 2.0 * mu * grad_u[0][0],
+        lambda * tr + 2.0 * mu * grad_u[1][1],
+        2.0 * mu * exy,
+        lambda * tr,
+    ]
+}
+
+/// von Mises stress √(½((σ₁−σ₂)² + (σ₂−σ₃)² + (σ₃−σ₁)²)) from [σ_xx, σ_yy, σ_xy, σ_zz].
+pub fn von_mises(s: [f64; 4]) -> f64 {
+    let [xx, yy, xy, zz] = s;
+    (0.5 * ((xx - yy).powi(2) + (yy - zz).powi(2) + (zz - xx).powi(2)) + 3.0 * xy * xy).sqrt()
+}
+
+/// In-plane principal stresses (σ₁ ≥ σ₂) of [σ_xx, σ_yy, σ_xy, ·].
+pub fn principal(s: [f64; 4]) -> [f64; 2] {
+    let mean = 0.5 * (s[0] + s[1]);
+    let radius = (0.5 * (s[0] - s[1])).hypot(s[2]);
+    [mean + radius, mean - radius]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stiffness_annihilates_rigid_motions() {
+        let map = AffineMap::new([[0.1, 0.2], [1.3, 0.4], [0.35, 1.1]]);
+        for order in [1, 2] {
+            let tab = Tabulation::new(order, 2 * order);
+            let nb = tab.n_basis;
+            let mut grads = vec![[0.0; 2]; nb];
+            let mut k = vec![0.0; 4 * nb * nb];
+            stiffness(&map, &tab, 2.0, 1.0, &mut grads, &mut k);
+            let nodes: Vec<[f64; 2]> = lagrange::reference_nodes(order).iter().map(|&x| map.to_physical(x)).collect();
+            let rigid = [|_: [f64; 2]| [1.0, 0.0], |_: [f64; 2]| [0.0, 1.0], |x: [f64; 2]| [-x[1], x[0]]];
+            for r in rigid {
+                let v: Vec<f64> = nodes.iter().flat_map(|&x| r(x)).collect();
+                for row in 0..2 * nb {
+                    let kv: f64 = (0..2 * nb).map(|j| k[row * 2 * nb + j] * v[j]).sum();
+                    assert!(kv.abs() < 1e-12, "K r = {kv}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn principal_and_von_mises() {
+        let s = [3.0, 1.0, 1.0, 0.0];
+        let [s1, s2] = principal(s);
+        assert!((s1 + s2 - 4.0).abs() < 1e-14 && (s1 * s2 - 2.0).abs() < 1e-14);
+        // uniaxial stress: von Mises equals |σ|
+        assert!((von_mises([5.0, 0.0, 0.0, 0.0]) - 5.0).abs() < 1e-14);
+    }
+}

@@ -1,0 +1,57 @@
+//! Lagrange basis functions tabulated at the points of a triangle quadrature rule.
+//!
+//! Tabulating once per (degree, rule) keeps the element loops free of basis evaluations.
+
+use super::{lagrange, quadrature};
+
+/// Values and reference gradients of the P_order basis at the points of a rule.
+#[derive(Debug, Clone)]
+pub struct Tabulation {
+    pub order: usize,
+    /// Number of basis functions.
+    pub n_basis: usize,
+    /// Reference points and weights (weights sum to 1/2).
+    pub points: Vec<[f64; 2]>,
+    pub weights: Vec<f64>,
+    /// φ_i(ξ_q) at `values[q * n_basis + i]`.
+    pub values: Vec<f64>,
+    /// ∇̂φ_i(ξ_q) at `gradients[q * n_basis + i]`.
+    pub gradients: Vec<[f64; 2]>,
+}
+
+impl Tabulation {
+    /// Tabulates P_order at the points of the triangle rule exact to `degree`.
+    pub fn new(order: usize, degree: usize) -> Self {
+        let rule = quadrature::triangle_cached(degree);
+        let n_basis = lagrange::n_basis(order);
+        let nq = rule.points.len();
+        let mut values = vec![0.0; nq * n_basis];
+        let mut gradients = vec![[0.0; 2]; nq * n_basis];
+        for (q, &xi) in rule.points.iter().enumerate() {
+            lagrange::values(order, xi, &mut values[q * n_basis..(q + 1) * n_basis]);
+            lagrange::gradients(order, xi, &mut gradients[q * n_basis..(q + 1) * n_basis]);
+        }
+        Tabulation {
+            order,
+            n_basis,
+            points: rule.points.clone(),
+            weights: rule.weights.clone(),
+            values,
+            gradients,
+        }
+    }
+
+    pub fn n_points(&self) -> usize {
+        self.weights.len()
+    }
+
+    /// Basis values at point q.
+    pub fn phi(&self, q: usize) -> &[f64] {
+        &self.values[q * self.n_basis..(q + 1) * self.n_basis]
+    }
+
+    /// Reference gradients at point q.
+    pub fn grad(&self, q: usize) -> &[[f64; 2]] {
+        &self.gradients[q * self.n_basis..(q + 1) * self.n_basis]
+    }
+}
