@@ -21,6 +21,7 @@
 //! Data flows one way: a module never calls a module above it. The method is described in
 //! `docs/method.md`.
 
+pub mod cli;
 pub mod elasticity;
 pub mod fem;
 pub mod io;

@@ -1,1 +1,403 @@
-//! placeholder
+//! Scene files: the geometry, mesh options, materials, boundary roles and loads of a run.
+//!
+//! A scene is a TOML file beside its `.geo` file. Materials are keyed by physical-surface
+//! name, boundary conditions by physical-curve name. Every key is documented in the README.
+//! Without a scene file, [`Scene::for_geometry`] gives roles by curve name (`Gamma_D`,
+//! `Gamma_N`, `Gamma_C`, or `dirichlet`, `neumann`, `contact`, any case) and the default
+//! material [`Scene::DEFAULT_MATERIAL`] to every region.
+
+use crate::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};
+use crate::mesh::Mesh;
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// A scene that cannot be read or does not fit its mesh.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    #[error("cannot read {path}: {source}")]
+    Read {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("{path}: {message}")]
+    Syntax { path: PathBuf, message: String },
+    #[error(
+        "{path}: {what} '{name}' is not a physical {kind} of the geometry; it has: {available}"
+    )]
+    UnknownGroup {
+        path: PathBuf,
+        what: &'static str,
+        name: String,
+        kind: &'static str,
+        available: String,
+    },
+    #[error("{path}: material '{name}': {message}")]
+    Material {
+        path: PathBuf,
+        name: String,
+        message: String,
+    },
+    #[error("{path}: {message}")]
+    Invalid { path: PathBuf, message: String },
+}
+
+/// Options handed to the mesher.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct MeshSection {
+    /// Element degree, 1 or 2.
+    pub order: usize,
+    /// Global factor on gmsh's mesh sizes.
+    pub size_factor: f64,
+    pub size_min: Option<f64>,
+    pub size_max: Option<f64>,
+    /// gmsh 2D algorithm (Mesh.Algorithm): 1 MeshAdapt, 5 Delaunay, 6 Frontal-Delaunay, 8 quads-ready.
+    pub algorithm: i32,
+}
+
+impl Default for MeshSection {
+    fn default() -> Self {
+        MeshSection {
+            order: 2,
+            size_factor: 1.0,
+            size_min: None,
+            size_max: None,
+            algorithm: 6,
+        }
+    }
+}
+
+/// Role of a physical curve.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Role {
+    Dirichlet,
+    Neumann,
+    Contact,
+    Free,
+}
+
+/// Which displacement components a Dirichlet condition fixes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum Fix {
+    #[default]
+    Both,
+    X,
+    Y,
+}
+
+/// Water pressure ρ_w g (H_w − y)₊ along −n; g is the scene's gravity.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Hydrostatic {
+    /// Water density ρ_w [kg/m³], default 1000.
+    #[serde(default = "water_density")]
+    pub density: f64,
+    /// Water level H_w [m] (the y coordinate of the free surface).
+    pub level: f64,
+}
+
+fn water_density() -> f64 {
+    1000.0
+}
+
+/// One `[boundary.<curve>]` table.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoundarySection {
+    pub role: Role,
+    /// Dirichlet: fixed components (default both).
+    #[serde(default)]
+    pub fix: Fix,
+    /// Dirichlet: prescribed displacement [m] (default 0).
+    #[serde(default)]
+    pub value: [f64; 2],
+    /// Neumann: constant traction [Pa].
+    pub traction: Option<[f64; 2]>,
+    /// Neumann: hydrostatic water pressure.
+    pub hydrostatic: Option<Hydrostatic>,
+}
+
+/// `[loads]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct LoadSection {
+    /// Gravity g [m/s²] for self-weight (0, −ρ g) and hydrostatic pressure; 0 disables self-weight.
+    pub gravity: f64,
+}
+
+impl Default for LoadSection {
+    fn default() -> Self {
+        LoadSection { gravity: 9.81 }
+    }
+}
+
+/// `[output]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct OutputSection {
+    /// Output directory, relative to the working directory (the CLI's `-o` overrides it).
+    pub directory: PathBuf,
+    /// Also write the boundary facets with their physical tags.
+    pub boundary: bool,
+}
+
+impl Default for OutputSection {
+    fn default() -> Self {
+        OutputSection {
+            directory: PathBuf::from("out"),
+            boundary: true,
+        }
+    }
+}
+
+/// A scene file.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// The `.geo` (or `.msh`) file, relative to the scene file.
+    pub geometry: PathBuf,
+    #[serde(default)]
+    pub mesh: MeshSection,
+    /// Materials by physical-surface name.
+    #[serde(default)]
+    pub materials: BTreeMap<String, Material>,
+    /// Boundary conditions by physical-curve name.
+    #[serde(default)]
+    pub boundary: BTreeMap<String, BoundarySection>,
+    #[serde(default)]
+    pub loads: LoadSection,
+    #[serde(default)]
+    pub output: OutputSection,
+    /// The file this scene was read from (the geometry itself for a default scene).
+    #[serde(skip)]
+    pub source: PathBuf,
+}
+
+impl Scene {
+    /// Material of regions that a scene does not name: concrete, E = 30 GPa, ν = 0.2, ρ = 2400.
+    pub const DEFAULT_MATERIAL: Material = Material {
+        young: 3.0e10,
+        poisson: 0.2,
+        density: 2400.0,
+    };
+
+    /// Reads a scene file; the geometry path becomes relative to the working directory.
+    pub fn load(path: &Path) -> Result<Scene, SceneError> {
+        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read {
+            path: path.into(),
+            source,
+        })?;
+        let mut scene: Scene = toml::from_str(&text).map_err(|e| SceneError::Syntax {
+            path: path.into(),
+            message: e.to_string().trim_end().replace('\n', " "),
+        })?;
+        scene.geometry = path.parent().unwrap_or(Path::new("")).join(&scene.geometry);
+        scene.source = path.into();
+        scene.validate_sections()?;
+        Ok(scene)
+    }
+
+    /// The default scene of a bare geometry file: roles from the curve names, default materials.
+    pub fn for_geometry(path: &Path) -> Scene {
+        Scene {
+            geometry: path.into(),
+            mesh: MeshSection::default(),
+            materials: BTreeMap::new(),
+            boundary: BTreeMap::new(),
+            loads: LoadSection::default(),
+            output: OutputSection::default(),
+            source: path.into(),
+        }
+    }
+
+    fn invalid(&self, message: String) -> SceneError {
+        SceneError::Invalid {
+            path: self.source.clone(),
+            message,
+        }
+    }
+
+    /// Checks the values that need no mesh.
+    fn validate_sections(&self) -> Result<(), SceneError> {
+        if !(self.mesh.order == 1 || self.mesh.order == 2) {
+            return Err(self.invalid(format!("mesh.order = {} must be 1 or 2", self.mesh.order)));
+        }
+        if !(self.mesh.size_factor > 0.0) {
+            return Err(self.invalid(format!(
+                "mesh.size_factor = {} must be positive",
+                self.mesh.size_factor
+            )));
+        }
+        for (name, m) in &self.materials {
+            m.validate().map_err(|message| SceneError::Material {
+                path: self.source.clone(),
+                name: name.clone(),
+                message,
+            })?;
+        }
+        for (name, b) in &self.boundary {
+            let has_load = b.traction.is_some() || b.hydrostatic.is_some();
+            if b.role != Role::Neumann && has_load {
+                return Err(self.invalid(format!(
+                    "boundary '{name}': a traction needs role = \"neumann\""
+                )));
+            }
+            if b.traction.is_some() && b.hydrostatic.is_some() {
+                return Err(self.invalid(format!(
+                    "boundary '{name}': give either traction or hydrostatic, not both"
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    /// Boundary roles by physical-curve tag: the scene's tables, or the naming convention
+    /// when the scene has none.
+    pub fn roles(&self, mesh: &Mesh) -> Result<Vec<(i32, String, BoundarySection)>, SceneError> {
+        if self.boundary.is_empty() {
+            return Ok(mesh
+                .groups
+                .iter()
+                .filter(|g| g.dim == 1)
+                .filter_map(|g| {
+                    conventional_role(&g.name).map(|role| {
+                        let section = BoundarySection {
+                            role,
+                            fix: Fix::Both,
+                            value: [0.0; 2],
+                            traction: None,
+                            hydrostatic: None,
+                        };
+                        (g.tag, g.name.clone(), section)
+                    })
+                })
+                .collect());
+        }
+        self.boundary
+            .iter()
+            .map(|(name, b)| {
+                Ok((
+                    self.group_tag(mesh, 1, name, "boundary")?,
+                    name.clone(),
+                    b.clone(),
+                ))
+            })
+            .collect()
+    }
+
+    fn group_tag(
+        &self,
+        mesh: &Mesh,
+        dim: u8,
+        name: &str,
+        what: &'static str,
+    ) -> Result<i32, SceneError> {
+        mesh.group(dim, name)
+            .map(|g| g.tag)
+            .ok_or_else(|| SceneError::UnknownGroup {
+                path: self.source.clone(),
+                what,
+                name: name.into(),
+                kind: if dim == 1 { "curve" } else { "surface" },
+                available: list(&mesh.group_names(dim)),
+            })
+    }
+
+    /// Material of every cell: by region name, the default for unnamed regions.
+    pub fn cell_materials(&self, mesh: &Mesh) -> Result<Vec<Material>, SceneError> {
+        let mut by_tag = BTreeMap::new();
+        for (name, m) in &self.materials {
+            by_tag.insert(self.group_tag(mesh, 2, name, "material")?, *m);
+        }
+        Ok(mesh
+            .cell_tags
+            .iter()
+            .map(|t| *by_tag.get(t).unwrap_or(&Self::DEFAULT_MATERIAL))
+            .collect())
+    }
+
+    /// The elasticity problem of this scene on `mesh`. Contact curves are bonded (u = 0).
+    pub fn problem(&self, mesh: Mesh) -> Result<Problem, SceneError> {
+        let roles = self.roles(&mesh)?;
+        let g = self.loads.gravity;
+        let mut dirichlet = Vec::new();
+        let mut neumann = Vec::new();
+        for (tag, _, b) in &roles {
+            match b.role {
+                Role::Dirichlet | Role::Contact => {
+                    let value = if b.role == Role::Contact {
+                        [0.0; 2]
+                    } else {
+                        b.value
+                    };
+                    let fix = match b.fix {
+                        Fix::Both => [true, true],
+                        Fix::X => [true, false],
+                        Fix::Y => [false, true],
+                    };
+                    dirichlet.push(Dirichlet {
+                        tag: *tag,
+                        fix,
+                        value: Arc::new(move |_| value),
+                    });
+                }
+                Role::Neumann => {
+                    let traction = match (b.traction, b.hydrostatic) {
+                        (_, Some(h)) => Traction::Hydrostatic {
+                            density: h.density,
+                            gravity: g,
+                            level: h.level,
+                        },
+                        (t, None) => Traction::Constant(t.unwrap_or([0.0; 2])),
+                    };
+                    neumann.push(Neumann {
+                        tag: *tag,
+                        traction,
+                    });
+                }
+                Role::Free => {}
+            }
+        }
+        if dirichlet.is_empty() {
+            return Err(self.invalid(format!(
+                "no Dirichlet boundary: the body could move as a rigid body; give a physical curve role = \"dirichlet\" (curves: {})",
+                list(&mesh.group_names(1))
+            )));
+        }
+        let materials = self.cell_materials(&mesh)?;
+        let body_force = if g == 0.0 {
+            BodyForce::None
+        } else {
+            BodyForce::Gravity(g)
+        };
+        Ok(Problem {
+            mesh,
+            materials,
+            dirichlet,
+            neumann,
+            body_force,
+        })
+    }
+}
+
+/// Role given by the naming convention of bare geometry files.
+fn conventional_role(name: &str) -> Option<Role> {
+    match name.to_ascii_lowercase().as_str() {
+        "gamma_d" | "dirichlet" => Some(Role::Dirichlet),
+        "gamma_n" | "neumann" => Some(Role::Neumann),
+        "gamma_c" | "contact" => Some(Role::Contact),
+        _ => None,
+    }
+}
+
+fn list(names: &[&str]) -> String {
+    if names.is_empty() {
+        "none".into()
+    } else {
+        names.join(", ")
+    }
+}

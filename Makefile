@@ -1,0 +1,43 @@
+# damfem: two commands for a fresh Debian machine.
+#   make demo   installs what is missing, builds in release mode and solves Scene A into out/
+#   make test   installs what is missing and runs the whole test suite
+# Each installation step runs only when something is missing, so a second run is fast.
+
+APT_PACKAGES := libgmsh-dev gmsh libclang-dev libgl1 libegl1 libegl-mesa0 libgl1-mesa-dri
+VENV := .venv
+PYTHON := $(VENV)/bin/python
+SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
+
+.PHONY: demo test deps apt-deps python-deps build
+
+demo: deps build
+	./target/release/damfem solve geo/scene_a.toml -o out/scene_a
+	@echo "results: out/scene_a (open scene_a.vtu in ParaView)"
+
+test: deps build
+	cargo test --release
+	DAMFEM=$(CURDIR)/target/release/damfem $(PYTHON) -m pytest -q tests/python
+
+deps: apt-deps python-deps
+
+build:
+	cargo build --release
+
+apt-deps:
+	@missing=""; for p in $(APT_PACKAGES); do \
+	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "install ok installed" || missing="$$missing $$p"; \
+	done; \
+	python3 -c "import venv, ensurepip" 2>/dev/null || missing="$$missing python3-venv"; \
+	if [ -n "$$missing" ]; then \
+	  echo "installing Debian packages:$$missing"; \
+	  $(SUDO) apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends $$missing; \
+	fi
+
+python-deps: $(VENV)/.installed
+
+$(VENV)/.installed: requirements.txt
+	python3 -m venv $(VENV)
+	$(VENV)/bin/pip install -q --upgrade pip
+	$(VENV)/bin/pip install -q -r requirements.txt
+	touch $@

@@ -1,0 +1,144 @@
+//! Options and steps shared by the subcommands.
+
+use crate::io::gmsh::{self, MeshOptions};
+use crate::mesh::Mesh;
+use crate::scene::Scene;
+use anyhow::{Context, Result};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Input and verbosity options of every subcommand.
+#[derive(clap::Args, Debug, Clone)]
+pub struct Input {
+    /// Scene file (.toml), or a bare geometry (.geo) or mesh (.msh) with roles taken from its
+    /// physical curve names (Gamma_D, Gamma_N, Gamma_C, or dirichlet, neumann, contact)
+    pub scene: PathBuf,
+    /// Element degree (1 or 2); overrides the scene's mesh.order
+    #[arg(long)]
+    pub order: Option<usize>,
+    /// Factor on gmsh's mesh sizes; overrides the scene's mesh.size_factor
+    #[arg(long)]
+    pub size_factor: Option<f64>,
+    /// Let the .geo file run shell commands (SystemCall, System); refused by default
+    #[arg(long)]
+    pub allow_system_calls: bool,
+    /// Print nothing but errors
+    #[arg(short, long, conflicts_with = "verbose")]
+    pub quiet: bool,
+    /// Also print gmsh's own messages
+    #[arg(short, long)]
+    pub verbose: bool,
+}
+
+impl Input {
+    /// The scene: read from .toml, or the default scene of a .geo/.msh file. CLI options win.
+    pub fn scene(&self) -> Result<Scene> {
+        let path = &self.scene;
+        if !path.exists() {
+            anyhow::bail!("cannot open {}: file not found", path.display());
+        }
+        let mut scene = match path.extension().and_then(|e| e.to_str()) {
+            Some("toml") => Scene::load(path)?,
+            Some("geo") | Some("msh") => Scene::for_geometry(path),
+            _ => anyhow::bail!(
+                "{}: expected a scene (.toml), a geometry (.geo) or a mesh (.msh)",
+                path.display()
+            ),
+        };
+        if let Some(order) = self.order {
+            anyhow::ensure!(
+                order == 1 || order == 2,
+                "--order {order}: the element degree must be 1 or 2"
+            );
+            scene.mesh.order = order;
+        }
+        if let Some(factor) = self.size_factor {
+            anyhow::ensure!(factor > 0.0, "--size-factor {factor}: must be positive");
+            scene.mesh.size_factor = factor;
+        }
+        Ok(scene)
+    }
+
+    /// Meshes the scene's geometry (or reads its .msh).
+    pub fn mesh(&self, scene: &Scene) -> Result<Mesh> {
+        let geometry = &scene.geometry;
+        let mesh = if geometry.extension().is_some_and(|e| e == "msh") {
+            gmsh::read_msh(geometry, self.verbose)?
+        } else {
+            gmsh::mesh_geo(
+                geometry,
+                &mesh_options(scene),
+                self.verbose,
+                self.allow_system_calls,
+            )?
+        };
+        Ok(mesh)
+    }
+
+    /// Progress reporter honouring `-q`.
+    pub fn progress(&self) -> Progress {
+        Progress { quiet: self.quiet }
+    }
+}
+
+/// gmsh options from the scene's `[mesh]` table.
+pub fn mesh_options(scene: &Scene) -> MeshOptions {
+    MeshOptions {
+        order: scene.mesh.order,
+        size_factor: scene.mesh.size_factor,
+        size_min: scene.mesh.size_min,
+        size_max: scene.mesh.size_max,
+        algorithm: scene.mesh.algorithm,
+    }
+}
+
+/// Output directory: `-o` if given, else the scene's `[output] directory`. Created if missing.
+pub fn output_dir(option: &Option<PathBuf>, scene: &Scene) -> Result<PathBuf> {
+    let dir = option
+        .clone()
+        .unwrap_or_else(|| scene.output.directory.clone());
+    std::fs::create_dir_all(&dir)
+        .with_context(|| format!("cannot create output directory {}", dir.display()))?;
+    let probe = dir.join(".damfem-write-test");
+    std::fs::write(&probe, b"")
+        .with_context(|| format!("cannot write to output directory {}", dir.display()))?;
+    std::fs::remove_file(&probe).ok();
+    Ok(dir)
+}
+
+/// File stem of the scene, used to name outputs.
+pub fn stem(path: &Path) -> String {
+    path.file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "damfem".into())
+}
+
+/// One line per stage on stderr: name, what was done, and the wall time.
+pub struct Progress {
+    quiet: bool,
+}
+
+impl Progress {
+    /// Runs `stage`, then prints `name`, its description and its time.
+    pub fn stage<T>(
+        &self,
+        name: &str,
+        stage: impl FnOnce() -> Result<T>,
+        describe: impl Fn(&T) -> String,
+    ) -> Result<(T, f64)> {
+        let start = Instant::now();
+        let value = stage()?;
+        let seconds = start.elapsed().as_secs_f64();
+        if !self.quiet {
+            eprintln!("{name:<10} {:<52} {seconds:>8.3} s", describe(&value));
+        }
+        Ok((value, seconds))
+    }
+
+    /// Prints a line unless quiet.
+    pub fn say(&self, line: &str) {
+        if !self.quiet {
+            eprintln!("{line}");
+        }
+    }
+}

@@ -1,0 +1,56 @@
+//! Command-line interface: `damfem mesh`, `damfem check`, `damfem solve`.
+//!
+//! Library errors become one plain sentence on stderr and exit code 1; progress goes to
+//! stderr (one line per stage with its time), results to stdout and the output directory.
+
+mod check;
+mod common;
+mod mesh;
+mod solve;
+
+use clap::{Parser, Subcommand};
+
+/// Plane-strain finite elements for concrete dams, from gmsh geometry to ParaView files.
+#[derive(Parser, Debug)]
+#[command(name = "damfem", version, about, long_about = None)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Mesh a scene or a .geo file with gmsh and write the .msh and a .vtu of the mesh
+    Mesh(mesh::Args),
+    /// Validate a scene against its geometry (mesh it, check groups, roles and materials) without solving
+    Check(check::Args),
+    /// Solve the elasticity problem of a scene and write ParaView files
+    Solve(solve::Args),
+}
+
+/// Runs the command line `args` and returns the process exit code.
+pub fn run<I, T>(args: I) -> i32
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    let cli = match Cli::try_parse_from(args) {
+        Ok(cli) => cli,
+        Err(e) => {
+            let _ = e.print();
+            return if e.use_stderr() { 2 } else { 0 };
+        }
+    };
+    let result = match cli.command {
+        Command::Mesh(a) => mesh::run(a),
+        Command::Check(a) => check::run(a),
+        Command::Solve(a) => solve::run(a),
+    };
+    match result {
+        Ok(()) => 0,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            1
+        }
+    }
+}
