@@ -1,0 +1,141 @@
+//! Quadrature rules computed at run time (no tabulated data).
+//!
+//! * [`gauss_segment`]`(n)`: Gauss–Legendre rule with `n` points on `[0, 1]`, nodes found by
+//!   Newton iteration on the Legendre polynomial `P_n`. Exact for polynomials of degree
+//!   `≤ 2n − 1`; weights sum to 1.
+//! * [`triangle`]`(d)`: collapsed (Duffy) product rule on the reference triangle
+//!   `(0,0), (1,0), (0,1)`. With `x = u`, `y = (1 − u) v` and `dx dy = (1 − u) du dv`, a polynomial
+//!   of total degree `d` becomes a polynomial of degree `≤ d + 1` in `u` and `≤ d` in `v`, so the
+//!   tensor product of two `n`-point Gauss rules with `2n − 1 ≥ d + 1` is exact for every
+//!   polynomial of total degree `≤ d` (in fact `≤ 2n − 2`). Weights sum to `1/2`.
+//! * [`triangle_cached`]`(d)`: the same rule, built once per degree and shared.
+
+use std::f64::consts::PI;
+use std::sync::OnceLock;
+
+/// Highest degree served by [`triangle_cached`].
+pub const MAX_CACHED_DEGREE: usize = 20;
+
+/// One-dimensional rule on `[0, 1]`: `∫₀¹ f ≈ Σ wᵢ f(xᵢ)`.
+#[derive(Debug, Clone)]
+pub struct Rule1d {
+    pub points: Vec<f64>,
+    pub weights: Vec<f64>,
+}
+
+/// Rule on the reference triangle: `∫_T̂ f ≈ Σ wᵢ f(ξᵢ)`, exact for total degree `≤ degree`.
+#[derive(Debug, Clone)]
+pub struct TriangleRule {
+    pub points: Vec<[f64; 2]>,
+    pub weights: Vec<f64>,
+    /// Polynomial degree requested (and guaranteed to be integrated exactly).
+    pub degree: usize,
+}
+
+/// Legendre polynomial `P_n(x)` and its derivative, by the three-term recurrence
+/// `(k+1) P_{k+1} = (2k+1) x P_k − k P_{k−1}` and `P_n' = n (x P_n − P_{n−1}) / (x² − 1)`.
+fn legendre(n: usize, x: f64) -> (f64, f64) {
+    let (mut p_prev, mut p) = (1.0, x);
+    for k in 1..n {
+        let kf = k as f64;
+        let p_next = ((2.0 * kf + 1.0) * x * p - kf * p_prev) / (kf + 1.0);
+        p_prev = p;
+        p = p_next;
+    }
+    let dp = n as f64 * (x * p - p_prev) / (x * x - 1.0);
+    (p, dp)
+}
+
+/// `i`-th root of `P_n` on `[−1, 1]` (descending), by Newton from `cos(π (i + 3/4) / (n + 1/2))`.
+fn legendre_root(n: usize, i: usize) -> (f64, f64) {
+    let mut x = (PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
+    for _ in 0..100 {
+        let (p, dp) = legendre(n, x);
+        let dx = p / dp;
+        x -= dx;
+        if dx.abs() < 1e-16 {
+            break;
+        }
+    }
+    let (_, dp) = legendre(n, x);
+    (x, dp)
+}
+
+/// Gauss–Legendre rule with `n ≥ 1` points on `[0, 1]`, in increasing order.
+///
+/// On `[−1, 1]` the nodes are the roots `tᵢ` of `P_n` with weights `2 / ((1 − tᵢ²) P_n'(tᵢ)²)`;
+/// they are mapped by `x = (1 − t) / 2`, halving the weights. Exact to degree `2n − 1`.
+pub fn gauss_segment(n: usize) -> Rule1d {
+    assert!(n >= 1, "a Gauss rule needs at least one point");
+    let (points, weights) = (0..n)
+        .map(|i| {
+            let (t, dp) = legendre_root(n, i);
+            (0.5 * (1.0 - t), 1.0 / ((1.0 - t * t) * dp * dp))
+        })
+        .unzip();
+    Rule1d { points, weights }
+}
+
+/// Collapsed Gauss rule exact for polynomials of total degree `≤ degree` on the reference
+/// triangle: `n × n` points with the smallest `n` such that `2n − 1 ≥ degree + 1`.
+///
+/// Point `(uᵢ, (1 − uᵢ) vⱼ)`, weight `(1 − uᵢ) wᵢ wⱼ`.
+pub fn triangle(degree: usize) -> TriangleRule {
+    let n = (degree + 3) / 2;
+    let g = gauss_segment(n);
+    let mut points = Vec::with_capacity(n * n);
+    let mut weights = Vec::with_capacity(n * n);
+    for (&u, &wu) in g.points.iter().zip(&g.weights) {
+        for (&v, &wv) in g.points.iter().zip(&g.weights) {
+            points.push([u, (1.0 - u) * v]);
+            weights.push((1.0 - u) * wu * wv);
+        }
+    }
+    TriangleRule {
+        points,
+        weights,
+        degree,
+    }
+}
+
+/// [`triangle`]`(degree)`, computed on first use and cached; `degree ≤ MAX_CACHED_DEGREE`.
+pub fn triangle_cached(degree: usize) -> &'static TriangleRule {
+    static CACHE: [OnceLock<TriangleRule>; MAX_CACHED_DEGREE + 1] =
+        [const { OnceLock::new() }; MAX_CACHED_DEGREE + 1];
+    assert!(
+        degree <= MAX_CACHED_DEGREE,
+        "triangle_cached: degree {degree} > {MAX_CACHED_DEGREE}"
+    );
+    CACHE[degree].get_or_init(|| triangle(degree))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn gauss_points_sorted_inside_and_symmetric() {
+        for n in 1..=15 {
+            let g = gauss_segment(n);
+            assert!(g.points.windows(2).all(|w| w[0] < w[1]));
+            assert!(g.points.iter().all(|&x| 0.0 < x && x < 1.0));
+            for i in 0..n {
+                assert!((g.points[i] + g.points[n - 1 - i] - 1.0).abs() < 1e-14);
+                assert!((g.weights[i] - g.weights[n - 1 - i]).abs() < 1e-14);
+            }
+        }
+    }
+
+    #[test]
+    fn triangle_size_and_cache() {
+        for d in 0..=MAX_CACHED_DEGREE {
+            let n = (d + 3) / 2;
+            assert!(2 * n >= d + 2 && (n == 1 || 2 * (n - 1) < d + 2));
+            let r = triangle_cached(d);
+            assert_eq!(r.points.len(), n * n);
+            assert!(std::ptr::eq(r, triangle_cached(d)));
+            let sum: f64 = r.weights.iter().sum();
+            assert!((sum - 0.5).abs() < 1e-14);
+        }
+    }
+}
