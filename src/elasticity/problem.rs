@@ -12,7 +12,7 @@ use super::material::Material;
 use crate::fem::affine::AffineMap;
 use crate::fem::dofs::DofMap;
 use crate::fem::quadrature::gauss_segment;
-use crate::fem::sparse::{vector_dofs, LinearSystem, SparsePattern};
+use crate::fem::sparse::{vector_dofs, LinearSystem, Local, SparsePattern};
 use crate::fem::tabulate::Tabulation;
 use crate::mesh::{Mesh, Topology};
 use std::sync::Arc;
@@ -34,7 +34,11 @@ pub enum Traction {
     /// A constant vector [Pa].
     Constant([f64; 2]),
     /// Water pressure p = ρ_w g (H_w − y)₊ acting along −n (g points along −y).
-    Hydrostatic { density: f64, gravity: f64, level: f64 },
+    Hydrostatic {
+        density: f64,
+        gravity: f64,
+        level: f64,
+    },
     /// Any field of x.
     Field(VectorFn),
 }
@@ -44,7 +48,11 @@ impl Traction {
     pub fn at(&self, x: [f64; 2], n: [f64; 2]) -> [f64; 2] {
         match self {
             Traction::Constant(t) => *t,
-            Traction::Hydrostatic { density, gravity, level } => {
+            Traction::Hydrostatic {
+                density,
+                gravity,
+                level,
+            } => {
                 let p = density * gravity * (level - x[1]).max(0.0);
                 [-p * n[0], -p * n[1]]
             }
@@ -107,7 +115,11 @@ impl Problem {
         }
         let dofs = DofMap::new(self.mesh.n_points(), &constraints);
         let pattern = SparsePattern::new(&self.mesh, &dofs);
-        Discretisation { topology, dofs, pattern }
+        Discretisation {
+            topology,
+            dofs,
+            pattern,
+        }
     }
 
     /// Assembles K and F over the free dofs, with Dirichlet values moved to the right.
@@ -123,25 +135,38 @@ impl Problem {
         let stiff_tab = Tabulation::new(p, 2 * p - 2);
         let load_tab = Tabulation::new(p, 2 * p + 2);
         let nb = stiff_tab.n_basis;
-        let mut grads = vec![[0.0; 2]; nb];
-        let mut k = vec![0.0; 4 * nb * nb];
-        let mut f = vec![0.0; 2 * nb];
-        let mut local = Vec::with_capacity(2 * nb);
-        for c in 0..self.mesh.n_cells() {
+        let kernel = |c: usize, local: &mut Local| {
             let map = AffineMap::new(self.mesh.cell_vertices(c));
             let (lambda, mu) = self.materials[c].lame();
-            kernels::stiffness(&map, &stiff_tab, lambda, mu, &mut grads, &mut k);
+            let mut grads = [[0.0; 2]; 6];
+            kernels::stiffness(
+                &map,
+                &stiff_tab,
+                lambda,
+                mu,
+                &mut grads[..nb],
+                &mut local.matrix,
+            );
             match &self.body_force {
-                BodyForce::None => f.fill(0.0),
+                BodyForce::None => local.load.fill(0.0),
                 BodyForce::Gravity(g) => {
                     let w = -self.materials[c].density * g;
-                    kernels::body_load(&map, &load_tab, |_| [0.0, w], &mut f)
+                    kernels::body_load(&map, &load_tab, |_| [0.0, w], &mut local.load)
                 }
-                BodyForce::Field(field) => kernels::body_load(&map, &load_tab, |x| field(x), &mut f),
+                BodyForce::Field(field) => {
+                    kernels::body_load(&map, &load_tab, |x| field(x), &mut local.load)
+                }
             }
-            vector_dofs(self.mesh.cell(c), &mut local);
-            system.add(&disc.pattern, &disc.dofs, &local, &k, &f);
-        }
+        };
+        let dofs_of = |c: usize, out: &mut Vec<usize>| vector_dofs(self.mesh.cell(c), out);
+        system.assemble(
+            &disc.pattern,
+            &disc.dofs,
+            self.mesh.n_cells(),
+            2 * nb,
+            dofs_of,
+            kernel,
+        );
     }
 
     fn add_tractions(&self, disc: &Discretisation, system: &mut LinearSystem) {
@@ -164,6 +189,10 @@ impl Problem {
 
     /// Nodal displacements from the free unknowns.
     pub fn displacement(&self, disc: &Discretisation, x: &[f64]) -> Vec<[f64; 2]> {
-        disc.dofs.expand(x).chunks_exact(2).map(|u| [u[0], u[1]]).collect()
+        disc.dofs
+            .expand(x)
+            .chunks_exact(2)
+            .map(|u| [u[0], u[1]])
+            .collect()
     }
 }

@@ -1,13 +1,19 @@
-//! Sparse matrix pattern built once per mesh, and assembly into it.
+//! Sparse matrix pattern built once per mesh, and parallel assembly into it.
 //!
 //! The pattern couples every pair of free dofs whose nodes share a cell; it is stored in
 //! compressed sparse column form with sorted row indices, so that a value is found by binary
 //! search in its column. The same pattern (and hence the same symbolic factorisation) serves
 //! every matrix assembled on the mesh.
+//!
+//! Assembly is parallel without locks: the free dofs are cut into contiguous ranges, and each
+//! task owns the matrix columns and right-hand-side rows of its range. A task visits the cells
+//! that touch its range and keeps the entries that fall into it; a cell straddling two ranges
+//! is computed by both.
 
 use super::dofs::{DofMap, FIXED};
 use crate::mesh::Mesh;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
+use rayon::prelude::*;
 
 /// Symmetric sparsity pattern of the free dofs.
 #[derive(Debug, Clone)]
@@ -19,20 +25,27 @@ impl SparsePattern {
     /// Pattern coupling the free dofs of the nodes of each cell of `mesh`.
     pub fn new(mesh: &Mesh, dofs: &DofMap) -> Self {
         let neighbours = node_neighbours(mesh);
-        let mut col_ptr = Vec::with_capacity(dofs.n_free + 1);
-        let mut row_idx = Vec::new();
+        let columns: Vec<Vec<usize>> = (0..dofs.n_dofs())
+            .into_par_iter()
+            .filter(|&dof| dofs.free[dof] != FIXED)
+            .map(|dof| {
+                neighbours[dof / 2]
+                    .iter()
+                    .flat_map(|&m| [dofs.free[2 * m], dofs.free[2 * m + 1]])
+                    .filter(|&r| r != FIXED)
+                    .collect()
+            })
+            .collect();
+        let mut col_ptr = Vec::with_capacity(columns.len() + 1);
         col_ptr.push(0);
-        for (dof, &col) in dofs.free.iter().enumerate() {
-            if col == FIXED {
-                continue;
-            }
-            for &m in &neighbours[dof / 2] {
-                row_idx.extend((0..2).map(|c| dofs.free[2 * m + c]).filter(|&r| r != FIXED));
-            }
-            col_ptr.push(row_idx.len());
+        for column in &columns {
+            col_ptr.push(col_ptr.last().unwrap() + column.len());
         }
+        let row_idx = columns.concat();
         let n = dofs.n_free;
-        SparsePattern { symbolic: SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx) }
+        SparsePattern {
+            symbolic: SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx),
+        }
     }
 
     /// Matrix dimension.
@@ -49,7 +62,10 @@ impl SparsePattern {
     pub fn position(&self, row: usize, col: usize) -> usize {
         let start = self.symbolic.col_ptr()[col];
         let rows = &self.symbolic.row_idx()[start..self.symbolic.col_ptr()[col + 1]];
-        start + rows.binary_search(&row).expect("entry outside the sparsity pattern")
+        start
+            + rows
+                .binary_search(&row)
+                .expect("entry outside the sparsity pattern")
     }
 
     pub fn symbolic(&self) -> SymbolicSparseColMatRef<'_, usize> {
@@ -64,21 +80,53 @@ impl SparsePattern {
 
 /// Sorted list of the nodes sharing a cell with each node (itself included).
 fn node_neighbours(mesh: &Mesh) -> Vec<Vec<usize>> {
-    let mut neighbours = vec![Vec::new(); mesh.n_points()];
-    for c in 0..mesh.n_cells() {
-        let cell = mesh.cell(c);
-        for &a in cell {
-            neighbours[a].extend_from_slice(cell);
-        }
+    let npc = mesh.nodes_per_cell();
+    let mut offsets = vec![0usize; mesh.n_points() + 1];
+    for &n in &mesh.cell_nodes {
+        offsets[n + 1] += 1;
     }
-    for list in &mut neighbours {
-        list.sort_unstable();
-        list.dedup();
+    for k in 0..mesh.n_points() {
+        offsets[k + 1] += offsets[k];
     }
-    neighbours
+    let mut fill = offsets.clone();
+    let mut node_cells = vec![0; mesh.cell_nodes.len()];
+    for (k, &n) in mesh.cell_nodes.iter().enumerate() {
+        node_cells[fill[n]] = k / npc;
+        fill[n] += 1;
+    }
+    (0..mesh.n_points())
+        .into_par_iter()
+        .map(|n| {
+            let mut list: Vec<usize> = node_cells[offsets[n]..offsets[n + 1]]
+                .iter()
+                .flat_map(|&c| mesh.cell(c).iter().copied())
+                .collect();
+            list.sort_unstable();
+            list.dedup();
+            list
+        })
+        .collect()
 }
 
-/// A linear system K x = b over the free dofs, filled element by element.
+/// Local contribution of one cell: global dofs, matrix (row-major, n × n) and load (n).
+pub struct Local {
+    pub dofs: Vec<usize>,
+    pub matrix: Vec<f64>,
+    pub load: Vec<f64>,
+}
+
+impl Local {
+    /// Buffers for `n` local dofs.
+    pub fn new(n: usize) -> Self {
+        Local {
+            dofs: Vec::with_capacity(n),
+            matrix: vec![0.0; n * n],
+            load: vec![0.0; n],
+        }
+    }
+}
+
+/// A linear system K x = b over the free dofs.
 #[derive(Debug, Clone)]
 pub struct LinearSystem {
     pub values: Vec<f64>,
@@ -88,30 +136,53 @@ pub struct LinearSystem {
 impl LinearSystem {
     /// Zero matrix and right-hand side on `pattern`.
     pub fn zeros(pattern: &SparsePattern) -> Self {
-        LinearSystem { values: vec![0.0; pattern.nnz()], rhs: vec![0.0; pattern.n()] }
-    }
-
-    /// Adds a local matrix `k` (row-major, `dofs.len()`²) and load `f` acting on the global
-    /// dofs `local`. Constrained columns move to the right-hand side: b_i −= K_ij g_j.
-    pub fn add(&mut self, pattern: &SparsePattern, map: &DofMap, local: &[usize], k: &[f64], f: &[f64]) {
-        let n = local.len();
-        for (i, &gi) in local.iter().enumerate() {
-            let row = map.free[gi];
-            if row == FIXED {
-                continue;
-            }
-            self.rhs[row] += f[i];
-            for (j, &gj) in local.iter().enumerate() {
-                let kij = k[i * n + j];
-                match map.free[gj] {
-                    FIXED => self.rhs[row] -= kij * map.fixed_value[gj],
-                    col => self.values[pattern.position(row, col)] += kij,
-                }
-            }
+        LinearSystem {
+            values: vec![0.0; pattern.nnz()],
+            rhs: vec![0.0; pattern.n()],
         }
     }
 
-    /// Adds a local load `f` on the global dofs `local`.
+    /// Adds Σ_cells of the local contributions. `dofs_of(c, out)` writes the global dofs of
+    /// cell c; `kernel(c, local)` fills `local.matrix` and `local.load` for those dofs.
+    /// Constrained columns move to the right-hand side: b_i −= K_ij g_j.
+    pub fn assemble<D, K>(
+        &mut self,
+        pattern: &SparsePattern,
+        map: &DofMap,
+        n_cells: usize,
+        n_local: usize,
+        dofs_of: D,
+        kernel: K,
+    ) where
+        D: Fn(usize, &mut Vec<usize>) + Sync,
+        K: Fn(usize, &mut Local) + Sync,
+    {
+        let ranges = column_ranges(pattern.n(), 4 * rayon::current_num_threads());
+        let col_ptr = pattern.symbolic.col_ptr();
+        let mut values_rest = self.values.as_mut_slice();
+        let mut rhs_rest = self.rhs.as_mut_slice();
+        let mut tasks = Vec::with_capacity(ranges.len());
+        for &(c0, c1) in &ranges {
+            let (v, vr) = values_rest.split_at_mut(col_ptr[c1] - col_ptr[c0]);
+            let (b, br) = rhs_rest.split_at_mut(c1 - c0);
+            tasks.push(((c0, c1), v, b));
+            (values_rest, rhs_rest) = (vr, br);
+        }
+        tasks.into_par_iter().for_each(|((c0, c1), values, rhs)| {
+            let offset = col_ptr[c0];
+            let mut local = Local::new(n_local);
+            for c in 0..n_cells {
+                dofs_of(c, &mut local.dofs);
+                let touches = local.dofs.iter().any(|&g| (c0..c1).contains(&map.free[g]));
+                if touches {
+                    kernel(c, &mut local);
+                    scatter(pattern, map, &local, (c0, c1), offset, values, rhs);
+                }
+            }
+        });
+    }
+
+    /// Adds a local load `f` on the global dofs `local` (serial; for boundary terms).
     pub fn add_load(&mut self, map: &DofMap, local: &[usize], f: &[f64]) {
         for (&g, &fi) in local.iter().zip(f) {
             if map.free[g] != FIXED {
@@ -119,6 +190,42 @@ impl LinearSystem {
             }
         }
     }
+}
+
+/// Adds the entries of `local` whose column (matrix) or row (load) lies in `range`.
+fn scatter(
+    pattern: &SparsePattern,
+    map: &DofMap,
+    local: &Local,
+    range: (usize, usize),
+    offset: usize,
+    values: &mut [f64],
+    rhs: &mut [f64],
+) {
+    let n = local.dofs.len();
+    for (j, &gj) in local.dofs.iter().enumerate() {
+        let col = map.free[gj];
+        if col == FIXED || !(range.0..range.1).contains(&col) {
+            continue;
+        }
+        rhs[col - range.0] += local.load[j];
+        for (i, &gi) in local.dofs.iter().enumerate() {
+            match map.free[gi] {
+                // symmetric pattern: row `col` collects −K_{col,i} g_i
+                FIXED => rhs[col - range.0] -= local.matrix[j * n + i] * map.fixed_value[gi],
+                row => values[pattern.position(row, col) - offset] += local.matrix[i * n + j],
+            }
+        }
+    }
+}
+
+/// Cuts 0..n into at most `parts` contiguous ranges.
+fn column_ranges(n: usize, parts: usize) -> Vec<(usize, usize)> {
+    let size = n.div_ceil(parts.max(1)).max(1);
+    (0..n)
+        .step_by(size)
+        .map(|a| (a, (a + size).min(n)))
+        .collect()
 }
 
 /// Global dofs of a list of nodes: [2n₀, 2n₀+1, 2n₁, 2n₁+1, …].
@@ -151,5 +258,57 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn parallel_assembly_matches_serial_sum() {
+        // K_ij = (i+1)(j+2) on each cell (non-symmetric), f_i = i + 1, one constrained dof
+        let mesh = unit_square(5, 2);
+        let map = DofMap::new(mesh.n_points(), &[(3, 0.7)]);
+        let pattern = SparsePattern::new(&mesh, &map);
+        let mut system = LinearSystem::zeros(&pattern);
+        let n = 12;
+        let kernel = |_: usize, l: &mut Local| {
+            for i in 0..n {
+                l.load[i] = (i + 1) as f64;
+                for j in 0..n {
+                    l.matrix[i * n + j] = ((i + 1) * (j + 2)) as f64;
+                }
+            }
+        };
+        system.assemble(
+            &pattern,
+            &map,
+            mesh.n_cells(),
+            n,
+            |c, d| vector_dofs(mesh.cell(c), d),
+            kernel,
+        );
+        let mut expected = vec![0.0; pattern.nnz()];
+        let mut rhs = vec![0.0; pattern.n()];
+        let mut dofs = Vec::new();
+        for c in 0..mesh.n_cells() {
+            vector_dofs(mesh.cell(c), &mut dofs);
+            for (i, &gi) in dofs.iter().enumerate() {
+                let Some(row) = Some(map.free[gi]).filter(|&r| r != FIXED) else {
+                    continue;
+                };
+                rhs[row] += (i + 1) as f64;
+                for (j, &gj) in dofs.iter().enumerate() {
+                    let kij = ((i + 1) * (j + 2)) as f64;
+                    match map.free[gj] {
+                        FIXED => rhs[row] -= kij * 0.7,
+                        col => expected[pattern.position(row, col)] += kij,
+                    }
+                }
+            }
+        }
+        assert_eq!(system.values, expected);
+        let worst = rhs
+            .iter()
+            .zip(&system.rhs)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-9, "rhs differs by {worst}");
     }
 }

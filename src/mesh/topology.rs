@@ -5,7 +5,6 @@
 //! (i+1) mod 3 and (i+2) mod 3. The patch ω_a of a vertex a is the set of cells that share it.
 
 use super::Mesh;
-use std::collections::HashMap;
 
 /// Marker for "no neighbour" in [`Topology::edge_cells`].
 pub const NONE: usize = usize::MAX;
@@ -32,34 +31,44 @@ pub struct Topology {
 impl Topology {
     /// Builds the adjacency of `mesh`. Panics if a boundary facet is not a cell edge.
     pub fn new(mesh: &Mesh) -> Self {
-        let mut index: HashMap<[usize; 2], usize> = HashMap::new();
-        let mut edges = Vec::new();
-        let mut edge_cells: Vec<[usize; 2]> = Vec::new();
-        let mut cell_edges = Vec::with_capacity(mesh.n_cells());
-        for c in 0..mesh.n_cells() {
-            let v = &mesh.cell(c)[..3];
-            let mut local = [0; 3];
-            for (i, e_local) in local.iter_mut().enumerate() {
-                let key = sorted([v[(i + 1) % 3], v[(i + 2) % 3]]);
-                let e = *index.entry(key).or_insert_with(|| {
-                    edges.push(key);
-                    edge_cells.push([NONE, NONE]);
-                    edges.len() - 1
-                });
-                let slot = if edge_cells[e][0] == NONE { 0 } else { 1 };
-                edge_cells[e][slot] = c;
-                *e_local = e;
+        // every (edge key, cell, local edge), sorted by key: equal keys are one edge
+        let mut half: Vec<([usize; 2], usize, usize)> = (0..mesh.n_cells())
+            .flat_map(|c| {
+                let v = &mesh.cell(c)[..3];
+                (0..3).map(move |i| (sorted([v[(i + 1) % 3], v[(i + 2) % 3]]), c, i))
+            })
+            .collect();
+        half.sort_unstable();
+        let mut edges: Vec<[usize; 2]> = Vec::with_capacity(half.len() / 2 + 1);
+        let mut edge_cells: Vec<[usize; 2]> = Vec::with_capacity(half.len() / 2 + 1);
+        let mut cell_edges = vec![[0; 3]; mesh.n_cells()];
+        for (key, c, i) in half {
+            if edges.last() == Some(&key) {
+                edge_cells.last_mut().expect("edge just pushed")[1] = c;
+            } else {
+                edges.push(key);
+                edge_cells.push([c, NONE]);
             }
-            cell_edges.push(local);
+            cell_edges[c][i] = edges.len() - 1;
         }
         let facet_edges = (0..mesh.n_facets())
             .map(|f| {
                 let n = mesh.facet(f);
-                index[&sorted([n[0], n[1]])]
+                edges
+                    .binary_search(&sorted([n[0], n[1]]))
+                    .expect("boundary facet is not a cell edge")
             })
             .collect();
         let (vertices, patch_offsets, patch_cells) = patches(mesh);
-        Topology { edges, cell_edges, edge_cells, facet_edges, vertices, patch_offsets, patch_cells }
+        Topology {
+            edges,
+            cell_edges,
+            edge_cells,
+            facet_edges,
+            vertices,
+            patch_offsets,
+            patch_cells,
+        }
     }
 
     pub fn n_edges(&self) -> usize {
