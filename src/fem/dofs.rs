@@ -41,7 +41,11 @@ impl DofMap {
                 }
             })
             .collect();
-        DofMap { free, fixed_value, n_free }
+        DofMap {
+            free,
+            fixed_value,
+            n_free,
+        }
     }
 
     pub fn n_dofs(&self) -> usize {
