@@ -1,0 +1,276 @@
+//! VTK XML unstructured grids (`.vtu`) for ParaView, written through `vtkio`.
+//!
+//! Files are VTK XML version 1.0 with inline base64 binary arrays (64-bit headers, no
+//! compression), which VTK 9 and ParaView read. Points are stored in 3D with z = 0. Cells are
+//! `VTK_TRIANGLE` / `VTK_QUADRATIC_TRIANGLE`, boundary facets `VTK_LINE` /
+//! `VTK_QUADRATIC_EDGE`; both node orders coincide with those of [`Mesh`].
+//!
+//! Every field is checked before anything is written: a wrong length or a NaN/infinite value is
+//! an [`OutputError`] naming the field, and no file is created. Files are written atomically.
+
+use super::atomic::{write_output, OutputError};
+use crate::mesh::Mesh;
+use std::path::Path;
+use vtkio::model::{
+    Attribute, Attributes, ByteOrder, CellType, Cells, DataArray, DataSet, UnstructuredGridPiece,
+    Version, VertexNumbers, Vtk,
+};
+
+/// A named array with `components` values per point or per cell.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Field {
+    pub name: String,
+    pub components: usize,
+    /// `n × components` values, the components of each point or cell contiguous.
+    pub values: Vec<f64>,
+}
+
+impl Field {
+    /// One value per point or cell.
+    pub fn scalar(name: impl Into<String>, values: Vec<f64>) -> Self {
+        Field {
+            name: name.into(),
+            components: 1,
+            values,
+        }
+    }
+
+    /// A plane vector per point or cell, stored with z = 0 so ParaView can warp by it.
+    pub fn vector(name: impl Into<String>, values: Vec<[f64; 2]>) -> Self {
+        Field {
+            name: name.into(),
+            components: 3,
+            values: values.iter().flat_map(|v| [v[0], v[1], 0.0]).collect(),
+        }
+    }
+}
+
+/// Connectivity of the cells of one output file and the tag array attached to them.
+struct Grid<'a> {
+    nodes: &'a [usize],
+    nodes_per_cell: usize,
+    cell_type: CellType,
+    tag_name: &'static str,
+    tags: &'a [i32],
+}
+
+/// Writes the triangles of `mesh` with cell data `material` (the cell tags) and the given fields.
+pub fn write_mesh_vtu(
+    path: &Path,
+    mesh: &Mesh,
+    point_data: &[Field],
+    cell_data: &[Field],
+) -> Result<(), OutputError> {
+    let cell_type = if mesh.order == 1 {
+        CellType::Triangle
+    } else {
+        CellType::QuadraticTriangle
+    };
+    let grid = Grid {
+        nodes: &mesh.cell_nodes,
+        nodes_per_cell: mesh.nodes_per_cell(),
+        cell_type,
+        tag_name: "material",
+        tags: &mesh.cell_tags,
+    };
+    write_grid(path, mesh, &grid, point_data, cell_data)
+}
+
+/// Writes the boundary facets of `mesh` with cell data `physical_tag` and the given fields.
+///
+/// The point array is the whole mesh's, so point fields of the mesh can be reused.
+pub fn write_boundary_vtu(
+    path: &Path,
+    mesh: &Mesh,
+    point_data: &[Field],
+    cell_data: &[Field],
+) -> Result<(), OutputError> {
+    let cell_type = if mesh.order == 1 {
+        CellType::Line
+    } else {
+        CellType::QuadraticEdge
+    };
+    let grid = Grid {
+        nodes: &mesh.facet_nodes,
+        nodes_per_cell: mesh.nodes_per_facet(),
+        cell_type,
+        tag_name: "physical_tag",
+        tags: &mesh.facet_tags,
+    };
+    write_grid(path, mesh, &grid, point_data, cell_data)
+}
+
+/// Validates, encodes and atomically writes one unstructured grid.
+fn write_grid(
+    path: &Path,
+    mesh: &Mesh,
+    grid: &Grid,
+    point_data: &[Field],
+    cell_data: &[Field],
+) -> Result<(), OutputError> {
+    check_points(path, mesh)?;
+    check_grid(path, mesh, grid)?;
+    check_fields(path, "point", mesh.n_points(), point_data, None)?;
+    check_fields(
+        path,
+        "cell",
+        grid.tags.len(),
+        cell_data,
+        Some(grid.tag_name),
+    )?;
+    let piece = piece(mesh, grid, point_data, cell_data);
+    write_output(path, &encode(path, piece)?)
+}
+
+/// The points, cells, tags and fields of one grid in `vtkio`'s model.
+fn piece(
+    mesh: &Mesh,
+    grid: &Grid,
+    point_data: &[Field],
+    cell_data: &[Field],
+) -> UnstructuredGridPiece {
+    let tags = DataArray::new(grid.tag_name, 1).with_data(grid.tags.to_vec());
+    let cell = std::iter::once(Attribute::DataArray(tags))
+        .chain(cell_data.iter().map(attribute))
+        .collect();
+    let points: Vec<f64> = mesh.points.iter().flat_map(|p| [p[0], p[1], 0.0]).collect();
+    UnstructuredGridPiece {
+        points: points.into(),
+        cells: cells(grid),
+        data: Attributes {
+            point: point_data.iter().map(attribute).collect(),
+            cell,
+        },
+    }
+}
+
+/// The VTK XML text of a single-piece unstructured grid.
+fn encode(path: &Path, piece: UnstructuredGridPiece) -> Result<Vec<u8>, OutputError> {
+    let vtk = Vtk {
+        version: Version::new((1, 0)),
+        title: String::new(),
+        byte_order: ByteOrder::native(),
+        data: DataSet::inline(piece),
+        file_path: None,
+    };
+    let mut bytes = Vec::new();
+    vtk.write_xml(&mut bytes).map_err(|e| OutputError::Encode {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })?;
+    Ok(bytes)
+}
+
+fn cells(grid: &Grid) -> Cells {
+    let n = grid.tags.len();
+    Cells {
+        cell_verts: VertexNumbers::XML {
+            connectivity: grid.nodes.iter().map(|&i| i as u64).collect(),
+            offsets: (1..=n).map(|c| (c * grid.nodes_per_cell) as u64).collect(),
+        },
+        types: vec![grid.cell_type; n],
+    }
+}
+
+fn attribute(field: &Field) -> Attribute {
+    Attribute::DataArray(
+        DataArray::new(field.name.as_str(), field.components as u32)
+            .with_data(field.values.clone()),
+    )
+}
+
+fn check_points(path: &Path, mesh: &Mesh) -> Result<(), OutputError> {
+    match first_non_finite(mesh.points.iter().flatten()) {
+        Some((i, value)) => Err(OutputError::NonFinite {
+            path: path.to_path_buf(),
+            location: format!("the coordinates of point {}", i / 2),
+            value,
+        }),
+        None => Ok(()),
+    }
+}
+
+/// Checks the connectivity against the tag count and the number of points.
+fn check_grid(path: &Path, mesh: &Mesh, grid: &Grid) -> Result<(), OutputError> {
+    let reason = if grid.nodes.len() != grid.tags.len() * grid.nodes_per_cell {
+        format!(
+            "{} connectivity entries for {} cells of {} nodes",
+            grid.nodes.len(),
+            grid.tags.len(),
+            grid.nodes_per_cell
+        )
+    } else if let Some(&node) = grid.nodes.iter().find(|&&i| i >= mesh.n_points()) {
+        format!("node {node} is out of range ({} points)", mesh.n_points())
+    } else {
+        return Ok(());
+    };
+    Err(OutputError::Invalid {
+        path: path.to_path_buf(),
+        reason,
+    })
+}
+
+/// Checks each field's shape, finiteness and the uniqueness of the names (`reserved` included).
+fn check_fields(
+    path: &Path,
+    kind: &str,
+    count: usize,
+    fields: &[Field],
+    reserved: Option<&str>,
+) -> Result<(), OutputError> {
+    let mut names: Vec<&str> = reserved.into_iter().collect();
+    for field in fields {
+        if names.contains(&field.name.as_str()) {
+            return Err(OutputError::Invalid {
+                path: path.to_path_buf(),
+                reason: format!("duplicate {kind} field `{}`", field.name),
+            });
+        }
+        names.push(&field.name);
+        check_field(path, kind, count, field)?;
+    }
+    Ok(())
+}
+
+fn check_field(path: &Path, kind: &str, count: usize, field: &Field) -> Result<(), OutputError> {
+    let (name, len, components) = (&field.name, field.values.len(), field.components);
+    let reason = if components == 0 {
+        format!("{kind} field `{name}` has 0 components")
+    } else if len != count * components {
+        format!(
+            "{kind} field `{name}` has {len} values, expected {count} {kind}s × {components} \
+             components = {}",
+            count * components
+        )
+    } else {
+        return check_finite(path, kind, field);
+    };
+    Err(OutputError::Invalid {
+        path: path.to_path_buf(),
+        reason,
+    })
+}
+
+fn check_finite(path: &Path, kind: &str, field: &Field) -> Result<(), OutputError> {
+    match first_non_finite(&field.values) {
+        Some((i, value)) => Err(OutputError::NonFinite {
+            path: path.to_path_buf(),
+            location: format!(
+                "{kind} field `{}` at {kind} {}",
+                field.name,
+                i / field.components
+            ),
+            value,
+        }),
+        None => Ok(()),
+    }
+}
+
+/// Index and value of the first NaN or infinite value.
+fn first_non_finite<'a>(values: impl IntoIterator<Item = &'a f64>) -> Option<(usize, f64)> {
+    values
+        .into_iter()
+        .copied()
+        .enumerate()
+        .find(|(_, v)| !v.is_finite())
+}
