@@ -1,0 +1,14 @@
+// A self-intersecting boundary (a bow tie): gmsh 4.8 parses it but fails to mesh it
+// ("Unable to recover the edge ...").
+Point(1) = {0, 0, 0, 0.1};
+Point(2) = {1, 1, 0, 0.1};
+Point(3) = {1, 0, 0, 0.1};
+Point(4) = {0, 1, 0, 0.1};
+Line(1) = {1, 2};
+Line(2) = {2, 3};
+Line(3) = {3, 4};
+Line(4) = {4, 1};
+Curve Loop(1) = {1, 2, 3, 4};
+Plane Surface(1) = {1};
+Physical Curve("Gamma_D") = {4};
+Physical Surface("domain") = {1};
