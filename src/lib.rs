@@ -22,6 +22,7 @@
 //! `docs/method.md`.
 
 pub mod cli;
+pub mod contact;
 pub mod elasticity;
 pub mod fem;
 pub mod io;

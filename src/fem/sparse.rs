@@ -72,6 +72,17 @@ impl SparsePattern {
         self.symbolic.as_ref()
     }
 
+    /// y = A x for the matrix with this pattern and the given values.
+    pub fn multiply(&self, values: &[f64], x: &[f64], y: &mut [f64]) {
+        y.fill(0.0);
+        let (col_ptr, row_idx) = (self.symbolic.col_ptr(), self.symbolic.row_idx());
+        for (col, &xc) in x.iter().enumerate() {
+            for k in col_ptr[col]..col_ptr[col + 1] {
+                y[row_idx[k]] += values[k] * xc;
+            }
+        }
+    }
+
     /// The matrix with this pattern and the given values.
     pub fn matrix<'a>(&'a self, values: &'a [f64]) -> SparseColMatRef<'a, usize, f64> {
         SparseColMatRef::new(self.symbolic(), values)

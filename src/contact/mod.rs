@@ -1,0 +1,141 @@
+//! Frictionless unilateral contact on Γ_C with a rigid foundation, by Nitsche's method.
+//!
+//! [`ContactProblem`] is the nonlinear system F(x) = 0 over the free displacement dofs,
+//!
+//!   F(u; v) = (σ(u), ε(v)) − (f, v) − (g_N, v)_{Γ_N} + Σ_F R_F(u; v),
+//!
+//! with the face terms R_F of [`nitsche`] and a projection from [`projection`]. The bulk
+//! stiffness K and load b are assembled once; each evaluation adds the face terms of the
+//! cells that own a contact face.
+
+pub mod nitsche;
+pub mod projection;
+
+use crate::elasticity::{Discretisation, Problem};
+use crate::fem::dofs::FIXED;
+use crate::fem::sparse::{vector_dofs, LinearSystem, SparsePattern};
+use crate::solve::NonlinearSystem;
+use nitsche::Nitsche;
+use projection::{negative_part, Projection};
+
+/// The elasticity problem with Nitsche contact on some of its boundary curves.
+pub struct ContactProblem<'a> {
+    pub problem: &'a Problem,
+    pub disc: &'a Discretisation,
+    pub nitsche: Nitsche,
+    pub projection: Box<dyn Projection>,
+    /// K over the free dofs and b = f + g_N − K_fc g_D.
+    bulk: LinearSystem,
+}
+
+/// Contact quantities of one face, for output.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct FaceState {
+    /// Mean contact pressure −(1/|F|) ∫_F [P_γ(u_h)]_{R⁻} ≥ 0.
+    pub pressure: f64,
+    /// Mean normal displacement (1/|F|) ∫_F u_h^n.
+    pub normal_displacement: f64,
+    /// Length of the part of F where P_γ(u_h) < 0.
+    pub contact_length: f64,
+    /// max over the quadrature points of |[P_γ(u_h)]_{reg} − [P_γ(u_h)]_{R⁻}|.
+    pub regularisation_error: f64,
+}
+
+impl<'a> ContactProblem<'a> {
+    /// Assembles the bulk terms once.
+    pub fn new(
+        problem: &'a Problem,
+        disc: &'a Discretisation,
+        nitsche: Nitsche,
+        projection: Box<dyn Projection>,
+    ) -> Self {
+        let bulk = problem.assemble(disc);
+        ContactProblem {
+            problem,
+            disc,
+            nitsche,
+            projection,
+            bulk,
+        }
+    }
+
+    /// Local dofs of the cell owning face k and the displacement there.
+    fn local(&self, k: usize, u_full: &[f64], dofs: &mut Vec<usize>) -> Vec<f64> {
+        vector_dofs(self.problem.mesh.cell(self.nitsche.faces[k].cell), dofs);
+        dofs.iter().map(|&g| u_full[g]).collect()
+    }
+
+    /// Contact state of every face for the free unknowns `x`.
+    pub fn face_states(&self, x: &[f64]) -> Vec<FaceState> {
+        let u_full = self.disc.dofs.expand(x);
+        let mut dofs = Vec::new();
+        (0..self.nitsche.faces.len())
+            .map(|k| {
+                let u = self.local(k, &u_full, &mut dofs);
+                let length = self.nitsche.faces[k].length;
+                let mut state = FaceState::default();
+                for (s, w) in self.nitsche.quadrature(k, &u, self.projection.as_ref()) {
+                    let pt = self.nitsche.point(k, s);
+                    let p = self.nitsche.p_gamma(k, &pt, &u);
+                    state.pressure -= negative_part(p) * w / length;
+                    state.normal_displacement +=
+                        pt.u_n.iter().zip(&u).map(|(a, b)| a * b).sum::<f64>() * w / length;
+                    state.contact_length += if p < 0.0 { w } else { 0.0 };
+                    let error = (self.projection.value(p) - negative_part(p)).abs();
+                    state.regularisation_error = state.regularisation_error.max(error);
+                }
+                state
+            })
+            .collect()
+    }
+}
+
+impl NonlinearSystem for ContactProblem<'_> {
+    fn pattern(&self) -> &SparsePattern {
+        &self.disc.pattern
+    }
+
+    fn evaluate(&self, x: &[f64], residual: &mut [f64], mut jacobian: Option<&mut [f64]>) {
+        // bulk: F = K x − b, J = K
+        self.disc.pattern.multiply(&self.bulk.values, x, residual);
+        for (r, b) in residual.iter_mut().zip(&self.bulk.rhs) {
+            *r -= b;
+        }
+        if let Some(j) = jacobian.as_deref_mut() {
+            j.copy_from_slice(&self.bulk.values);
+        }
+        let u_full = self.disc.dofs.expand(x);
+        let n = self.nitsche.n_local();
+        let (mut r_local, mut j_local, mut dofs) = (vec![0.0; n], vec![0.0; n * n], Vec::new());
+        let free = &self.disc.dofs.free;
+        for k in 0..self.nitsche.faces.len() {
+            let u = self.local(k, &u_full, &mut dofs);
+            let want_j = jacobian.is_some();
+            self.nitsche.face_terms(
+                k,
+                &u,
+                self.projection.as_ref(),
+                &mut r_local,
+                want_j.then_some(&mut j_local[..]),
+            );
+            for (i, &gi) in dofs.iter().enumerate() {
+                let row = free[gi];
+                if row == FIXED {
+                    continue;
+                }
+                residual[row] += r_local[i];
+                if let Some(j) = jacobian.as_deref_mut() {
+                    for (c, &gc) in dofs.iter().enumerate() {
+                        if free[gc] != FIXED {
+                            j[self.disc.pattern.position(row, free[gc])] += j_local[i * n + c];
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    fn scale(&self) -> f64 {
+        self.bulk.rhs.iter().map(|b| b * b).sum::<f64>().sqrt()
+    }
+}

@@ -1,0 +1,300 @@
+//! Nitsche terms of frictionless unilateral contact with a rigid foundation on Γ_C.
+//!
+//! With P_γ(v) = σ^n(v) − γ(v^n − g) and a projection [·] (regularised or not), the θ-method
+//! adds to the elasticity residual, for each contact face F (docs/method.md §1.3),
+//!
+//!   R_F(u; v) = −(θ/γ) ∫_F σ^n(u) σ^n(v) + (1/γ) ∫_F [P_γ(u)] (θ σ^n(v) − γ v^n),
+//!
+//! and its derivative in the direction w,
+//!
+//!   J_F(u; w, v) = −(θ/γ) ∫_F σ^n(w) σ^n(v) + (1/γ) ∫_F ∂[P_γ(u)] (σ^n(w) − γ w^n)(θ σ^n(v) − γ v^n).
+//!
+//! γ|_F = γ₀ E / h_F. P_γ(u_h) is a polynomial of degree p along a straight face, so each face
+//! is split at the roots of P_γ(u_h) = b for every breakpoint b of the projection, and each
+//! piece is integrated with p + 2 Gauss points, exact for the polynomial integrands.
+
+use super::projection::Projection;
+use crate::elasticity::Material;
+use crate::fem::affine::AffineMap;
+use crate::fem::lagrange;
+use crate::fem::quadrature::{gauss_segment, Rule1d};
+use crate::mesh::{Mesh, Topology};
+
+/// Normal gap to the foundation, g(x) = g₀ + ∇g · x (u^n ≤ g).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Gap {
+    pub constant: f64,
+    pub gradient: [f64; 2],
+}
+
+impl Gap {
+    pub fn at(&self, x: [f64; 2]) -> f64 {
+        self.constant + self.gradient[0] * x[0] + self.gradient[1] * x[1]
+    }
+}
+
+/// Parameters of the Nitsche method.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NitscheParameters {
+    /// γ₀ in γ = γ₀ E / h_F.
+    pub gamma0: f64,
+    /// θ ∈ {1, 0, −1}: symmetric, incomplete (the default), skew-symmetric.
+    pub theta: f64,
+    pub gap: Gap,
+}
+
+impl Default for NitscheParameters {
+    fn default() -> Self {
+        NitscheParameters {
+            gamma0: 100.0,
+            theta: 0.0,
+            gap: Gap::default(),
+        }
+    }
+}
+
+/// A contact face and what its integrals need.
+#[derive(Debug, Clone)]
+pub struct ContactFace {
+    /// Boundary facet index in the mesh.
+    pub facet: usize,
+    /// The cell owning the face.
+    pub cell: usize,
+    pub map: AffineMap,
+    /// Reference coordinates (in the cell) of the face's end points.
+    pub ends: [[f64; 2]; 2],
+    pub normal: [f64; 2],
+    pub length: f64,
+    /// γ = γ₀ E / h_F.
+    pub gamma: f64,
+    pub lambda: f64,
+    pub mu: f64,
+}
+
+/// Shape data of the cell basis at one point of a face.
+pub struct FacePoint {
+    pub x: [f64; 2],
+    /// σ^n(φ_i e_a) = λ ∂_a φ_i + 2μ (∇φ_i · n) n_a at index 2i + a.
+    pub sigma_n: Vec<f64>,
+    /// (φ_i e_a) · n = φ_i n_a at index 2i + a.
+    pub u_n: Vec<f64>,
+}
+
+/// All contact faces of a mesh with the Nitsche parameters.
+#[derive(Debug, Clone)]
+pub struct Nitsche {
+    pub parameters: NitscheParameters,
+    pub faces: Vec<ContactFace>,
+    pub order: usize,
+    rule: Rule1d,
+}
+
+impl Nitsche {
+    /// Contact faces: the boundary facets whose tag is in `tags`.
+    pub fn new(
+        mesh: &Mesh,
+        topology: &Topology,
+        materials: &[Material],
+        tags: &[i32],
+        parameters: NitscheParameters,
+    ) -> Self {
+        let faces = (0..mesh.n_facets())
+            .filter(|&f| tags.contains(&mesh.facet_tags[f]))
+            .map(|f| face(mesh, topology, materials, f, parameters.gamma0))
+            .collect();
+        Nitsche {
+            parameters,
+            faces,
+            order: mesh.order,
+            rule: gauss_segment(mesh.order + 2),
+        }
+    }
+
+    /// Number of local dofs of the owning cell.
+    pub fn n_local(&self) -> usize {
+        2 * lagrange::n_basis(self.order)
+    }
+
+    /// Basis data at parameter s ∈ [0, 1] of face `k`.
+    pub fn point(&self, k: usize, s: f64) -> FacePoint {
+        let face = &self.faces[k];
+        let nb = lagrange::n_basis(self.order);
+        let xi = lerp(face.ends[0], face.ends[1], s);
+        let mut phi = [0.0; 6];
+        let mut grads = [[0.0; 2]; 6];
+        lagrange::values(self.order, xi, &mut phi[..nb]);
+        lagrange::gradients(self.order, xi, &mut grads[..nb]);
+        let n = face.normal;
+        let mut sigma_n = vec![0.0; 2 * nb];
+        let mut u_n = vec![0.0; 2 * nb];
+        for i in 0..nb {
+            let g = face.map.physical_gradient(grads[i]);
+            let gn = g[0] * n[0] + g[1] * n[1];
+            for a in 0..2 {
+                sigma_n[2 * i + a] = face.lambda * g[a] + 2.0 * face.mu * gn * n[a];
+                u_n[2 * i + a] = phi[i] * n[a];
+            }
+        }
+        FacePoint {
+            x: face.map.to_physical(xi),
+            sigma_n,
+            u_n,
+        }
+    }
+
+    /// P_γ(u_h) at a face point, for local nodal displacements `u` (index 2i + a).
+    pub fn p_gamma(&self, k: usize, point: &FacePoint, u: &[f64]) -> f64 {
+        let gamma = self.faces[k].gamma;
+        let sigma_n = dot(&point.sigma_n, u);
+        let u_n = dot(&point.u_n, u);
+        sigma_n - gamma * (u_n - self.parameters.gap.at(point.x))
+    }
+
+    /// Quadrature on face k split at the kinks of `projection` ∘ P_γ(u_h): (s, weight·|F|).
+    pub fn quadrature(&self, k: usize, u: &[f64], projection: &dyn Projection) -> Vec<(f64, f64)> {
+        let p = |s: f64| self.p_gamma(k, &self.point(k, s), u);
+        let (p0, pm, p1) = (p(0.0), p(0.5), p(1.0));
+        // P(s) = a s² + b s + c through the three samples
+        let (a, b, c) = (2.0 * p1 + 2.0 * p0 - 4.0 * pm, 4.0 * pm - 3.0 * p0 - p1, p0);
+        let mut cuts = vec![0.0, 1.0];
+        for t in projection.breakpoints() {
+            cuts.extend(roots_in_unit_interval(a, b, c - t));
+        }
+        cuts.sort_by(f64::total_cmp);
+        let length = self.faces[k].length;
+        cuts.windows(2)
+            .filter(|w| w[1] > w[0])
+            .flat_map(|w| {
+                self.rule
+                    .points
+                    .iter()
+                    .zip(&self.rule.weights)
+                    .map(move |(&s, &ws)| (w[0] + s * (w[1] - w[0]), ws * (w[1] - w[0]) * length))
+            })
+            .collect()
+    }
+
+    /// Local residual R_F(u; φ_k) and, if asked, Jacobian J_F(u; φ_l, φ_k) (row-major, k × l)
+    /// of face k with local nodal displacements `u`.
+    pub fn face_terms(
+        &self,
+        k: usize,
+        u: &[f64],
+        projection: &dyn Projection,
+        residual: &mut [f64],
+        mut jacobian: Option<&mut [f64]>,
+    ) {
+        let n = self.n_local();
+        let (gamma, theta) = (self.faces[k].gamma, self.parameters.theta);
+        residual[..n].fill(0.0);
+        if let Some(j) = jacobian.as_deref_mut() {
+            j[..n * n].fill(0.0);
+        }
+        let mut test = vec![0.0; n];
+        let mut trial = vec![0.0; n];
+        for (s, w) in self.quadrature(k, u, projection) {
+            let pt = self.point(k, s);
+            let p = self.p_gamma(k, &pt, u);
+            let sigma_n_u = dot(&pt.sigma_n, u);
+            let (value, slope) = (projection.value(p), projection.derivative(p));
+            for i in 0..n {
+                test[i] = theta * pt.sigma_n[i] - gamma * pt.u_n[i]; // θ σ^n(v) − γ v^n
+                trial[i] = pt.sigma_n[i] - gamma * pt.u_n[i]; // σ^n(w) − γ w^n
+                residual[i] += (-theta / gamma * sigma_n_u * pt.sigma_n[i] // −(θ/γ) σ^n(u) σ^n(v)
+                    + value * test[i] / gamma) // (1/γ)[P_γ(u)](θσ^n(v) − γv^n)
+                    * w;
+            }
+            if let Some(j) = jacobian.as_deref_mut() {
+                for r in 0..n {
+                    for c in 0..n {
+                        j[r * n + c] += (-theta / gamma * pt.sigma_n[c] * pt.sigma_n[r] // −(θ/γ) σ^n(w) σ^n(v)
+                            + slope * trial[c] * test[r] / gamma) // (1/γ) ∂[P](σ^n(w) − γw^n)(θσ^n(v) − γv^n)
+                            * w;
+                    }
+                }
+            }
+        }
+    }
+}
+
+fn face(
+    mesh: &Mesh,
+    topology: &Topology,
+    materials: &[Material],
+    f: usize,
+    gamma0: f64,
+) -> ContactFace {
+    let cell = topology.facet_cell(f);
+    let vertices = &mesh.cell(cell)[..3];
+    let reference = lagrange::reference_nodes(1);
+    let nodes = mesh.facet(f);
+    let local = |node: usize| {
+        vertices
+            .iter()
+            .position(|&v| v == node)
+            .expect("face vertex belongs to its cell")
+    };
+    let length = mesh.facet_length(f);
+    let (lambda, mu) = materials[cell].lame();
+    ContactFace {
+        facet: f,
+        cell,
+        map: AffineMap::new(mesh.cell_vertices(cell)),
+        ends: [reference[local(nodes[0])], reference[local(nodes[1])]],
+        normal: topology.outward_normal(mesh, f),
+        length,
+        gamma: gamma0 * materials[cell].young / length,
+        lambda,
+        mu,
+    }
+}
+
+fn lerp(a: [f64; 2], b: [f64; 2], s: f64) -> [f64; 2] {
+    [a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1])]
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// Roots in (0, 1) of a s² + b s + c, by the cancellation-free quadratic formula; a nearly
+/// vanishing a (relative to b and c) is treated as linear.
+pub fn roots_in_unit_interval(a: f64, b: f64, c: f64) -> Vec<f64> {
+    let inside = |s: &f64| *s > 0.0 && *s < 1.0;
+    let size = a.abs().max(b.abs()).max(c.abs());
+    if size == 0.0 {
+        return vec![];
+    }
+    if a.abs() <= 1e-12 * size {
+        return if b != 0.0 {
+            vec![-c / b].into_iter().filter(inside).collect()
+        } else {
+            vec![]
+        };
+    }
+    let disc = b * b - 4.0 * a * c;
+    if disc < 0.0 {
+        return vec![];
+    }
+    let q = -0.5 * (b + b.signum() * disc.sqrt());
+    let mut roots = vec![q / a];
+    if q != 0.0 {
+        roots.push(c / q);
+    }
+    roots.into_iter().filter(inside).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quadratic_roots() {
+        // (s − 0.25)(s − 0.6) = s² − 0.85 s + 0.15
+        let mut r = roots_in_unit_interval(1.0, -0.85, 0.15);
+        r.sort_by(f64::total_cmp);
+        assert!((r[0] - 0.25).abs() < 1e-15 && (r[1] - 0.6).abs() < 1e-15);
+        assert_eq!(roots_in_unit_interval(0.0, 2.0, -1.0), vec![0.5]);
+        assert!(roots_in_unit_interval(1.0, 0.0, 1.0).is_empty());
+    }
+}

@@ -1,0 +1,100 @@
+//! The projection [x]_{R⁻} = min(x, 0) and its C¹ regularisation [x]_{reg,δ}.
+//!
+//! Quadratic smoothing (docs/method.md §1.4):
+//!
+//!   [x]_{reg,δ} = x                 for x ≤ −δ,
+//!               = −(x − δ)²/(4δ)    for |x| < δ,
+//!               = 0                 for x ≥ δ,
+//!
+//! with derivative 1, (δ − x)/(2δ), 0 on the same pieces. It is monotone, 1-Lipschitz,
+//! lies below min(x, 0) and differs from it by at most δ/4 (at x = 0). With δ = 0 it is the
+//! plain projection with the semismooth derivative 1 for x < 0, 0 for x ≥ 0.
+
+/// A monotone, 1-Lipschitz approximation of min(x, 0).
+pub trait Projection: Sync + Send {
+    /// The projected value.
+    fn value(&self, x: f64) -> f64;
+    /// Its derivative (a generalised derivative at kinks).
+    fn derivative(&self, x: f64) -> f64;
+    /// The points where the function is not a polynomial; quadrature splits faces there.
+    fn breakpoints(&self) -> Vec<f64>;
+}
+
+/// The quadratic C¹ smoothing of min(x, 0) with half-width δ ≥ 0 (δ = 0: no smoothing).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct QuadraticSmoothing {
+    pub delta: f64,
+}
+
+impl Projection for QuadraticSmoothing {
+    fn value(&self, x: f64) -> f64 {
+        let d = self.delta;
+        if x <= -d {
+            x
+        } else if x >= d {
+            0.0
+        } else {
+            -(x - d) * (x - d) / (4.0 * d)
+        }
+    }
+
+    fn derivative(&self, x: f64) -> f64 {
+        let d = self.delta;
+        if x <= -d && !(d == 0.0 && x == 0.0) {
+            1.0
+        } else if x >= d {
+            0.0
+        } else {
+            (d - x) / (2.0 * d)
+        }
+    }
+
+    fn breakpoints(&self) -> Vec<f64> {
+        if self.delta == 0.0 {
+            vec![0.0]
+        } else {
+            vec![-self.delta, self.delta]
+        }
+    }
+}
+
+/// The exact projection min(x, 0).
+pub fn negative_part(x: f64) -> f64 {
+    x.min(0.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn smoothing_properties() {
+        let p = QuadraticSmoothing { delta: 0.3 };
+        let xs: Vec<f64> = (-200..=200).map(|k| k as f64 * 0.005).collect();
+        for &x in &xs {
+            let (v, exact) = (p.value(x), negative_part(x));
+            assert!(
+                v <= exact + 1e-15 && exact - v <= 0.3 / 4.0 + 1e-15,
+                "bound at {x}"
+            );
+            let h = 1e-6;
+            let fd = (p.value(x + h) - p.value(x - h)) / (2.0 * h);
+            assert!((fd - p.derivative(x)).abs() < 1e-6, "derivative at {x}");
+        }
+        assert!((negative_part(0.0) - p.value(0.0) - 0.3 / 4.0).abs() < 1e-15);
+        // C¹ at ±δ
+        for x in [-0.3, 0.3] {
+            assert!((p.value(x - 1e-9) - p.value(x + 1e-9)).abs() < 1e-8);
+        }
+        let plain = QuadraticSmoothing { delta: 0.0 };
+        assert_eq!((plain.value(-2.0), plain.value(1.0)), (-2.0, 0.0));
+        assert_eq!(
+            (
+                plain.derivative(-2.0),
+                plain.derivative(1.0),
+                plain.derivative(0.0)
+            ),
+            (1.0, 0.0, 0.0)
+        );
+    }
+}

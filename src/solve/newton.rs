@@ -1,0 +1,201 @@
+//! Newton's method with backtracking for F(x) = 0 on a fixed sparsity pattern.
+//!
+//! Step k solves J(x_k) Δ = −F(x_k) by sparse LU (symbolic factorisation reused), then takes
+//! the largest t ∈ {1, ½, ¼, …} with ‖F(x_k + tΔ)‖ ≤ (1 − 10⁻⁴ t)‖F(x_k)‖ (Armijo on the
+//! residual norm). It stops when ‖F(x_k)‖ ≤ rtol · scale, where `scale` is the system's load
+//! norm, or when the increment reaches round-off, ‖Δ‖ ≤ 10⁻¹³ ‖x‖. Running out of iterations
+//! is an error that carries the whole history: never a silent wrong answer.
+
+use super::lu::{solve_with, SparseLu};
+use super::SolveError;
+use crate::fem::sparse::SparsePattern;
+use serde::Serialize;
+use std::time::Instant;
+
+/// A nonlinear system F(x) = 0 whose Jacobian lives on a fixed pattern.
+pub trait NonlinearSystem {
+    /// Pattern of the Jacobian.
+    fn pattern(&self) -> &SparsePattern;
+    /// Writes F(x) into `residual` and, when asked, the Jacobian values into `jacobian`.
+    fn evaluate(&self, x: &[f64], residual: &mut [f64], jacobian: Option<&mut [f64]>);
+    /// Norm of the load vector: the residual scale for the relative tolerance.
+    fn scale(&self) -> f64;
+}
+
+/// Stopping and damping parameters.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct NewtonOptions {
+    /// Maximum number of Newton steps.
+    pub max_iter: usize,
+    /// Relative residual tolerance: ‖F‖ ≤ rtol · scale.
+    pub rtol: f64,
+    /// Maximum number of step halvings in the line search.
+    pub max_halvings: usize,
+}
+
+impl Default for NewtonOptions {
+    fn default() -> Self {
+        NewtonOptions {
+            max_iter: 50,
+            rtol: 1e-10,
+            max_halvings: 20,
+        }
+    }
+}
+
+/// One Newton step: residual before it, increment taken, step length.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Iteration {
+    pub residual: f64,
+    pub increment: f64,
+    pub step: f64,
+}
+
+/// Wall time spent in each part of the Newton loop, in seconds.
+#[derive(Debug, Clone, Copy, Default, Serialize)]
+pub struct NewtonTimings {
+    pub assemble: f64,
+    pub factor: f64,
+    pub solve: f64,
+    pub line_search: f64,
+}
+
+/// The converged iterate and how it was reached.
+#[derive(Debug, Clone, Serialize)]
+pub struct NewtonReport {
+    #[serde(skip)]
+    pub x: Vec<f64>,
+    pub iterations: Vec<Iteration>,
+    /// Final residual norm ‖F(x)‖.
+    pub residual: f64,
+    pub scale: f64,
+    pub seconds: NewtonTimings,
+}
+
+impl NewtonReport {
+    /// Ratios ‖Δ_{k+1}‖ / ‖Δ_k‖² of the last steps: bounded for quadratic convergence.
+    pub fn quadratic_ratios(&self) -> Vec<f64> {
+        self.iterations
+            .windows(2)
+            .map(|w| w[1].increment / (w[0].increment * w[0].increment))
+            .collect()
+    }
+}
+
+/// Why Newton stopped without an answer.
+#[derive(Debug, thiserror::Error)]
+pub enum NewtonError {
+    #[error("Newton did not converge in {} steps: relative residuals {}", .history.len(), format_history(.history, *.scale))]
+    NotConverged { history: Vec<Iteration>, scale: f64 },
+    #[error(
+        "Newton step {step}: the increment is not finite (the Jacobian is numerically singular)"
+    )]
+    NonFinite { step: usize },
+    #[error("Newton step {step}: {source}")]
+    Solve { step: usize, source: SolveError },
+}
+
+fn format_history(history: &[Iteration], scale: f64) -> String {
+    history
+        .iter()
+        .map(|it| format!("{:.2e}", it.residual / scale))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+fn norm(v: &[f64]) -> f64 {
+    v.iter().map(|a| a * a).sum::<f64>().sqrt()
+}
+
+/// Solves F(x) = 0 from `x0`.
+pub fn newton(
+    system: &impl NonlinearSystem,
+    x0: Vec<f64>,
+    options: &NewtonOptions,
+) -> Result<NewtonReport, NewtonError> {
+    let pattern = system.pattern();
+    let lu = SparseLu::analyse(pattern).map_err(|source| NewtonError::Solve { step: 0, source })?;
+    let scale = system.scale().max(f64::MIN_POSITIVE);
+    let (mut x, mut trial) = (x0, vec![0.0; pattern.n()]);
+    let (mut residual, mut trial_residual) = (vec![0.0; pattern.n()], vec![0.0; pattern.n()]);
+    let mut jacobian = vec![0.0; pattern.nnz()];
+    let mut history = Vec::new();
+    let mut seconds = NewtonTimings::default();
+    for step in 0..=options.max_iter {
+        let clock = Instant::now();
+        system.evaluate(&x, &mut residual, Some(&mut jacobian));
+        seconds.assemble += clock.elapsed().as_secs_f64();
+        let r = norm(&residual);
+        let stagnated = history
+            .last()
+            .is_some_and(|it: &Iteration| it.increment <= 1e-13 * norm(&x));
+        if r <= options.rtol * scale || stagnated {
+            return Ok(NewtonReport {
+                x,
+                iterations: history,
+                residual: r,
+                scale,
+                seconds,
+            });
+        }
+        if step == options.max_iter {
+            break;
+        }
+        let clock = Instant::now();
+        let factors = lu
+            .factor(pattern, &jacobian)
+            .map_err(|source| NewtonError::Solve { step, source })?;
+        seconds.factor += clock.elapsed().as_secs_f64();
+        let clock = Instant::now();
+        let minus_r: Vec<f64> = residual.iter().map(|v| -v).collect();
+        let delta = solve_with(&factors, &minus_r);
+        seconds.solve += clock.elapsed().as_secs_f64();
+        if !delta.iter().all(|v| v.is_finite()) {
+            return Err(NewtonError::NonFinite { step });
+        }
+        let clock = Instant::now();
+        let t = line_search(
+            system,
+            &x,
+            &delta,
+            r,
+            options,
+            &mut trial,
+            &mut trial_residual,
+        );
+        seconds.line_search += clock.elapsed().as_secs_f64();
+        for (xi, di) in x.iter_mut().zip(&delta) {
+            *xi += t * di;
+        }
+        history.push(Iteration {
+            residual: r,
+            increment: t * norm(&delta),
+            step: t,
+        });
+    }
+    Err(NewtonError::NotConverged { history, scale })
+}
+
+/// Largest t = 2^−j with ‖F(x + tΔ)‖ ≤ (1 − 10⁻⁴ t)‖F(x)‖; the last halving if none is.
+fn line_search(
+    system: &impl NonlinearSystem,
+    x: &[f64],
+    delta: &[f64],
+    r: f64,
+    options: &NewtonOptions,
+    trial: &mut [f64],
+    trial_residual: &mut [f64],
+) -> f64 {
+    let mut t = 1.0;
+    for _ in 0..options.max_halvings {
+        for ((y, xi), di) in trial.iter_mut().zip(x).zip(delta) {
+            *y = xi + t * di;
+        }
+        system.evaluate(trial, trial_residual, None);
+        if norm(trial_residual) <= (1.0 - 1e-4 * t) * r {
+            return t;
+        }
+        t *= 0.5;
+    }
+    t
+}

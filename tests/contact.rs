@@ -1,0 +1,96 @@
+//! Verification of Nitsche contact (docs/method.md §7, V2).
+
+mod common;
+
+use damfem::contact::nitsche::{Nitsche, NitscheParameters};
+use damfem::contact::projection::QuadraticSmoothing;
+use damfem::contact::ContactProblem;
+use damfem::elasticity::{BodyForce, Dirichlet, Material, Problem};
+use damfem::mesh::structured::{unit_square, BOTTOM, TOP};
+use damfem::solve::{newton, NewtonOptions};
+use std::sync::Arc;
+
+/// V2 patch test. Source: docs/method.md §7 V2. Ω = (0,1)², E = 1, ν = 0, f = 0;
+/// Γ_C = {y = 0}, Γ_D = {y = 1} with u = (0, top_uy), lateral sides traction-free.
+/// Returns the largest nodal error against `exact` and the Newton steps.
+fn patch_test(
+    order: usize,
+    theta: f64,
+    top_uy: f64,
+    exact: impl Fn([f64; 2]) -> f64,
+) -> (f64, usize) {
+    let mesh = unit_square(4, order);
+    let material = Material {
+        young: 1.0,
+        poisson: 0.0,
+        density: 0.0,
+    };
+    let problem = Problem {
+        materials: vec![material; mesh.n_cells()],
+        dirichlet: vec![Dirichlet {
+            tag: TOP,
+            fix: [true; 2],
+            value: Arc::new(move |_| [0.0, top_uy]),
+        }],
+        neumann: vec![],
+        body_force: BodyForce::None,
+        mesh,
+    };
+    let disc = problem.discretise();
+    let parameters = NitscheParameters {
+        theta,
+        ..Default::default()
+    };
+    let nitsche = Nitsche::new(
+        &problem.mesh,
+        &disc.topology,
+        &problem.materials,
+        &[BOTTOM],
+        parameters,
+    );
+    let contact = ContactProblem::new(
+        &problem,
+        &disc,
+        nitsche,
+        Box::new(QuadraticSmoothing { delta: 1e-4 }),
+    );
+    let report = newton(
+        &contact,
+        vec![0.0; disc.dofs.n_free],
+        &NewtonOptions::default(),
+    )
+    .expect("Newton converges");
+    let u = problem.displacement(&disc, &report.x);
+    let error = problem
+        .mesh
+        .points
+        .iter()
+        .zip(&u)
+        .map(|(x, v)| v[0].abs().max((v[1] - exact(*x)).abs()))
+        .fold(0.0, f64::max);
+    (error, report.iterations.len())
+}
+
+#[test]
+fn v2_patch_test_full_contact_is_exact() {
+    for order in [1, 2] {
+        for theta in [1.0, 0.0, -1.0] {
+            let (error, steps) = patch_test(order, theta, -1e-2, |x| -1e-2 * x[1]);
+            println!(
+                "P{order} θ = {theta}: max nodal error {error:.2e} after {steps} Newton steps"
+            );
+            assert!(error < 1e-12, "P{order} θ = {theta}: error {error}");
+        }
+    }
+}
+
+#[test]
+fn v2_lift_off_is_a_rigid_translation() {
+    for order in [1, 2] {
+        for theta in [1.0, 0.0, -1.0] {
+            // u = (0, d): no stress, so no contact pressure
+            let (error, _) = patch_test(order, theta, 1e-2, |_| 1e-2);
+            assert!(error < 1e-12, "P{order} θ = {theta}: error {error}");
+        }
+    }
+}
