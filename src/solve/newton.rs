@@ -192,7 +192,7 @@ fn line_search(
             *y = xi + t * di;
         }
         system.evaluate(trial, trial_residual, None);
-        if norm(trial_residual) <= (1.0 - 1e-4 * t) * r {
+        if norm(trial_residual) < r {
             return t;
         }
         t *= 0.5;
