@@ -1,0 +1,52 @@
+//! Errors of the gmsh interface: each one prints as one sentence naming the file.
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong while opening, meshing, reading or writing through gmsh.
+#[derive(Debug, thiserror::Error)]
+pub enum GmshError {
+    /// The file to open does not exist.
+    #[error("cannot open {}: file not found", .path.display())]
+    NotFound { path: PathBuf },
+    /// A file to check for shell commands exists but cannot be read.
+    #[error("cannot read {}: {source}", .path.display())]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    /// `path` (the opened file or one it includes) could make gmsh run a shell command;
+    /// `reason` completes the sentence, e.g. "uses SystemCall, which runs shell commands".
+    #[error("refusing to open {}: line {line} {reason} (allow system calls to open it anyway)", .path.display())]
+    SystemCall { path: PathBuf, line: usize, reason: String },
+    /// A file opened as a mesh does not start like a gmsh `.msh` file.
+    #[error("cannot open {}: not a gmsh .msh file (it does not start with $MeshFormat)", .path.display())]
+    NotMsh { path: PathBuf },
+    /// gmsh reported an error while reading the file, e.g. a `.geo` syntax error with its line.
+    #[error("cannot open {}: {message}", .path.display())]
+    Open { path: PathBuf, message: String },
+    /// gmsh reported an error while meshing the model read from `path`.
+    #[error("cannot mesh {}: {message}", .path.display())]
+    Meshing { path: PathBuf, message: String },
+    /// gmsh reported an error while writing the mesh.
+    #[error("cannot write {}: {message}", .path.display())]
+    Write { path: PathBuf, message: String },
+    /// The mesh has no 3-node or 6-node triangle.
+    #[error("the mesh of {} has no triangles (does it define a surface?)", .path.display())]
+    NoTriangles { path: PathBuf },
+    /// The mesh mixes elements of order 1 and 2.
+    #[error("the mesh of {} mixes first- and second-order elements", .path.display())]
+    MixedOrder { path: PathBuf },
+    /// The mesh has elements other than triangles and segments of order 1 or 2 (e.g. quadrangles).
+    #[error("the mesh of {} has {element} elements, but only triangles and segments of order 1 or 2 are supported", .path.display())]
+    Unsupported { path: PathBuf, element: String },
+    /// A physical curve has nodes that no triangle uses.
+    #[error("physical curve \"{group}\" of {} does not lie on the triangles of the mesh", .path.display())]
+    DetachedCurve { path: PathBuf, group: String },
+    /// A [`MeshOptions`](super::MeshOptions) field is out of range.
+    #[error("invalid mesh option {name} = {value}: expected {expected}")]
+    BadOption { name: &'static str, value: String, expected: &'static str },
+    /// A gmsh C API call failed; `message` is gmsh's last error.
+    #[error("gmsh call {call} failed: {message}")]
+    Call { call: &'static str, message: String },
+}

@@ -1,0 +1,85 @@
+//! Meshing and mesh files through gmsh's C API (gmsh 4.8, `libgmsh`).
+//!
+//! gmsh keeps one global model and global options, and its API is not thread-safe. A
+//! [`Session`] is the only way in: it holds a process-wide lock (a static `Mutex`), so
+//! concurrent callers, e.g. `cargo test` threads, wait for each other. The first session
+//! calls `gmshInitialize`; every session clears the model (`gmshClear`), puts back gmsh's
+//! defaults for the options that shape the mesh, and silences gmsh's console unless
+//! `verbose`. `gmshFinalize` is never called: gmsh lives until the process ends.
+//!
+//! This module holds the crate's only `unsafe` code, in `api`: every C call goes through
+//! one `check(ierr, "gmshName")` helper that turns a non-zero `ierr` into
+//! [`GmshError::Call`] with gmsh's last error, and every array gmsh allocates is owned by a
+//! `GmshVec` that frees it on drop.
+//!
+//! Facts of gmsh 4.8 that shape this module:
+//! - the API sets `General.AbortOnError` to 2, so errors are thrown. An error thrown while
+//!   reading a file leaves gmsh "busy": every later open silently does nothing. One thrown
+//!   while meshing terminates the process. Opening, meshing and writing therefore run with
+//!   the option at 0 and report the first error gmsh logged (its logger runs throughout);
+//!   with the option at 0, a `.geo` syntax error does not set `ierr` at all;
+//! - reading a `.geo` runs its `SystemCall`s, and so does reading any file that does not start
+//!   like a mesh (gmsh parses it as a `.geo`) or the `<file>.opt` gmsh merges after each
+//!   file. The `guard` module therefore checks every file gmsh would read before it reads
+//!   any, and refuses shell commands, `Exit`, file writes and includes it cannot follow;
+//! - `Exit;` in a `.geo` ends the calling process.
+//!
+//! Options a `.geo` file sets, other than those a session resets, persist into later sessions
+//! of the same process.
+
+mod api;
+mod error;
+mod ffi;
+mod guard;
+mod read;
+mod session;
+
+pub use error::GmshError;
+pub use session::Session;
+
+use crate::mesh::Mesh;
+use std::path::Path;
+
+/// How gmsh meshes a geometry.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeshOptions {
+    /// Polynomial degree of the triangles: 1 or 2. Degree-2 midpoints sit on straight edges
+    /// (`Mesh.SecondOrderLinear`), also along curved boundaries: the geometry is affine.
+    pub order: usize,
+    /// Multiplies every mesh size (`Mesh.MeshSizeFactor`).
+    pub size_factor: f64,
+    /// Lower bound on mesh sizes (`Mesh.MeshSizeMin`); `None` keeps the file's.
+    pub size_min: Option<f64>,
+    /// Upper bound on mesh sizes (`Mesh.MeshSizeMax`); `None` keeps the file's.
+    pub size_max: Option<f64>,
+    /// gmsh 2D algorithm (`Mesh.Algorithm`): 6 is Frontal-Delaunay, 5 Delaunay, 1 MeshAdapt.
+    pub algorithm: i32,
+}
+
+impl Default for MeshOptions {
+    fn default() -> Self {
+        MeshOptions { order: 1, size_factor: 1.0, size_min: None, size_max: None, algorithm: 6 }
+    }
+}
+
+/// Meshes the `.geo` file `path` in 2D and reads the mesh. Unless `allow_system_calls`, a
+/// file that could run shell commands is refused with [`GmshError::SystemCall`].
+pub fn mesh_geo(
+    path: &Path,
+    options: &MeshOptions,
+    verbose: bool,
+    allow_system_calls: bool,
+) -> Result<Mesh, GmshError> {
+    let mut session = Session::new(verbose)?;
+    session.open_geo(path, allow_system_calls)?;
+    session.set_options(options)?;
+    session.generate()?;
+    session.mesh()
+}
+
+/// Reads the gmsh mesh file `path` (`.msh`).
+pub fn read_msh(path: &Path, verbose: bool) -> Result<Mesh, GmshError> {
+    let mut session = Session::new(verbose)?;
+    session.open_msh(path)?;
+    session.mesh()
+}

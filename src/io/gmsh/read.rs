@@ -1,0 +1,157 @@
+//! Conversion of gmsh's current mesh into a [`Mesh`].
+
+use super::{api, GmshError};
+use crate::mesh::{Mesh, PhysicalGroup};
+use std::collections::HashMap;
+use std::path::Path;
+
+/// Reads the current mesh as [`Session::mesh`](super::Session::mesh) describes; `source`
+/// names the file in errors.
+pub(super) fn mesh(source: &Path) -> Result<Mesh, GmshError> {
+    let cells = elements(2, source)?;
+    let order = cells.order.ok_or_else(|| GmshError::NoTriangles { path: source.into() })?;
+    let facets = elements(1, source)?;
+    if facets.order.is_some_and(|o| o != order) {
+        return Err(GmshError::MixedOrder { path: source.into() });
+    }
+    let groups = groups()?;
+    let mut numbering = Numbering::new()?;
+    let cell_nodes = cells.nodes.iter().map(|&tag| numbering.add(tag)).collect::<Result<_, _>>()?;
+    let facet_nodes = numbering.facets(&facets, &groups, source)?;
+    let mut mesh = Mesh {
+        points: numbering.points,
+        order,
+        cell_nodes,
+        cell_tags: cells.tags,
+        facet_nodes,
+        facet_tags: facets.tags,
+        groups,
+    };
+    mesh.orient_counter_clockwise();
+    Ok(mesh)
+}
+
+/// Elements of one dimension, with gmsh's node tags.
+#[derive(Default)]
+struct Elements {
+    order: Option<usize>,
+    /// Node tags, element after element.
+    nodes: Vec<usize>,
+    /// Physical tag of each element.
+    tags: Vec<i32>,
+}
+
+/// Triangles of every surface (`dim` 2) or segments of every physical curve (`dim` 1).
+fn elements(dim: i32, source: &Path) -> Result<Elements, GmshError> {
+    let mut elements = Elements::default();
+    for (entity, tag) in tagged_entities(dim)? {
+        for &element_type in api::element_types(dim, entity)?.as_slice() {
+            let (order, n) = match (dim, element_type) {
+                (2, 2) => (1, 3),
+                (2, 9) => (2, 6),
+                (1, 1) => (1, 2),
+                (1, 8) => (2, 3),
+                _ => return Err(unsupported(element_type, source)),
+            };
+            if *elements.order.get_or_insert(order) != order {
+                return Err(GmshError::MixedOrder { path: source.into() });
+            }
+            let nodes = api::element_nodes(element_type, entity)?;
+            elements.nodes.extend_from_slice(nodes.as_slice());
+            let count = nodes.as_slice().len() / n;
+            elements.tags.extend(std::iter::repeat_n(tag, count));
+        }
+    }
+    Ok(elements)
+}
+
+/// (entity, physical tag) pairs: every surface with its first group (0 if none), or every
+/// (curve, group) pair of the physical curve groups.
+fn tagged_entities(dim: i32) -> Result<Vec<(i32, i32)>, GmshError> {
+    let mut pairs = Vec::new();
+    if dim == 2 {
+        for (_, surface) in api::entities(2)? {
+            let groups = api::entity_groups(2, surface)?;
+            pairs.push((surface, groups.as_slice().first().copied().unwrap_or(0)));
+        }
+    } else {
+        for (_, group) in api::physical_groups(1)? {
+            let curves = api::group_entities(1, group)?;
+            pairs.extend(curves.as_slice().iter().map(|&curve| (curve, group)));
+        }
+    }
+    Ok(pairs)
+}
+
+fn unsupported(element_type: i32, source: &Path) -> GmshError {
+    match api::element_name(element_type) {
+        Ok(element) => GmshError::Unsupported { path: source.into(), element },
+        Err(e) => e,
+    }
+}
+
+/// Physical groups of dimension 1 and 2 with their names.
+fn groups() -> Result<Vec<PhysicalGroup>, GmshError> {
+    api::physical_groups(-1)?
+        .into_iter()
+        .filter(|&(dim, _)| dim == 1 || dim == 2)
+        .map(|(dim, tag)| Ok(PhysicalGroup { dim: dim as u8, tag, name: api::physical_name(dim, tag)? }))
+        .collect()
+}
+
+/// Compact node numbering in order of first use.
+struct Numbering {
+    /// (x, y) of every gmsh node, by tag.
+    xy: HashMap<usize, [f64; 2]>,
+    /// gmsh tag → new index.
+    index: HashMap<usize, usize>,
+    points: Vec<[f64; 2]>,
+}
+
+impl Numbering {
+    fn new() -> Result<Numbering, GmshError> {
+        let (tags, coords) = api::nodes()?;
+        let xy = tags
+            .as_slice()
+            .iter()
+            .zip(coords.as_slice().chunks_exact(3))
+            .map(|(&tag, c)| (tag, [c[0], c[1]]))
+            .collect();
+        Ok(Numbering { xy, index: HashMap::new(), points: Vec::new() })
+    }
+
+    /// Index of node `tag`, numbering it if new.
+    fn add(&mut self, tag: usize) -> Result<usize, GmshError> {
+        if let Some(&i) = self.index.get(&tag) {
+            return Ok(i);
+        }
+        let xy = *self.xy.get(&tag).ok_or_else(|| GmshError::Call {
+            call: "gmshModelMeshGetNodes",
+            message: format!("node {tag} of an element is missing"),
+        })?;
+        self.points.push(xy);
+        self.index.insert(tag, self.points.len() - 1);
+        Ok(self.points.len() - 1)
+    }
+
+    /// Facet connectivity in the numbering of the cells.
+    fn facets(&self, facets: &Elements, groups: &[PhysicalGroup], source: &Path) -> Result<Vec<usize>, GmshError> {
+        let n = facets.order.map_or(1, |o| o + 1);
+        let mut nodes = Vec::with_capacity(facets.nodes.len());
+        for (facet, &tag) in facets.nodes.chunks(n).zip(&facets.tags) {
+            for node in facet {
+                let index = self.index.get(node).ok_or_else(|| detached(tag, groups, source))?;
+                nodes.push(*index);
+            }
+        }
+        Ok(nodes)
+    }
+}
+
+fn detached(tag: i32, groups: &[PhysicalGroup], source: &Path) -> GmshError {
+    let group = groups
+        .iter()
+        .find(|g| g.dim == 1 && g.tag == tag && !g.name.is_empty())
+        .map_or_else(|| tag.to_string(), |g| g.name.clone());
+    GmshError::DetachedCurve { path: source.into(), group }
+}

@@ -1,0 +1,200 @@
+//! [`Session`]: exclusive access to gmsh's global state.
+
+use super::{api, guard, read, GmshError, MeshOptions};
+use crate::mesh::Mesh;
+use std::ffi::CString;
+use std::io::Read;
+use std::path::{Path, PathBuf};
+use std::sync::{Mutex, MutexGuard, PoisonError};
+
+/// Options a `.geo` file may set that change the mesh; every session starts from gmsh's defaults.
+const RESET_OPTIONS: [&str; 12] = [
+    "Mesh.Algorithm",
+    "Mesh.ElementOrder",
+    "Mesh.SecondOrderLinear",
+    "Mesh.MeshSizeFactor",
+    "Mesh.MeshSizeMin",
+    "Mesh.MeshSizeMax",
+    "Mesh.MeshSizeFromPoints",
+    "Mesh.MeshSizeFromCurvature",
+    "Mesh.MeshSizeExtendFromBoundary",
+    "Mesh.RecombineAll",
+    "Mesh.SubdivisionAlgorithm",
+    "Mesh.SaveAll",
+];
+
+/// gmsh 2D meshing algorithms (`Mesh.Algorithm`).
+const ALGORITHMS: [i32; 9] = [1, 2, 3, 5, 6, 7, 8, 9, 11];
+
+/// gmsh's values of [`RESET_OPTIONS`], read once after `gmshInitialize`.
+static GMSH: Mutex<Option<Vec<f64>>> = Mutex::new(None);
+
+/// Exclusive use of gmsh, which keeps one global model. Other threads wait in [`Session::new`]
+/// until this session is dropped; a second session on the same thread would deadlock.
+pub struct Session {
+    _lock: MutexGuard<'static, Option<Vec<f64>>>,
+    /// The file last opened, named in error messages.
+    source: PathBuf,
+    /// Number of logger messages already examined.
+    log_seen: usize,
+}
+
+impl Session {
+    /// Waits for gmsh, initialising it on first use, and starts from an empty model.
+    /// `verbose` lets gmsh print its progress on the terminal.
+    pub fn new(verbose: bool) -> Result<Session, GmshError> {
+        let mut lock = GMSH.lock().unwrap_or_else(PoisonError::into_inner);
+        if lock.is_none() {
+            api::initialize()?;
+            let defaults = RESET_OPTIONS.iter().map(|name| api::get_number(name));
+            *lock = Some(defaults.collect::<Result<_, _>>()?);
+        }
+        for (name, &value) in RESET_OPTIONS.iter().zip(lock.iter().flatten()) {
+            api::set_number(name, value)?;
+        }
+        api::set_number("General.Terminal", if verbose { 1.0 } else { 0.0 })?;
+        // errors must stay logged (verbosity ≥ 1) for the session to report them
+        api::set_number("General.Verbosity", if verbose { 5.0 } else { 1.0 })?;
+        api::set_number("General.AbortOnError", 2.0)?;
+        api::clear()?;
+        api::restart_logger()?;
+        Ok(Session { _lock: lock, source: PathBuf::from("the empty model"), log_seen: 0 })
+    }
+
+    /// Opens a `.geo` file. Unless `allow_system_calls`, first refuses it if it, or a file it
+    /// includes, could run a shell command (see the `guard` module).
+    pub fn open_geo(&mut self, path: &Path, allow_system_calls: bool) -> Result<(), GmshError> {
+        exists(path)?;
+        if !allow_system_calls {
+            guard::check(path)?;
+        }
+        self.open(path)
+    }
+
+    /// Opens a gmsh `.msh` file (refusing anything else: gmsh would parse it as a `.geo`).
+    pub fn open_msh(&mut self, path: &Path) -> Result<(), GmshError> {
+        exists(path)?;
+        let mut header = [0; 11];
+        let read = std::fs::File::open(path).and_then(|mut f| f.read_exact(&mut header));
+        if read.is_err() || &header != b"$MeshFormat" {
+            return Err(GmshError::NotMsh { path: path.into() });
+        }
+        guard::check_options(path)?;
+        self.open(path)
+    }
+
+    fn open(&mut self, path: &Path) -> Result<(), GmshError> {
+        self.source = path.into();
+        let c_path = c_path(path).ok_or_else(|| GmshError::NotFound { path: path.into() })?;
+        // gmsh names the top file in its messages: "'dam.geo', line 3: syntax error (;)"
+        let prefix = format!("'{}', ", path.display());
+        self.step(
+            || api::open(&c_path),
+            |message| GmshError::Open {
+                path: path.into(),
+                message: message.strip_prefix(&prefix).unwrap_or(&message).into(),
+            },
+        )
+    }
+
+    /// Sets the meshing options (overriding those of the opened file).
+    pub fn set_options(&mut self, options: &MeshOptions) -> Result<(), GmshError> {
+        validate(options)?;
+        api::set_number("Mesh.ElementOrder", options.order as f64)?;
+        api::set_number("Mesh.SecondOrderLinear", 1.0)?;
+        api::set_number("Mesh.MeshSizeFactor", options.size_factor)?;
+        if let Some(size) = options.size_min {
+            api::set_number("Mesh.MeshSizeMin", size)?;
+        }
+        if let Some(size) = options.size_max {
+            api::set_number("Mesh.MeshSizeMax", size)?;
+        }
+        api::set_number("Mesh.Algorithm", f64::from(options.algorithm))
+    }
+
+    /// Meshes the model in 2D; with `Mesh.ElementOrder` 2, gmsh then raises the mesh to order 2.
+    pub fn generate(&mut self) -> Result<(), GmshError> {
+        let path = self.source.clone();
+        self.step(|| api::generate(2), |message| GmshError::Meshing { path, message })
+    }
+
+    /// Reads the current mesh. Cells are the 3-node or 6-node triangles of every surface,
+    /// tagged with the surface's first physical group (0 if none); facets are the 2-node or
+    /// 3-node segments of the curves of each physical curve group (a segment in two groups
+    /// appears twice). Node order is gmsh's, which is the [`Mesh`] convention; nodes are
+    /// numbered from 0 in order of first use by a cell, and cells are counter-clockwise.
+    pub fn mesh(&self) -> Result<Mesh, GmshError> {
+        read::mesh(&self.source)
+    }
+
+    /// Writes the mesh, all elements included (`Mesh.SaveAll`), in the format of the extension.
+    pub fn write(&mut self, path: &Path) -> Result<(), GmshError> {
+        api::set_number("Mesh.SaveAll", 1.0)?;
+        let fail = |message| GmshError::Write { path: path.into(), message };
+        let c_path = c_path(path).ok_or_else(|| fail("invalid file name".into()))?;
+        self.step(|| api::write(&c_path), fail)
+    }
+
+    /// Runs a long gmsh operation with `General.AbortOnError` = 0 and reports the first error
+    /// it logged through `fail`. With gmsh's API default (2), an error thrown while parsing
+    /// leaves gmsh busy (later opens silently do nothing) and one thrown by the mesher
+    /// aborts the process.
+    fn step(
+        &mut self,
+        operation: impl FnOnce() -> Result<(), GmshError>,
+        fail: impl FnOnce(String) -> GmshError,
+    ) -> Result<(), GmshError> {
+        api::set_number("General.AbortOnError", 0.0)?;
+        let result = operation();
+        api::set_number("General.AbortOnError", 2.0)?;
+        if let Some(message) = self.first_new_error()? {
+            return Err(fail(message));
+        }
+        result.map_err(|e| match e {
+            GmshError::Call { message, .. } => fail(message),
+            e => e,
+        })
+    }
+
+    /// The first error gmsh logged since the last look.
+    fn first_new_error(&mut self) -> Result<Option<String>, GmshError> {
+        let log = api::logged()?;
+        let new = log.get(self.log_seen..).unwrap_or_default();
+        self.log_seen = log.len();
+        Ok(new.iter().find_map(|line| line.strip_prefix("Error: ")).map(str::to_owned))
+    }
+}
+
+fn exists(path: &Path) -> Result<(), GmshError> {
+    if path.is_file() {
+        Ok(())
+    } else {
+        Err(GmshError::NotFound { path: path.into() })
+    }
+}
+
+/// `path` for gmsh, `None` if it holds a NUL byte.
+fn c_path(path: &Path) -> Option<CString> {
+    CString::new(path.as_os_str().as_encoded_bytes()).ok()
+}
+
+fn validate(options: &MeshOptions) -> Result<(), GmshError> {
+    let bad = |name, value: String, expected| Err(GmshError::BadOption { name, value, expected });
+    let positive = |x: f64| x.is_finite() && x > 0.0;
+    if !matches!(options.order, 1 | 2) {
+        return bad("order", options.order.to_string(), "1 or 2");
+    }
+    if !positive(options.size_factor) {
+        return bad("size_factor", options.size_factor.to_string(), "a positive number");
+    }
+    for (name, size) in [("size_min", options.size_min), ("size_max", options.size_max)] {
+        if let Some(size) = size.filter(|&s| !positive(s)) {
+            return bad(name, size.to_string(), "a positive number");
+        }
+    }
+    if !ALGORITHMS.contains(&options.algorithm) {
+        let expected = "a gmsh 2D algorithm (1, 2, 3, 5, 6, 7, 8, 9 or 11)";
+        return bad("algorithm", options.algorithm.to_string(), expected);
+    }
+    Ok(())
+}
