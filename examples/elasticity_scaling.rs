@@ -18,36 +18,16 @@ use std::time::Instant;
 fn peak_memory_mib() -> f64 {
     std::fs::read_to_string("/proc/self/status")
         .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("VmHWM:"))
-                .map(|l| l.to_string())
-        })
-        .and_then(|l| {
-            l.split_whitespace()
-                .nth(1)
-                .and_then(|v| v.parse::<f64>().ok())
-        })
+        .and_then(|s| s.lines().find(|l| l.starts_with("VmHWM:")).map(|l| l.to_string()))
+        .and_then(|l| l.split_whitespace().nth(1).and_then(|v| v.parse::<f64>().ok()))
         .map_or(f64::NAN, |kib| kib / 1024.0)
 }
 
 fn problem(n: usize, order: usize) -> Problem {
     let mesh = unit_square(n, order);
     Problem {
-        materials: vec![
-            Material {
-                density: 1.0,
-                ..Material::from_lame(1.0, 1.0)
-            };
-            mesh.n_cells()
-        ],
-        dirichlet: (1..=4)
-            .map(|tag| Dirichlet {
-                tag,
-                fix: [true; 2],
-                value: Arc::new(|_| [0.0; 2]),
-            })
-            .collect(),
+        materials: vec![Material { density: 1.0, ..Material::from_lame(1.0, 1.0) }; mesh.n_cells()],
+        dirichlet: (1..=4).map(|tag| Dirichlet { tag, fix: [true; 2], value: Arc::new(|_| [0.0; 2]) }).collect(),
         neumann: vec![],
         body_force: BodyForce::Gravity(1.0),
         mesh,
@@ -55,10 +35,7 @@ fn problem(n: usize, order: usize) -> Problem {
 }
 
 fn slope(x: &[f64], y: &[f64]) -> f64 {
-    let (lx, ly): (Vec<f64>, Vec<f64>) = (
-        x.iter().map(|v| v.ln()).collect(),
-        y.iter().map(|v| v.ln()).collect(),
-    );
+    let (lx, ly): (Vec<f64>, Vec<f64>) = (x.iter().map(|v| v.ln()).collect(), y.iter().map(|v| v.ln()).collect());
     let m = lx.len() as f64;
     let (mx, my) = (lx.iter().sum::<f64>() / m, ly.iter().sum::<f64>() / m);
     let sxy: f64 = lx.iter().zip(&ly).map(|(a, b)| (a - mx) * (b - my)).sum();
@@ -66,10 +43,7 @@ fn slope(x: &[f64], y: &[f64]) -> f64 {
 }
 
 fn main() {
-    let max_unknowns: f64 = std::env::args()
-        .nth(1)
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(1.1e6);
+    let max_unknowns: f64 = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(1.1e6);
     println!("| degree | unknowns | assembly [s] | unknowns/s (assembly) | symbolic + numeric Cholesky + solve [s] | peak memory [MiB] |");
     println!("|---|---|---|---|---|---|");
     for order in [1, 2] {
@@ -104,7 +78,10 @@ fn main() {
             totals.push(assembly + solve);
         }
         if sizes.len() > 1 {
-            println!("| P{order} | fitted exponent of (assembly + solve) time against N: {:.2} | | | | |", slope(&sizes, &totals));
+            println!(
+                "| P{order} | fitted exponent of (assembly + solve) time against N: {:.2} | | | | |",
+                slope(&sizes, &totals)
+            );
         }
     }
 }

@@ -7,7 +7,7 @@
 //! material [`Scene::DEFAULT_MATERIAL`] to every region.
 
 use crate::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};
-use crate::mesh::Mesh;
+use crate::mesh::{Mesh, Topology};
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -17,28 +17,13 @@ use std::sync::Arc;
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
     #[error("cannot read {path}: {source}")]
-    Read {
-        path: PathBuf,
-        source: std::io::Error,
-    },
+    Read { path: PathBuf, source: std::io::Error },
     #[error("{path}: {message}")]
     Syntax { path: PathBuf, message: String },
-    #[error(
-        "{path}: {what} '{name}' is not a physical {kind} of the geometry; it has: {available}"
-    )]
-    UnknownGroup {
-        path: PathBuf,
-        what: &'static str,
-        name: String,
-        kind: &'static str,
-        available: String,
-    },
+    #[error("{path}: {what} '{name}' is not a physical {kind} of the geometry; it has: {available}")]
+    UnknownGroup { path: PathBuf, what: &'static str, name: String, kind: &'static str, available: String },
     #[error("{path}: material '{name}': {message}")]
-    Material {
-        path: PathBuf,
-        name: String,
-        message: String,
-    },
+    Material { path: PathBuf, name: String, message: String },
     #[error("{path}: {message}")]
     Invalid { path: PathBuf, message: String },
 }
@@ -59,13 +44,7 @@ pub struct MeshSection {
 
 impl Default for MeshSection {
     fn default() -> Self {
-        MeshSection {
-            order: 2,
-            size_factor: 1.0,
-            size_min: None,
-            size_max: None,
-            algorithm: 6,
-        }
+        MeshSection { order: 2, size_factor: 1.0, size_min: None, size_max: None, algorithm: 6 }
     }
 }
 
@@ -135,6 +114,55 @@ impl Default for LoadSection {
     }
 }
 
+/// `[contact]`: Nitsche contact on the curves with role "contact".
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ContactSection {
+    /// γ₀ in the Nitsche parameter γ = γ₀ E / h_F.
+    pub gamma0: f64,
+    /// θ: 1 symmetric, 0 incomplete (the estimator's variant), −1 skew-symmetric.
+    pub theta: f64,
+    /// Regularisation δ [Pa] of the projection; default 10⁻⁴ × the scene's stress scale.
+    pub delta: Option<f64>,
+    /// First δ of the continuation path, as a multiple of the stress scale (none: solve
+    /// directly at δ).
+    pub delta_start: Option<f64>,
+    /// "quadratic" (C¹ smoothing with δ) or "semismooth" (δ = 0).
+    pub projection: ProjectionKind,
+    /// Constant normal gap g₀ [m] to the foundation (u^n ≤ g).
+    pub gap: f64,
+    /// Gradient of an affine gap g(x) = g₀ + ∇g · x.
+    pub gap_gradient: [f64; 2],
+    /// Maximum number of Newton steps per regularisation stage.
+    pub max_iter: usize,
+    /// Relative residual tolerance of Newton.
+    pub rtol: f64,
+}
+
+impl Default for ContactSection {
+    fn default() -> Self {
+        ContactSection {
+            gamma0: 100.0,
+            theta: 0.0,
+            delta: None,
+            delta_start: None,
+            projection: ProjectionKind::Quadratic,
+            gap: 0.0,
+            gap_gradient: [0.0; 2],
+            max_iter: 50,
+            rtol: 1e-10,
+        }
+    }
+}
+
+/// Which projection onto R⁻ the contact condition uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ProjectionKind {
+    Quadratic,
+    Semismooth,
+}
+
 /// `[output]`.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -147,10 +175,7 @@ pub struct OutputSection {
 
 impl Default for OutputSection {
     fn default() -> Self {
-        OutputSection {
-            directory: PathBuf::from("out"),
-            boundary: true,
-        }
+        OutputSection { directory: PathBuf::from("out"), boundary: true }
     }
 }
 
@@ -171,6 +196,8 @@ pub struct Scene {
     #[serde(default)]
     pub loads: LoadSection,
     #[serde(default)]
+    pub contact: ContactSection,
+    #[serde(default)]
     pub output: OutputSection,
     /// The file this scene was read from (the geometry itself for a default scene).
     #[serde(skip)]
@@ -179,18 +206,11 @@ pub struct Scene {
 
 impl Scene {
     /// Material of regions that a scene does not name: concrete, E = 30 GPa, ν = 0.2, ρ = 2400.
-    pub const DEFAULT_MATERIAL: Material = Material {
-        young: 3.0e10,
-        poisson: 0.2,
-        density: 2400.0,
-    };
+    pub const DEFAULT_MATERIAL: Material = Material { young: 3.0e10, poisson: 0.2, density: 2400.0 };
 
     /// Reads a scene file; the geometry path becomes relative to the working directory.
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
-        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read {
-            path: path.into(),
-            source,
-        })?;
+        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read { path: path.into(), source })?;
         let mut scene: Scene = toml::from_str(&text).map_err(|e| SceneError::Syntax {
             path: path.into(),
             message: e.to_string().trim_end().replace('\n', " "),
@@ -209,16 +229,14 @@ impl Scene {
             materials: BTreeMap::new(),
             boundary: BTreeMap::new(),
             loads: LoadSection::default(),
+            contact: ContactSection::default(),
             output: OutputSection::default(),
             source: path.into(),
         }
     }
 
     fn invalid(&self, message: String) -> SceneError {
-        SceneError::Invalid {
-            path: self.source.clone(),
-            message,
-        }
+        SceneError::Invalid { path: self.source.clone(), message }
     }
 
     /// Checks the values that need no mesh.
@@ -227,10 +245,17 @@ impl Scene {
             return Err(self.invalid(format!("mesh.order = {} must be 1 or 2", self.mesh.order)));
         }
         if !(self.mesh.size_factor > 0.0) {
-            return Err(self.invalid(format!(
-                "mesh.size_factor = {} must be positive",
-                self.mesh.size_factor
-            )));
+            return Err(self.invalid(format!("mesh.size_factor = {} must be positive", self.mesh.size_factor)));
+        }
+        let c = &self.contact;
+        if !(c.gamma0 > 0.0) {
+            return Err(self.invalid(format!("contact.gamma0 = {} must be positive", c.gamma0)));
+        }
+        if ![1.0, 0.0, -1.0].contains(&c.theta) {
+            return Err(self.invalid(format!("contact.theta = {} must be 1, 0 or -1", c.theta)));
+        }
+        if c.delta.is_some_and(|d| !(d >= 0.0)) {
+            return Err(self.invalid(format!("contact.delta = {} must be non-negative", c.delta.unwrap_or(0.0))));
         }
         for (name, m) in &self.materials {
             m.validate().map_err(|message| SceneError::Material {
@@ -242,14 +267,10 @@ impl Scene {
         for (name, b) in &self.boundary {
             let has_load = b.traction.is_some() || b.hydrostatic.is_some();
             if b.role != Role::Neumann && has_load {
-                return Err(self.invalid(format!(
-                    "boundary '{name}': a traction needs role = \"neumann\""
-                )));
+                return Err(self.invalid(format!("boundary '{name}': a traction needs role = \"neumann\"")));
             }
             if b.traction.is_some() && b.hydrostatic.is_some() {
-                return Err(self.invalid(format!(
-                    "boundary '{name}': give either traction or hydrostatic, not both"
-                )));
+                return Err(self.invalid(format!("boundary '{name}': give either traction or hydrostatic, not both")));
             }
         }
         Ok(())
@@ -279,48 +300,45 @@ impl Scene {
         }
         self.boundary
             .iter()
-            .map(|(name, b)| {
-                Ok((
-                    self.group_tag(mesh, 1, name, "boundary")?,
-                    name.clone(),
-                    b.clone(),
-                ))
-            })
+            .map(|(name, b)| Ok((self.group_tag(mesh, 1, name, "boundary")?, name.clone(), b.clone())))
             .collect()
     }
 
-    fn group_tag(
-        &self,
-        mesh: &Mesh,
-        dim: u8,
-        name: &str,
-        what: &'static str,
-    ) -> Result<i32, SceneError> {
-        mesh.group(dim, name)
-            .map(|g| g.tag)
-            .ok_or_else(|| SceneError::UnknownGroup {
-                path: self.source.clone(),
-                what,
-                name: name.into(),
-                kind: if dim == 1 { "curve" } else { "surface" },
-                available: list(&mesh.group_names(dim)),
-            })
+    fn group_tag(&self, mesh: &Mesh, dim: u8, name: &str, what: &'static str) -> Result<i32, SceneError> {
+        mesh.group(dim, name).map(|g| g.tag).ok_or_else(|| SceneError::UnknownGroup {
+            path: self.source.clone(),
+            what,
+            name: name.into(),
+            kind: if dim == 1 { "curve" } else { "surface" },
+            available: list(&mesh.group_names(dim)),
+        })
     }
 
     /// Material of every cell: by region name, the default for unnamed regions.
     pub fn cell_materials(&self, mesh: &Mesh) -> Result<Vec<Material>, SceneError> {
         let mut by_tag = BTreeMap::new();
+        let c = &self.contact;
+        if !(c.gamma0 > 0.0) {
+            return Err(self.invalid(format!("contact.gamma0 = {} must be positive", c.gamma0)));
+        }
+        if ![1.0, 0.0, -1.0].contains(&c.theta) {
+            return Err(self.invalid(format!("contact.theta = {} must be 1, 0 or -1", c.theta)));
+        }
+        if c.delta.is_some_and(|d| !(d >= 0.0)) {
+            return Err(self.invalid(format!("contact.delta = {} must be non-negative", c.delta.unwrap_or(0.0))));
+        }
         for (name, m) in &self.materials {
             by_tag.insert(self.group_tag(mesh, 2, name, "material")?, *m);
         }
-        Ok(mesh
-            .cell_tags
-            .iter()
-            .map(|t| *by_tag.get(t).unwrap_or(&Self::DEFAULT_MATERIAL))
-            .collect())
+        Ok(mesh.cell_tags.iter().map(|t| *by_tag.get(t).unwrap_or(&Self::DEFAULT_MATERIAL)).collect())
     }
 
-    /// The elasticity problem of this scene on `mesh`. Contact curves are bonded (u = 0).
+    /// Physical tags of the curves with role "contact".
+    pub fn contact_tags(&self, mesh: &Mesh) -> Result<Vec<i32>, SceneError> {
+        Ok(self.roles(mesh)?.into_iter().filter(|(_, _, b)| b.role == Role::Contact).map(|(tag, _, _)| tag).collect())
+    }
+
+    /// The elasticity problem of this scene on `mesh`; contact curves carry no condition here.
     pub fn problem(&self, mesh: Mesh) -> Result<Problem, SceneError> {
         let roles = self.roles(&mesh)?;
         let g = self.loads.gravity;
@@ -328,60 +346,62 @@ impl Scene {
         let mut neumann = Vec::new();
         for (tag, _, b) in &roles {
             match b.role {
-                Role::Dirichlet | Role::Contact => {
-                    let value = if b.role == Role::Contact {
-                        [0.0; 2]
-                    } else {
-                        b.value
-                    };
+                Role::Dirichlet => {
+                    let value = b.value;
                     let fix = match b.fix {
                         Fix::Both => [true, true],
                         Fix::X => [true, false],
                         Fix::Y => [false, true],
                     };
-                    dirichlet.push(Dirichlet {
-                        tag: *tag,
-                        fix,
-                        value: Arc::new(move |_| value),
-                    });
+                    dirichlet.push(Dirichlet { tag: *tag, fix, value: Arc::new(move |_| value) });
                 }
                 Role::Neumann => {
                     let traction = match (b.traction, b.hydrostatic) {
-                        (_, Some(h)) => Traction::Hydrostatic {
-                            density: h.density,
-                            gravity: g,
-                            level: h.level,
-                        },
+                        (_, Some(h)) => Traction::Hydrostatic { density: h.density, gravity: g, level: h.level },
                         (t, None) => Traction::Constant(t.unwrap_or([0.0; 2])),
                     };
-                    neumann.push(Neumann {
-                        tag: *tag,
-                        traction,
-                    });
+                    neumann.push(Neumann { tag: *tag, traction });
                 }
-                Role::Free => {}
+                Role::Contact | Role::Free => {}
             }
         }
+        let how = if self.boundary.is_empty() {
+            "name a physical curve Gamma_D (or dirichlet) in the geometry"
+        } else {
+            "give a physical curve role = \"dirichlet\""
+        };
         if dirichlet.is_empty() {
             return Err(self.invalid(format!(
-                "no Dirichlet boundary: the body could move as a rigid body; give a physical curve role = \"dirichlet\" (curves: {})",
+                "no Dirichlet boundary: the body could move as a rigid body; {how} (curves: {})",
                 list(&mesh.group_names(1))
             )));
         }
         let materials = self.cell_materials(&mesh)?;
-        let body_force = if g == 0.0 {
-            BodyForce::None
-        } else {
-            BodyForce::Gravity(g)
-        };
-        Ok(Problem {
-            mesh,
-            materials,
-            dirichlet,
-            neumann,
-            body_force,
-        })
+        let body_force = if g == 0.0 { BodyForce::None } else { BodyForce::Gravity(g) };
+        let problem = Problem { mesh, materials, dirichlet, neumann, body_force };
+        let supports = contact_supports(&problem.mesh, &self.contact_tags(&problem.mesh)?);
+        if let Some(motion) = problem.free_rigid_motion(&supports) {
+            return Err(self.invalid(format!(
+                "the Dirichlet and contact conditions leave a rigid motion free ({motion}); {how} that blocks it"
+            )));
+        }
+        Ok(problem)
     }
+}
+
+/// Nodes of the contact curves with the outward normals of their facets.
+fn contact_supports(mesh: &Mesh, tags: &[i32]) -> Vec<([f64; 2], [f64; 2])> {
+    if tags.is_empty() {
+        return Vec::new();
+    }
+    let topology = Topology::new(mesh);
+    (0..mesh.n_facets())
+        .filter(|&f| tags.contains(&mesh.facet_tags[f]))
+        .flat_map(|f| {
+            let normal = topology.outward_normal(mesh, f);
+            mesh.facet(f).iter().map(move |&n| (mesh.points[n], normal)).collect::<Vec<_>>()
+        })
+        .collect()
 }
 
 /// Role given by the naming convention of bare geometry files.

@@ -13,61 +13,24 @@ use std::sync::Arc;
 /// V2 patch test. Source: docs/method.md §7 V2. Ω = (0,1)², E = 1, ν = 0, f = 0;
 /// Γ_C = {y = 0}, Γ_D = {y = 1} with u = (0, top_uy), lateral sides traction-free.
 /// Returns the largest nodal error against `exact` and the Newton steps.
-fn patch_test(
-    order: usize,
-    theta: f64,
-    top_uy: f64,
-    exact: impl Fn([f64; 2]) -> f64,
-) -> (f64, usize) {
+fn patch_test(order: usize, theta: f64, top_uy: f64, exact: impl Fn([f64; 2]) -> f64) -> (f64, usize) {
     let mesh = unit_square(4, order);
-    let material = Material {
-        young: 1.0,
-        poisson: 0.0,
-        density: 0.0,
-    };
+    let material = Material { young: 1.0, poisson: 0.0, density: 0.0 };
     let problem = Problem {
         materials: vec![material; mesh.n_cells()],
-        dirichlet: vec![Dirichlet {
-            tag: TOP,
-            fix: [true; 2],
-            value: Arc::new(move |_| [0.0, top_uy]),
-        }],
+        dirichlet: vec![Dirichlet { tag: TOP, fix: [true; 2], value: Arc::new(move |_| [0.0, top_uy]) }],
         neumann: vec![],
         body_force: BodyForce::None,
         mesh,
     };
     let disc = problem.discretise();
-    let parameters = NitscheParameters {
-        theta,
-        ..Default::default()
-    };
-    let nitsche = Nitsche::new(
-        &problem.mesh,
-        &disc.topology,
-        &problem.materials,
-        &[BOTTOM],
-        parameters,
-    );
-    let contact = ContactProblem::new(
-        &problem,
-        &disc,
-        nitsche,
-        Box::new(QuadraticSmoothing { delta: 1e-4 }),
-    );
-    let report = newton(
-        &contact,
-        vec![0.0; disc.dofs.n_free],
-        &NewtonOptions::default(),
-    )
-    .expect("Newton converges");
+    let parameters = NitscheParameters { theta, ..Default::default() };
+    let nitsche = Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, &[BOTTOM], parameters);
+    let contact = ContactProblem::new(&problem, &disc, nitsche, Box::new(QuadraticSmoothing { delta: 1e-4 }));
+    let report = newton(&contact, vec![0.0; disc.dofs.n_free], &NewtonOptions::default()).expect("Newton converges");
     let u = problem.displacement(&disc, &report.x);
-    let error = problem
-        .mesh
-        .points
-        .iter()
-        .zip(&u)
-        .map(|(x, v)| v[0].abs().max((v[1] - exact(*x)).abs()))
-        .fold(0.0, f64::max);
+    let error =
+        problem.mesh.points.iter().zip(&u).map(|(x, v)| v[0].abs().max((v[1] - exact(*x)).abs())).fold(0.0, f64::max);
     (error, report.iterations.len())
 }
 
@@ -76,9 +39,7 @@ fn v2_patch_test_full_contact_is_exact() {
     for order in [1, 2] {
         for theta in [1.0, 0.0, -1.0] {
             let (error, steps) = patch_test(order, theta, -1e-2, |x| -1e-2 * x[1]);
-            println!(
-                "P{order} θ = {theta}: max nodal error {error:.2e} after {steps} Newton steps"
-            );
+            println!("P{order} θ = {theta}: max nodal error {error:.2e} after {steps} Newton steps");
             assert!(error < 1e-12, "P{order} θ = {theta}: error {error}");
         }
     }
@@ -129,19 +90,12 @@ mod v3 {
     pub fn sigma(p: [f64; 2]) -> [f64; 3] {
         let (s, f, y) = (psi(p[0]), phi(p[0]), p[1]);
         let c = 2.0 * MU + LAMBDA;
-        [
-            -c * y * s[2] - LAMBDA * f[0],
-            -c * f[0] - LAMBDA * y * s[2],
-            -MU * y * f[1],
-        ]
+        [-c * y * s[2] - LAMBDA * f[0], -c * f[0] - LAMBDA * y * s[2], -MU * y * f[1]]
     }
 
     pub fn f(p: [f64; 2]) -> [f64; 2] {
         let (s, f, y) = (psi(p[0]), phi(p[0]), p[1]);
-        [
-            (2.0 * MU + LAMBDA) * y * s[3] + (LAMBDA + MU) * f[1],
-            MU * y * f[2] + LAMBDA * s[2],
-        ]
+        [(2.0 * MU + LAMBDA) * y * s[3] + (LAMBDA + MU) * f[1], MU * y * f[2] + LAMBDA * s[2]]
     }
 }
 
@@ -161,50 +115,22 @@ fn solve_v3(n: usize, order: usize) -> (f64, f64, f64, usize) {
     }));
     let problem = Problem {
         materials: vec![Material::from_lame(1.0, 1.0); mesh.n_cells()],
-        dirichlet: vec![Dirichlet {
-            tag: LEFT,
-            fix: [true; 2],
-            value: Arc::new(v3::u),
-        }],
-        neumann: vec![
-            Neumann {
-                tag: RIGHT,
-                traction: right,
-            },
-            Neumann {
-                tag: TOP,
-                traction: top,
-            },
-        ],
+        dirichlet: vec![Dirichlet { tag: LEFT, fix: [true; 2], value: Arc::new(v3::u) }],
+        neumann: vec![Neumann { tag: RIGHT, traction: right }, Neumann { tag: TOP, traction: top }],
         body_force: BodyForce::Field(Arc::new(v3::f)),
         mesh,
     };
     let disc = problem.discretise();
-    let nitsche = Nitsche::new(
-        &problem.mesh,
-        &disc.topology,
-        &problem.materials,
-        &[BOTTOM],
-        NitscheParameters::default(),
-    );
-    let mut contact = ContactProblem::new(
-        &problem,
-        &disc,
-        nitsche,
-        Box::new(QuadraticSmoothing { delta: 1e-10 }),
-    );
+    let nitsche =
+        Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, &[BOTTOM], NitscheParameters::default());
+    let mut contact = ContactProblem::new(&problem, &disc, nitsche, Box::new(QuadraticSmoothing { delta: 1e-10 }));
     let x0 = vec![0.0; disc.dofs.n_free];
-    let (x, stages) =
-        solve_by_continuation(&mut contact, 1e-10, 0.1, x0, &NewtonOptions::default())
-            .unwrap_or_else(|e| panic!("{e}"));
+    let (x, stages) = solve_by_continuation(&mut contact, 1e-10, 0.1, x0, &NewtonOptions::default())
+        .unwrap_or_else(|e| panic!("{e}"));
     let steps = stages.iter().map(|s| s.report.iterations.len()).sum();
     let u = problem.displacement(&disc, &x);
     let (_, h1) = errors(&problem.mesh, &u, v3::u, v3::grad_u);
-    let contact_length = contact
-        .face_states(&x)
-        .iter()
-        .map(|s| s.contact_length)
-        .sum();
+    let contact_length = contact.face_states(&x).iter().map(|s| s.contact_length).sum();
     (1.0 / n as f64, h1, contact_length, steps)
 }
 
@@ -223,11 +149,7 @@ fn v3_signorini_rates_and_contact_zone() {
             // P2 locates the point within one cell; for P1 the O(h²) error of u_h^n hides the
             // quartic separation gap ψ = (x − ½)⁴ over a zone of width ~ h^{1/2}
             let tolerance = if order == 2 { r.0 } else { r.0.sqrt() };
-            assert!(
-                (r.2 - 0.5).abs() <= tolerance,
-                "contact–separation point {} not within {tolerance} of 1/2",
-                r.2
-            );
+            assert!((r.2 - 0.5).abs() <= tolerance, "contact–separation point {} not within {tolerance} of 1/2", r.2);
         }
         println!("P{order}: fitted H1 rate {rate:.3}");
         assert!(rate >= min_rate, "P{order} H1 rate {rate} < {min_rate}");

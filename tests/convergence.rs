@@ -20,33 +20,21 @@ const LAMBDA: f64 = 1.0;
 
 fn exact(x: [f64; 2]) -> [f64; 2] {
     let (px, py) = (PI * x[0], PI * x[1]);
-    [
-        px.sin() * py.cos() + x[0] * x[0] / (2.0 * LAMBDA),
-        -px.cos() * py.sin() + x[1] * x[1] / (2.0 * LAMBDA),
-    ]
+    [px.sin() * py.cos() + x[0] * x[0] / (2.0 * LAMBDA), -px.cos() * py.sin() + x[1] * x[1] / (2.0 * LAMBDA)]
 }
 
 fn exact_gradient(x: [f64; 2]) -> [[f64; 2]; 2] {
     let (px, py) = (PI * x[0], PI * x[1]);
     [
-        [
-            PI * px.cos() * py.cos() + x[0] / LAMBDA,
-            -PI * px.sin() * py.sin(),
-        ],
-        [
-            PI * px.sin() * py.sin(),
-            -PI * px.cos() * py.cos() + x[1] / LAMBDA,
-        ],
+        [PI * px.cos() * py.cos() + x[0] / LAMBDA, -PI * px.sin() * py.sin()],
+        [PI * px.sin() * py.sin(), -PI * px.cos() * py.cos() + x[1] / LAMBDA],
     ]
 }
 
 fn body_force(x: [f64; 2]) -> [f64; 2] {
     let (px, py) = (PI * x[0], PI * x[1]);
     let c = 2.0 * MU / LAMBDA + 1.0;
-    [
-        2.0 * MU * PI * PI * px.sin() * py.cos() - c,
-        -2.0 * MU * PI * PI * px.cos() * py.sin() - c,
-    ]
+    [2.0 * MU * PI * PI * px.sin() * py.cos() - c, -2.0 * MU * PI * PI * px.cos() * py.sin() - c]
 }
 
 /// (h, L² error, H¹ error) of V1 on an n × n mesh of degree p.
@@ -55,23 +43,14 @@ fn solve_v1(n: usize, p: usize) -> (f64, f64, f64) {
     let material = Material::from_lame(LAMBDA, MU);
     let problem = Problem {
         materials: vec![material; mesh.n_cells()],
-        dirichlet: (1..=4)
-            .map(|tag| Dirichlet {
-                tag,
-                fix: [true; 2],
-                value: Arc::new(exact),
-            })
-            .collect(),
+        dirichlet: (1..=4).map(|tag| Dirichlet { tag, fix: [true; 2], value: Arc::new(exact) }).collect(),
         neumann: vec![],
         body_force: BodyForce::Field(Arc::new(body_force)),
         mesh,
     };
     let disc = problem.discretise();
     let system = problem.assemble(&disc);
-    let x = Cholesky::analyse(&disc.pattern)
-        .unwrap()
-        .solve(&disc.pattern, &system.values, &system.rhs)
-        .unwrap();
+    let x = Cholesky::analyse(&disc.pattern).unwrap().solve(&disc.pattern, &system.values, &system.rhs).unwrap();
     let u = problem.displacement(&disc, &x);
     let (l2, h1) = errors(&problem.mesh, &u, exact, exact_gradient);
     (1.0 / n as f64, l2, h1)
@@ -85,10 +64,7 @@ fn assert_rates(p: usize, sizes: &[usize]) {
     let (rate_l2, rate_h1) = (common::fitted_rate(&h, &l2), common::fitted_rate(&h, &h1));
     println!("P{p}: L2 errors {l2:?} rate {rate_l2:.3}; H1 errors {h1:?} rate {rate_h1:.3}");
     assert!((rate_h1 - p as f64).abs() <= 0.1, "P{p} H1 rate {rate_h1}");
-    assert!(
-        (rate_l2 - (p + 1) as f64).abs() <= 0.1,
-        "P{p} L2 rate {rate_l2}"
-    );
+    assert!((rate_l2 - (p + 1) as f64).abs() <= 0.1, "P{p} L2 rate {rate_l2}");
 }
 
 #[test]

@@ -14,19 +14,14 @@ fn map() -> AffineMap {
 fn to_reference(m: &AffineMap, x: [f64; 2]) -> [f64; 2] {
     let d = [x[0] - m.origin[0], x[1] - m.origin[1]];
     let t = &m.inv_t;
-    [
-        t[0][0] * d[0] + t[1][0] * d[1],
-        t[0][1] * d[0] + t[1][1] * d[1],
-    ]
+    [t[0][0] * d[0] + t[1][0] * d[1], t[0][1] * d[0] + t[1][1] * d[1]]
 }
 
 /// Deterministic points strictly inside the reference triangle (linear congruential generator).
 fn random_points(count: usize) -> Vec<[f64; 2]> {
     let mut state: u64 = 0x2545_f491_4f6c_dd1d;
     let mut next = move || {
-        state = state
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
+        state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
         (state >> 11) as f64 / (1u64 << 53) as f64
     };
     (0..count)
@@ -64,10 +59,7 @@ fn nodes_map_to_vertices_and_edge_midpoints() {
     }
     for (k, (i, j)) in [(0, 1), (1, 2), (2, 0)].into_iter().enumerate() {
         let x = m.to_physical(nodes[3 + k]);
-        let mid = [
-            0.5 * (VERTICES[i][0] + VERTICES[j][0]),
-            0.5 * (VERTICES[i][1] + VERTICES[j][1]),
-        ];
+        let mid = [0.5 * (VERTICES[i][0] + VERTICES[j][0]), 0.5 * (VERTICES[i][1] + VERTICES[j][1])];
         assert!((x[0] - mid[0]).abs() < 1e-15 && (x[1] - mid[1]).abs() < 1e-15);
     }
 }
@@ -80,10 +72,7 @@ fn nodality_on_distorted_triangle() {
             let phi = physical_values(order, &m, m.to_physical(node));
             for (i, &p) in phi.iter().enumerate() {
                 let expected = if i == j { 1.0 } else { 0.0 };
-                assert!(
-                    (p - expected).abs() < 1e-13,
-                    "order {order}: φ{i}(x{j}) = {p}"
-                );
+                assert!((p - expected).abs() < 1e-13, "order {order}: φ{i}(x{j}) = {p}");
             }
         }
     }
@@ -98,10 +87,7 @@ fn partition_of_unity_and_zero_gradient_sum() {
             assert!((phi.iter().sum::<f64>() - 1.0).abs() < 1e-13);
             let g = physical_gradients(order, &m, xi);
             let s = g.iter().fold([0.0, 0.0], |a, d| [a[0] + d[0], a[1] + d[1]]);
-            assert!(
-                s[0].abs() < 1e-12 && s[1].abs() < 1e-12,
-                "order {order}: Σ∇φ = {s:?}"
-            );
+            assert!(s[0].abs() < 1e-12 && s[1].abs() < 1e-12, "order {order}: Σ∇φ = {s:?}");
         }
     }
 }
@@ -118,10 +104,7 @@ fn physical_gradients_match_central_differences() {
                 let (mut xp, mut xm) = (x, x);
                 xp[d] += h;
                 xm[d] -= h;
-                let (fp, fm) = (
-                    physical_values(order, &m, xp),
-                    physical_values(order, &m, xm),
-                );
+                let (fp, fm) = (physical_values(order, &m, xp), physical_values(order, &m, xm));
                 for i in 0..n_basis(order) {
                     let fd = (fp[i] - fm[i]) / (2.0 * h);
                     let err = (fd - g[i][d]).abs();
@@ -139,11 +122,7 @@ fn factorial(n: usize) -> f64 {
 /// Relative error of the rule on `∫_T̂ x^a y^b = a! b! / (a + b + 2)!`.
 fn monomial_error(points: &[[f64; 2]], weights: &[f64], a: usize, b: usize) -> f64 {
     let exact = factorial(a) * factorial(b) / factorial(a + b + 2);
-    let approx: f64 = points
-        .iter()
-        .zip(weights)
-        .map(|(p, w)| w * p[0].powi(a as i32) * p[1].powi(b as i32))
-        .sum();
+    let approx: f64 = points.iter().zip(weights).map(|(p, w)| w * p[0].powi(a as i32) * p[1].powi(b as i32)).sum();
     ((approx - exact) / exact).abs()
 }
 
@@ -170,11 +149,7 @@ fn triangle_rules_are_not_exact_beyond_2n_minus_2() {
         assert!(top <= degree + 2);
         for a in 0..=top {
             let e = monomial_error(&r.points, &r.weights, a, top - a);
-            assert!(
-                e > 1e-10,
-                "degree {degree}: x^{a} y^{} unexpectedly exact",
-                top - a
-            );
+            assert!(e > 1e-10, "degree {degree}: x^{a} y^{} unexpectedly exact", top - a);
         }
     }
     let even = triangle(4);
@@ -183,11 +158,7 @@ fn triangle_rules_are_not_exact_beyond_2n_minus_2() {
 
 fn segment_integral(n: usize, f: impl Fn(f64) -> f64) -> f64 {
     let g = gauss_segment(n);
-    g.points
-        .iter()
-        .zip(&g.weights)
-        .map(|(&x, w)| w * f(x))
-        .sum()
+    g.points.iter().zip(&g.weights).map(|(&x, w)| w * f(x)).sum()
 }
 
 #[test]
@@ -231,11 +202,6 @@ fn quadrature_on_physical_triangle() {
     let one: f64 = r.weights.iter().map(|w| w * m.det.abs()).sum();
     assert!((one - area).abs() < 1e-14);
     let centroid_x = VERTICES.iter().map(|v| v[0]).sum::<f64>() / 3.0;
-    let int_x: f64 = r
-        .points
-        .iter()
-        .zip(&r.weights)
-        .map(|(&p, w)| w * m.det.abs() * m.to_physical(p)[0])
-        .sum();
+    let int_x: f64 = r.points.iter().zip(&r.weights).map(|(&p, w)| w * m.det.abs() * m.to_physical(p)[0]).sum();
     assert!((int_x - area * centroid_x).abs() < 1e-14);
 }

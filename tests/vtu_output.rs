@@ -10,9 +10,7 @@ use vtkio::model::{Attribute, CellType, DataArray, DataSet, Piece, UnstructuredG
 
 /// A fresh empty directory for test `name`.
 fn scratch(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("vtu_output")
-        .join(name);
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("vtu_output").join(name);
     let _ = fs::remove_dir_all(&dir);
     fs::create_dir_all(&dir).unwrap();
     dir
@@ -58,13 +56,7 @@ fn connectivity(piece: &UnstructuredGridPiece) -> Vec<usize> {
 }
 
 fn displacement(mesh: &Mesh) -> Field {
-    Field::vector(
-        "displacement",
-        mesh.points
-            .iter()
-            .map(|p| [0.1 * p[0], -0.2 * p[1]])
-            .collect(),
-    )
+    Field::vector("displacement", mesh.points.iter().map(|p| [0.1 * p[0], -0.2 * p[1]]).collect())
 }
 
 fn check_points(piece: &UnstructuredGridPiece, mesh: &Mesh) {
@@ -83,18 +75,9 @@ fn mesh_round_trip_p1_and_p2() {
     for (order, cell_type) in [(1, CellType::Triangle), (2, CellType::QuadraticTriangle)] {
         let mut mesh = unit_square(3, order);
         mesh.cell_tags[0] = 7;
-        let area = Field::scalar(
-            "area",
-            (0..mesh.n_cells()).map(|c| mesh.cell_area(c)).collect(),
-        );
+        let area = Field::scalar("area", (0..mesh.n_cells()).map(|c| mesh.cell_area(c)).collect());
         let path = dir.join(format!("p{order}.vtu"));
-        write_mesh_vtu(
-            &path,
-            &mesh,
-            &[displacement(&mesh)],
-            std::slice::from_ref(&area),
-        )
-        .unwrap();
+        write_mesh_vtu(&path, &mesh, &[displacement(&mesh)], std::slice::from_ref(&area)).unwrap();
 
         let piece = read_piece(&path);
         check_points(&piece, &mesh);
@@ -113,18 +96,9 @@ fn boundary_round_trip_p1_and_p2() {
     let dir = scratch("boundary");
     for (order, cell_type) in [(1, CellType::Line), (2, CellType::QuadraticEdge)] {
         let mesh = unit_square(2, order);
-        let length = Field::scalar(
-            "length",
-            (0..mesh.n_facets()).map(|f| mesh.facet_length(f)).collect(),
-        );
+        let length = Field::scalar("length", (0..mesh.n_facets()).map(|f| mesh.facet_length(f)).collect());
         let path = dir.join(format!("p{order}_boundary.vtu"));
-        write_boundary_vtu(
-            &path,
-            &mesh,
-            &[displacement(&mesh)],
-            std::slice::from_ref(&length),
-        )
-        .unwrap();
+        write_boundary_vtu(&path, &mesh, &[displacement(&mesh)], std::slice::from_ref(&length)).unwrap();
 
         let piece = read_piece(&path);
         check_points(&piece, &mesh);
@@ -143,10 +117,7 @@ fn unwritable_directory_is_an_error_naming_the_path() {
     let mesh = unit_square(1, 1);
     let blocker = dir.join("regular_file");
     fs::write(&blocker, "").unwrap();
-    for path in [
-        blocker.join("out.vtu"),
-        PathBuf::from("/proc/damfem_test_out.vtu"),
-    ] {
+    for path in [blocker.join("out.vtu"), PathBuf::from("/proc/damfem_test_out.vtu")] {
         let err = write_mesh_vtu(&path, &mesh, &[], &[]).unwrap_err();
         assert!(matches!(err, OutputError::Io { .. }), "{err:?}");
         let prefix = format!("cannot write {}: ", path.display());
@@ -166,10 +137,7 @@ fn non_finite_values_are_rejected_before_writing() {
     let err = write_mesh_vtu(&path, &mesh, &[u], &[]).unwrap_err();
     assert!(matches!(err, OutputError::NonFinite { .. }), "{err:?}");
     let message = err.to_string();
-    assert!(
-        message.contains("point field `displacement` at point 4"),
-        "{message}"
-    );
+    assert!(message.contains("point field `displacement` at point 4"), "{message}");
 
     let stress = Field::scalar("stress", vec![f64::INFINITY; mesh.n_cells()]);
     let err = write_boundary_vtu(&path, &mesh, &[], &[stress]).unwrap_err();
@@ -185,18 +153,11 @@ fn field_length_and_name_are_checked() {
     let short = Field::scalar("pressure", vec![0.0; mesh.n_points() - 1]);
     let err = write_mesh_vtu(&path, &mesh, &[short], &[]).unwrap_err();
     assert!(matches!(err, OutputError::Invalid { .. }), "{err:?}");
-    assert!(
-        err.to_string()
-            .contains("point field `pressure` has 8 values"),
-        "{err}"
-    );
+    assert!(err.to_string().contains("point field `pressure` has 8 values"), "{err}");
 
     let clash = Field::scalar("material", vec![0.0; mesh.n_cells()]);
     let err = write_mesh_vtu(&path, &mesh, &[], &[clash]).unwrap_err();
-    assert!(
-        err.to_string().contains("duplicate cell field `material`"),
-        "{err}"
-    );
+    assert!(err.to_string().contains("duplicate cell field `material`"), "{err}");
     assert!(!path.exists());
 }
 
@@ -205,11 +166,8 @@ fn pvd_lists_relative_data_sets() {
     let dir = scratch("pvd");
     let mesh = unit_square(1, 2);
     fs::create_dir(dir.join("steps")).unwrap();
-    let entries: Vec<(f64, PathBuf)> = [0.0, 0.5]
-        .into_iter()
-        .enumerate()
-        .map(|(i, t)| (t, dir.join(format!("steps/step_{i}.vtu"))))
-        .collect();
+    let entries: Vec<(f64, PathBuf)> =
+        [0.0, 0.5].into_iter().enumerate().map(|(i, t)| (t, dir.join(format!("steps/step_{i}.vtu")))).collect();
     for (_, file) in &entries {
         write_mesh_vtu(file, &mesh, &[], &[]).unwrap();
     }

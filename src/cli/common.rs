@@ -40,16 +40,17 @@ impl Input {
         let mut scene = match path.extension().and_then(|e| e.to_str()) {
             Some("toml") => Scene::load(path)?,
             Some("geo") | Some("msh") => Scene::for_geometry(path),
-            _ => anyhow::bail!(
-                "{}: expected a scene (.toml), a geometry (.geo) or a mesh (.msh)",
-                path.display()
-            ),
+            _ => anyhow::bail!("{}: expected a scene (.toml), a geometry (.geo) or a mesh (.msh)", path.display()),
         };
-        if let Some(order) = self.order {
-            anyhow::ensure!(
-                order == 1 || order == 2,
-                "--order {order}: the element degree must be 1 or 2"
+        let is_mesh = scene.geometry.extension().is_some_and(|e| e == "msh");
+        if is_mesh && (self.order.is_some() || self.size_factor.is_some()) {
+            anyhow::bail!(
+                "--order and --size-factor apply to .geo geometries; {} is a mesh file with its own elements",
+                scene.geometry.display()
             );
+        }
+        if let Some(order) = self.order {
+            anyhow::ensure!(order == 1 || order == 2, "--order {order}: the element degree must be 1 or 2");
             scene.mesh.order = order;
         }
         if let Some(factor) = self.size_factor {
@@ -65,12 +66,7 @@ impl Input {
         let mesh = if geometry.extension().is_some_and(|e| e == "msh") {
             gmsh::read_msh(geometry, self.verbose)?
         } else {
-            gmsh::mesh_geo(
-                geometry,
-                &mesh_options(scene),
-                self.verbose,
-                self.allow_system_calls,
-            )?
+            gmsh::mesh_geo(geometry, &mesh_options(scene), self.verbose, self.allow_system_calls)?
         };
         Ok(mesh)
     }
@@ -94,23 +90,17 @@ pub fn mesh_options(scene: &Scene) -> MeshOptions {
 
 /// Output directory: `-o` if given, else the scene's `[output] directory`. Created if missing.
 pub fn output_dir(option: &Option<PathBuf>, scene: &Scene) -> Result<PathBuf> {
-    let dir = option
-        .clone()
-        .unwrap_or_else(|| scene.output.directory.clone());
-    std::fs::create_dir_all(&dir)
-        .with_context(|| format!("cannot create output directory {}", dir.display()))?;
+    let dir = option.clone().unwrap_or_else(|| scene.output.directory.clone());
+    std::fs::create_dir_all(&dir).with_context(|| format!("cannot create output directory {}", dir.display()))?;
     let probe = dir.join(".damfem-write-test");
-    std::fs::write(&probe, b"")
-        .with_context(|| format!("cannot write to output directory {}", dir.display()))?;
+    std::fs::write(&probe, b"").with_context(|| format!("cannot write to output directory {}", dir.display()))?;
     std::fs::remove_file(&probe).ok();
     Ok(dir)
 }
 
 /// File stem of the scene, used to name outputs.
 pub fn stem(path: &Path) -> String {
-    path.file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "damfem".into())
+    path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "damfem".into())
 }
 
 /// One line per stage on stderr: name, what was done, and the wall time.

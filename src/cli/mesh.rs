@@ -29,21 +29,17 @@ pub fn run(args: Args) -> Result<()> {
             session.open_geo(&scene.geometry, input.allow_system_calls)?;
             session.set_options(&mesh_options(&scene))?;
             session.generate()?;
+            let mesh = session.mesh()?;
             // gmsh picks the format from the extension: write a hidden .msh, then rename
-            let partial = dir.join(format!(".{name}.partial.msh"));
-            session.write(&partial)?;
-            std::fs::rename(&partial, &msh)
-                .with_context(|| format!("cannot write {}", msh.display()))?;
-            Ok(session.mesh()?)
+            let partial = dir.join(format!(".{name}.{}.partial.msh", std::process::id()));
+            if let Err(e) = session.write(&partial) {
+                std::fs::remove_file(&partial).ok();
+                return Err(e.into());
+            }
+            std::fs::rename(&partial, &msh).with_context(|| format!("cannot write {}", msh.display()))?;
+            Ok(mesh)
         },
-        |m| {
-            format!(
-                "{} nodes, {} cells, P{}",
-                m.n_points(),
-                m.n_cells(),
-                m.order
-            )
-        },
+        |m| format!("{} nodes, {} cells, P{}", m.n_points(), m.n_cells(), m.order),
     )?;
     write_mesh_vtu(&dir.join(format!("{name}_mesh.vtu")), &mesh, &[], &[])?;
     write_boundary_vtu(&dir.join(format!("{name}_boundary.vtu")), &mesh, &[], &[])?;

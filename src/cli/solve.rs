@@ -1,14 +1,19 @@
-//! `damfem solve`: mesh, assemble, solve, write ParaView files and a JSON summary.
+//! `damfem solve`: mesh, assemble, solve (with Nitsche contact when the scene has Γ_C),
+//! write ParaView files, `summary.json` and `history.json`.
 
 use super::common::{output_dir, stem, Input};
+use crate::contact::nitsche::{Gap, NitscheParameters};
+use crate::contact::{solve_contact, ContactSettings, ContactSolution};
 use crate::elasticity::kernels::{principal, von_mises};
 use crate::elasticity::stress::cell_mean_stress;
+use crate::elasticity::{Discretisation, Problem};
 use crate::io::atomic::write_output;
 use crate::io::vtu::{write_boundary_vtu, write_mesh_vtu, Field};
-use crate::solve::Cholesky;
+use crate::scene::{ProjectionKind, Scene};
+use crate::solve::{Cholesky, NewtonOptions};
 use anyhow::Result;
 use serde::Serialize;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -17,6 +22,18 @@ pub struct Args {
     /// Output directory; overrides the scene's [output] directory (default: out)
     #[arg(short, long)]
     output: Option<PathBuf>,
+    /// Nitsche parameter γ₀ (γ = γ₀ E / h_F); overrides contact.gamma0 (default 100)
+    #[arg(long)]
+    gamma0: Option<f64>,
+    /// Nitsche variant θ: 1 symmetric, 0 incomplete, -1 skew-symmetric; overrides contact.theta
+    #[arg(long, allow_hyphen_values = true)]
+    theta: Option<f64>,
+    /// Regularisation δ [Pa]; overrides contact.delta (default 1e-4 × the stress scale)
+    #[arg(long)]
+    delta: Option<f64>,
+    /// Use the plain projection min(x, 0) with its semismooth derivative (δ = 0)
+    #[arg(long)]
+    semismooth: bool,
 }
 
 /// What `summary.json` records of a run.
@@ -33,8 +50,27 @@ struct Summary {
     max_von_mises: f64,
     min_principal_stress: f64,
     max_principal_stress: f64,
+    contact: Option<ContactSummary>,
     seconds: Timings,
     files: Vec<PathBuf>,
+}
+
+/// Contact part of the summary.
+#[derive(Serialize)]
+struct ContactSummary {
+    faces: usize,
+    gamma0: f64,
+    theta: f64,
+    delta: f64,
+    stress_scale: f64,
+    /// Length of the zone where P_γ(u_h) < 0, and its bounding box [[x, y], [x, y]].
+    contact_length: f64,
+    contact_extent: Option<[[f64; 2]; 2]>,
+    newton_steps: usize,
+    /// Newton steps at each δ of the continuation path.
+    stages: Vec<(f64, usize)>,
+    max_pressure: f64,
+    max_regularisation_error: f64,
 }
 
 #[derive(Serialize, Default)]
@@ -54,87 +90,52 @@ pub fn run(args: Args) -> Result<()> {
     let (mesh, t) = progress.stage(
         "mesh",
         || input.mesh(&scene),
-        |m| {
-            format!(
-                "{} nodes, {} cells, P{}",
-                m.n_points(),
-                m.n_cells(),
-                m.order
-            )
-        },
+        |m| format!("{} nodes, {} cells, P{}", m.n_points(), m.n_cells(), m.order),
     )?;
     seconds.mesh = t;
     let problem = scene.problem(mesh)?;
-    let ((disc, system), t) = progress.stage(
+    let tags = scene.contact_tags(&problem.mesh)?;
+    let (disc, t) = progress.stage(
         "assemble",
-        || {
-            let disc = problem.discretise();
-            let system = problem.assemble(&disc);
-            Ok((disc, system))
-        },
-        |(d, _)| format!("{} unknowns, {} nonzeros", d.dofs.n_free, d.pattern.nnz()),
+        || Ok(problem.discretise()),
+        |d| format!("{} unknowns, {} nonzeros", d.dofs.n_free, d.pattern.nnz()),
     )?;
     seconds.assemble = t;
-    let (x, t) = progress.stage(
-        "solve",
-        || {
-            Ok(Cholesky::analyse(&disc.pattern)?.solve(
-                &disc.pattern,
-                &system.values,
-                &system.rhs,
-            )?)
-        },
-        |_| "sparse Cholesky".into(),
-    )?;
+    let (solution, t) = if tags.is_empty() {
+        progress.stage("solve", || Ok((linear_solve(&problem, &disc)?, None)), |_| "sparse Cholesky".into())?
+    } else {
+        let settings = contact_settings(&args, &scene, &problem, &disc);
+        progress.stage(
+            "solve",
+            || Ok(solve_contact(&problem, &disc, &tags, &settings).map(|s| (s.x.clone(), Some((s, settings))))?),
+            |(_, c)| match c {
+                Some((s, st)) => format!(
+                    "Newton, {} steps, δ = {:.3e}, contact length {:.4}",
+                    s.newton_steps(),
+                    st.delta,
+                    s.contact_length()
+                ),
+                None => String::new(),
+            },
+        )?
+    };
     seconds.solve = t;
+    let (x, contact) = solution;
     let u = problem.displacement(&disc, &x);
     let sigma = cell_mean_stress(&problem, &u);
     let name = stem(&scene.source);
     let (files, t) = progress.stage(
         "output",
-        || {
-            let mut files = vec![dir.join(format!("{name}.vtu"))];
-            write_mesh_vtu(
-                &files[0],
-                &problem.mesh,
-                &[Field::vector("displacement", u.clone())],
-                &stress_fields(&sigma),
-            )?;
-            if scene.output.boundary {
-                files.push(dir.join(format!("{name}_boundary.vtu")));
-                write_boundary_vtu(&files[1], &problem.mesh, &[], &[])?;
-            }
-            Ok(files)
-        },
-        |f| format!("{} files in {}", f.len() + 1, dir.display()),
+        || write_results(&dir, &name, &scene, &problem, &u, &sigma, contact.as_ref().map(|c| &c.0)),
+        |f| format!("{} files in {}", f.len(), dir.display()),
     )?;
     seconds.output = t;
-    let principal_stresses: Vec<[f64; 2]> = sigma.iter().map(|&s| principal(s)).collect();
-    let summary = Summary {
-        scene: scene.source.clone(),
-        order: problem.mesh.order,
-        nodes: problem.mesh.n_points(),
-        cells: problem.mesh.n_cells(),
-        unknowns: problem.n_dofs(),
-        free_unknowns: disc.dofs.n_free,
-        matrix_nonzeros: disc.pattern.nnz(),
-        max_displacement: u.iter().map(|v| v[0].hypot(v[1])).fold(0.0, f64::max),
-        max_von_mises: sigma.iter().map(|&s| von_mises(s)).fold(0.0, f64::max),
-        min_principal_stress: principal_stresses
-            .iter()
-            .map(|p| p[1])
-            .fold(f64::INFINITY, f64::min),
-        max_principal_stress: principal_stresses
-            .iter()
-            .map(|p| p[0])
-            .fold(f64::NEG_INFINITY, f64::max),
-        seconds,
-        files,
-    };
-    write_output(
-        &dir.join("summary.json"),
-        serde_json::to_string_pretty(&summary)?.as_bytes(),
-    )?;
+    let summary = summary(&scene, &problem, &disc, &u, &sigma, contact.as_ref(), seconds, files);
+    write_output(&dir.join("summary.json"), serde_json::to_string_pretty(&summary)?.as_bytes())?;
+    if let Some((c, _)) = &contact {
+        let stages: Vec<_> = c.stages.iter().collect();
+        write_output(&dir.join("history.json"), serde_json::to_string_pretty(&stages)?.as_bytes())?;
+    }
     progress.say(&format!(
         "max |u| = {:.4e} m, max von Mises = {:.4e} Pa; results in {}",
         summary.max_displacement,
@@ -142,6 +143,49 @@ pub fn run(args: Args) -> Result<()> {
         dir.display()
     ));
     Ok(())
+}
+
+fn linear_solve(problem: &Problem, disc: &Discretisation) -> Result<Vec<f64>> {
+    let system = problem.assemble(disc);
+    Ok(Cholesky::analyse(&disc.pattern)?.solve(&disc.pattern, &system.values, &system.rhs)?)
+}
+
+/// Contact settings from the scene, overridden by the command line.
+fn contact_settings(args: &Args, scene: &Scene, problem: &Problem, disc: &Discretisation) -> ContactSettings {
+    let c = &scene.contact;
+    let scale = problem.stress_scale(&disc.topology);
+    let semismooth = args.semismooth || c.projection == ProjectionKind::Semismooth;
+    let delta = if semismooth { 0.0 } else { args.delta.or(c.delta).unwrap_or(1e-4 * scale) };
+    ContactSettings {
+        parameters: NitscheParameters {
+            gamma0: args.gamma0.unwrap_or(c.gamma0),
+            theta: args.theta.unwrap_or(c.theta),
+            gap: Gap { constant: c.gap, gradient: c.gap_gradient },
+        },
+        delta,
+        delta_start: delta.max(c.delta_start.unwrap_or(0.0) * scale),
+        newton: NewtonOptions { max_iter: c.max_iter, rtol: c.rtol, ..Default::default() },
+    }
+}
+
+/// Writes the mesh and boundary VTU files; returns their paths.
+fn write_results(
+    dir: &Path,
+    name: &str,
+    scene: &Scene,
+    problem: &Problem,
+    u: &[[f64; 2]],
+    sigma: &[[f64; 4]],
+    contact: Option<&ContactSolution>,
+) -> Result<Vec<PathBuf>> {
+    let mut files = vec![dir.join(format!("{name}.vtu"))];
+    write_mesh_vtu(&files[0], &problem.mesh, &[Field::vector("displacement", u.to_vec())], &stress_fields(sigma))?;
+    if scene.output.boundary {
+        files.push(dir.join(format!("{name}_boundary.vtu")));
+        let facet_fields = contact.map(|c| contact_fields(problem.mesh.n_facets(), c)).unwrap_or_default();
+        write_boundary_vtu(&files[1], &problem.mesh, &[Field::vector("displacement", u.to_vec())], &facet_fields)?;
+    }
+    Ok(files)
 }
 
 /// Cell fields: σ components, von Mises and principal stresses.
@@ -157,4 +201,78 @@ fn stress_fields(sigma: &[[f64; 4]]) -> Vec<Field> {
         Field::scalar("sigma_1", principal.iter().map(|p| p[0]).collect()),
         Field::scalar("sigma_2", principal.iter().map(|p| p[1]).collect()),
     ]
+}
+
+/// Facet fields of Γ_C: mean pressure, mean normal displacement, status (1 contact,
+/// 0 separation, −1 not a contact facet) and the regularisation error.
+fn contact_fields(n_facets: usize, contact: &ContactSolution) -> Vec<Field> {
+    let mut fields = [vec![0.0; n_facets], vec![0.0; n_facets], vec![-1.0; n_facets], vec![0.0; n_facets]];
+    for (&f, state) in contact.facets.iter().zip(&contact.faces) {
+        fields[0][f] = state.pressure;
+        fields[1][f] = state.normal_displacement;
+        fields[2][f] = if state.contact_length > 0.0 { 1.0 } else { 0.0 };
+        fields[3][f] = state.regularisation_error;
+    }
+    let names = ["contact_pressure", "normal_displacement", "contact_status", "regularisation_error"];
+    names.into_iter().zip(fields).map(|(n, v)| Field::scalar(n, v)).collect()
+}
+
+#[allow(clippy::too_many_arguments)]
+fn summary(
+    scene: &Scene,
+    problem: &Problem,
+    disc: &Discretisation,
+    u: &[[f64; 2]],
+    sigma: &[[f64; 4]],
+    contact: Option<&(ContactSolution, ContactSettings)>,
+    seconds: Timings,
+    files: Vec<PathBuf>,
+) -> Summary {
+    let principal_stresses: Vec<[f64; 2]> = sigma.iter().map(|&s| principal(s)).collect();
+    Summary {
+        scene: scene.source.clone(),
+        order: problem.mesh.order,
+        nodes: problem.mesh.n_points(),
+        cells: problem.mesh.n_cells(),
+        unknowns: problem.n_dofs(),
+        free_unknowns: disc.dofs.n_free,
+        matrix_nonzeros: disc.pattern.nnz(),
+        max_displacement: u.iter().map(|v| v[0].hypot(v[1])).fold(0.0, f64::max),
+        max_von_mises: sigma.iter().map(|&s| von_mises(s)).fold(0.0, f64::max),
+        min_principal_stress: principal_stresses.iter().map(|p| p[1]).fold(f64::INFINITY, f64::min),
+        max_principal_stress: principal_stresses.iter().map(|p| p[0]).fold(f64::NEG_INFINITY, f64::max),
+        contact: contact.map(|(c, settings)| contact_summary(problem, disc, c, settings)),
+        seconds,
+        files,
+    }
+}
+
+fn contact_summary(
+    problem: &Problem,
+    disc: &Discretisation,
+    c: &ContactSolution,
+    s: &ContactSettings,
+) -> ContactSummary {
+    let mesh = &problem.mesh;
+    let in_contact = c.facets.iter().zip(&c.faces).filter(|(_, state)| state.contact_length > 0.0);
+    let extent = in_contact.flat_map(|(&f, _)| mesh.facet(f)[..2].iter().map(|&n| mesh.points[n])).fold(
+        None,
+        |b: Option<[[f64; 2]; 2]>, p| {
+            let [lo, hi] = b.unwrap_or([p, p]);
+            Some([[lo[0].min(p[0]), lo[1].min(p[1])], [hi[0].max(p[0]), hi[1].max(p[1])]])
+        },
+    );
+    ContactSummary {
+        faces: c.faces.len(),
+        gamma0: s.parameters.gamma0,
+        theta: s.parameters.theta,
+        delta: s.delta,
+        stress_scale: problem.stress_scale(&disc.topology),
+        contact_length: c.contact_length(),
+        contact_extent: extent,
+        newton_steps: c.newton_steps(),
+        stages: c.stages.iter().map(|st| (st.delta, st.report.iterations.len())).collect(),
+        max_pressure: c.faces.iter().map(|f| f.pressure).fold(0.0, f64::max),
+        max_regularisation_error: c.faces.iter().map(|f| f.regularisation_error).fold(0.0, f64::max),
+    }
 }

@@ -15,7 +15,7 @@ use crate::elasticity::{Discretisation, Problem};
 use crate::fem::dofs::FIXED;
 use crate::fem::sparse::{vector_dofs, LinearSystem, SparsePattern};
 use crate::solve::{newton, NewtonError, NewtonOptions, NewtonReport, NonlinearSystem};
-use nitsche::Nitsche;
+use nitsche::{Nitsche, NitscheParameters};
 use projection::{negative_part, Projection, QuadraticSmoothing};
 
 /// The elasticity problem with Nitsche contact on some of its boundary curves.
@@ -50,13 +50,7 @@ impl<'a> ContactProblem<'a> {
         projection: Box<dyn Projection>,
     ) -> Self {
         let bulk = problem.assemble(disc);
-        ContactProblem {
-            problem,
-            disc,
-            nitsche,
-            projection,
-            bulk,
-        }
+        ContactProblem { problem, disc, nitsche, projection, bulk }
     }
 
     /// Local dofs of the cell owning face k and the displacement there.
@@ -78,8 +72,7 @@ impl<'a> ContactProblem<'a> {
                     let pt = self.nitsche.point(k, s);
                     let p = self.nitsche.p_gamma(k, &pt, &u);
                     state.pressure -= negative_part(p) * w / length;
-                    state.normal_displacement +=
-                        pt.u_n.iter().zip(&u).map(|(a, b)| a * b).sum::<f64>() * w / length;
+                    state.normal_displacement += pt.u_n.iter().zip(&u).map(|(a, b)| a * b).sum::<f64>() * w / length;
                     state.contact_length += if p < 0.0 { w } else { 0.0 };
                     let error = (self.projection.value(p) - negative_part(p)).abs();
                     state.regularisation_error = state.regularisation_error.max(error);
@@ -111,13 +104,7 @@ impl NonlinearSystem for ContactProblem<'_> {
         for k in 0..self.nitsche.faces.len() {
             let u = self.local(k, &u_full, &mut dofs);
             let want_j = jacobian.is_some();
-            self.nitsche.face_terms(
-                k,
-                &u,
-                self.projection.as_ref(),
-                &mut r_local,
-                want_j.then_some(&mut j_local[..]),
-            );
+            self.nitsche.face_terms(k, &u, self.projection.as_ref(), &mut r_local, want_j.then_some(&mut j_local[..]));
             for (i, &gi) in dofs.iter().enumerate() {
                 let row = free[gi];
                 if row == FIXED {
@@ -148,7 +135,8 @@ pub struct Stage {
 }
 
 /// Solves the contact problem with the quadratic smoothing at `delta`, by continuation:
-/// δ_k = max(delta, delta_start / 10^k), each stage starting from the previous solution.
+/// δ_k = max(delta, delta_start / 10^k), each stage starting from the previous solution;
+/// for delta = 0 the path jumps to 0 after eight decades.
 /// A direct solve at a tiny δ from a poor initial guess moves the active set one face per
 /// step; the path reaches it in a few steps per stage. `delta_start ≤ delta` is one stage.
 pub fn solve_by_continuation(
@@ -165,13 +153,63 @@ pub fn solve_by_continuation(
         contact.projection = Box::new(QuadraticSmoothing { delta: current });
         let report = newton(contact, x, options)?;
         x = report.x.clone();
-        stages.push(Stage {
-            delta: current,
-            report,
-        });
+        stages.push(Stage { delta: current, report });
         if current <= delta {
             return Ok((x, stages));
         }
-        current = (current / 10.0).max(delta);
+        let next = current / 10.0;
+        current = if next < 1e-8 * delta_start { delta } else { next.max(delta) };
     }
+}
+
+/// Everything the contact solve needs besides the problem.
+#[derive(Debug, Clone, Copy)]
+pub struct ContactSettings {
+    pub parameters: NitscheParameters,
+    /// Target regularisation δ (0: the plain projection with its semismooth derivative).
+    pub delta: f64,
+    /// First δ of the continuation path (≤ delta: a single Newton solve at delta).
+    pub delta_start: f64,
+    pub newton: NewtonOptions,
+}
+
+/// The contact solution and how it was reached.
+pub struct ContactSolution {
+    /// Free unknowns.
+    pub x: Vec<f64>,
+    pub stages: Vec<Stage>,
+    /// State of every contact face.
+    pub faces: Vec<FaceState>,
+    /// Boundary facet index of every contact face.
+    pub facets: Vec<usize>,
+}
+
+impl ContactSolution {
+    /// Total number of Newton steps over all stages.
+    pub fn newton_steps(&self) -> usize {
+        self.stages.iter().map(|s| s.report.iterations.len()).sum()
+    }
+
+    /// Total length of the contact zone {P_γ(u_h) < 0}.
+    pub fn contact_length(&self) -> f64 {
+        self.faces.iter().map(|f| f.contact_length).sum()
+    }
+}
+
+/// Solves the elasticity problem with Nitsche contact on the facets tagged `tags`, from a
+/// zero initial guess.
+pub fn solve_contact(
+    problem: &Problem,
+    disc: &Discretisation,
+    tags: &[i32],
+    settings: &ContactSettings,
+) -> Result<ContactSolution, NewtonError> {
+    let nitsche = Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, tags, settings.parameters);
+    let facets = nitsche.faces.iter().map(|f| f.facet).collect();
+    let projection = Box::new(QuadraticSmoothing { delta: settings.delta });
+    let mut contact = ContactProblem::new(problem, disc, nitsche, projection);
+    let x0 = vec![0.0; disc.dofs.n_free];
+    let (x, stages) = solve_by_continuation(&mut contact, settings.delta, settings.delta_start, x0, &settings.newton)?;
+    let faces = contact.face_states(&x);
+    Ok(ContactSolution { x, stages, faces, facets })
 }

@@ -45,11 +45,7 @@ pub struct NitscheParameters {
 
 impl Default for NitscheParameters {
     fn default() -> Self {
-        NitscheParameters {
-            gamma0: 100.0,
-            theta: 0.0,
-            gap: Gap::default(),
-        }
+        NitscheParameters { gamma0: 100.0, theta: 0.0, gap: Gap::default() }
     }
 }
 
@@ -102,12 +98,7 @@ impl Nitsche {
             .filter(|&f| tags.contains(&mesh.facet_tags[f]))
             .map(|f| face(mesh, topology, materials, f, parameters.gamma0))
             .collect();
-        Nitsche {
-            parameters,
-            faces,
-            order: mesh.order,
-            rule: gauss_segment(mesh.order + 2),
-        }
+        Nitsche { parameters, faces, order: mesh.order, rule: gauss_segment(mesh.order + 2) }
     }
 
     /// Number of local dofs of the owning cell.
@@ -135,11 +126,7 @@ impl Nitsche {
                 u_n[2 * i + a] = phi[i] * n[a];
             }
         }
-        FacePoint {
-            x: face.map.to_physical(xi),
-            sigma_n,
-            u_n,
-        }
+        FacePoint { x: face.map.to_physical(xi), sigma_n, u_n }
     }
 
     /// P_γ(u_h) at a face point, for local nodal displacements `u` (index 2i + a).
@@ -217,23 +204,12 @@ impl Nitsche {
     }
 }
 
-fn face(
-    mesh: &Mesh,
-    topology: &Topology,
-    materials: &[Material],
-    f: usize,
-    gamma0: f64,
-) -> ContactFace {
+fn face(mesh: &Mesh, topology: &Topology, materials: &[Material], f: usize, gamma0: f64) -> ContactFace {
     let cell = topology.facet_cell(f);
     let vertices = &mesh.cell(cell)[..3];
     let reference = lagrange::reference_nodes(1);
     let nodes = mesh.facet(f);
-    let local = |node: usize| {
-        vertices
-            .iter()
-            .position(|&v| v == node)
-            .expect("face vertex belongs to its cell")
-    };
+    let local = |node: usize| vertices.iter().position(|&v| v == node).expect("face vertex belongs to its cell");
     let length = mesh.facet_length(f);
     let (lambda, mu) = materials[cell].lame();
     ContactFace {
@@ -266,11 +242,7 @@ pub fn roots_in_unit_interval(a: f64, b: f64, c: f64) -> Vec<f64> {
         return vec![];
     }
     if a.abs() <= 1e-12 * size {
-        return if b != 0.0 {
-            vec![-c / b].into_iter().filter(inside).collect()
-        } else {
-            vec![]
-        };
+        return if b != 0.0 { vec![-c / b].into_iter().filter(inside).collect() } else { vec![] };
     }
     let disc = b * b - 4.0 * a * c;
     if disc < 0.0 {

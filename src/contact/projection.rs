@@ -73,10 +73,7 @@ mod tests {
         let xs: Vec<f64> = (-200..=200).map(|k| k as f64 * 0.005).collect();
         for &x in &xs {
             let (v, exact) = (p.value(x), negative_part(x));
-            assert!(
-                v <= exact + 1e-15 && exact - v <= 0.3 / 4.0 + 1e-15,
-                "bound at {x}"
-            );
+            assert!(v <= exact + 1e-15 && exact - v <= 0.3 / 4.0 + 1e-15, "bound at {x}");
             let h = 1e-6;
             let fd = (p.value(x + h) - p.value(x - h)) / (2.0 * h);
             assert!((fd - p.derivative(x)).abs() < 1e-6, "derivative at {x}");
@@ -88,13 +85,6 @@ mod tests {
         }
         let plain = QuadraticSmoothing { delta: 0.0 };
         assert_eq!((plain.value(-2.0), plain.value(1.0)), (-2.0, 0.0));
-        assert_eq!(
-            (
-                plain.derivative(-2.0),
-                plain.derivative(1.0),
-                plain.derivative(0.0)
-            ),
-            (1.0, 0.0, 0.0)
-        );
+        assert_eq!((plain.derivative(-2.0), plain.derivative(1.0), plain.derivative(0.0)), (1.0, 0.0, 0.0));
     }
 }

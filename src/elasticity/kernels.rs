@@ -10,14 +10,7 @@ use crate::fem::tabulate::Tabulation;
 
 /// Element stiffness K_{2i+a, 2j+b} = ∫_T ε(φ_i e_a) : C ε(φ_j e_b), row-major in `k`.
 /// `tab` must integrate degree 2(p−1) exactly; `grads` is scratch of length n_basis.
-pub fn stiffness(
-    map: &AffineMap,
-    tab: &Tabulation,
-    lambda: f64,
-    mu: f64,
-    grads: &mut [[f64; 2]],
-    k: &mut [f64],
-) {
+pub fn stiffness(map: &AffineMap, tab: &Tabulation, lambda: f64, mu: f64, grads: &mut [[f64; 2]], k: &mut [f64]) {
     let nb = tab.n_basis;
     let n = 2 * nb;
     k[..n * n].fill(0.0);
@@ -44,12 +37,7 @@ pub fn stiffness(
 }
 
 /// Element load F_{2i+a} = ∫_T f_a φ_i for a body force `f(x)`.
-pub fn body_load(
-    map: &AffineMap,
-    tab: &Tabulation,
-    f: impl Fn([f64; 2]) -> [f64; 2],
-    out: &mut [f64],
-) {
+pub fn body_load(map: &AffineMap, tab: &Tabulation, f: impl Fn([f64; 2]) -> [f64; 2], out: &mut [f64]) {
     let nb = tab.n_basis;
     out[..2 * nb].fill(0.0);
     for q in 0..tab.n_points() {
@@ -113,12 +101,7 @@ pub fn displacement_gradient(
 pub fn stress(grad_u: [[f64; 2]; 2], lambda: f64, mu: f64) -> [f64; 4] {
     let tr = grad_u[0][0] + grad_u[1][1];
     let exy = 0.5 * (grad_u[0][1] + grad_u[1][0]);
-    [
-        lambda * tr + 2.0 * mu * grad_u[0][0],
-        lambda * tr + 2.0 * mu * grad_u[1][1],
-        2.0 * mu * exy,
-        lambda * tr,
-    ]
+    [lambda * tr + 2.0 * mu * grad_u[0][0], lambda * tr + 2.0 * mu * grad_u[1][1], 2.0 * mu * exy, lambda * tr]
 }
 
 /// von Mises stress √(½((σ₁−σ₂)² + (σ₂−σ₃)² + (σ₃−σ₁)²)) from [σ_xx, σ_yy, σ_xy, σ_zz].
@@ -147,15 +130,8 @@ mod tests {
             let mut grads = vec![[0.0; 2]; nb];
             let mut k = vec![0.0; 4 * nb * nb];
             stiffness(&map, &tab, 2.0, 1.0, &mut grads, &mut k);
-            let nodes: Vec<[f64; 2]> = lagrange::reference_nodes(order)
-                .iter()
-                .map(|&x| map.to_physical(x))
-                .collect();
-            let rigid = [
-                |_: [f64; 2]| [1.0, 0.0],
-                |_: [f64; 2]| [0.0, 1.0],
-                |x: [f64; 2]| [-x[1], x[0]],
-            ];
+            let nodes: Vec<[f64; 2]> = lagrange::reference_nodes(order).iter().map(|&x| map.to_physical(x)).collect();
+            let rigid = [|_: [f64; 2]| [1.0, 0.0], |_: [f64; 2]| [0.0, 1.0], |x: [f64; 2]| [-x[1], x[0]]];
             for r in rigid {
                 let v: Vec<f64> = nodes.iter().flat_map(|&x| r(x)).collect();
                 for row in 0..2 * nb {

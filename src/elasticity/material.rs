@@ -18,10 +18,7 @@ impl Material {
     /// Lamé coefficients in plane strain: μ = E / (2(1+ν)), λ = Eν / ((1+ν)(1−2ν)).
     pub fn lame(&self) -> (f64, f64) {
         let (e, nu) = (self.young, self.poisson);
-        (
-            e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)),
-            e / (2.0 * (1.0 + nu)),
-        )
+        (e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)), e / (2.0 * (1.0 + nu)))
     }
 
     /// Material with given Lamé coefficients: E = μ(3λ+2μ)/(λ+μ), ν = λ/(2(λ+μ)).
@@ -36,22 +33,13 @@ impl Material {
     /// Checks E > 0, −1 < ν < 1/2 and ρ ≥ 0; the message names the offending value.
     pub fn validate(&self) -> Result<(), String> {
         if !(self.young > 0.0 && self.young.is_finite()) {
-            return Err(format!(
-                "Young's modulus E = {} must be positive",
-                self.young
-            ));
+            return Err(format!("Young's modulus E = {} must be positive", self.young));
         }
         if !(self.poisson > -1.0 && self.poisson < 0.5) {
-            return Err(format!(
-                "Poisson's ratio nu = {} must lie in (-1, 0.5)",
-                self.poisson
-            ));
+            return Err(format!("Poisson's ratio nu = {} must lie in (-1, 0.5)", self.poisson));
         }
         if !(self.density >= 0.0 && self.density.is_finite()) {
-            return Err(format!(
-                "density rho = {} must be non-negative",
-                self.density
-            ));
+            return Err(format!("density rho = {} must be non-negative", self.density));
         }
         Ok(())
     }
@@ -63,11 +51,7 @@ mod tests {
 
     #[test]
     fn lame_round_trip() {
-        let m = Material {
-            young: 3e10,
-            poisson: 0.2,
-            density: 0.0,
-        };
+        let m = Material { young: 3e10, poisson: 0.2, density: 0.0 };
         let (l, mu) = m.lame();
         let back = Material::from_lame(l, mu);
         assert!((back.young / m.young - 1.0).abs() < 1e-14);

@@ -34,11 +34,7 @@ pub enum Traction {
     /// A constant vector [Pa].
     Constant([f64; 2]),
     /// Water pressure p = ρ_w g (H_w − y)₊ acting along −n (g points along −y).
-    Hydrostatic {
-        density: f64,
-        gravity: f64,
-        level: f64,
-    },
+    Hydrostatic { density: f64, gravity: f64, level: f64 },
     /// Any field of x.
     Field(VectorFn),
 }
@@ -48,11 +44,7 @@ impl Traction {
     pub fn at(&self, x: [f64; 2], n: [f64; 2]) -> [f64; 2] {
         match self {
             Traction::Constant(t) => *t,
-            Traction::Hydrostatic {
-                density,
-                gravity,
-                level,
-            } => {
+            Traction::Hydrostatic { density, gravity, level } => {
                 let p = density * gravity * (level - x[1]).max(0.0);
                 [-p * n[0], -p * n[1]]
             }
@@ -115,11 +107,7 @@ impl Problem {
         }
         let dofs = DofMap::new(self.mesh.n_points(), &constraints);
         let pattern = SparsePattern::new(&self.mesh, &dofs);
-        Discretisation {
-            topology,
-            dofs,
-            pattern,
-        }
+        Discretisation { topology, dofs, pattern }
     }
 
     /// Assembles K and F over the free dofs, with Dirichlet values moved to the right.
@@ -139,34 +127,18 @@ impl Problem {
             let map = AffineMap::new(self.mesh.cell_vertices(c));
             let (lambda, mu) = self.materials[c].lame();
             let mut grads = [[0.0; 2]; 6];
-            kernels::stiffness(
-                &map,
-                &stiff_tab,
-                lambda,
-                mu,
-                &mut grads[..nb],
-                &mut local.matrix,
-            );
+            kernels::stiffness(&map, &stiff_tab, lambda, mu, &mut grads[..nb], &mut local.matrix);
             match &self.body_force {
                 BodyForce::None => local.load.fill(0.0),
                 BodyForce::Gravity(g) => {
                     let w = -self.materials[c].density * g;
                     kernels::body_load(&map, &load_tab, |_| [0.0, w], &mut local.load)
                 }
-                BodyForce::Field(field) => {
-                    kernels::body_load(&map, &load_tab, |x| field(x), &mut local.load)
-                }
+                BodyForce::Field(field) => kernels::body_load(&map, &load_tab, |x| field(x), &mut local.load),
             }
         };
         let dofs_of = |c: usize, out: &mut Vec<usize>| vector_dofs(self.mesh.cell(c), out);
-        system.assemble(
-            &disc.pattern,
-            &disc.dofs,
-            self.mesh.n_cells(),
-            2 * nb,
-            dofs_of,
-            kernel,
-        );
+        system.assemble(&disc.pattern, &disc.dofs, self.mesh.n_cells(), 2 * nb, dofs_of, kernel);
     }
 
     fn add_tractions(&self, disc: &Discretisation, system: &mut LinearSystem) {
@@ -187,12 +159,94 @@ impl Problem {
         }
     }
 
+    /// A stress scale S [Pa] of the loads: the largest of max|g_N|, max|f| · diam(Ω) and
+    /// max E |g_D| / diam(Ω), sampled at the boundary nodes and cell centroids. Used to set
+    /// the regularisation δ, which must never scale with E alone.
+    pub fn stress_scale(&self, topology: &Topology) -> f64 {
+        let mesh = &self.mesh;
+        let (lo, hi) = mesh.points.iter().fold(([f64::MAX; 2], [f64::MIN; 2]), |(lo, hi), p| {
+            ([lo[0].min(p[0]), lo[1].min(p[1])], [hi[0].max(p[0]), hi[1].max(p[1])])
+        });
+        let diam = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
+        let norm = |v: [f64; 2]| v[0].hypot(v[1]);
+        let traction = self.neumann.iter().flat_map(|bc| {
+            (0..mesh.n_facets()).filter(move |&f| mesh.facet_tags[f] == bc.tag).flat_map(move |f| {
+                let n = topology.outward_normal(mesh, f);
+                mesh.facet(f).iter().map(move |&node| norm(bc.traction.at(mesh.points[node], n)))
+            })
+        });
+        let body = (0..mesh.n_cells()).map(|c| {
+            let v = mesh.cell_vertices(c);
+            let x = [(v[0][0] + v[1][0] + v[2][0]) / 3.0, (v[0][1] + v[1][1] + v[2][1]) / 3.0];
+            let f = match &self.body_force {
+                BodyForce::None => 0.0,
+                BodyForce::Gravity(g) => self.materials[c].density * g,
+                BodyForce::Field(field) => norm(field(x)),
+            };
+            f * diam
+        });
+        let young = self.materials.iter().map(|m| m.young).fold(0.0, f64::max);
+        let imposed = self.dirichlet.iter().flat_map(|bc| {
+            (0..mesh.n_facets()).filter(move |&f| mesh.facet_tags[f] == bc.tag).flat_map(move |f| {
+                mesh.facet(f).iter().map(move |&node| young * norm((bc.value)(mesh.points[node])) / diam)
+            })
+        });
+        traction.chain(body).chain(imposed).fold(0.0, f64::max)
+    }
+
+    /// The rigid motion r = a + b(−y, x) that the Dirichlet conditions and the normal
+    /// `supports` (point, unit normal) leave free, if any, in words. The functionals
+    /// r ↦ r_a(x_n) of the constrained dofs and r ↦ r(x)·n of the supports must span the
+    /// 3-dimensional space of rigid motions: their Gram matrix must be nonsingular.
+    pub fn free_rigid_motion(&self, supports: &[([f64; 2], [f64; 2])]) -> Option<String> {
+        let mesh = &self.mesh;
+        let n = mesh.n_points() as f64;
+        let centre = mesh.points.iter().fold([0.0; 2], |c, p| [c[0] + p[0] / n, c[1] + p[1] / n]);
+        let size = mesh.points.iter().map(|p| crate::mesh::distance(*p, centre)).fold(f64::MIN_POSITIVE, f64::max);
+        // (a_x, a_y, b) ↦ r(x)·d at the scaled point x
+        let functional = |x: [f64; 2], d: [f64; 2]| {
+            let (px, py) = ((x[0] - centre[0]) / size, (x[1] - centre[1]) / size);
+            nalgebra::Vector3::new(d[0], d[1], -py * d[0] + px * d[1])
+        };
+        let mut gram = nalgebra::Matrix3::zeros();
+        for bc in &self.dirichlet {
+            for f in (0..mesh.n_facets()).filter(|&f| mesh.facet_tags[f] == bc.tag) {
+                for &node in mesh.facet(f) {
+                    for d in
+                        [[1.0, 0.0], [0.0, 1.0]].into_iter().zip(bc.fix).filter(|(_, fixed)| *fixed).map(|(d, _)| d)
+                    {
+                        let v = functional(mesh.points[node], d);
+                        gram += v * v.transpose();
+                    }
+                }
+            }
+        }
+        for &(x, normal) in supports {
+            let v = functional(x, normal);
+            gram += v * v.transpose();
+        }
+        let eigen = nalgebra::SymmetricEigen::new(gram);
+        let (k, smallest) =
+            eigen
+                .eigenvalues
+                .iter()
+                .enumerate()
+                .fold((0, f64::INFINITY), |m, (i, &e)| if e < m.1 { (i, e) } else { m });
+        let largest = eigen.eigenvalues.max();
+        if largest > 0.0 && smallest > 1e-10 * largest {
+            return None;
+        }
+        let v = eigen.eigenvectors.column(k);
+        let parts: Vec<&str> = [(v[0], "a translation along x"), (v[1], "a translation along y"), (v[2], "a rotation")]
+            .into_iter()
+            .filter(|(c, _)| c.abs() > 0.1)
+            .map(|(_, name)| name)
+            .collect();
+        Some(parts.join(" combined with "))
+    }
+
     /// Nodal displacements from the free unknowns.
     pub fn displacement(&self, disc: &Discretisation, x: &[f64]) -> Vec<[f64; 2]> {
-        disc.dofs
-            .expand(x)
-            .chunks_exact(2)
-            .map(|u| [u[0], u[1]])
-            .collect()
+        disc.dofs.expand(x).chunks_exact(2).map(|u| [u[0], u[1]]).collect()
     }
 }

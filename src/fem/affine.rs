@@ -20,40 +20,23 @@ pub struct AffineMap {
 impl AffineMap {
     /// Map sending the reference vertices to `v[0], v[1], v[2]`. Panics on a degenerate triangle.
     pub fn new(v: [[f64; 2]; 3]) -> Self {
-        let j = [
-            [v[1][0] - v[0][0], v[2][0] - v[0][0]],
-            [v[1][1] - v[0][1], v[2][1] - v[0][1]],
-        ];
+        let j = [[v[1][0] - v[0][0], v[2][0] - v[0][0]], [v[1][1] - v[0][1], v[2][1] - v[0][1]]];
         let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
         assert!(det != 0.0, "degenerate triangle {v:?}");
-        let inv_t = [
-            [j[1][1] / det, -j[1][0] / det],
-            [-j[0][1] / det, j[0][0] / det],
-        ];
-        Self {
-            origin: v[0],
-            jacobian: j,
-            det,
-            inv_t,
-        }
+        let inv_t = [[j[1][1] / det, -j[1][0] / det], [-j[0][1] / det, j[0][0] / det]];
+        Self { origin: v[0], jacobian: j, det, inv_t }
     }
 
     /// `x = origin + J ξ`.
     pub fn to_physical(&self, xi: [f64; 2]) -> [f64; 2] {
         let j = &self.jacobian;
-        [
-            self.origin[0] + j[0][0] * xi[0] + j[0][1] * xi[1],
-            self.origin[1] + j[1][0] * xi[0] + j[1][1] * xi[1],
-        ]
+        [self.origin[0] + j[0][0] * xi[0] + j[0][1] * xi[1], self.origin[1] + j[1][0] * xi[0] + j[1][1] * xi[1]]
     }
 
     /// `∇φ = J⁻ᵀ ∇̂φ̂`.
     pub fn physical_gradient(&self, ref_grad: [f64; 2]) -> [f64; 2] {
         let m = &self.inv_t;
-        [
-            m[0][0] * ref_grad[0] + m[0][1] * ref_grad[1],
-            m[1][0] * ref_grad[0] + m[1][1] * ref_grad[1],
-        ]
+        [m[0][0] * ref_grad[0] + m[0][1] * ref_grad[1], m[1][0] * ref_grad[0] + m[1][1] * ref_grad[1]]
     }
 
     /// Area `|det J| / 2`.
@@ -76,10 +59,7 @@ impl SegmentMap {
 
     /// `x(s) = a + s (b − a)`.
     pub fn point(&self, s: f64) -> [f64; 2] {
-        [
-            self.a[0] + s * (self.b[0] - self.a[0]),
-            self.a[1] + s * (self.b[1] - self.a[1]),
-        ]
+        [self.a[0] + s * (self.b[0] - self.a[0]), self.a[1] + s * (self.b[1] - self.a[1])]
     }
 
     /// `|b − a|`.

@@ -41,11 +41,7 @@ impl DofMap {
                 }
             })
             .collect();
-        DofMap {
-            free,
-            fixed_value,
-            n_free,
-        }
+        DofMap { free, fixed_value, n_free }
     }
 
     pub fn n_dofs(&self) -> usize {
@@ -54,10 +50,6 @@ impl DofMap {
 
     /// Full dof vector from the free unknowns: u = x on free dofs, g on constrained ones.
     pub fn expand(&self, x: &[f64]) -> Vec<f64> {
-        self.free
-            .iter()
-            .zip(&self.fixed_value)
-            .map(|(&k, &g)| if k == FIXED { g } else { x[k] })
-            .collect()
+        self.free.iter().zip(&self.fixed_value).map(|(&k, &g)| if k == FIXED { g } else { x[k] }).collect()
     }
 }

@@ -74,10 +74,7 @@ pub fn gradients(order: usize, xi: [f64; 2], out: &mut [[f64; 2]]) {
                 out[i] = [c * g[i][0], c * g[i][1]];
             }
             for (k, &(i, j)) in EDGES.iter().enumerate() {
-                out[3 + k] = [
-                    4.0 * (l[j] * g[i][0] + l[i] * g[j][0]),
-                    4.0 * (l[j] * g[i][1] + l[i] * g[j][1]),
-                ];
+                out[3 + k] = [4.0 * (l[j] * g[i][0] + l[i] * g[j][0]), 4.0 * (l[j] * g[i][1] + l[i] * g[j][1])];
             }
         }
         _ => panic!("Lagrange order {order} not supported (1 or 2)"),
@@ -90,11 +87,7 @@ pub fn gradients(order: usize, xi: [f64; 2], out: &mut [[f64; 2]]) {
 pub fn segment_values(order: usize, s: f64, out: &mut [f64]) {
     match order {
         1 => out[..2].copy_from_slice(&[1.0 - s, s]),
-        2 => out[..3].copy_from_slice(&[
-            (1.0 - s) * (1.0 - 2.0 * s),
-            s * (2.0 * s - 1.0),
-            4.0 * s * (1.0 - s),
-        ]),
+        2 => out[..3].copy_from_slice(&[(1.0 - s) * (1.0 - 2.0 * s), s * (2.0 * s - 1.0), 4.0 * s * (1.0 - s)]),
         _ => panic!("Lagrange order {order} not supported (1 or 2)"),
     }
 }
@@ -125,11 +118,7 @@ mod tests {
         let xi = [0.21, 0.43];
         let mut phi = [0.0; 6];
         values(2, xi, &mut phi);
-        let interp: f64 = reference_nodes(2)
-            .iter()
-            .zip(phi)
-            .map(|(&n, p)| p * f(n))
-            .sum();
+        let interp: f64 = reference_nodes(2).iter().zip(phi).map(|(&n, p)| p * f(n)).sum();
         assert!((interp - f(xi)).abs() < 1e-14);
     }
 }

@@ -35,10 +35,7 @@ pub fn errors(
             }
             let (ue, ge) = (u(x), grad_u(x));
             l2 += w * (0..2).map(|a| (ue[a] - v[a]).powi(2)).sum::<f64>();
-            h1 += w
-                * (0..4)
-                    .map(|k| (ge[k / 2][k % 2] - g[k / 2][k % 2]).powi(2))
-                    .sum::<f64>();
+            h1 += w * (0..4).map(|k| (ge[k / 2][k % 2] - g[k / 2][k % 2]).powi(2)).sum::<f64>();
         }
     }
     (l2.sqrt(), h1.sqrt())

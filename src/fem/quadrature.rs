@@ -91,21 +91,13 @@ pub fn triangle(degree: usize) -> TriangleRule {
             weights.push((1.0 - u) * wu * wv);
         }
     }
-    TriangleRule {
-        points,
-        weights,
-        degree,
-    }
+    TriangleRule { points, weights, degree }
 }
 
 /// [`triangle`]`(degree)`, computed on first use and cached; `degree ≤ MAX_CACHED_DEGREE`.
 pub fn triangle_cached(degree: usize) -> &'static TriangleRule {
-    static CACHE: [OnceLock<TriangleRule>; MAX_CACHED_DEGREE + 1] =
-        [const { OnceLock::new() }; MAX_CACHED_DEGREE + 1];
-    assert!(
-        degree <= MAX_CACHED_DEGREE,
-        "triangle_cached: degree {degree} > {MAX_CACHED_DEGREE}"
-    );
+    static CACHE: [OnceLock<TriangleRule>; MAX_CACHED_DEGREE + 1] = [const { OnceLock::new() }; MAX_CACHED_DEGREE + 1];
+    assert!(degree <= MAX_CACHED_DEGREE, "triangle_cached: degree {degree} > {MAX_CACHED_DEGREE}");
     CACHE[degree].get_or_init(|| triangle(degree))
 }
 

@@ -43,9 +43,7 @@ impl SparsePattern {
         }
         let row_idx = columns.concat();
         let n = dofs.n_free;
-        SparsePattern {
-            symbolic: SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx),
-        }
+        SparsePattern { symbolic: SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx) }
     }
 
     /// Matrix dimension.
@@ -62,10 +60,7 @@ impl SparsePattern {
     pub fn position(&self, row: usize, col: usize) -> usize {
         let start = self.symbolic.col_ptr()[col];
         let rows = &self.symbolic.row_idx()[start..self.symbolic.col_ptr()[col + 1]];
-        start
-            + rows
-                .binary_search(&row)
-                .expect("entry outside the sparsity pattern")
+        start + rows.binary_search(&row).expect("entry outside the sparsity pattern")
     }
 
     pub fn symbolic(&self) -> SymbolicSparseColMatRef<'_, usize> {
@@ -108,10 +103,8 @@ fn node_neighbours(mesh: &Mesh) -> Vec<Vec<usize>> {
     (0..mesh.n_points())
         .into_par_iter()
         .map(|n| {
-            let mut list: Vec<usize> = node_cells[offsets[n]..offsets[n + 1]]
-                .iter()
-                .flat_map(|&c| mesh.cell(c).iter().copied())
-                .collect();
+            let mut list: Vec<usize> =
+                node_cells[offsets[n]..offsets[n + 1]].iter().flat_map(|&c| mesh.cell(c).iter().copied()).collect();
             list.sort_unstable();
             list.dedup();
             list
@@ -129,11 +122,7 @@ pub struct Local {
 impl Local {
     /// Buffers for `n` local dofs.
     pub fn new(n: usize) -> Self {
-        Local {
-            dofs: Vec::with_capacity(n),
-            matrix: vec![0.0; n * n],
-            load: vec![0.0; n],
-        }
+        Local { dofs: Vec::with_capacity(n), matrix: vec![0.0; n * n], load: vec![0.0; n] }
     }
 }
 
@@ -147,10 +136,7 @@ pub struct LinearSystem {
 impl LinearSystem {
     /// Zero matrix and right-hand side on `pattern`.
     pub fn zeros(pattern: &SparsePattern) -> Self {
-        LinearSystem {
-            values: vec![0.0; pattern.nnz()],
-            rhs: vec![0.0; pattern.n()],
-        }
+        LinearSystem { values: vec![0.0; pattern.nnz()], rhs: vec![0.0; pattern.n()] }
     }
 
     /// Adds Σ_cells of the local contributions. `dofs_of(c, out)` writes the global dofs of
@@ -233,10 +219,7 @@ fn scatter(
 /// Cuts 0..n into at most `parts` contiguous ranges.
 fn column_ranges(n: usize, parts: usize) -> Vec<(usize, usize)> {
     let size = n.div_ceil(parts.max(1)).max(1);
-    (0..n)
-        .step_by(size)
-        .map(|a| (a, (a + size).min(n)))
-        .collect()
+    (0..n).step_by(size).map(|a| (a, (a + size).min(n))).collect()
 }
 
 /// Global dofs of a list of nodes: [2n₀, 2n₀+1, 2n₁, 2n₁+1, …].
@@ -287,14 +270,7 @@ mod tests {
                 }
             }
         };
-        system.assemble(
-            &pattern,
-            &map,
-            mesh.n_cells(),
-            n,
-            |c, d| vector_dofs(mesh.cell(c), d),
-            kernel,
-        );
+        system.assemble(&pattern, &map, mesh.n_cells(), n, |c, d| vector_dofs(mesh.cell(c), d), kernel);
         let mut expected = vec![0.0; pattern.nnz()];
         let mut rhs = vec![0.0; pattern.n()];
         let mut dofs = Vec::new();
@@ -315,11 +291,7 @@ mod tests {
             }
         }
         assert_eq!(system.values, expected);
-        let worst = rhs
-            .iter()
-            .zip(&system.rhs)
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0, f64::max);
+        let worst = rhs.iter().zip(&system.rhs).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
         assert!(worst < 1e-9, "rhs differs by {worst}");
     }
 }

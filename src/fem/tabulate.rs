@@ -31,14 +31,7 @@ impl Tabulation {
             lagrange::values(order, xi, &mut values[q * n_basis..(q + 1) * n_basis]);
             lagrange::gradients(order, xi, &mut gradients[q * n_basis..(q + 1) * n_basis]);
         }
-        Tabulation {
-            order,
-            n_basis,
-            points: rule.points.clone(),
-            weights: rule.weights.clone(),
-            values,
-            gradients,
-        }
+        Tabulation { order, n_basis, points: rule.points.clone(), weights: rule.weights.clone(), values, gradients }
     }
 
     pub fn n_points(&self) -> usize {

@@ -19,11 +19,7 @@ pub enum OutputError {
     Io { path: PathBuf, error: io::Error },
     /// A NaN or infinite value was about to be written.
     #[error("cannot write {}: non-finite value {value} in {location}", path.display())]
-    NonFinite {
-        path: PathBuf,
-        location: String,
-        value: f64,
-    },
+    NonFinite { path: PathBuf, location: String, value: f64 },
     /// The data do not fit the file (wrong field length, duplicate name, unusable path…).
     #[error("cannot write {}: {reason}", path.display())]
     Invalid { path: PathBuf, reason: String },
@@ -34,19 +30,13 @@ pub enum OutputError {
 
 /// Writes `bytes` to `path` atomically.
 pub fn write_output(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
-    write_atomic(path, |w| w.write_all(bytes)).map_err(|error| OutputError::Io {
-        path: path.to_path_buf(),
-        error,
-    })
+    write_atomic(path, |w| w.write_all(bytes)).map_err(|error| OutputError::Io { path: path.to_path_buf(), error })
 }
 
 /// Writes `path` through `write` into a temporary file, then renames it over `path`.
 ///
 /// On any error the temporary file is removed and `path` is left untouched.
-pub fn write_atomic(
-    path: &Path,
-    write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
-) -> io::Result<()> {
+pub fn write_atomic(path: &Path, write: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> io::Result<()> {
     let tmp = temp_path(path)?;
     let file = OpenOptions::new().write(true).create_new(true).open(&tmp)?;
     let result = fill(file, write).and_then(|()| fs::rename(&tmp, path));
@@ -68,9 +58,8 @@ fn fill(file: File, write: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> io:
 /// `.<file>.<pid>.<n>.tmp` next to `path`, unique within this process.
 fn temp_path(path: &Path) -> io::Result<PathBuf> {
     static COUNTER: AtomicUsize = AtomicUsize::new(0);
-    let name = path
-        .file_name()
-        .ok_or_else(|| io::Error::new(io::ErrorKind::InvalidInput, "the path has no file name"))?;
+    let name =
+        path.file_name().ok_or_else(|| io::Error::new(io::ErrorKind::InvalidInput, "the path has no file name"))?;
     let n = COUNTER.fetch_add(1, Ordering::Relaxed);
     let mut tmp = OsString::from(".");
     tmp.push(name);
@@ -91,10 +80,7 @@ mod tests {
     }
 
     fn entries(dir: &Path) -> Vec<OsString> {
-        fs::read_dir(dir)
-            .unwrap()
-            .map(|e| e.unwrap().file_name())
-            .collect()
+        fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name()).collect()
     }
 
     #[test]

@@ -31,10 +31,7 @@ pub fn write_pvd(path: &Path, entries: &[(f64, PathBuf)]) -> Result<(), OutputEr
 
 /// The `DataSet` element of one entry of the collection `path` stored in directory `base`.
 fn data_set(path: &Path, base: &Path, time: f64, file: &Path) -> Result<String, OutputError> {
-    let invalid = |reason: String| OutputError::Invalid {
-        path: path.to_path_buf(),
-        reason,
-    };
+    let invalid = |reason: String| OutputError::Invalid { path: path.to_path_buf(), reason };
     if !time.is_finite() {
         return Err(OutputError::NonFinite {
             path: path.to_path_buf(),
@@ -42,25 +39,17 @@ fn data_set(path: &Path, base: &Path, time: f64, file: &Path) -> Result<String, 
             value: time,
         });
     }
-    let relative = relative_to(file, base)
-        .map_err(|e| invalid(format!("cannot locate {}: {e}", file.display())))?;
-    let relative = slash_separated(&relative)
-        .ok_or_else(|| invalid(format!("{} is not valid UTF-8", file.display())))?;
-    Ok(format!(
-        "    <DataSet timestep=\"{time}\" file=\"{}\"/>\n",
-        escape(&relative)
-    ))
+    let relative = relative_to(file, base).map_err(|e| invalid(format!("cannot locate {}: {e}", file.display())))?;
+    let relative =
+        slash_separated(&relative).ok_or_else(|| invalid(format!("{} is not valid UTF-8", file.display())))?;
+    Ok(format!("    <DataSet timestep=\"{time}\" file=\"{}\"/>\n", escape(&relative)))
 }
 
 /// `target` as seen from directory `base`, both resolved lexically from the current directory.
 fn relative_to(target: &Path, base: &Path) -> io::Result<PathBuf> {
     let target = normalize(&std::path::absolute(target)?);
     let base = normalize(&std::path::absolute(base)?);
-    let common = target
-        .components()
-        .zip(base.components())
-        .take_while(|(a, b)| a == b)
-        .count();
+    let common = target.components().zip(base.components()).take_while(|(a, b)| a == b).count();
     let ups = base.components().count() - common;
     let mut relative: PathBuf = std::iter::repeat_n(Component::ParentDir, ups).collect();
     relative.extend(target.components().skip(common));
@@ -90,10 +79,7 @@ fn slash_separated(path: &Path) -> Option<String> {
 
 /// Escapes the characters that cannot appear verbatim in an XML attribute value.
 fn escape(text: &str) -> String {
-    text.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
+    text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
 }
 
 #[cfg(test)]

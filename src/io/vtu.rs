@@ -12,8 +12,8 @@ use super::atomic::{write_output, OutputError};
 use crate::mesh::Mesh;
 use std::path::Path;
 use vtkio::model::{
-    Attribute, Attributes, ByteOrder, CellType, Cells, DataArray, DataSet, UnstructuredGridPiece,
-    Version, VertexNumbers, Vtk,
+    Attribute, Attributes, ByteOrder, CellType, Cells, DataArray, DataSet, UnstructuredGridPiece, Version,
+    VertexNumbers, Vtk,
 };
 
 /// A named array with `components` values per point or per cell.
@@ -28,20 +28,12 @@ pub struct Field {
 impl Field {
     /// One value per point or cell.
     pub fn scalar(name: impl Into<String>, values: Vec<f64>) -> Self {
-        Field {
-            name: name.into(),
-            components: 1,
-            values,
-        }
+        Field { name: name.into(), components: 1, values }
     }
 
     /// A plane vector per point or cell, stored with z = 0 so ParaView can warp by it.
     pub fn vector(name: impl Into<String>, values: Vec<[f64; 2]>) -> Self {
-        Field {
-            name: name.into(),
-            components: 3,
-            values: values.iter().flat_map(|v| [v[0], v[1], 0.0]).collect(),
-        }
+        Field { name: name.into(), components: 3, values: values.iter().flat_map(|v| [v[0], v[1], 0.0]).collect() }
     }
 }
 
@@ -55,17 +47,8 @@ struct Grid<'a> {
 }
 
 /// Writes the triangles of `mesh` with cell data `material` (the cell tags) and the given fields.
-pub fn write_mesh_vtu(
-    path: &Path,
-    mesh: &Mesh,
-    point_data: &[Field],
-    cell_data: &[Field],
-) -> Result<(), OutputError> {
-    let cell_type = if mesh.order == 1 {
-        CellType::Triangle
-    } else {
-        CellType::QuadraticTriangle
-    };
+pub fn write_mesh_vtu(path: &Path, mesh: &Mesh, point_data: &[Field], cell_data: &[Field]) -> Result<(), OutputError> {
+    let cell_type = if mesh.order == 1 { CellType::Triangle } else { CellType::QuadraticTriangle };
     let grid = Grid {
         nodes: &mesh.cell_nodes,
         nodes_per_cell: mesh.nodes_per_cell(),
@@ -85,11 +68,7 @@ pub fn write_boundary_vtu(
     point_data: &[Field],
     cell_data: &[Field],
 ) -> Result<(), OutputError> {
-    let cell_type = if mesh.order == 1 {
-        CellType::Line
-    } else {
-        CellType::QuadraticEdge
-    };
+    let cell_type = if mesh.order == 1 { CellType::Line } else { CellType::QuadraticEdge };
     let grid = Grid {
         nodes: &mesh.facet_nodes,
         nodes_per_cell: mesh.nodes_per_facet(),
@@ -111,36 +90,20 @@ fn write_grid(
     check_points(path, mesh)?;
     check_grid(path, mesh, grid)?;
     check_fields(path, "point", mesh.n_points(), point_data, None)?;
-    check_fields(
-        path,
-        "cell",
-        grid.tags.len(),
-        cell_data,
-        Some(grid.tag_name),
-    )?;
+    check_fields(path, "cell", grid.tags.len(), cell_data, Some(grid.tag_name))?;
     let piece = piece(mesh, grid, point_data, cell_data);
     write_output(path, &encode(path, piece)?)
 }
 
 /// The points, cells, tags and fields of one grid in `vtkio`'s model.
-fn piece(
-    mesh: &Mesh,
-    grid: &Grid,
-    point_data: &[Field],
-    cell_data: &[Field],
-) -> UnstructuredGridPiece {
+fn piece(mesh: &Mesh, grid: &Grid, point_data: &[Field], cell_data: &[Field]) -> UnstructuredGridPiece {
     let tags = DataArray::new(grid.tag_name, 1).with_data(grid.tags.to_vec());
-    let cell = std::iter::once(Attribute::DataArray(tags))
-        .chain(cell_data.iter().map(attribute))
-        .collect();
+    let cell = std::iter::once(Attribute::DataArray(tags)).chain(cell_data.iter().map(attribute)).collect();
     let points: Vec<f64> = mesh.points.iter().flat_map(|p| [p[0], p[1], 0.0]).collect();
     UnstructuredGridPiece {
         points: points.into(),
         cells: cells(grid),
-        data: Attributes {
-            point: point_data.iter().map(attribute).collect(),
-            cell,
-        },
+        data: Attributes { point: point_data.iter().map(attribute).collect(), cell },
     }
 }
 
@@ -154,10 +117,7 @@ fn encode(path: &Path, piece: UnstructuredGridPiece) -> Result<Vec<u8>, OutputEr
         file_path: None,
     };
     let mut bytes = Vec::new();
-    vtk.write_xml(&mut bytes).map_err(|e| OutputError::Encode {
-        path: path.to_path_buf(),
-        message: e.to_string(),
-    })?;
+    vtk.write_xml(&mut bytes).map_err(|e| OutputError::Encode { path: path.to_path_buf(), message: e.to_string() })?;
     Ok(bytes)
 }
 
@@ -173,10 +133,7 @@ fn cells(grid: &Grid) -> Cells {
 }
 
 fn attribute(field: &Field) -> Attribute {
-    Attribute::DataArray(
-        DataArray::new(field.name.as_str(), field.components as u32)
-            .with_data(field.values.clone()),
-    )
+    Attribute::DataArray(DataArray::new(field.name.as_str(), field.components as u32).with_data(field.values.clone()))
 }
 
 fn check_points(path: &Path, mesh: &Mesh) -> Result<(), OutputError> {
@@ -204,10 +161,7 @@ fn check_grid(path: &Path, mesh: &Mesh, grid: &Grid) -> Result<(), OutputError> 
     } else {
         return Ok(());
     };
-    Err(OutputError::Invalid {
-        path: path.to_path_buf(),
-        reason,
-    })
+    Err(OutputError::Invalid { path: path.to_path_buf(), reason })
 }
 
 /// Checks each field's shape, finiteness and the uniqueness of the names (`reserved` included).
@@ -245,21 +199,14 @@ fn check_field(path: &Path, kind: &str, count: usize, field: &Field) -> Result<(
     } else {
         return check_finite(path, kind, field);
     };
-    Err(OutputError::Invalid {
-        path: path.to_path_buf(),
-        reason,
-    })
+    Err(OutputError::Invalid { path: path.to_path_buf(), reason })
 }
 
 fn check_finite(path: &Path, kind: &str, field: &Field) -> Result<(), OutputError> {
     match first_non_finite(&field.values) {
         Some((i, value)) => Err(OutputError::NonFinite {
             path: path.to_path_buf(),
-            location: format!(
-                "{kind} field `{}` at {kind} {}",
-                field.name,
-                i / field.components
-            ),
+            location: format!("{kind} field `{}` at {kind} {}", field.name, i / field.components),
             value,
         }),
         None => Ok(()),
@@ -268,9 +215,5 @@ fn check_finite(path: &Path, kind: &str, field: &Field) -> Result<(), OutputErro
 
 /// Index and value of the first NaN or infinite value.
 fn first_non_finite<'a>(values: impl IntoIterator<Item = &'a f64>) -> Option<(usize, f64)> {
-    values
-        .into_iter()
-        .copied()
-        .enumerate()
-        .find(|(_, v)| !v.is_finite())
+    values.into_iter().copied().enumerate().find(|(_, v)| !v.is_finite())
 }

@@ -86,18 +86,12 @@ impl Mesh {
 
     /// The physical group of dimension `dim` called `name` (case-insensitive).
     pub fn group(&self, dim: u8, name: &str) -> Option<&PhysicalGroup> {
-        self.groups
-            .iter()
-            .find(|g| g.dim == dim && g.name.eq_ignore_ascii_case(name))
+        self.groups.iter().find(|g| g.dim == dim && g.name.eq_ignore_ascii_case(name))
     }
 
     /// Names of the physical groups of dimension `dim`.
     pub fn group_names(&self, dim: u8) -> Vec<&str> {
-        self.groups
-            .iter()
-            .filter(|g| g.dim == dim)
-            .map(|g| g.name.as_str())
-            .collect()
+        self.groups.iter().filter(|g| g.dim == dim).map(|g| g.name.as_str()).collect()
     }
 
     /// Signed area of cell `c` (positive for counter-clockwise vertices).
@@ -109,9 +103,7 @@ impl Mesh {
     /// Diameter h_T of cell `c` (its longest edge).
     pub fn cell_diameter(&self, c: usize) -> f64 {
         let v = self.cell_vertices(c);
-        (0..3)
-            .map(|i| distance(v[i], v[(i + 1) % 3]))
-            .fold(0.0, f64::max)
+        (0..3).map(|i| distance(v[i], v[(i + 1) % 3])).fold(0.0, f64::max)
     }
 
     /// Length of boundary facet `f`.
@@ -122,10 +114,7 @@ impl Mesh {
 
     /// Total length of the facets carrying physical tag `tag`.
     pub fn boundary_length(&self, tag: i32) -> f64 {
-        (0..self.n_facets())
-            .filter(|&f| self.facet_tags[f] == tag)
-            .map(|f| self.facet_length(f))
-            .sum()
+        (0..self.n_facets()).filter(|&f| self.facet_tags[f] == tag).map(|f| self.facet_length(f)).sum()
     }
 
     /// Reorders every cell counter-clockwise (gmsh may hand out either orientation).

@@ -39,22 +39,13 @@ pub fn rectangle(x0: f64, x1: f64, y0: f64, y1: f64, nx: usize, ny: usize, order
     let mut triangle = |a: usize, b: usize, c: usize, points: &mut Vec<[f64; 2]>| {
         cell_nodes.extend([a, b, c]);
         if order == 2 {
-            let m = [
-                midpoint(a, b, points),
-                midpoint(b, c, points),
-                midpoint(c, a, points),
-            ];
+            let m = [midpoint(a, b, points), midpoint(b, c, points), midpoint(c, a, points)];
             cell_nodes.extend(m);
         }
     };
     for j in 0..ny {
         for i in 0..nx {
-            let (a, b, c, d) = (
-                vertex(i, j),
-                vertex(i + 1, j),
-                vertex(i + 1, j + 1),
-                vertex(i, j + 1),
-            );
+            let (a, b, c, d) = (vertex(i, j), vertex(i + 1, j), vertex(i + 1, j + 1), vertex(i, j + 1));
             triangle(a, b, c, &mut points);
             triangle(a, c, d, &mut points);
         }
@@ -62,30 +53,10 @@ pub fn rectangle(x0: f64, x1: f64, y0: f64, y1: f64, nx: usize, ny: usize, order
     let mut facet_nodes = Vec::new();
     let mut facet_tags = Vec::new();
     let sides: [(i32, Vec<(usize, usize)>); 4] = [
-        (
-            BOTTOM,
-            (0..nx).map(|i| (vertex(i, 0), vertex(i + 1, 0))).collect(),
-        ),
-        (
-            RIGHT,
-            (0..ny)
-                .map(|j| (vertex(nx, j), vertex(nx, j + 1)))
-                .collect(),
-        ),
-        (
-            TOP,
-            (0..nx)
-                .rev()
-                .map(|i| (vertex(i + 1, ny), vertex(i, ny)))
-                .collect(),
-        ),
-        (
-            LEFT,
-            (0..ny)
-                .rev()
-                .map(|j| (vertex(0, j + 1), vertex(0, j)))
-                .collect(),
-        ),
+        (BOTTOM, (0..nx).map(|i| (vertex(i, 0), vertex(i + 1, 0))).collect()),
+        (RIGHT, (0..ny).map(|j| (vertex(nx, j), vertex(nx, j + 1))).collect()),
+        (TOP, (0..nx).rev().map(|i| (vertex(i + 1, ny), vertex(i, ny))).collect()),
+        (LEFT, (0..ny).rev().map(|j| (vertex(0, j + 1), vertex(0, j))).collect()),
     ];
     for (tag, segments) in sides {
         for (a, b) in segments {
@@ -96,30 +67,12 @@ pub fn rectangle(x0: f64, x1: f64, y0: f64, y1: f64, nx: usize, ny: usize, order
             facet_tags.push(tag);
         }
     }
-    let groups = [
-        (2, 1, "domain"),
-        (1, BOTTOM, "bottom"),
-        (1, RIGHT, "right"),
-        (1, TOP, "top"),
-        (1, LEFT, "left"),
-    ]
-    .into_iter()
-    .map(|(dim, tag, name)| PhysicalGroup {
-        dim,
-        tag,
-        name: name.to_string(),
-    })
-    .collect();
+    let groups = [(2, 1, "domain"), (1, BOTTOM, "bottom"), (1, RIGHT, "right"), (1, TOP, "top"), (1, LEFT, "left")]
+        .into_iter()
+        .map(|(dim, tag, name)| PhysicalGroup { dim, tag, name: name.to_string() })
+        .collect();
     let n_cells = 2 * nx * ny;
-    Mesh {
-        points,
-        order,
-        cell_nodes,
-        cell_tags: vec![1; n_cells],
-        facet_nodes,
-        facet_tags,
-        groups,
-    }
+    Mesh { points, order, cell_nodes, cell_tags: vec![1; n_cells], facet_nodes, facet_tags, groups }
 }
 
 /// Unit square (0, 1)² with n × n squares.

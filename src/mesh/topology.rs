@@ -54,21 +54,11 @@ impl Topology {
         let facet_edges = (0..mesh.n_facets())
             .map(|f| {
                 let n = mesh.facet(f);
-                edges
-                    .binary_search(&sorted([n[0], n[1]]))
-                    .expect("boundary facet is not a cell edge")
+                edges.binary_search(&sorted([n[0], n[1]])).expect("boundary facet is not a cell edge")
             })
             .collect();
         let (vertices, patch_offsets, patch_cells) = patches(mesh);
-        Topology {
-            edges,
-            cell_edges,
-            edge_cells,
-            facet_edges,
-            vertices,
-            patch_offsets,
-            patch_cells,
-        }
+        Topology { edges, cell_edges, edge_cells, facet_edges, vertices, patch_offsets, patch_cells }
     }
 
     pub fn n_edges(&self) -> usize {

@@ -23,18 +23,13 @@ impl Cholesky {
     }
 
     /// Solves K x = b for K with the analysed pattern and the given values.
-    pub fn solve(
-        &self,
-        pattern: &SparsePattern,
-        values: &[f64],
-        rhs: &[f64],
-    ) -> Result<Vec<f64>, SolveError> {
-        let llt =
-            Llt::try_new_with_symbolic(self.symbolic.clone(), pattern.matrix(values), Side::Lower)
-                .map_err(|e| match e {
-                    faer::sparse::linalg::LltError::Numeric(_) => SolveError::NotPositiveDefinite,
-                    other => SolveError::Factorisation(format!("{other:?}")),
-                })?;
+    pub fn solve(&self, pattern: &SparsePattern, values: &[f64], rhs: &[f64]) -> Result<Vec<f64>, SolveError> {
+        let llt = Llt::try_new_with_symbolic(self.symbolic.clone(), pattern.matrix(values), Side::Lower).map_err(
+            |e| match e {
+                faer::sparse::linalg::LltError::Numeric(_) => SolveError::NotPositiveDefinite,
+                other => SolveError::Factorisation(format!("{other:?}")),
+            },
+        )?;
         let mut x = Mat::from_fn(rhs.len(), 1, |i, _| rhs[i]);
         llt.solve_in_place(x.as_mut());
         Ok((0..rhs.len()).map(|i| x[(i, 0)]).collect())

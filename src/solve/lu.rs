@@ -18,23 +18,17 @@ pub struct SparseLu {
 impl SparseLu {
     /// Symbolic analysis of `pattern`.
     pub fn analyse(pattern: &SparsePattern) -> Result<Self, SolveError> {
-        let symbolic = SymbolicLu::try_new(pattern.symbolic())
-            .map_err(|e| SolveError::Factorisation(format!("{e:?}")))?;
+        let symbolic =
+            SymbolicLu::try_new(pattern.symbolic()).map_err(|e| SolveError::Factorisation(format!("{e:?}")))?;
         Ok(SparseLu { symbolic })
     }
 
     /// Numeric factorisation of the matrix with the analysed pattern and these values.
-    pub fn factor(
-        &self,
-        pattern: &SparsePattern,
-        values: &[f64],
-    ) -> Result<Lu<usize, f64>, SolveError> {
-        Lu::try_new_with_symbolic(self.symbolic.clone(), pattern.matrix(values)).map_err(
-            |e| match e {
-                faer::sparse::linalg::LuError::SymbolicSingular { .. } => SolveError::Singular,
-                other => SolveError::Factorisation(format!("{other:?}")),
-            },
-        )
+    pub fn factor(&self, pattern: &SparsePattern, values: &[f64]) -> Result<Lu<usize, f64>, SolveError> {
+        Lu::try_new_with_symbolic(self.symbolic.clone(), pattern.matrix(values)).map_err(|e| match e {
+            faer::sparse::linalg::LuError::SymbolicSingular { .. } => SolveError::Singular,
+            other => SolveError::Factorisation(format!("{other:?}")),
+        })
     }
 }
 

@@ -127,9 +127,11 @@ impl Session {
         read::mesh(&self.source)
     }
 
-    /// Writes the mesh, all elements included (`Mesh.SaveAll`), in the format of the extension.
+    /// Writes the mesh in the format of the extension. Only elements of physical groups are
+    /// saved (all of them when the model has no physical group), as gmsh does by default;
+    /// saving the untagged point entities too would make the file unreadable for meshio.
     pub fn write(&mut self, path: &Path) -> Result<(), GmshError> {
-        api::set_number("Mesh.SaveAll", 1.0)?;
+        api::set_number("Mesh.SaveAll", 0.0)?;
         let fail = |message| GmshError::Write { path: path.into(), message };
         let c_path = c_path(path).ok_or_else(|| fail("invalid file name".into()))?;
         self.step(|| api::write(&c_path), fail)
