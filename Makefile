@@ -12,7 +12,8 @@ SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
 demo: deps build
 	./target/release/damfem solve geo/scene_a.toml -o out/scene_a
-	@echo "results: out/scene_a (open scene_a.vtu in ParaView)"
+	$(PYTHON) scripts/render.py out/scene_a/scene_a.vtu out/scene_a/scene_a.png
+	@echo "results: out/scene_a (open scene_a.vtu and scene_a_boundary.vtu in ParaView; picture: scene_a.png)"
 
 test: deps build
 	cargo test --release

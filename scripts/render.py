@@ -1,0 +1,62 @@
+"""Render a damfem result to a PNG, off-screen, with pyvista.
+
+Usage: python scripts/render.py RESULT.vtu OUT.png [--field von_mises] [--warp auto|FACTOR]
+
+The deformed mesh (displacement magnified so that the largest displacement is 5% of the
+domain size, unless --warp gives the factor) is coloured by a cell field. If
+RESULT_boundary.vtu exists beside it, the contact boundary is drawn on top: red where
+the body is in contact, blue where it has separated.
+"""
+
+import argparse
+from pathlib import Path
+
+import numpy as np
+import pyvista as pv
+
+
+def warp_factor(grid, requested):
+    if requested != "auto":
+        return float(requested)
+    largest = np.linalg.norm(grid.point_data["displacement"], axis=1).max()
+    size = np.linalg.norm(np.array(grid.bounds[1::2]) - np.array(grid.bounds[::2]))
+    return 0.05 * size / largest if largest > 0 else 1.0
+
+
+def contact_lines(boundary_path, factor):
+    """The Γ_C facets of the boundary file, warped, split by contact status."""
+    boundary = pv.read(boundary_path)
+    if "contact_status" not in boundary.cell_data:
+        return []
+    warped = boundary.warp_by_vector("displacement", factor=factor)
+    status = boundary.cell_data["contact_status"]
+    return [(warped.extract_cells(np.where(status == s)[0]), colour) for s, colour in ((1, "red"), (0, "blue"))]
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("result", type=Path)
+    parser.add_argument("png", type=Path)
+    parser.add_argument("--field", default="von_mises")
+    parser.add_argument("--warp", default="auto")
+    args = parser.parse_args()
+    grid = pv.read(args.result)
+    factor = warp_factor(grid, args.warp)
+    plotter = pv.Plotter(off_screen=True, window_size=(900, 800))
+    plotter.add_mesh(grid, style="wireframe", color="lightgrey", opacity=0.4)
+    plotter.add_mesh(grid.warp_by_vector("displacement", factor=factor), scalars=args.field, cmap="viridis",
+                     scalar_bar_args={"title": f"{args.field}\n(displacement x{factor:.3g})", "vertical": True,
+                                      "position_x": 0.82, "position_y": 0.25, "height": 0.5})
+    boundary_path = args.result.with_name(args.result.stem + "_boundary.vtu")
+    if boundary_path.exists():
+        for lines, colour in contact_lines(boundary_path, factor):
+            if lines.n_cells:
+                plotter.add_mesh(lines, color=colour, line_width=6)
+    plotter.view_xy()
+    plotter.camera.zoom(1.1)
+    plotter.screenshot(args.png)
+    print(args.png)
+
+
+if __name__ == "__main__":
+    main()
