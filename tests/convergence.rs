@@ -8,51 +8,19 @@
 
 mod common;
 
-use damfem::elasticity::{BodyForce, Dirichlet, Material, Problem};
+use common::v1;
 use damfem::fem::norms::errors;
 use damfem::mesh::structured::unit_square;
 use damfem::solve::Cholesky;
-use std::f64::consts::PI;
-use std::sync::Arc;
-
-const MU: f64 = 1.0;
-const LAMBDA: f64 = 1.0;
-
-fn exact(x: [f64; 2]) -> [f64; 2] {
-    let (px, py) = (PI * x[0], PI * x[1]);
-    [px.sin() * py.cos() + x[0] * x[0] / (2.0 * LAMBDA), -px.cos() * py.sin() + x[1] * x[1] / (2.0 * LAMBDA)]
-}
-
-fn exact_gradient(x: [f64; 2]) -> [[f64; 2]; 2] {
-    let (px, py) = (PI * x[0], PI * x[1]);
-    [
-        [PI * px.cos() * py.cos() + x[0] / LAMBDA, -PI * px.sin() * py.sin()],
-        [PI * px.sin() * py.sin(), -PI * px.cos() * py.cos() + x[1] / LAMBDA],
-    ]
-}
-
-fn body_force(x: [f64; 2]) -> [f64; 2] {
-    let (px, py) = (PI * x[0], PI * x[1]);
-    let c = 2.0 * MU / LAMBDA + 1.0;
-    [2.0 * MU * PI * PI * px.sin() * py.cos() - c, -2.0 * MU * PI * PI * px.cos() * py.sin() - c]
-}
 
 /// (h, L² error, H¹ error) of V1 on an n × n mesh of degree p.
 fn solve_v1(n: usize, p: usize) -> (f64, f64, f64) {
-    let mesh = unit_square(n, p);
-    let material = Material::from_lame(LAMBDA, MU);
-    let problem = Problem {
-        materials: vec![material; mesh.n_cells()],
-        dirichlet: (1..=4).map(|tag| Dirichlet { tag, fix: [true; 2], value: Arc::new(exact) }).collect(),
-        neumann: vec![],
-        body_force: BodyForce::Field(Arc::new(body_force)),
-        mesh,
-    };
+    let problem = v1::problem(unit_square(n, p), &[1, 2, 3, 4]);
     let disc = problem.discretise();
     let system = problem.assemble(&disc);
     let x = Cholesky::analyse(&disc.pattern).unwrap().solve(&disc.pattern, &system.values, &system.rhs).unwrap();
     let u = problem.displacement(&disc, &x);
-    let (l2, h1) = errors(&problem.mesh, &u, exact, exact_gradient);
+    let (l2, h1) = errors(&problem.mesh, &u, v1::exact, v1::exact_gradient);
     (1.0 / n as f64, l2, h1)
 }
 

@@ -139,15 +139,25 @@ impl Nitsche {
 
     /// Quadrature on face k split at the kinks of `projection` ∘ P_γ(u_h): (s, weight·|F|).
     pub fn quadrature(&self, k: usize, u: &[f64], projection: &dyn Projection) -> Vec<(f64, f64)> {
+        self.split_rule(k, &self.cuts(k, u, &projection.breakpoints()))
+    }
+
+    /// 0, 1 and the parameters s ∈ (0, 1) where P_γ(u_h)(s) equals one of `levels`, sorted.
+    pub fn cuts(&self, k: usize, u: &[f64], levels: &[f64]) -> Vec<f64> {
         let p = |s: f64| self.p_gamma(k, &self.point(k, s), u);
         let (p0, pm, p1) = (p(0.0), p(0.5), p(1.0));
         // P(s) = a s² + b s + c through the three samples
         let (a, b, c) = (2.0 * p1 + 2.0 * p0 - 4.0 * pm, 4.0 * pm - 3.0 * p0 - p1, p0);
         let mut cuts = vec![0.0, 1.0];
-        for t in projection.breakpoints() {
+        for t in levels {
             cuts.extend(roots_in_unit_interval(a, b, c - t));
         }
         cuts.sort_by(f64::total_cmp);
+        cuts
+    }
+
+    /// The Gauss rule of p + 2 points on each piece between consecutive `cuts`: (s, weight·|F|).
+    pub fn split_rule(&self, k: usize, cuts: &[f64]) -> Vec<(f64, f64)> {
         let length = self.faces[k].length;
         cuts.windows(2)
             .filter(|w| w[1] > w[0])

@@ -80,6 +80,18 @@ pub struct Problem {
     pub body_force: BodyForce,
 }
 
+/// Degree of the triangle rule for the body force (f, v): exact for f ∈ P_{p+6}. The
+/// estimator integrates its divergence data with the same rule, so that the discrete
+/// equilibrium it reconstructs is exactly the one that was solved.
+pub fn load_degree(order: usize) -> usize {
+    2 * order + 6
+}
+
+/// Number of Gauss points per facet for tractions (g_N, v)_F, shared with the estimator.
+pub fn traction_points(order: usize) -> usize {
+    order + 4
+}
+
 /// Dof numbering and matrix pattern of a problem, built once per mesh.
 pub struct Discretisation {
     pub topology: Topology,
@@ -121,7 +133,7 @@ impl Problem {
     fn add_stiffness_and_body_force(&self, disc: &Discretisation, system: &mut LinearSystem) {
         let p = self.mesh.order;
         let stiff_tab = Tabulation::new(p, 2 * p - 2);
-        let load_tab = Tabulation::new(p, 2 * p + 2);
+        let load_tab = Tabulation::new(p, load_degree(p));
         let nb = stiff_tab.n_basis;
         let kernel = |c: usize, local: &mut Local| {
             let map = AffineMap::new(self.mesh.cell_vertices(c));
@@ -143,7 +155,7 @@ impl Problem {
 
     fn add_tractions(&self, disc: &Discretisation, system: &mut LinearSystem) {
         let p = self.mesh.order;
-        let rule = gauss_segment(p + 2);
+        let rule = gauss_segment(traction_points(p));
         let mut phi = vec![0.0; p + 1];
         let mut f = vec![0.0; 2 * (p + 1)];
         let mut local = Vec::new();

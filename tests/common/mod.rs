@@ -11,3 +11,4 @@ pub fn fitted_rate(h: &[f64], e: &[f64]) -> f64 {
     let sxx: f64 = x.iter().map(|a| (a - mx).powi(2)).sum();
     sxy / sxx
 }
+pub mod v1;

@@ -1,0 +1,274 @@
+//! Equilibration checks of a reconstruction (docs/method.md §4.5, (E1)–(E3)).
+//!
+//! Each check returns its largest relative violation; all should be at round-off level.
+
+use super::afw::{self, COMPONENTS};
+use super::face::FaceProjection;
+use super::reconstruction::{contact_rule, tractions, ContactState, Reconstruction};
+use crate::elasticity::problem::load_degree;
+use crate::elasticity::{BodyForce, Problem};
+use crate::fem::affine::AffineMap;
+use crate::fem::lagrange;
+use crate::fem::quadrature::{gauss_segment, triangle_cached};
+use crate::mesh::topology::NONE;
+use crate::mesh::Topology;
+use serde::Serialize;
+
+/// Largest relative violation of each equilibration condition.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Equilibration {
+    /// max_T ‖∇·σ_h + Π^{p−1} f‖_T / max_T (‖Π^{p−1} f‖_T + ‖σ_h‖_T / h_T).
+    pub divergence: f64,
+    /// max_F ‖[[σ_h n]]‖_F / max_F ‖σ_h n‖_F over interior faces.
+    pub normal_continuity: f64,
+    /// max_F ‖σ_h n − Π_F^p g_N‖_F / max_F ‖σ_h n‖_F over Neumann faces.
+    pub neumann: f64,
+    /// max_F ‖σ_hi n − Π_F^p t_i n‖_F / max_F ‖σ_h n‖_F over contact faces, i = 1, 2, 3.
+    pub contact: f64,
+    /// max_T |(σ_h, ψ J)_T| / (‖σ_h‖_T ‖ψ‖_T), ψ ∈ P_{p−1}; only meaningful for p ≥ 2.
+    pub weak_symmetry: f64,
+    /// Largest relative residual of the compatibility condition on patches.
+    pub compatibility: f64,
+}
+
+impl Equilibration {
+    /// The largest of all violations (weak symmetry only for p ≥ 2).
+    pub fn worst(&self, order: usize) -> f64 {
+        let symmetry = if order >= 2 { self.weak_symmetry } else { 0.0 };
+        [self.divergence, self.normal_continuity, self.neumann, self.contact, symmetry, self.compatibility]
+            .into_iter()
+            .fold(0.0, f64::max)
+    }
+}
+
+/// Runs every check on the reconstruction `rec` of the iterate `u`.
+pub fn check(
+    problem: &Problem,
+    topology: &Topology,
+    u: &[[f64; 2]],
+    rec: &Reconstruction,
+    contact: Option<&ContactState>,
+) -> Equilibration {
+    let traces = Traces::new(problem, topology, rec);
+    Equilibration {
+        divergence: divergence(problem, rec),
+        normal_continuity: traces.continuity() / traces.scale,
+        neumann: traces.neumann() / traces.scale,
+        contact: contact.map_or(0.0, |c| contact_traces(problem, u, rec, c) / traces.scale),
+        weak_symmetry: weak_symmetry(problem, rec),
+        compatibility: rec.compatibility,
+    }
+}
+
+/// ‖∇·σ_h + Π^{p−1} f‖_T relative to the scale of the terms.
+fn divergence(problem: &Problem, rec: &Reconstruction) -> f64 {
+    let mesh = &problem.mesh;
+    let order = mesh.order;
+    let nl = afw::n_lower(order);
+    let rule = triangle_cached(load_degree(order));
+    let (mut worst, mut scale) = (0.0_f64, 0.0_f64);
+    for c in 0..mesh.n_cells() {
+        let map = AffineMap::new(mesh.cell_vertices(c));
+        let ints = afw::cell_integrals(order, &map);
+        let gram = nalgebra::DMatrix::from_row_slice(nl, nl, &ints.lower_gram).cholesky().expect("positive definite");
+        let sigma = rec.total(c);
+        let f = |x: [f64; 2]| match &problem.body_force {
+            BodyForce::None => [0.0; 2],
+            BodyForce::Gravity(g) => [0.0, -problem.materials[c].density * g],
+            BodyForce::Field(field) => field(x),
+        };
+        let mut psi = [0.0; 3];
+        let mut moments = [nalgebra::DVector::zeros(nl), nalgebra::DVector::zeros(nl)];
+        let (mut defect, mut size, mut norm_sigma) = (0.0, 0.0, 0.0);
+        for (&xi, &w) in rule.points.iter().zip(&rule.weights) {
+            afw::lower_values(order, xi, &mut psi[..nl]);
+            let fx = f(map.to_physical(xi));
+            for i in 0..2 {
+                for m in 0..nl {
+                    moments[i][m] += fx[i] * psi[m] * w * map.det.abs();
+                }
+            }
+        }
+        let alpha = [gram.solve(&moments[0]), gram.solve(&moments[1])];
+        for (&xi, &w) in rule.points.iter().zip(&rule.weights) {
+            afw::lower_values(order, xi, &mut psi[..nl]);
+            let div = afw::divergence(order, &map, &sigma, xi);
+            let t = afw::evaluate(order, &sigma, xi);
+            let w = w * map.det.abs();
+            for i in 0..2 {
+                let pf: f64 = (0..nl).map(|m| alpha[i][m] * psi[m]).sum();
+                defect += (div[i] + pf).powi(2) * w;
+                size += pf * pf * w;
+            }
+            norm_sigma += t.iter().map(|v| v * v).sum::<f64>() * w;
+        }
+        worst = worst.max(defect.sqrt());
+        scale = scale.max(size.sqrt() + norm_sigma.sqrt() / mesh.cell_diameter(c));
+    }
+    worst / scale.max(f64::MIN_POSITIVE)
+}
+
+/// max_T |(σ_h, ψ_m J)_T| / (‖σ_h‖_T ‖ψ_m‖_T).
+fn weak_symmetry(problem: &Problem, rec: &Reconstruction) -> f64 {
+    let mesh = &problem.mesh;
+    let order = mesh.order;
+    let (nb, nl) = (lagrange::n_basis(order), afw::n_lower(order));
+    let mut worst: f64 = 0.0;
+    for c in 0..mesh.n_cells() {
+        let ints = afw::cell_integrals(order, &AffineMap::new(mesh.cell_vertices(c)));
+        let sigma = rec.total(c);
+        let norm: f64 = (0..COMPONENTS)
+            .map(|comp| {
+                (0..nb)
+                    .flat_map(|k| (0..nb).map(move |l| (k, l)))
+                    .map(|(k, l)| sigma[comp * nb + k] * ints.mass[k * nb + l] * sigma[comp * nb + l])
+                    .sum::<f64>()
+            })
+            .sum::<f64>()
+            .sqrt();
+        for m in 0..nl {
+            let skew: f64 = (0..nb).map(|k| (sigma[nb + k] - sigma[2 * nb + k]) * ints.lower_mass[m * nb + k]).sum();
+            let psi_norm = ints.lower_gram[m * nl + m].sqrt();
+            worst = worst.max(skew.abs() / (norm * psi_norm).max(f64::MIN_POSITIVE));
+        }
+    }
+    worst
+}
+
+/// Normal traces of σ_h on every face.
+struct Traces<'a> {
+    problem: &'a Problem,
+    topology: &'a Topology,
+    rec: &'a Reconstruction,
+    /// max_F ‖σ_h n‖_F.
+    scale: f64,
+}
+
+impl<'a> Traces<'a> {
+    fn new(problem: &'a Problem, topology: &'a Topology, rec: &'a Reconstruction) -> Self {
+        let mut t = Traces { problem, topology, rec, scale: 0.0 };
+        t.scale = (0..topology.n_edges())
+            .map(|e| t.norm(e, topology.edge_cells[e][0], |_| [0.0; 2]))
+            .fold(f64::MIN_POSITIVE, f64::max);
+        t
+    }
+
+    /// Points of edge e: (s, weight · |F|) and the physical ends.
+    fn rule(&self, e: usize) -> (Vec<(f64, f64)>, [[f64; 2]; 2]) {
+        let mesh = &self.problem.mesh;
+        let [a, b] = self.topology.edges[e];
+        let ends = [mesh.points[a], mesh.points[b]];
+        let length = crate::mesh::distance(ends[0], ends[1]);
+        let rule = gauss_segment(mesh.order + 2);
+        (rule.points.iter().zip(&rule.weights).map(|(&s, &w)| (s, w * length)).collect(), ends)
+    }
+
+    /// σ_h n_e (n_e the normal of the edge's ends a → b, rotated clockwise) of cell c at s.
+    fn trace(&self, e: usize, c: usize, s: f64) -> [f64; 2] {
+        let mesh = &self.problem.mesh;
+        let [a, b] = self.topology.edges[e];
+        let (pa, pb) = (mesh.points[a], mesh.points[b]);
+        let length = crate::mesh::distance(pa, pb);
+        let n = [(pb[1] - pa[1]) / length, -(pb[0] - pa[0]) / length];
+        let x = [pa[0] + s * (pb[0] - pa[0]), pa[1] + s * (pb[1] - pa[1])];
+        let map = AffineMap::new(mesh.cell_vertices(c));
+        let t = afw::evaluate(mesh.order, &self.rec.total(c), inverse(&map, x));
+        [t[0] * n[0] + t[1] * n[1], t[2] * n[0] + t[3] * n[1]]
+    }
+
+    /// ‖σ_h n − g‖_F on edge e from cell c, for a field g(s).
+    fn norm(&self, e: usize, c: usize, g: impl Fn(f64) -> [f64; 2]) -> f64 {
+        let (rule, _) = self.rule(e);
+        rule.iter()
+            .map(|&(s, w)| {
+                let (t, v) = (self.trace(e, c, s), g(s));
+                ((t[0] - v[0]).powi(2) + (t[1] - v[1]).powi(2)) * w
+            })
+            .sum::<f64>()
+            .sqrt()
+    }
+
+    fn continuity(&self) -> f64 {
+        (0..self.topology.n_edges())
+            .filter(|&e| self.topology.edge_cells[e][1] != NONE)
+            .map(|e| {
+                let [c1, c2] = self.topology.edge_cells[e];
+                self.norm(e, c1, |s| self.trace(e, c2, s))
+            })
+            .fold(0.0, f64::max)
+    }
+
+    /// ‖σ_h n − Π_F^p g_N‖_F on Neumann faces.
+    fn neumann(&self) -> f64 {
+        let mesh = &self.problem.mesh;
+        let mut worst: f64 = 0.0;
+        for f in 0..mesh.n_facets() {
+            let tag = mesh.facet_tags[f];
+            let fixed = self.problem.dirichlet.iter().any(|bc| bc.tag == tag);
+            let Some(bc) = self.problem.neumann.iter().find(|bc| bc.tag == tag) else { continue };
+            if fixed {
+                continue;
+            }
+            let e = self.topology.facet_edges[f];
+            let c = self.topology.facet_cell(f);
+            let (rule, ends) = self.rule(e);
+            let normal = self.topology.outward_normal(mesh, f);
+            let projection = FaceProjection::new(mesh.order, &rule);
+            // σ_h n along the edge's own normal, which is ± the outward normal
+            let [a, b] = ends;
+            let own = [(b[1] - a[1]), -(b[0] - a[0])];
+            let sign = if own[0] * normal[0] + own[1] * normal[1] > 0.0 { 1.0 } else { -1.0 };
+            let mut defect = 0.0;
+            for i in 0..2 {
+                let w: Vec<f64> = rule.iter().map(|&(s, _)| sign * self.trace(e, c, s)[i]).collect();
+                let g: Vec<f64> = rule
+                    .iter()
+                    .map(|&(s, _)| bc.traction.at([a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1])], normal)[i])
+                    .collect();
+                defect += projection.trace_defect(&w, &g).powi(2);
+            }
+            worst = worst.max(defect.sqrt());
+        }
+        worst
+    }
+}
+
+/// Reference coordinates of x in the cell of `map`: ξ = J⁻¹(x − x₀).
+fn inverse(map: &AffineMap, x: [f64; 2]) -> [f64; 2] {
+    let d = [x[0] - map.origin[0], x[1] - map.origin[1]];
+    // (J⁻¹)_{kr} = (J⁻ᵀ)_{rk}
+    [map.inv_t[0][0] * d[0] + map.inv_t[1][0] * d[1], map.inv_t[0][1] * d[0] + map.inv_t[1][1] * d[1]]
+}
+
+/// max over contact faces and i = 1, 2, 3 of ‖σ_hi n − Π_F^p t_i n‖_F.
+fn contact_traces(problem: &Problem, u: &[[f64; 2]], rec: &Reconstruction, state: &ContactState) -> f64 {
+    let mesh = &problem.mesh;
+    let mut worst: f64 = 0.0;
+    for (k, face) in state.nitsche.faces.iter().enumerate() {
+        let local = |field: &[[f64; 2]]| -> Vec<f64> { mesh.cell(face.cell).iter().flat_map(|&n| field[n]).collect() };
+        let (uk, u_prev) = (local(u), local(state.u_prev));
+        let rule = contact_rule(state, k, &uk, &u_prev);
+        let projection = FaceProjection::new(mesh.order, &rule);
+        let t: Vec<[f64; 3]> = rule.iter().map(|&(s, _)| tractions(state, k, s, &uk, &u_prev)).collect();
+        for i in 0..3 {
+            let mut defect = 0.0;
+            for j in 0..2 {
+                let w: Vec<f64> = rule
+                    .iter()
+                    .map(|&(s, _)| {
+                        let xi = [
+                            face.ends[0][0] + s * (face.ends[1][0] - face.ends[0][0]),
+                            face.ends[0][1] + s * (face.ends[1][1] - face.ends[0][1]),
+                        ];
+                        let tau = afw::evaluate(mesh.order, rec.cell(i, face.cell), xi);
+                        tau[2 * j] * face.normal[0] + tau[2 * j + 1] * face.normal[1]
+                    })
+                    .collect();
+                let g: Vec<f64> = t.iter().map(|ti| ti[i] * face.normal[j]).collect();
+                defect += projection.trace_defect(&w, &g).powi(2);
+            }
+            worst = worst.max(defect.sqrt());
+        }
+    }
+    worst
+}

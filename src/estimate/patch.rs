@@ -1,0 +1,308 @@
+//! The vertex-patch problem of the stress reconstruction (docs/method.md §4).
+//!
+//! On the patch ω_a, find σ^a in broken P_p(T)^{2×2} minimising ‖σ^a − τ*‖_{ω_a} under the
+//! linear constraints B σ^a = b:
+//!
+//! - normal-trace continuity on interior faces, ∫_F [[σ n_F]]·q = 0, q ∈ P_p(F)²;
+//! - prescribed normal traces on the other faces, ∫_F σn·q = ∫_F t_F·q (t_F = 0 on faces
+//!   away from a; none for the fixed components of Dirichlet faces);
+//! - divergence, (∇·σ, v)_T = (g, v)_T for v ∈ P_{p−1}(T)², restricted to v orthogonal to
+//!   the rigid motions z the patch leaves free (they form the kernel of Bᵀ);
+//! - weak symmetry, (σ, m J)_T = (c, m J)_T for m ∈ P_{p−1}(T).
+//!
+//! With the mass matrix M: σ = τ̂* − M⁻¹Bᵀλ, (B M⁻¹ Bᵀ) λ = B τ̂* − b, τ̂* = M⁻¹(τ*, φ).
+//! One Cholesky factorisation serves every right-hand side (total, regularisation,
+//! linearisation).
+
+use super::afw::{CellIntegrals, COMPONENTS};
+use nalgebra::{DMatrix, DVector};
+
+/// What a face of the patch imposes.
+pub enum FaceKind {
+    /// Shared by two cells of the patch: continuity of σn.
+    Interior,
+    /// σn·e_i = data for the components i with `active[i]`; `data[case][m · 2 + i]` holds
+    /// ∫_F t_i q_m for each right-hand side.
+    Trace { active: [bool; 2], data: Vec<Vec<f64>> },
+}
+
+/// A face of a patch.
+pub struct PatchFace {
+    /// Local cell indices (the second only for interior faces).
+    pub cells: [usize; 2],
+    /// ∫_F φ_k q_m of each side, from [`super::afw::face_moments`].
+    pub moments: [Vec<f64>; 2],
+    /// Unit normal, outward of the first cell.
+    pub normal: [f64; 2],
+    /// Physical positions of the P_p face nodes (ends, then midpoint).
+    pub nodes: Vec<[f64; 2]>,
+    pub kind: FaceKind,
+}
+
+/// Data of one patch problem with `cases` right-hand sides.
+pub struct PatchInput {
+    pub order: usize,
+    pub n_basis: usize,
+    pub n_lower: usize,
+    pub cells: Vec<CellIntegrals>,
+    pub faces: Vec<PatchFace>,
+    /// (τ*, φ_k E_c)_T per case, cell-major: `[case][cell · 4 n_basis + c · n_basis + k]`.
+    pub target: Vec<Vec<f64>>,
+    /// (g, ψ_m e_i)_T per case: `[case][(cell · n_lower + m) · 2 + i]`.
+    pub divergence: Vec<Vec<f64>>,
+    /// Physical positions of the P_{p−1} nodes of each cell (for Π^{p−1} z).
+    pub lower_nodes: Vec<Vec<[f64; 2]>>,
+    /// Rigid motions left free by the patch's Dirichlet faces, as coefficient triples
+    /// (a_x, a_y, b) of z(x) = (a_x − b y, a_y + b x), y and x relative to `origin`.
+    pub rigid: Vec<[f64; 3]>,
+    pub origin: [f64; 2],
+    /// Total area |ω_a|.
+    pub area: f64,
+    /// For p = 1: correct the symmetry datum of case 0 (the total) by c = κ J so that the
+    /// rotations satisfy the compatibility condition (docs/method.md §4.4).
+    pub rotation_correction: bool,
+}
+
+/// Reconstructed coefficients per case and the compatibility residual of case 0.
+pub struct PatchSolution {
+    pub sigma: Vec<Vec<f64>>,
+    /// max_z |defect of (C) for z| / scale, after the p = 1 correction.
+    pub compatibility: f64,
+}
+
+impl PatchInput {
+    fn n_sigma(&self) -> usize {
+        self.cells.len() * COMPONENTS * self.n_basis
+    }
+
+    /// Index of coefficient (cell, c, k).
+    fn index(&self, cell: usize, c: usize, k: usize) -> usize {
+        (cell * COMPONENTS + c) * self.n_basis + k
+    }
+
+    fn rigid_motion(&self, z: &[f64; 3], x: [f64; 2]) -> [f64; 2] {
+        let (px, py) = (x[0] - self.origin[0], x[1] - self.origin[1]);
+        [z[0] - z[2] * py, z[1] + z[2] * px]
+    }
+}
+
+/// Solves the patch problem for every case; fails only if the constraints are dependent.
+pub fn solve(input: &PatchInput) -> Result<PatchSolution, String> {
+    let cases = input.target.len();
+    let (faces, face_rhs) = face_rows(input);
+    let (div, div_rhs) = divergence_rows(input);
+    let (sym, mut sym_rhs) = symmetry_rows(input);
+    let compatibility = compatibility(input, &face_rhs, &mut sym_rhs);
+    let b_rows = faces.len() + div.nrows() + sym.len();
+    let n = input.n_sigma();
+    let mut b = DMatrix::zeros(b_rows, n);
+    let mut rhs = DMatrix::zeros(b_rows, cases);
+    for (r, row) in faces.iter().enumerate() {
+        b.row_mut(r).copy_from(&row.transpose());
+    }
+    b.rows_mut(faces.len(), div.nrows()).copy_from(&div);
+    for (r, row) in sym.iter().enumerate() {
+        b.row_mut(faces.len() + div.nrows() + r).copy_from(&row.transpose());
+    }
+    for case in 0..cases {
+        let column: Vec<f64> =
+            face_rhs[case].iter().chain(div_rhs[case].iter()).chain(sym_rhs[case].iter()).copied().collect();
+        rhs.set_column(case, &DVector::from_vec(column));
+    }
+    let minv_bt = apply_inverse_mass(input, &b.transpose());
+    let schur = &b * &minv_bt;
+    let cholesky = schur.cholesky().ok_or("the patch constraints are not independent")?;
+    let sigma = (0..cases)
+        .map(|case| {
+            let target = apply_inverse_mass(input, &DMatrix::from_column_slice(n, 1, &input.target[case]));
+            let lambda = cholesky.solve(&(&b * &target - rhs.column(case)));
+            (target - &minv_bt * lambda).column(0).iter().copied().collect()
+        })
+        .collect();
+    Ok(PatchSolution { sigma, compatibility })
+}
+
+/// Face moment rows and their right-hand sides per case.
+fn face_rows(input: &PatchInput) -> (Vec<DVector<f64>>, Vec<Vec<f64>>) {
+    let cases = input.target.len();
+    let mut rows = Vec::new();
+    let mut rhs = vec![Vec::new(); cases];
+    for face in &input.faces {
+        let (sides, active): (usize, [bool; 2]) = match &face.kind {
+            FaceKind::Interior => (2, [true; 2]),
+            FaceKind::Trace { active, .. } => (1, *active),
+        };
+        for m in 0..=input.order {
+            for i in (0..2).filter(|&i| active[i]) {
+                let mut row = DVector::zeros(input.n_sigma());
+                for side in 0..sides {
+                    let sign = if side == 0 { 1.0 } else { -1.0 };
+                    for k in 0..input.n_basis {
+                        let moment = face.moments[side][m * input.n_basis + k];
+                        for j in 0..2 {
+                            // (τ n)_i = τ_ij n_j; both sides use the first cell's normal
+                            row[input.index(face.cells[side], 2 * i + j, k)] += sign * moment * face.normal[j];
+                        }
+                    }
+                }
+                rows.push(row);
+                for (case, r) in rhs.iter_mut().enumerate() {
+                    r.push(match &face.kind {
+                        FaceKind::Interior => 0.0,
+                        FaceKind::Trace { data, .. } => data[case][m * 2 + i],
+                    });
+                }
+            }
+        }
+    }
+    (rows, rhs)
+}
+
+/// Divergence rows, restricted to test fields orthogonal to the free rigid motions, and
+/// their right-hand sides per case (unrestricted; restricted in [`solve`]).
+fn divergence_rows(input: &PatchInput) -> (DMatrix<f64>, Vec<Vec<f64>>) {
+    let (nb, nl) = (input.n_basis, input.n_lower);
+    let n_rows = input.cells.len() * nl * 2;
+    let mut d = DMatrix::zeros(n_rows, input.n_sigma());
+    for (t, cell) in input.cells.iter().enumerate() {
+        for m in 0..nl {
+            for i in 0..2 {
+                for k in 0..nb {
+                    for j in 0..2 {
+                        // (∂_j τ_ij, ψ_m)_T
+                        d[((t * nl + m) * 2 + i, input.index(t, 2 * i + j, k))] = cell.divergence[(m * nb + k) * 2 + j];
+                    }
+                }
+            }
+        }
+    }
+    let mut rhs: Vec<Vec<f64>> = input.divergence.clone();
+    if input.rigid.is_empty() {
+        return (d, rhs);
+    }
+    // W[row, z] = (ψ_m e_i, z)_T; Qᵀ of W = QR maps the rows onto [range W; null Wᵀ]
+    let w = DMatrix::from_fn(n_rows, input.rigid.len(), |row, zi| {
+        let (t, m, i) = (row / (2 * nl), (row / 2) % nl, row % 2);
+        (0..nl)
+            .map(|l| {
+                input.cells[t].lower_gram[m * nl + l] * input.rigid_motion(&input.rigid[zi], input.lower_nodes[t][l])[i]
+            })
+            .sum()
+    });
+    let qr = w.qr();
+    let r = input.rigid.len();
+    qr.q_tr_mul(&mut d);
+    for column in &mut rhs {
+        let mut v = DVector::from_vec(column.clone());
+        qr.q_tr_mul(&mut v);
+        *column = v.iter().skip(r).copied().collect();
+    }
+    (d.rows(r, n_rows - r).into_owned(), rhs)
+}
+
+/// Weak-symmetry rows (τ_xy − τ_yx, ψ_m)_T and zero right-hand sides.
+fn symmetry_rows(input: &PatchInput) -> (Vec<DVector<f64>>, Vec<Vec<f64>>) {
+    let (nb, nl) = (input.n_basis, input.n_lower);
+    let mut rows = Vec::new();
+    for (t, cell) in input.cells.iter().enumerate() {
+        for m in 0..nl {
+            let mut row = DVector::zeros(input.n_sigma());
+            for k in 0..nb {
+                row[input.index(t, 1, k)] = cell.lower_mass[m * nb + k]; // τ:J = τ_xy − τ_yx
+                row[input.index(t, 2, k)] = -cell.lower_mass[m * nb + k];
+            }
+            rows.push(row);
+        }
+    }
+    let n = rows.len();
+    (rows, vec![vec![0.0; n]; input.target.len()])
+}
+
+/// Defect of the compatibility condition (C) of case 0 for each free rigid motion z:
+/// Σ_F (t_F, z)_F − (Π^{p−1} g, z)_{ω_a} − (c, ∇z)_{ω_a}. For p = 1 the symmetry datum is
+/// corrected by c = κ J, (c, ∇z) = −2bκ|ω_a|, which removes the rotational defect. Returns
+/// the largest remaining defect relative to the size of its terms.
+fn compatibility(input: &PatchInput, face_rhs: &[Vec<f64>], sym_rhs: &mut [Vec<f64>]) -> f64 {
+    if input.rigid.is_empty() {
+        return 0.0;
+    }
+    let nl = input.n_lower;
+    let defects: Vec<(f64, f64)> = input
+        .rigid
+        .iter()
+        .map(|z| {
+            let mut row = 0;
+            let (mut faces, mut scale) = (0.0, 0.0);
+            for face in &input.faces {
+                let active = match &face.kind {
+                    FaceKind::Interior => [true; 2],
+                    FaceKind::Trace { active, .. } => *active,
+                };
+                for m in 0..=input.order {
+                    for i in (0..2).filter(|&i| active[i]) {
+                        let term = face_rhs[0][row] * input.rigid_motion(z, face.nodes[m])[i];
+                        faces += term;
+                        scale += term.abs();
+                        row += 1;
+                    }
+                }
+            }
+            let mut volume = 0.0;
+            for t in 0..input.cells.len() {
+                for m in 0..nl {
+                    let zm = input.rigid_motion(z, input.lower_nodes[t][m]);
+                    for i in 0..2 {
+                        let term = input.divergence[0][(t * nl + m) * 2 + i] * zm[i];
+                        volume += term;
+                        scale += term.abs();
+                    }
+                }
+            }
+            (faces - volume, scale)
+        })
+        .collect();
+    if input.rotation_correction {
+        let b2: f64 = input.rigid.iter().map(|z| z[2] * z[2]).sum();
+        if b2 > 0.0 {
+            let kappa =
+                -input.rigid.iter().zip(&defects).map(|(z, d)| d.0 * z[2]).sum::<f64>() / (2.0 * input.area * b2);
+            correct_symmetry(input, kappa, &mut sym_rhs[0]);
+            return input
+                .rigid
+                .iter()
+                .zip(&defects)
+                .map(|(z, d)| (d.0 + 2.0 * z[2] * kappa * input.area).abs() / d.1.max(f64::MIN_POSITIVE))
+                .fold(0.0, f64::max);
+        }
+    }
+    defects.iter().map(|d| d.0.abs() / d.1.max(f64::MIN_POSITIVE)).fold(0.0, f64::max)
+}
+
+/// Adds (κ J, m J)_T = 2κ ∫_T ψ_m to the symmetry right-hand side.
+fn correct_symmetry(input: &PatchInput, kappa: f64, sym_rhs: &mut [f64]) {
+    let (nb, nl) = (input.n_basis, input.n_lower);
+    for (t, cell) in input.cells.iter().enumerate() {
+        for m in 0..nl {
+            // ∫ ψ_m = Σ_k ∫ φ_k ψ_m since Σ_k φ_k = 1
+            let integral: f64 = (0..nb).map(|k| cell.lower_mass[m * nb + k]).sum();
+            sym_rhs[t * nl + m] += 2.0 * kappa * integral;
+        }
+    }
+}
+
+/// M⁻¹ X for the block-diagonal mass matrix of the patch (same cell block for every
+/// component).
+fn apply_inverse_mass(input: &PatchInput, x: &DMatrix<f64>) -> DMatrix<f64> {
+    let nb = input.n_basis;
+    let mut out = x.clone();
+    for (t, cell) in input.cells.iter().enumerate() {
+        let mass = DMatrix::from_row_slice(nb, nb, &cell.mass);
+        let chol = mass.cholesky().expect("the mass matrix is positive definite");
+        for c in 0..COMPONENTS {
+            let start = input.index(t, c, 0);
+            let block = chol.solve(&x.rows(start, nb).into_owned());
+            out.rows_mut(start, nb).copy_from(&block);
+        }
+    }
+    out
+}

@@ -1,0 +1,443 @@
+//! Equilibrated stress reconstruction σ_h = σ_h1 + σ_h2 + σ_h3 (docs/method.md §4).
+//!
+//! For every vertex a, the patch problem of [`super::patch`] is solved with the target
+//! τ* = ψ_a σ(u_h), the divergence datum g_a = −ψ_a f + σ(u_h)∇ψ_a and the traces ψ_a g_N on
+//! Γ_N and ψ_a t n on Γ_C, where the Γ_C traction of the Newton iterate u_h = u^k is
+//!
+//!   t₁ = [P_γ(u_h)]_{R⁻},  t₂ = [P_γ(u_h)]_{reg,δ} − t₁,
+//!   t₃ = [P_γ(u^{k−1})]_{reg,δ} + χ^{k−1} (P_γ(u_h) − P_γ(u^{k−1})) − [P_γ(u_h)]_{reg,δ},
+//!
+//! so that t₁ + t₂ + t₃ is the traction of the Newton equation that u_h solves. The same
+//! patch matrix gives σ_h2^a (target 0, traces ψ_a t₂ n) and σ_h3^a (traces ψ_a t₃ n);
+//! σ_h1^a is the total minus both. Summing over the vertices gives an H(div) stress with
+//! ∇·σ_h = −Π^{p−1} f. Patches are solved in parallel.
+
+use super::afw::{self, cell_integrals, face_moments, CellIntegrals, COMPONENTS};
+use super::patch::{self, FaceKind, PatchFace, PatchInput};
+use crate::contact::nitsche::Nitsche;
+use crate::contact::projection::{negative_part, Projection};
+use crate::elasticity::kernels::{displacement_gradient, stress};
+use crate::elasticity::problem::{load_degree, traction_points};
+use crate::elasticity::{BodyForce, Problem, Traction};
+use crate::fem::affine::AffineMap;
+use crate::fem::lagrange;
+use crate::fem::quadrature::{gauss_segment, triangle_cached};
+use crate::mesh::topology::NONE;
+use crate::mesh::{Mesh, Topology};
+use rayon::prelude::*;
+
+/// The Newton state needed for the Γ_C tractions.
+pub struct ContactState<'a> {
+    pub nitsche: &'a Nitsche,
+    pub projection: &'a dyn Projection,
+    /// The previous Newton iterate u^{k−1} (nodal).
+    pub u_prev: &'a [[f64; 2]],
+}
+
+/// Why the reconstruction could not be built.
+#[derive(Debug, thiserror::Error)]
+pub enum EstimateError {
+    #[error("the estimator covers the Nitsche variant theta = 0 only (this run uses theta = {0})")]
+    Theta(f64),
+    #[error("patch of the vertex at ({x}, {y}): {message}")]
+    Patch { x: f64, y: f64, message: String },
+}
+
+/// The reconstructed stresses as cell coefficients (layout of [`afw`]) per cell:
+/// `sigma[i][cell · 4 n_basis + c · n_basis + k]` for σ_h1, σ_h2, σ_h3.
+pub struct Reconstruction {
+    pub order: usize,
+    pub n_basis: usize,
+    pub sigma: [Vec<f64>; 3],
+    /// Largest relative residual of the compatibility condition on patches with free
+    /// rigid motions (after the p = 1 rotation correction).
+    pub compatibility: f64,
+}
+
+impl Reconstruction {
+    /// Coefficients of component i (0: σ_h1, 1: σ_h2, 2: σ_h3) on cell c.
+    pub fn cell(&self, i: usize, c: usize) -> &[f64] {
+        let n = COMPONENTS * self.n_basis;
+        &self.sigma[i][c * n..(c + 1) * n]
+    }
+
+    /// Coefficients of σ_h = σ_h1 + σ_h2 + σ_h3 on cell c.
+    pub fn total(&self, c: usize) -> Vec<f64> {
+        (0..COMPONENTS * self.n_basis).map(|k| (0..3).map(|i| self.cell(i, c)[k]).sum()).collect()
+    }
+}
+
+/// Role of a boundary facet in the patch problems.
+#[derive(Clone, Copy)]
+enum Role {
+    Dirichlet([bool; 2]),
+    Neumann(usize),
+    Contact(usize),
+    Free,
+}
+
+/// Mesh-wide data shared by the patch problems.
+struct Context<'a> {
+    problem: &'a Problem,
+    topology: &'a Topology,
+    u: &'a [[f64; 2]],
+    contact: Option<&'a ContactState<'a>>,
+    maps: Vec<AffineMap>,
+    integrals: Vec<CellIntegrals>,
+    /// Role of every edge (Free for interior edges).
+    edge_role: Vec<Role>,
+    cases: usize,
+}
+
+/// Builds σ_h1, σ_h2, σ_h3 for the iterate `u` (nodal values).
+pub fn reconstruct(
+    problem: &Problem,
+    topology: &Topology,
+    u: &[[f64; 2]],
+    contact: Option<&ContactState>,
+) -> Result<Reconstruction, EstimateError> {
+    if let Some(c) = contact {
+        if c.nitsche.parameters.theta != 0.0 {
+            return Err(EstimateError::Theta(c.nitsche.parameters.theta));
+        }
+    }
+    let mesh = &problem.mesh;
+    let order = mesh.order;
+    let maps: Vec<AffineMap> = (0..mesh.n_cells()).map(|c| AffineMap::new(mesh.cell_vertices(c))).collect();
+    let integrals = maps.par_iter().map(|m| cell_integrals(order, m)).collect();
+    let edge_role = edge_roles(problem, topology, contact.map(|c| c.nitsche));
+    let cases = if contact.is_some() { 3 } else { 1 };
+    let ctx = Context { problem, topology, u, contact, maps, integrals, edge_role, cases };
+    let results: Vec<_> = (0..topology.vertices.len())
+        .into_par_iter()
+        .map(|k| {
+            let input = patch_input(&ctx, k);
+            patch::solve(&input).map_err(|message| {
+                let [x, y] = mesh.points[topology.vertices[k]];
+                EstimateError::Patch { x, y, message }
+            })
+        })
+        .collect::<Result<_, _>>()?;
+    let nb = lagrange::n_basis(order);
+    let n = COMPONENTS * nb;
+    let mut sigma = [vec![0.0; mesh.n_cells() * n], vec![0.0; mesh.n_cells() * n], vec![0.0; mesh.n_cells() * n]];
+    let mut compatibility: f64 = 0.0;
+    for (k, solution) in results.into_iter().enumerate() {
+        compatibility = compatibility.max(solution.compatibility);
+        for (t, &cell) in topology.patch(k).iter().enumerate() {
+            for case in 0..cases {
+                for j in 0..n {
+                    sigma[case][cell * n + j] += solution.sigma[case][t * n + j];
+                }
+            }
+        }
+    }
+    // σ_h1 = total − σ_h2 − σ_h3
+    for j in 0..sigma[0].len() {
+        sigma[0][j] -= sigma[1][j] + sigma[2][j];
+    }
+    Ok(Reconstruction { order, n_basis: nb, sigma, compatibility })
+}
+
+/// Role of every edge.
+fn edge_roles(problem: &Problem, topology: &Topology, nitsche: Option<&Nitsche>) -> Vec<Role> {
+    let mesh = &problem.mesh;
+    let mut role = vec![Role::Free; topology.n_edges()];
+    for f in 0..mesh.n_facets() {
+        let e = topology.facet_edges[f];
+        let tag = mesh.facet_tags[f];
+        if let Some(bc) = problem.dirichlet.iter().find(|bc| bc.tag == tag) {
+            role[e] = Role::Dirichlet(bc.fix);
+        } else if let Some(i) = problem.neumann.iter().position(|bc| bc.tag == tag) {
+            role[e] = Role::Neumann(i);
+        }
+    }
+    if let Some(n) = nitsche {
+        for (k, face) in n.faces.iter().enumerate() {
+            role[topology.facet_edges[face.facet]] = Role::Contact(k);
+        }
+    }
+    role
+}
+
+/// ψ_a (barycentric coordinate of local vertex `ia`) at reference point ξ.
+fn hat(ia: usize, xi: [f64; 2]) -> f64 {
+    [1.0 - xi[0] - xi[1], xi[0], xi[1]][ia]
+}
+
+/// Reference gradient of the barycentric coordinate of local vertex `ia`.
+fn hat_gradient(ia: usize) -> [f64; 2] {
+    [[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]][ia]
+}
+
+/// The data of the patch problem of the k-th vertex.
+fn patch_input(ctx: &Context, k: usize) -> PatchInput {
+    let mesh = &ctx.problem.mesh;
+    let order = mesh.order;
+    let (nb, nl) = (lagrange::n_basis(order), afw::n_lower(order));
+    let a = ctx.topology.vertices[k];
+    let cells = ctx.topology.patch(k);
+    let mut target = vec![vec![0.0; cells.len() * COMPONENTS * nb]; ctx.cases];
+    let mut divergence = vec![vec![0.0; cells.len() * nl * 2]; ctx.cases];
+    for (t, &c) in cells.iter().enumerate() {
+        let ia = local_vertex(mesh, c, a);
+        volume_data(
+            ctx,
+            c,
+            ia,
+            &mut target[0][t * COMPONENTS * nb..(t + 1) * COMPONENTS * nb],
+            &mut divergence[0][t * nl * 2..(t + 1) * nl * 2],
+        );
+    }
+    let (faces, fixed) = patch_faces(ctx, a, cells);
+    let origin = mesh.points[a];
+    let size = cells.iter().map(|&c| mesh.cell_diameter(c)).fold(0.0, f64::max);
+    PatchInput {
+        order,
+        n_basis: nb,
+        n_lower: nl,
+        cells: cells.iter().map(|&c| clone_integrals(&ctx.integrals[c])).collect(),
+        faces,
+        target,
+        divergence,
+        lower_nodes: cells
+            .iter()
+            .map(|&c| afw::lower_nodes(order).iter().map(|&x| ctx.maps[c].to_physical(x)).collect())
+            .collect(),
+        rigid: free_rigid_motions(&fixed, origin, size),
+        origin,
+        area: cells.iter().map(|&c| ctx.maps[c].area()).sum(),
+        rotation_correction: order == 1,
+    }
+}
+
+fn clone_integrals(c: &CellIntegrals) -> CellIntegrals {
+    CellIntegrals {
+        mass: c.mass.clone(),
+        divergence: c.divergence.clone(),
+        lower_mass: c.lower_mass.clone(),
+        lower_gram: c.lower_gram.clone(),
+    }
+}
+
+fn local_vertex(mesh: &Mesh, c: usize, a: usize) -> usize {
+    mesh.cell(c)[..3].iter().position(|&v| v == a).expect("the patch cell contains its vertex")
+}
+
+/// (ψ_a σ(u_h), φ_k E_c)_T and (−ψ_a f + σ(u_h)∇ψ_a, ψ_m e_i)_T on cell c.
+fn volume_data(ctx: &Context, c: usize, ia: usize, target: &mut [f64], divergence: &mut [f64]) {
+    let mesh = &ctx.problem.mesh;
+    let order = mesh.order;
+    let (nb, nl) = (lagrange::n_basis(order), afw::n_lower(order));
+    let map = &ctx.maps[c];
+    let material = ctx.problem.materials[c];
+    let (lambda, mu) = material.lame();
+    let nodal: Vec<[f64; 2]> = mesh.cell(c).iter().map(|&n| ctx.u[n]).collect();
+    let grad_hat = map.physical_gradient(hat_gradient(ia));
+    let rule = triangle_cached(load_degree(order));
+    let (mut phi, mut psi, mut grads) = ([0.0; 6], [0.0; 3], [[0.0; 2]; 6]);
+    for (&xi, &w) in rule.points.iter().zip(&rule.weights) {
+        let w = w * map.det.abs();
+        let s = stress(displacement_gradient(map, order, xi, &nodal, &mut grads[..nb]), lambda, mu);
+        let sigma = [s[0], s[2], s[2], s[1]]; // xx, xy, yx, yy
+        let h = hat(ia, xi);
+        let f = match &ctx.problem.body_force {
+            BodyForce::None => [0.0; 2],
+            BodyForce::Gravity(g) => [0.0, -material.density * g],
+            BodyForce::Field(field) => field(map.to_physical(xi)),
+        };
+        lagrange::values(order, xi, &mut phi[..nb]);
+        afw::lower_values(order, xi, &mut psi[..nl]);
+        for cc in 0..COMPONENTS {
+            for kk in 0..nb {
+                target[cc * nb + kk] += h * sigma[cc] * phi[kk] * w; // (ψ_a σ(u_h), φ_k E_c)
+            }
+        }
+        for i in 0..2 {
+            let g = -h * f[i] + sigma[2 * i] * grad_hat[0] + sigma[2 * i + 1] * grad_hat[1]; // g_a,i
+            for m in 0..nl {
+                divergence[m * 2 + i] += g * psi[m] * w;
+            }
+        }
+    }
+}
+
+/// The faces of the patch and the (face end points, fixed components) of its Dirichlet faces.
+fn patch_faces(ctx: &Context, a: usize, cells: &[usize]) -> (Vec<PatchFace>, Vec<([[f64; 2]; 2], [bool; 2])>) {
+    let mesh = &ctx.problem.mesh;
+    let reference = lagrange::reference_nodes(1);
+    let mut faces = Vec::new();
+    let mut fixed = Vec::new();
+    let mut seen = Vec::new();
+    for (t, &c) in cells.iter().enumerate() {
+        let vertices = &mesh.cell(c)[..3];
+        for i in 0..3 {
+            let e = ctx.topology.cell_edges[c][i];
+            if seen.contains(&e) {
+                continue;
+            }
+            seen.push(e);
+            let (va, vb) = ((i + 1) % 3, (i + 2) % 3);
+            let (pa, pb) = (mesh.points[vertices[va]], mesh.points[vertices[vb]]);
+            let length = crate::mesh::distance(pa, pb);
+            let normal = outward(pa, pb, mesh.points[vertices[i]]);
+            let contains_a = vertices[i] != a;
+            let other = ctx.topology.edge_cells[e].into_iter().find(|&o| o != c && o != NONE);
+            let moments0 = face_moments(mesh.order, reference[va], reference[vb], length);
+            let mut nodes = vec![pa, pb];
+            if mesh.order == 2 {
+                nodes.push([0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1])]);
+            }
+            let zero = || vec![vec![0.0; 2 * (mesh.order + 1)]; ctx.cases];
+            let (t2, kind, moments1) = match other.and_then(|o| cells.iter().position(|&x| x == o)) {
+                Some(t2) => {
+                    let ja = local_vertex(mesh, cells[t2], vertices[va]);
+                    let jb = local_vertex(mesh, cells[t2], vertices[vb]);
+                    (t2, FaceKind::Interior, face_moments(mesh.order, reference[ja], reference[jb], length))
+                }
+                None if !contains_a => (0, FaceKind::Trace { active: [true; 2], data: zero() }, Vec::new()),
+                None => {
+                    let ends = [vertices[va], vertices[vb]];
+                    match boundary_trace(ctx, e, a, ends, normal) {
+                        Some(kind) => {
+                            if let Role::Dirichlet(fix) = ctx.edge_role[e] {
+                                fixed.push(([pa, pb], fix));
+                            }
+                            (0, kind, Vec::new())
+                        }
+                        None => {
+                            fixed.push(([pa, pb], [true; 2]));
+                            continue;
+                        }
+                    }
+                }
+            };
+            faces.push(PatchFace { cells: [t, t2], moments: [moments0, moments1], normal, nodes, kind });
+        }
+    }
+    (faces, fixed)
+}
+
+/// Unit normal of the segment a → b pointing away from `inside`.
+fn outward(a: [f64; 2], b: [f64; 2], inside: [f64; 2]) -> [f64; 2] {
+    let length = crate::mesh::distance(a, b);
+    let n = [(b[1] - a[1]) / length, -(b[0] - a[0]) / length];
+    if (inside[0] - a[0]) * n[0] + (inside[1] - a[1]) * n[1] > 0.0 {
+        [-n[0], -n[1]]
+    } else {
+        n
+    }
+}
+
+/// The trace condition of a boundary face containing a (None: Dirichlet in both components).
+fn boundary_trace(ctx: &Context, e: usize, a: usize, ends: [usize; 2], normal: [f64; 2]) -> Option<FaceKind> {
+    let order = ctx.problem.mesh.order;
+    let mut data = vec![vec![0.0; 2 * (order + 1)]; ctx.cases];
+    let active = match ctx.edge_role[e] {
+        Role::Dirichlet(fix) if fix == [true; 2] => return None,
+        Role::Dirichlet(fix) => [!fix[0], !fix[1]],
+        Role::Neumann(i) => {
+            traction_moments(ctx, &ctx.problem.neumann[i].traction, a, ends, normal, &mut data[0]);
+            [true; 2]
+        }
+        Role::Contact(k) => {
+            contact_moments(ctx, k, a, ends, &mut data);
+            [true; 2]
+        }
+        Role::Free => [true; 2],
+    };
+    Some(FaceKind::Trace { active, data })
+}
+
+/// ∫_F ψ_a g_N,i q_m for a traction on the face with ends A, B (parameter s from A to B).
+fn traction_moments(ctx: &Context, traction: &Traction, a: usize, ends: [usize; 2], normal: [f64; 2], out: &mut [f64]) {
+    let mesh = &ctx.problem.mesh;
+    let (pa, pb) = (mesh.points[ends[0]], mesh.points[ends[1]]);
+    let length = crate::mesh::distance(pa, pb);
+    let rule = gauss_segment(traction_points(mesh.order));
+    let mut q = [0.0; 3];
+    for (&s, &w) in rule.points.iter().zip(&rule.weights) {
+        let x = [pa[0] + s * (pb[0] - pa[0]), pa[1] + s * (pb[1] - pa[1])];
+        let psi = if ends[0] == a { 1.0 - s } else { s };
+        let g = traction.at(x, normal);
+        lagrange::segment_values(mesh.order, s, &mut q);
+        for m in 0..=mesh.order {
+            for i in 0..2 {
+                out[m * 2 + i] += psi * g[i] * q[m] * w * length;
+            }
+        }
+    }
+}
+
+/// The Γ_C tractions (t₁, t₂, t₃) at parameter `s` of contact face k, for the local
+/// displacements `u` and `u_prev` of its cell.
+pub(crate) fn tractions(c: &ContactState, k: usize, s: f64, u: &[f64], u_prev: &[f64]) -> [f64; 3] {
+    let point = c.nitsche.point(k, s);
+    let (p, p_prev) = (c.nitsche.p_gamma(k, &point, u), c.nitsche.p_gamma(k, &point, u_prev));
+    let projection = c.projection;
+    let (exact, regularised) = (negative_part(p), projection.value(p));
+    let linearised = projection.value(p_prev) + projection.derivative(p_prev) * (p - p_prev);
+    [exact, regularised - exact, linearised - regularised]
+}
+
+/// The rule on contact face k split at every kink of t₁, t₂ and t₃: (s, weight · |F|).
+pub(crate) fn contact_rule(c: &ContactState, k: usize, u: &[f64], u_prev: &[f64]) -> Vec<(f64, f64)> {
+    let mut levels = c.projection.breakpoints();
+    levels.push(0.0);
+    let mut cuts = c.nitsche.cuts(k, u, &levels);
+    cuts.extend(c.nitsche.cuts(k, u_prev, &c.projection.breakpoints()));
+    cuts.sort_by(f64::total_cmp);
+    c.nitsche.split_rule(k, &cuts)
+}
+
+/// ∫_F ψ_a t n_i q_m for the three cases on contact face k, with the quadrature split at
+/// every kink of t₁, t₂ and t₃.
+fn contact_moments(ctx: &Context, k: usize, a: usize, ends: [usize; 2], data: &mut [Vec<f64>]) {
+    let c = ctx.contact.expect("a contact face implies a contact state");
+    let mesh = &ctx.problem.mesh;
+    let face = &c.nitsche.faces[k];
+    let local = |field: &[[f64; 2]]| -> Vec<f64> { mesh.cell(face.cell).iter().flat_map(|&n| field[n]).collect() };
+    let (u, u_prev) = (local(ctx.u), local(c.u_prev));
+    // the Nitsche face runs from facet node 0 to facet node 1
+    let reversed = mesh.facet(face.facet)[0] != ends[0];
+    let mut q = [0.0; 3];
+    for (s_face, w) in contact_rule(c, k, &u, &u_prev) {
+        let s = if reversed { 1.0 - s_face } else { s_face };
+        let psi = if ends[0] == a { 1.0 - s } else { s };
+        let [t1, t2, t3] = tractions(c, k, s_face, &u, &u_prev);
+        let t = [t1 + t2 + t3, t2, t3];
+        lagrange::segment_values(mesh.order, s, &mut q);
+        for (case, out) in data.iter_mut().enumerate() {
+            for m in 0..=mesh.order {
+                for i in 0..2 {
+                    out[m * 2 + i] += psi * t[case] * face.normal[i] * q[m] * w;
+                }
+            }
+        }
+    }
+}
+
+/// Rigid motions z(x) = (a_x − b y, a_y + b x) (x relative to `origin`) that vanish in the
+/// fixed components of the given Dirichlet faces: the kernel of a 3 × 3 Gram matrix.
+fn free_rigid_motions(fixed: &[([[f64; 2]; 2], [bool; 2])], origin: [f64; 2], size: f64) -> Vec<[f64; 3]> {
+    let mut gram = nalgebra::Matrix3::<f64>::zeros();
+    for (ends, fix) in fixed {
+        for x in ends {
+            let (px, py) = ((x[0] - origin[0]) / size, (x[1] - origin[1]) / size);
+            for (i, _) in fix.iter().enumerate().filter(|(_, &f)| f) {
+                let row =
+                    if i == 0 { nalgebra::Vector3::new(1.0, 0.0, -py) } else { nalgebra::Vector3::new(0.0, 1.0, px) };
+                gram += row * row.transpose();
+            }
+        }
+    }
+    let eigen = gram.symmetric_eigen();
+    let tolerance = 1e-10 * (1.0 + eigen.eigenvalues.amax());
+    (0..3)
+        .filter(|&j| eigen.eigenvalues[j] <= tolerance)
+        .map(|j| {
+            let v = eigen.eigenvectors.column(j);
+            [v[0], v[1], v[2] / size]
+        })
+        .collect()
+}

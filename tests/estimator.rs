@@ -1,0 +1,51 @@
+//! Verification of the equilibrated-stress estimator (docs/method.md §4–§5).
+
+mod common;
+
+use common::v1;
+use damfem::elasticity::Problem;
+use damfem::estimate::checks::check;
+use damfem::estimate::dual_norm::residual_dual_norm;
+use damfem::estimate::estimators::estimate;
+use damfem::estimate::reconstruction::reconstruct;
+use damfem::mesh::structured::unit_square;
+use damfem::solve::Cholesky;
+
+/// Solves a linear problem and returns the nodal displacement.
+fn solve(problem: &Problem) -> Vec<[f64; 2]> {
+    let disc = problem.discretise();
+    let system = problem.assemble(&disc);
+    let x = Cholesky::analyse(&disc.pattern).unwrap().solve(&disc.pattern, &system.values, &system.rhs).unwrap();
+    problem.displacement(&disc, &x)
+}
+
+/// V1 (source: docs/method.md §7), μ = λ = 1, Dirichlet everywhere, p = 1, 2, four
+/// structured meshes. Goal: equilibration to round-off, η ≥ ‖R(u_h)‖ (Riesz representative
+/// on the mesh refined once, P2), bounded effectivity, η at the rate of the error.
+#[test]
+fn v1_equilibration_and_guaranteed_bound() {
+    for (order, sizes) in [(1, [4, 8, 16, 32]), (2, [2, 4, 8, 16])] {
+        let (mut h, mut eta) = (Vec::new(), Vec::new());
+        for n in sizes {
+            let problem = v1::problem(unit_square(n, order), &[1, 2, 3, 4]);
+            let u = solve(&problem);
+            let topology = damfem::mesh::Topology::new(&problem.mesh);
+            let rec = reconstruct(&problem, &topology, &u, None).unwrap();
+            let eq = check(&problem, &topology, &u, &rec, None);
+            let est = estimate(&problem, &topology, &u, &rec, None).global();
+            let dual = residual_dual_norm(&problem, &u, None, 1).unwrap();
+            println!(
+                "P{order} n = {n}: eta = {:.4e} (osc {:.2e}, flux {:.2e}), dual norm >= {dual:.4e}, I_eff <= {:.3}; checks {eq:?}",
+                est.tot, est.osc, est.flux, est.tot / dual
+            );
+            assert!(eq.worst(order) < 1e-10, "P{order} n = {n}: {eq:?}");
+            assert!(est.tot >= dual, "P{order} n = {n}: bound violated, eta {} < {dual}", est.tot);
+            assert!(est.tot / dual < 5.0, "P{order} n = {n}: effectivity {}", est.tot / dual);
+            h.push(1.0 / n as f64);
+            eta.push(est.tot);
+        }
+        let rate = common::fitted_rate(&h, &eta);
+        println!("P{order}: eta rate {rate:.3}");
+        assert!((rate - order as f64).abs() < 0.2, "P{order}: eta rate {rate}");
+    }
+}
