@@ -56,70 +56,11 @@ fn v2_lift_off_is_a_rigid_translation() {
     }
 }
 
-/// V3: manufactured Signorini solution with contact on x < ½ and separation on x > ½.
-/// Source: docs/method.md §7 V3. Ω = (0,1)², μ = λ = 1 (E = 2.5, ν = 1/4), Γ_C = {y = 0},
-/// Γ_D = {x = 0} with u = (0, −y/8), Γ_N = {x = 1} ∪ {y = 1} with g_N = σ(u)n;
-/// ψ = (x − ½)₊⁴, φ = (½ − x)₊³, u = (−y ψ', ψ − y φ), θ = 0, γ₀ = 100, δ = 10⁻¹⁰.
-mod v3 {
-    const MU: f64 = 1.0;
-    const LAMBDA: f64 = 1.0;
-
-    /// (ψ, ψ', ψ'', ψ''') at x.
-    fn psi(x: f64) -> [f64; 4] {
-        let t = (x - 0.5).max(0.0);
-        [t.powi(4), 4.0 * t.powi(3), 12.0 * t * t, 24.0 * t]
-    }
-
-    /// (φ, φ', φ'') at x.
-    fn phi(x: f64) -> [f64; 3] {
-        let t = (0.5 - x).max(0.0);
-        [t.powi(3), -3.0 * t * t, 6.0 * t]
-    }
-
-    pub fn u(p: [f64; 2]) -> [f64; 2] {
-        let (s, f) = (psi(p[0]), phi(p[0]));
-        [-p[1] * s[1], s[0] - p[1] * f[0]]
-    }
-
-    pub fn grad_u(p: [f64; 2]) -> [[f64; 2]; 2] {
-        let (s, f) = (psi(p[0]), phi(p[0]));
-        [[-p[1] * s[2], -s[1]], [s[1] - p[1] * f[1], -f[0]]]
-    }
-
-    /// [σ_xx, σ_yy, σ_xy].
-    pub fn sigma(p: [f64; 2]) -> [f64; 3] {
-        let (s, f, y) = (psi(p[0]), phi(p[0]), p[1]);
-        let c = 2.0 * MU + LAMBDA;
-        [-c * y * s[2] - LAMBDA * f[0], -c * f[0] - LAMBDA * y * s[2], -MU * y * f[1]]
-    }
-
-    pub fn f(p: [f64; 2]) -> [f64; 2] {
-        let (s, f, y) = (psi(p[0]), phi(p[0]), p[1]);
-        [(2.0 * MU + LAMBDA) * y * s[3] + (LAMBDA + MU) * f[1], MU * y * f[2] + LAMBDA * s[2]]
-    }
-}
-
 /// (h, H¹ error, contact length, Newton steps) of V3 on an n × n mesh of degree p.
 fn solve_v3(n: usize, order: usize) -> (f64, f64, f64, usize) {
-    use damfem::elasticity::{Neumann, Traction};
+    use common::v3;
     use damfem::fem::norms::errors;
-    use damfem::mesh::structured::{LEFT, RIGHT};
-    let mesh = unit_square(n, order);
-    let right = Traction::Field(Arc::new(|x| {
-        let s = v3::sigma(x);
-        [s[0], s[2]]
-    }));
-    let top = Traction::Field(Arc::new(|x| {
-        let s = v3::sigma(x);
-        [s[2], s[1]]
-    }));
-    let problem = Problem {
-        materials: vec![Material::from_lame(1.0, 1.0); mesh.n_cells()],
-        dirichlet: vec![Dirichlet { tag: LEFT, fix: [true; 2], value: Arc::new(v3::u) }],
-        neumann: vec![Neumann { tag: RIGHT, traction: right }, Neumann { tag: TOP, traction: top }],
-        body_force: BodyForce::Field(Arc::new(v3::f)),
-        mesh,
-    };
+    let problem = v3::problem(unit_square(n, order));
     let disc = problem.discretise();
     let nitsche =
         Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, &[BOTTOM], NitscheParameters::default());

@@ -2,14 +2,21 @@
 
 mod common;
 
-use common::v1;
+use common::{v1, v3};
+use damfem::contact::nitsche::{Gap, Nitsche, NitscheParameters};
+use damfem::contact::projection::QuadraticSmoothing;
+use damfem::contact::{solve_contact, ContactSettings};
 use damfem::elasticity::Problem;
 use damfem::estimate::checks::check;
 use damfem::estimate::dual_norm::residual_dual_norm;
+use damfem::estimate::dual_norm::ContactData;
 use damfem::estimate::estimators::estimate;
 use damfem::estimate::reconstruction::reconstruct;
+use damfem::estimate::reconstruction::ContactState;
 use damfem::mesh::structured::unit_square;
+use damfem::mesh::structured::BOTTOM;
 use damfem::solve::Cholesky;
+use damfem::solve::NewtonOptions;
 
 /// Solves a linear problem and returns the nodal displacement.
 fn solve(problem: &Problem) -> Vec<[f64; 2]> {
@@ -47,5 +54,45 @@ fn v1_equilibration_and_guaranteed_bound() {
         let rate = common::fitted_rate(&h, &eta);
         println!("P{order}: eta rate {rate:.3}");
         assert!((rate - order as f64).abs() < 0.2, "P{order}: eta rate {rate}");
+    }
+}
+
+/// The converged contact solution of `problem` with contact on `tags`, and the reconstruction
+/// inputs: (u, u_prev, Nitsche faces, δ).
+fn solve_with_contact(problem: &Problem, tags: &[i32], delta: f64) -> (Vec<[f64; 2]>, Vec<[f64; 2]>, Nitsche) {
+    let disc = problem.discretise();
+    let parameters = NitscheParameters::default();
+    let settings = ContactSettings { parameters, delta, delta_start: 0.1, newton: NewtonOptions::default() };
+    let solution = solve_contact(problem, &disc, tags, &settings).unwrap();
+    let last = &solution.stages.last().unwrap().report;
+    let nitsche = Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, tags, parameters);
+    (problem.displacement(&disc, &last.x), problem.displacement(&disc, &last.x_prev), nitsche)
+}
+
+/// V3 (source: docs/method.md §7), the manufactured Signorini solution, θ = 0, γ₀ = 100,
+/// δ = 10⁻⁸, p = 1, 2. Goal: equilibration to round-off including the three Γ_C traces, and
+/// η ≥ ‖R(u_h)‖ (Riesz representative on the mesh refined once, P2, exact projection).
+#[test]
+fn v3_contact_equilibration_and_guaranteed_bound() {
+    for (order, sizes) in [(1, [4, 8, 16]), (2, [4, 8, 16])] {
+        for n in sizes {
+            let problem = v3::problem(unit_square(n, order));
+            let delta = 1e-8;
+            let (u, u_prev, nitsche) = solve_with_contact(&problem, &[BOTTOM], delta);
+            let projection = QuadraticSmoothing { delta };
+            let state = ContactState { nitsche: &nitsche, projection: &projection, u_prev: &u_prev };
+            let topology = damfem::mesh::Topology::new(&problem.mesh);
+            let rec = reconstruct(&problem, &topology, &u, Some(&state)).unwrap();
+            let eq = check(&problem, &topology, &u, &rec, Some(&state));
+            let est = estimate(&problem, &topology, &u, &rec, Some(&state)).global();
+            let data = ContactData { tags: &[BOTTOM], gamma0: 100.0, gap: Gap::default() };
+            let dual = residual_dual_norm(&problem, &u, Some(&data), 1).unwrap();
+            println!(
+                "P{order} n = {n}: eta = {:.4e} (flux {:.2e}, Neu {:.2e}, disc {:.2e}, reg {:.2e}, lin {:.2e}), dual norm >= {dual:.4e}, I_eff <= {:.3}; worst check {:.1e}",
+                est.tot, est.flux, est.neu, est.disc, est.reg, est.lin, est.tot / dual, eq.worst(order)
+            );
+            assert!(eq.worst(order) < 1e-10, "P{order} n = {n}: {eq:?}");
+            assert!(est.tot >= dual, "P{order} n = {n}: bound violated, eta {} < {dual}", est.tot);
+        }
     }
 }

@@ -66,8 +66,9 @@ pub struct PatchInput {
 /// Reconstructed coefficients per case and the compatibility residual of case 0.
 pub struct PatchSolution {
     pub sigma: Vec<Vec<f64>>,
-    /// max_z |defect of (C) for z| / scale, after the p = 1 correction.
-    pub compatibility: f64,
+    /// max_z |defect of (C) for z| after the p = 1 correction, and the largest sum of the
+    /// absolute values of its terms (its scale).
+    pub compatibility: (f64, f64),
 }
 
 impl PatchInput {
@@ -90,7 +91,7 @@ impl PatchInput {
 pub fn solve(input: &PatchInput) -> Result<PatchSolution, String> {
     let cases = input.target.len();
     let (faces, face_rhs) = face_rows(input);
-    let (div, div_rhs) = divergence_rows(input);
+    let (div, div_rhs, deficiency) = divergence_rows(input);
     let (sym, mut sym_rhs) = symmetry_rows(input);
     let compatibility = compatibility(input, &face_rhs, &mut sym_rhs);
     let b_rows = faces.len() + div.nrows() + sym.len();
@@ -111,15 +112,51 @@ pub fn solve(input: &PatchInput) -> Result<PatchSolution, String> {
     }
     let minv_bt = apply_inverse_mass(input, &b.transpose());
     let schur = &b * &minv_bt;
-    let cholesky = schur.cholesky().ok_or("the patch constraints are not independent")?;
+    let solver = SchurSolver::new(schur, deficiency)?;
     let sigma = (0..cases)
         .map(|case| {
             let target = apply_inverse_mass(input, &DMatrix::from_column_slice(n, 1, &input.target[case]));
-            let lambda = cholesky.solve(&(&b * &target - rhs.column(case)));
+            let lambda = solver.solve(&b * &target - rhs.column(case));
             (target - &minv_bt * lambda).column(0).iter().copied().collect()
         })
         .collect();
     Ok(PatchSolution { sigma, compatibility })
+}
+
+/// Solver of the Schur complement S = B M⁻¹ Bᵀ: Cholesky, or, when `deficiency` rigid motions
+/// remain in its kernel (patches of one or two cells at a free corner), the pseudo-inverse
+/// without those directions; the right-hand side is compatible, so both solve S λ = r.
+enum SchurSolver {
+    Cholesky(nalgebra::Cholesky<f64, nalgebra::Dyn>),
+    Pseudo(nalgebra::SymmetricEigen<f64, nalgebra::Dyn>, usize),
+}
+
+impl SchurSolver {
+    fn new(schur: DMatrix<f64>, deficiency: usize) -> Result<Self, String> {
+        if deficiency == 0 {
+            return schur
+                .cholesky()
+                .map(SchurSolver::Cholesky)
+                .ok_or_else(|| "the patch constraints are not independent".into());
+        }
+        Ok(SchurSolver::Pseudo(schur.symmetric_eigen(), deficiency))
+    }
+
+    fn solve(&self, r: DVector<f64>) -> DVector<f64> {
+        match self {
+            SchurSolver::Cholesky(c) => c.solve(&r),
+            SchurSolver::Pseudo(e, deficiency) => {
+                let mut order: Vec<usize> = (0..e.eigenvalues.len()).collect();
+                order.sort_by(|&i, &j| e.eigenvalues[i].total_cmp(&e.eigenvalues[j]));
+                let mut lambda = DVector::zeros(r.len());
+                for &j in &order[*deficiency..] {
+                    let v = e.eigenvectors.column(j);
+                    lambda += v * (v.dot(&r) / e.eigenvalues[j]);
+                }
+                lambda
+            }
+        }
+    }
 }
 
 /// Face moment rows and their right-hand sides per case.
@@ -158,9 +195,10 @@ fn face_rows(input: &PatchInput) -> (Vec<DVector<f64>>, Vec<Vec<f64>>) {
     (rows, rhs)
 }
 
-/// Divergence rows, restricted to test fields orthogonal to the free rigid motions, and
-/// their right-hand sides per case (unrestricted; restricted in [`solve`]).
-fn divergence_rows(input: &PatchInput) -> (DMatrix<f64>, Vec<Vec<f64>>) {
+/// Divergence rows, restricted to test fields orthogonal to the free rigid motions, their
+/// right-hand sides per case, and the number of rigid motions the restriction could not
+/// remove (the dimension of the kernel left in B M⁻¹ Bᵀ).
+fn divergence_rows(input: &PatchInput) -> (DMatrix<f64>, Vec<Vec<f64>>, usize) {
     let (nb, nl) = (input.n_basis, input.n_lower);
     let n_rows = input.cells.len() * nl * 2;
     let mut d = DMatrix::zeros(n_rows, input.n_sigma());
@@ -178,7 +216,7 @@ fn divergence_rows(input: &PatchInput) -> (DMatrix<f64>, Vec<Vec<f64>>) {
     }
     let mut rhs: Vec<Vec<f64>> = input.divergence.clone();
     if input.rigid.is_empty() {
-        return (d, rhs);
+        return (d, rhs, 0);
     }
     // W[row, z] = (ψ_m e_i, z)_T; Qᵀ of W = QR maps the rows onto [range W; null Wᵀ]
     let w = DMatrix::from_fn(n_rows, input.rigid.len(), |row, zi| {
@@ -189,15 +227,22 @@ fn divergence_rows(input: &PatchInput) -> (DMatrix<f64>, Vec<Vec<f64>>) {
             })
             .sum()
     });
-    let qr = w.qr();
-    let r = input.rigid.len();
-    qr.q_tr_mul(&mut d);
+    // test fields orthogonal to range(W) = {Π^{p−1} z}: the eigenvectors of I − P_W with
+    // eigenvalue 1 (range(W) may have fewer than dim RM dimensions on small patches)
+    let svd = w.svd(true, false);
+    let u: DMatrix<f64> = svd.u.expect("requested");
+    let largest = svd.singular_values.max();
+    let rank = svd.singular_values.iter().filter(|&&v| v > 1e-12 * largest).count();
+    let u_k: DMatrix<f64> = u.columns(0, rank).into_owned();
+    let complement: DMatrix<f64> = DMatrix::identity(n_rows, n_rows) - &u_k * u_k.transpose();
+    let eigen = complement.symmetric_eigen();
+    let keep: Vec<usize> = (0..n_rows).filter(|&j| eigen.eigenvalues[j] > 0.5).collect();
+    let q = DMatrix::from_fn(n_rows, keep.len(), |r, c| eigen.eigenvectors[(r, keep[c])]);
+    let d = q.transpose() * d;
     for column in &mut rhs {
-        let mut v = DVector::from_vec(column.clone());
-        qr.q_tr_mul(&mut v);
-        *column = v.iter().skip(r).copied().collect();
+        *column = (q.transpose() * DVector::from_vec(column.clone())).iter().copied().collect();
     }
-    (d.rows(r, n_rows - r).into_owned(), rhs)
+    (d, rhs, input.rigid.len() - rank)
 }
 
 /// Weak-symmetry rows (τ_xy − τ_yx, ψ_m)_T and zero right-hand sides.
@@ -221,10 +266,10 @@ fn symmetry_rows(input: &PatchInput) -> (Vec<DVector<f64>>, Vec<Vec<f64>>) {
 /// Defect of the compatibility condition (C) of case 0 for each free rigid motion z:
 /// Σ_F (t_F, z)_F − (Π^{p−1} g, z)_{ω_a} − (c, ∇z)_{ω_a}. For p = 1 the symmetry datum is
 /// corrected by c = κ J, (c, ∇z) = −2bκ|ω_a|, which removes the rotational defect. Returns
-/// the largest remaining defect relative to the size of its terms.
-fn compatibility(input: &PatchInput, face_rhs: &[Vec<f64>], sym_rhs: &mut [Vec<f64>]) -> f64 {
+/// the largest remaining defect and the largest sum of absolute terms.
+fn compatibility(input: &PatchInput, face_rhs: &[Vec<f64>], sym_rhs: &mut [Vec<f64>]) -> (f64, f64) {
     if input.rigid.is_empty() {
-        return 0.0;
+        return (0.0, 0.0);
     }
     let nl = input.n_lower;
     let defects: Vec<(f64, f64)> = input
@@ -261,21 +306,19 @@ fn compatibility(input: &PatchInput, face_rhs: &[Vec<f64>], sym_rhs: &mut [Vec<f
             (faces - volume, scale)
         })
         .collect();
+    let scale = defects.iter().map(|d| d.1).fold(0.0, f64::max);
     if input.rotation_correction {
         let b2: f64 = input.rigid.iter().map(|z| z[2] * z[2]).sum();
         if b2 > 0.0 {
             let kappa =
                 -input.rigid.iter().zip(&defects).map(|(z, d)| d.0 * z[2]).sum::<f64>() / (2.0 * input.area * b2);
             correct_symmetry(input, kappa, &mut sym_rhs[0]);
-            return input
-                .rigid
-                .iter()
-                .zip(&defects)
-                .map(|(z, d)| (d.0 + 2.0 * z[2] * kappa * input.area).abs() / d.1.max(f64::MIN_POSITIVE))
-                .fold(0.0, f64::max);
+            let corrected =
+                input.rigid.iter().zip(&defects).map(|(z, d)| (d.0 + 2.0 * z[2] * kappa * input.area).abs());
+            return (corrected.fold(0.0, f64::max), scale);
         }
     }
-    defects.iter().map(|d| d.0.abs() / d.1.max(f64::MIN_POSITIVE)).fold(0.0, f64::max)
+    (defects.iter().map(|d| d.0.abs()).fold(0.0, f64::max), scale)
 }
 
 /// Adds (κ J, m J)_T = 2κ ∫_T ψ_m to the symmetry right-hand side.

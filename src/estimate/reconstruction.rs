@@ -49,8 +49,8 @@ pub struct Reconstruction {
     pub order: usize,
     pub n_basis: usize,
     pub sigma: [Vec<f64>; 3],
-    /// Largest relative residual of the compatibility condition on patches with free
-    /// rigid motions (after the p = 1 rotation correction).
+    /// Largest residual of the compatibility condition on patches with free rigid motions
+    /// (after the p = 1 rotation correction), relative to the largest of its terms.
     pub compatibility: f64,
 }
 
@@ -121,9 +121,10 @@ pub fn reconstruct(
     let nb = lagrange::n_basis(order);
     let n = COMPONENTS * nb;
     let mut sigma = [vec![0.0; mesh.n_cells() * n], vec![0.0; mesh.n_cells() * n], vec![0.0; mesh.n_cells() * n]];
-    let mut compatibility: f64 = 0.0;
+    let (mut defect, mut scale): (f64, f64) = (0.0, 0.0);
     for (k, solution) in results.into_iter().enumerate() {
-        compatibility = compatibility.max(solution.compatibility);
+        defect = defect.max(solution.compatibility.0);
+        scale = scale.max(solution.compatibility.1);
         for (t, &cell) in topology.patch(k).iter().enumerate() {
             for case in 0..cases {
                 for j in 0..n {
@@ -136,6 +137,7 @@ pub fn reconstruct(
     for j in 0..sigma[0].len() {
         sigma[0][j] -= sigma[1][j] + sigma[2][j];
     }
+    let compatibility = if scale > 0.0 { defect / scale } else { 0.0 };
     Ok(Reconstruction { order, n_basis: nb, sigma, compatibility })
 }
 

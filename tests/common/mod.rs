@@ -12,3 +12,4 @@ pub fn fitted_rate(h: &[f64], e: &[f64]) -> f64 {
     sxy / sxx
 }
 pub mod v1;
+pub mod v3;
