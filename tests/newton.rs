@@ -1,0 +1,249 @@
+//! Behaviour of Newton's method on the contact problem (docs/method.md §1.4–1.5): quadratic
+//! convergence of the regularised problem, convergence of the regularised solution as δ → 0,
+//! and failure reported as an error.
+
+mod common;
+
+use damfem::contact::nitsche::{Gap, Nitsche, NitscheParameters};
+use damfem::contact::projection::QuadraticSmoothing;
+use damfem::contact::{solve_contact, ContactProblem, ContactSettings};
+use damfem::elasticity::{BodyForce, Dirichlet, Discretisation, Material, Problem};
+use damfem::fem::dofs::FIXED;
+use damfem::io::gmsh::{mesh_geo, MeshOptions};
+use damfem::mesh::structured::{unit_square, BOTTOM, LEFT, RIGHT, TOP};
+use damfem::scene::Scene;
+use damfem::solve::{newton, NewtonError, NewtonOptions, NonlinearSystem};
+use std::path::Path;
+use std::sync::Arc;
+
+/// Scene A (geo/scene_a.toml: gravity dam on rigid rock, heel side of the base in contact,
+/// toe anchored, flood on the upstream face) meshed by gmsh at degree `order`: the scene,
+/// its problem, discretisation, contact tags and stress scale S.
+fn scene_a(order: usize) -> (Scene, Problem, Discretisation, Vec<i32>, f64) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("geo/scene_a.toml");
+    let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let m = &scene.mesh;
+    let options = MeshOptions {
+        order,
+        size_factor: m.size_factor,
+        size_min: m.size_min,
+        size_max: m.size_max,
+        algorithm: m.algorithm,
+    };
+    let mesh = mesh_geo(&scene.geometry, &options, false, false).expect("gmsh meshes scene A");
+    let tags = scene.contact_tags(&mesh).unwrap_or_else(|e| panic!("{e}"));
+    let problem = scene.problem(mesh).unwrap_or_else(|e| panic!("{e}"));
+    let disc = problem.discretise();
+    let scale = problem.stress_scale(&disc.topology);
+    (scene, problem, disc, tags, scale)
+}
+
+/// The scene's Nitsche parameters (γ₀ = 100, θ = 0, gap 0).
+fn parameters(scene: &Scene) -> NitscheParameters {
+    let c = &scene.contact;
+    NitscheParameters { gamma0: c.gamma0, theta: c.theta, gap: Gap { constant: c.gap, gradient: c.gap_gradient } }
+}
+
+fn norm(v: &[f64]) -> f64 {
+    v.iter().map(|a| a * a).sum::<f64>().sqrt()
+}
+
+fn distance(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum::<f64>().sqrt()
+}
+
+/// Quadratic convergence. Source: docs/method.md §1.5 (Newton on the C¹ regularisation, whose
+/// derivative is Lipschitz). Goal: once the active set has settled, ‖Δ_{k+1}‖ ≤ C ‖Δ_k‖².
+/// Problem: Scene A (geo/scene_a.toml, gmsh mesh of the scene, P1 and P2): gravity dam
+/// (E = 30 GPa, ν = 0.2, ρ = 2400) on rigid rock, toe anchored (u = 0), hydrostatic flood
+/// (level 70 m) on the upstream face, self-weight, frictionless Nitsche contact on the heel
+/// side of the base (θ = 0, γ₀ = 100, gap 0). δ = 10⁻⁴ S (the CLI default), one Newton
+/// solve from u = 0, rtol = 10⁻¹⁰.
+/// Checks on the last three steps: the ratios ‖Δ_{k+1}‖/‖Δ_k‖² vary by less than a factor 10
+/// (for a linear rate q they grow by 1/q per step) and the contraction ‖Δ_{k+1}‖/‖Δ_k‖ drops
+/// below 10⁻² and by at least a factor 10 per step (it is constant for a linear rate).
+#[test]
+fn newton_converges_quadratically_once_the_active_set_settles() {
+    for order in [1, 2] {
+        let (scene, problem, disc, tags, scale) = scene_a(order);
+        let settings = ContactSettings {
+            parameters: parameters(&scene),
+            delta: 1e-4 * scale,
+            delta_start: 0.0,
+            newton: NewtonOptions::default(),
+        };
+        let solution = solve_contact(&problem, &disc, &tags, &settings).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(solution.stages.len(), 1);
+        let report = &solution.stages[0].report;
+        let increments: Vec<f64> = report.iterations.iter().map(|it| it.increment).collect();
+        let ratios = report.quadratic_ratios();
+        let n = increments.len();
+        assert!(n >= 4, "P{order}: too few Newton steps ({n}) to see the rate");
+        let contractions: Vec<f64> = increments.windows(2).map(|w| w[1] / w[0]).collect();
+        println!(
+            "P{order}: {n} Newton steps, ‖x‖ = {:.3e}, contact length {:.3} m, final relative residual {:.1e}",
+            norm(&solution.x),
+            solution.contact_length(),
+            report.residual / report.scale
+        );
+        for (k, it) in report.iterations.iter().enumerate().skip(n.saturating_sub(5)) {
+            println!(
+                "  step {k:2}: relative residual {:.2e}, ‖Δ‖ = {:.2e}, t = {}{}",
+                it.residual / report.scale,
+                it.increment,
+                it.step,
+                if k > 0 {
+                    format!(", ‖Δ_k‖/‖Δ_k−1‖² = {:.2e}, ‖Δ_k‖/‖Δ_k−1‖ = {:.2e}", ratios[k - 1], contractions[k - 1])
+                } else {
+                    String::new()
+                }
+            );
+        }
+        assert!(report.iterations[n - 3..].iter().all(|it| it.step == 1.0), "P{order}: damped final steps");
+        let last_ratios = &ratios[ratios.len() - 3..];
+        let (lo, hi) = last_ratios.iter().fold((f64::MAX, 0.0f64), |(lo, hi), &r| (lo.min(r), hi.max(r)));
+        assert!(hi <= 10.0 * lo, "P{order}: ratios ‖Δ_k+1‖/‖Δ_k‖² not bounded: {last_ratios:?}");
+        let q = &contractions[contractions.len() - 2..];
+        assert!(q[1] <= 1e-2 && q[1] <= 0.1 * q[0], "P{order}: contractions {q:?} do not drop super-linearly");
+    }
+}
+
+/// δ → 0. Source: docs/method.md §1.4: |[x]_{reg,δ} − [x]_{R⁻}| ≤ δ/4, so the regularised
+/// discrete solution u_δ tends to the semismooth one u_0 (δ = 0) with ‖u_δ − u_0‖ = O(δ).
+/// Goal: measure the rate. Problem: Scene A as above (P1 and P2), δ = S·10^{−k/2},
+/// k = 2, …, 7 (P1) or 2, …, 6 (P2), each solved by Newton from the previous u_δ with
+/// rtol = 10⁻¹²; u_0 from solve_contact with δ = 0 (continuation from 10⁻¹ S).
+/// Norm: Euclidean norm of the free unknowns. The fitted slope must be at least 0.9.
+/// Observed: slope 2. [P_γ(u_0)]_{reg,δ} differs from [P_γ(u_0)]_{R⁻} only where
+/// |P_γ(u_0)| < δ, and P_γ(u_0) crosses 0 transversally at the ends of the contact zone, so
+/// that set has length O(δ) and the consistency error is O(δ²). The O(δ) bound is attained
+/// only if P_γ(u_0) vanishes on a set of positive length: see the grazing test below.
+/// (The paths stop where ‖u_δ − u_0‖ would come within a factor 10 of the round-off level,
+/// about 10⁻¹³ ‖u‖ for P1 and 3·10⁻¹³ ‖u‖ for P2.)
+#[test]
+fn regularised_solution_tends_to_the_semismooth_one() {
+    for (order, last_k) in [(1, 7), (2, 6)] {
+        let (scene, problem, disc, tags, scale) = scene_a(order);
+        let options = NewtonOptions { rtol: 1e-12, ..Default::default() };
+        let settings =
+            ContactSettings { parameters: parameters(&scene), delta: 0.0, delta_start: 0.1 * scale, newton: options };
+        let exact = solve_contact(&problem, &disc, &tags, &settings).unwrap_or_else(|e| panic!("{e}"));
+        let nitsche = Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, &tags, settings.parameters);
+        let mut contact = ContactProblem::new(&problem, &disc, nitsche, Box::new(QuadraticSmoothing { delta: 0.0 }));
+        let mut x = vec![0.0; disc.dofs.n_free];
+        let (mut deltas, mut errors) = (Vec::new(), Vec::new());
+        println!("P{order}: S = {scale:.4e} Pa, ‖u_0‖ = {:.4e}", norm(&exact.x));
+        for k in 2..=last_k {
+            let delta = scale * 10f64.powf(-0.5 * k as f64);
+            contact.projection = Box::new(QuadraticSmoothing { delta });
+            let report = newton(&contact, x, &options).unwrap_or_else(|e| panic!("δ = {delta:e}: {e}"));
+            x = report.x;
+            let error = distance(&x, &exact.x);
+            println!(
+                "  δ = {:.2e} S: ‖u_δ − u_0‖ = {error:.4e} ({:.3e} relative), {} Newton steps",
+                delta / scale,
+                error / norm(&exact.x),
+                report.iterations.len()
+            );
+            deltas.push(delta);
+            errors.push(error);
+        }
+        let slope = common::fitted_rate(&deltas, &errors);
+        println!("P{order}: fitted slope of log ‖u_δ − u_0‖ against log δ: {slope:.3}");
+        assert!(slope >= 0.9, "P{order}: ‖u_δ − u_0‖ decreases like δ^{slope:.2}, slower than O(δ)");
+    }
+}
+
+/// δ → 0 with grazing contact: the O(δ) bound is sharp. Source: docs/method.md §1.4.
+/// Goal: where P_γ(u_0) = 0 on all of Γ_C, [0]_{reg,δ} = −δ/4 pushes on the whole of Γ_C and
+/// ‖u_δ − u_0‖ is exactly proportional to δ (u_δ − u_0 = δ w for one w, by homogeneity of
+/// the smoothing: [δy]_{reg,δ} = δ [y]_{reg,1}). Problem: unit square, 8 × 8 P2, E = 1, ν = 0,
+/// u = (εx, 0) with ε = 10⁻² on the top, left and right sides, contact on the bottom with
+/// gap 0, θ = 0, γ₀ = 100. The discrete semismooth solution is u_0 = (εx, 0): no stress
+/// normal to the bottom and no gap, so P_γ(u_0) = 0 there. δ = S·10^{−k}, k = 1, …, 4.
+/// The fitted slope must lie in [0.9, 1.1].
+#[test]
+fn regularised_solution_error_is_linear_in_delta_for_grazing_contact() {
+    let strain = 1e-2;
+    let mesh = unit_square(8, 2);
+    let stretch: Arc<dyn Fn([f64; 2]) -> [f64; 2] + Send + Sync> = Arc::new(move |x| [strain * x[0], 0.0]);
+    let problem = Problem {
+        materials: vec![Material { young: 1.0, poisson: 0.0, density: 0.0 }; mesh.n_cells()],
+        dirichlet: [TOP, LEFT, RIGHT]
+            .into_iter()
+            .map(|tag| Dirichlet { tag, fix: [true; 2], value: stretch.clone() })
+            .collect(),
+        neumann: vec![],
+        body_force: BodyForce::None,
+        mesh,
+    };
+    let disc = problem.discretise();
+    let scale = problem.stress_scale(&disc.topology);
+    let nitsche =
+        Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, &[BOTTOM], NitscheParameters::default());
+    let mut contact = ContactProblem::new(&problem, &disc, nitsche, Box::new(QuadraticSmoothing { delta: 0.0 }));
+    // u_0: the interpolant of (εx, 0), which must solve the semismooth problem
+    let mut exact = vec![0.0; disc.dofs.n_free];
+    for (node, p) in problem.mesh.points.iter().enumerate() {
+        for a in 0..2 {
+            if disc.dofs.free[2 * node + a] != FIXED {
+                exact[disc.dofs.free[2 * node + a]] = stretch(*p)[a];
+            }
+        }
+    }
+    let mut residual = vec![0.0; disc.dofs.n_free];
+    contact.evaluate(&exact, &mut residual, None);
+    assert!(norm(&residual) <= 1e-12 * contact.scale(), "u_0 = (εx, 0) is not the semismooth solution");
+    assert!(contact.face_states(&exact).iter().all(|f| f.pressure == 0.0 && f.normal_displacement.abs() < 1e-15));
+    let (mut deltas, mut errors) = (Vec::new(), Vec::new());
+    let options = NewtonOptions { rtol: 1e-12, ..Default::default() };
+    for k in 1..=4 {
+        let delta = scale * 10f64.powi(-k);
+        contact.projection = Box::new(QuadraticSmoothing { delta });
+        let report = newton(&contact, exact.clone(), &options).unwrap_or_else(|e| panic!("δ = {delta:e}: {e}"));
+        let error = distance(&report.x, &exact);
+        println!("δ = {:.0e} S: ‖u_δ − u_0‖ = {error:.4e}, ‖u_δ − u_0‖/δ = {:.6e}", delta / scale, error / delta);
+        deltas.push(delta);
+        errors.push(error);
+    }
+    let slope = common::fitted_rate(&deltas, &errors);
+    println!("grazing contact: fitted slope {slope:.4}");
+    assert!((0.9..=1.1).contains(&slope), "slope {slope} not 1");
+}
+
+/// A Newton failure is an error. Source: src/solve/newton.rs (running out of iterations is
+/// NewtonError::NotConverged with the residual history). Problem: Scene A at P1 as above,
+/// δ = 10⁻⁴ S, solved from u = 0 with max_iter = 1 through solve_contact, and with
+/// max_iter = 3 through newton directly: both must return NotConverged (no panic, no
+/// answer) whose message lists every relative residual of the history.
+#[test]
+fn newton_failure_is_a_clear_error() {
+    let (scene, problem, disc, tags, scale) = scene_a(1);
+    let expect_not_converged = |result: Result<Vec<f64>, NewtonError>, max_iter: usize| {
+        let error = result.expect_err("Newton cannot converge in so few steps");
+        let message = error.to_string();
+        println!("max_iter = {max_iter}: {message}");
+        match error {
+            NewtonError::NotConverged { history, scale } => {
+                assert_eq!(history.len(), max_iter);
+                let listed: Vec<String> = history.iter().map(|it| format!("{:.2e}", it.residual / scale)).collect();
+                assert!(
+                    message.contains(&format!("in {max_iter} steps")) && message.contains(&listed.join(", ")),
+                    "the message does not list the residual history {listed:?}: {message}"
+                );
+            }
+            other => panic!("expected NotConverged, got {other:?}"),
+        }
+    };
+    let mut settings = ContactSettings {
+        parameters: parameters(&scene),
+        delta: 1e-4 * scale,
+        delta_start: 0.0,
+        newton: NewtonOptions { max_iter: 1, ..Default::default() },
+    };
+    expect_not_converged(solve_contact(&problem, &disc, &tags, &settings).map(|s| s.x), 1);
+    settings.newton.max_iter = 3;
+    let nitsche = Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, &tags, settings.parameters);
+    let contact = ContactProblem::new(&problem, &disc, nitsche, Box::new(QuadraticSmoothing { delta: settings.delta }));
+    expect_not_converged(newton(&contact, vec![0.0; disc.dofs.n_free], &settings.newton).map(|r| r.x), 3);
+}
