@@ -24,6 +24,7 @@
 pub mod cli;
 pub mod contact;
 pub mod elasticity;
+pub mod estimate;
 pub mod fem;
 pub mod io;
 pub mod mesh;

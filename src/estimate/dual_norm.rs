@@ -1,0 +1,478 @@
+//! The dual norm of the residual of a discrete displacement, computed on a finer space.
+//!
+//! **A verification tool**: it gives an independent measure of the error of u_h, against
+//! which the guaranteed upper bound of the estimator is tested. It is far more expensive than
+//! a solve on the coarse mesh and is not meant for production runs.
+//!
+//! For a discrete displacement u_h of the problem (docs/method.md §2),
+//!
+//!   ⟨R(u_h), v⟩ = (f, v) + (g_N, v)_{Γ_N} + ([P_γ(u_h)]_{R⁻}, v^n)_{Γ_C} − (σ(u_h), ε(v)),
+//!
+//! with the exact projection [x]_{R⁻} = min(x, 0), P_γ(u_h) = σ^n(u_h) − γ(u_h^n − g) and
+//! γ|_F = γ₀ E / h_F on each coarse contact face F. The test functions v vanish on Γ_D (only
+//! the fixed components of a roller). The norm on the test space is
+//!
+//!   ‖v‖²_{C,h} = ‖∇v‖²_Ω + Σ_{F ⊂ Γ_C} h_F⁻¹ ‖v‖²_F      (h_F the coarse face length),
+//!
+//! and ‖R(u_h)‖ = sup ⟨R(u_h), v⟩ / ‖v‖_{C,h}. Its Riesz representative is approximated in a
+//! conforming space V_fine ⊂ H¹_D: vector P2 Lagrange on the coarse mesh refined uniformly
+//! `levels` times (it contains the coarse P1 and P2 spaces). r ∈ V_fine solves
+//!
+//!   (∇r, ∇v) + Σ_F h_F⁻¹ (r, v)_F = ⟨R(u_h), v⟩   for all v ∈ V_fine,
+//!
+//! and ‖r‖_{C,h} = sup over V_fine ≤ ‖R(u_h)‖: a lower bound that grows with `levels`
+//! (the spaces are nested) and converges to ‖R(u_h)‖ from below.
+//!
+//! Integration. u_h is a polynomial of degree p on each coarse cell: at a fine quadrature
+//! point, u_h and ∇u_h are evaluated in the parent coarse cell (inverse affine map), σ(u_h)
+//! with that cell's material. Volume terms use a rule of degree 8 on each fine cell. On a fine
+//! contact face, P_γ(u_h) comes from the coarse cell owning the coarse face; it is a
+//! polynomial of degree p along the face, so the face is split at the roots of P_γ(u_h) = 0
+//! and each piece is integrated exactly by 4 Gauss points. Neumann faces use 6 Gauss points
+//! per piece, hydrostatic loads being split at the water level.
+//!
+//! Linear algebra. The Gram matrix is block diagonal in the components, so each component is
+//! a scalar problem (Laplacian plus the Γ_C face mass) with its own Dirichlet nodes, solved
+//! by sparse Cholesky; when both components have the same Dirichlet nodes, one factorisation
+//! serves both. ‖r‖²_{C,h} = Σ_a r_aᵀ A_a r_a.
+
+use crate::contact::nitsche::{roots_in_unit_interval, Gap, Nitsche, NitscheParameters};
+use crate::elasticity::{kernels, BodyForce, Problem, Traction};
+use crate::fem::affine::AffineMap;
+use crate::fem::dofs::{DofMap, FIXED};
+use crate::fem::lagrange;
+use crate::fem::quadrature::{gauss_segment, Rule1d};
+use crate::fem::sparse::{vector_dofs, LinearSystem, Local, SparsePattern};
+use crate::fem::tabulate::Tabulation;
+use crate::mesh::refine::{elevate_to_p2, refine_levels, Refinement};
+use crate::mesh::{Mesh, Topology};
+use crate::solve::SolveError;
+use faer::linalg::solvers::Solve;
+use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::{Mat, Side};
+use rayon::prelude::*;
+
+/// Refinement levels used when the caller has no reason to choose.
+pub const DEFAULT_LEVELS: usize = 2;
+
+/// Degree of the volume quadrature on fine cells (2·2 + 4).
+const VOLUME_DEGREE: usize = 8;
+
+/// Frictionless contact on Γ_C, as in the Nitsche discretisation that produced u_h.
+#[derive(Debug, Clone, Copy)]
+pub struct ContactData<'a> {
+    /// Physical curve tags of Γ_C.
+    pub tags: &'a [i32],
+    /// γ₀ in γ = γ₀ E / h_F.
+    pub gamma0: f64,
+    pub gap: Gap,
+}
+
+/// The Riesz representative r of R(u_h) in V_fine and its norm.
+#[derive(Debug, Clone)]
+pub struct RieszRepresentative {
+    /// ‖r‖_{C,h}, the lower bound of ‖R(u_h)‖.
+    pub norm: f64,
+    /// Per coarse cell: ‖∇r‖²_T plus h_F⁻¹‖r‖²_F for the contact faces F of T.
+    /// Sums to `norm²`.
+    pub cell_contributions: Vec<f64>,
+    /// The fine P2 mesh and its parents in the coarse mesh.
+    pub fine: Refinement,
+    /// Nodal values of r on the fine mesh.
+    pub r: Vec<[f64; 2]>,
+    /// Number of scalar unknowns of the Riesz problem (both components).
+    pub n_unknowns: usize,
+}
+
+/// ‖r‖_{C,h} ≤ ‖R(u_h)‖ on the coarse mesh refined `levels` times (see the module doc).
+/// `u_h` holds the nodal values on `problem.mesh`; `contact` is `None` without Γ_C.
+pub fn residual_dual_norm(
+    problem: &Problem,
+    u_h: &[[f64; 2]],
+    contact: Option<&ContactData>,
+    levels: usize,
+) -> Result<f64, SolveError> {
+    residual_riesz(problem, u_h, contact, levels).map(|r| r.norm)
+}
+
+/// The Riesz representative of R(u_h) in V_fine (see the module doc). Fails if the Gram
+/// matrix is singular: a component that is fixed nowhere while Γ_C is empty.
+pub fn residual_riesz(
+    problem: &Problem,
+    u_h: &[[f64; 2]],
+    contact: Option<&ContactData>,
+    levels: usize,
+) -> Result<RieszRepresentative, SolveError> {
+    let coarse = &problem.mesh;
+    assert_eq!(u_h.len(), coarse.n_points(), "u_h must hold one value per node of the coarse mesh");
+    assert_eq!(problem.materials.len(), coarse.n_cells(), "one material per coarse cell");
+    let topology = Topology::new(coarse);
+    let fine = refine_levels(&elevate_to_p2(coarse), levels);
+    let faces = contact.map(|c| ContactFaces::new(problem, &topology, c));
+
+    let mut load = volume_residual(problem, u_h, &fine);
+    neumann_residual(problem, &topology, &fine, &mut load);
+    if let Some(faces) = &faces {
+        faces.add_residual(&fine, u_h, &mut load);
+    }
+
+    // Dirichlet nodes of each component on the fine mesh
+    let mesh = &fine.mesh;
+    let mut fixed = [vec![false; mesh.n_points()], vec![false; mesh.n_points()]];
+    for bc in &problem.dirichlet {
+        for f in (0..mesh.n_facets()).filter(|&f| mesh.facet_tags[f] == bc.tag) {
+            for &n in mesh.facet(f) {
+                for a in (0..2).filter(|&a| bc.fix[a]) {
+                    fixed[a][n] = true;
+                }
+            }
+        }
+    }
+    let mut r = vec![[0.0; 2]; mesh.n_points()];
+    let mut norm2 = 0.0;
+    let mut n_unknowns = 0;
+    // the same Dirichlet nodes: one matrix, one factorisation, two right-hand sides
+    let groups: &[&[usize]] = if fixed[0] == fixed[1] { &[&[0, 1]] } else { &[&[0], &[1]] };
+    for &components in groups {
+        let system = ScalarSystem::new(mesh, &fixed[components[0]], faces.as_ref(), &fine);
+        let free: Vec<usize> = (0..mesh.n_points()).filter(|&n| system.dofs.free[2 * n] != FIXED).collect();
+        if free.is_empty() {
+            continue;
+        }
+        let mut x = Mat::from_fn(free.len(), components.len(), |i, j| load[free[i]][components[j]]);
+        system.solve_in_place(&mut x)?;
+        for (j, &a) in components.iter().enumerate() {
+            let column: Vec<f64> = (0..free.len()).map(|i| x[(i, j)]).collect();
+            let mut product = vec![0.0; free.len()];
+            system.pattern.multiply(&system.values, &column, &mut product);
+            norm2 += column.iter().zip(&product).map(|(u, v)| u * v).sum::<f64>();
+            n_unknowns += free.len();
+            for (&n, &value) in free.iter().zip(&column) {
+                r[n][a] = value;
+            }
+        }
+    }
+    let cell_contributions = cell_contributions(coarse, &fine, &r, faces.as_ref());
+    Ok(RieszRepresentative { norm: norm2.max(0.0).sqrt(), cell_contributions, fine, r, n_unknowns })
+}
+
+/// ξ = J⁻¹ (x − v0): reference coordinates of the physical point x in the cell of `map`.
+fn to_reference(map: &AffineMap, x: [f64; 2]) -> [f64; 2] {
+    let d = [x[0] - map.origin[0], x[1] - map.origin[1]];
+    let m = &map.inv_t; // J⁻ᵀ, so (J⁻¹)_{cr} = m[r][c]
+    [m[0][0] * d[0] + m[1][0] * d[1], m[0][1] * d[0] + m[1][1] * d[1]]
+}
+
+/// (f, φ_i e_a) − (σ(u_h), ∇(φ_i e_a)) for every fine node i, component a.
+fn volume_residual(problem: &Problem, u_h: &[[f64; 2]], fine: &Refinement) -> Vec<[f64; 2]> {
+    let coarse = &problem.mesh;
+    let p = coarse.order;
+    let mesh = &fine.mesh;
+    let tab = Tabulation::new(2, VOLUME_DEGREE);
+    let locals: Vec<[[f64; 2]; 6]> = (0..mesh.n_cells())
+        .into_par_iter()
+        .map(|c| {
+            let parent = fine.cell_parents[c];
+            let map = AffineMap::new(mesh.cell_vertices(c));
+            let parent_map = AffineMap::new(coarse.cell_vertices(parent));
+            let u: Vec<[f64; 2]> = coarse.cell(parent).iter().map(|&n| u_h[n]).collect();
+            let material = &problem.materials[parent];
+            let (lambda, mu) = material.lame();
+            let mut scratch = [[0.0; 2]; 6];
+            let mut local = [[0.0; 2]; 6];
+            for q in 0..tab.n_points() {
+                let w = tab.weights[q] * map.det.abs();
+                let x = map.to_physical(tab.points[q]);
+                let grad = kernels::displacement_gradient(
+                    &parent_map,
+                    p,
+                    to_reference(&parent_map, x),
+                    &u,
+                    &mut scratch[..u.len()],
+                );
+                let [sxx, syy, sxy, _] = kernels::stress(grad, lambda, mu);
+                let sigma = [[sxx, sxy], [sxy, syy]];
+                let f = match &problem.body_force {
+                    BodyForce::None => [0.0; 2],
+                    BodyForce::Gravity(g) => [0.0, -material.density * g],
+                    BodyForce::Field(field) => field(x),
+                };
+                for (i, (phi, gr)) in tab.phi(q).iter().zip(tab.grad(q)).enumerate() {
+                    let g = map.physical_gradient(*gr);
+                    for a in 0..2 {
+                        local[i][a] += w * (f[a] * phi - sigma[a][0] * g[0] - sigma[a][1] * g[1]);
+                    }
+                }
+            }
+            local
+        })
+        .collect();
+    let mut load = vec![[0.0; 2]; mesh.n_points()];
+    for (c, local) in locals.iter().enumerate() {
+        for (&n, l) in mesh.cell(c).iter().zip(local) {
+            load[n][0] += l[0];
+            load[n][1] += l[1];
+        }
+    }
+    load
+}
+
+/// Cuts of [0, 1] and a rule per piece: (t, weight) with weights summing to 1.
+fn split_rule(rule: &Rule1d, mut cuts: Vec<f64>) -> Vec<(f64, f64)> {
+    cuts.push(0.0);
+    cuts.push(1.0);
+    cuts.sort_by(f64::total_cmp);
+    cuts.windows(2)
+        .filter(|w| w[1] > w[0])
+        .flat_map(|w| {
+            rule.points.iter().zip(&rule.weights).map(move |(&s, &ws)| (w[0] + s * (w[1] - w[0]), ws * (w[1] - w[0])))
+        })
+        .collect()
+}
+
+/// Adds (g_N, φ_i e_a)_{Γ_N} on the fine Neumann facets.
+fn neumann_residual(problem: &Problem, topology: &Topology, fine: &Refinement, load: &mut [[f64; 2]]) {
+    let mesh = &fine.mesh;
+    let rule = gauss_segment(6);
+    let mut phi = [0.0; 3];
+    for bc in &problem.neumann {
+        for f in (0..mesh.n_facets()).filter(|&f| mesh.facet_tags[f] == bc.tag) {
+            let normal = topology.outward_normal(&problem.mesh, fine.facet_parents[f]);
+            let nodes = mesh.facet(f);
+            let (a, b) = (mesh.points[nodes[0]], mesh.points[nodes[1]]);
+            let length = crate::mesh::distance(a, b);
+            let cuts = match bc.traction {
+                // the pressure (H_w − y)₊ has a kink at y = H_w
+                Traction::Hydrostatic { level, .. } if b[1] != a[1] => {
+                    let t = (level - a[1]) / (b[1] - a[1]);
+                    if t > 0.0 && t < 1.0 {
+                        vec![t]
+                    } else {
+                        vec![]
+                    }
+                }
+                _ => vec![],
+            };
+            for (t, w) in split_rule(&rule, cuts) {
+                let x = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
+                let g = bc.traction.at(x, normal);
+                lagrange::segment_values(2, t, &mut phi);
+                for (&n, &ph) in nodes.iter().zip(&phi) {
+                    load[n][0] += w * length * g[0] * ph;
+                    load[n][1] += w * length * g[1] * ph;
+                }
+            }
+        }
+    }
+}
+
+/// The coarse contact faces with their Nitsche data.
+struct ContactFaces {
+    nitsche: Nitsche,
+    /// Face index of each coarse boundary facet (None off Γ_C).
+    face_of_facet: Vec<Option<usize>>,
+    /// End points of each coarse face, in the order of its parameter s ∈ [0, 1].
+    ends: Vec<[[f64; 2]; 2]>,
+    /// Coarse nodes of the cell owning each face.
+    cell_nodes: Vec<Vec<usize>>,
+    rule: Rule1d,
+}
+
+impl ContactFaces {
+    fn new(problem: &Problem, topology: &Topology, data: &ContactData) -> Self {
+        let coarse = &problem.mesh;
+        let parameters = NitscheParameters { gamma0: data.gamma0, theta: 0.0, gap: data.gap };
+        let nitsche = Nitsche::new(coarse, topology, &problem.materials, data.tags, parameters);
+        let mut face_of_facet = vec![None; coarse.n_facets()];
+        let ends = nitsche
+            .faces
+            .iter()
+            .enumerate()
+            .map(|(k, face)| {
+                face_of_facet[face.facet] = Some(k);
+                [face.map.to_physical(face.ends[0]), face.map.to_physical(face.ends[1])]
+            })
+            .collect();
+        let cell_nodes = nitsche.faces.iter().map(|face| coarse.cell(face.cell).to_vec()).collect();
+        ContactFaces { nitsche, face_of_facet, ends, cell_nodes, rule: gauss_segment(4) }
+    }
+
+    /// The coarse face of fine facet `f`, with the coarse parameters of its two ends.
+    fn parent_face(&self, fine: &Refinement, f: usize) -> Option<(usize, [f64; 2])> {
+        let k = self.face_of_facet[fine.facet_parents[f]]?;
+        let [a, b] = self.ends[k];
+        let d = [b[0] - a[0], b[1] - a[1]];
+        let dd = d[0] * d[0] + d[1] * d[1];
+        let nodes = fine.mesh.facet(f);
+        let s = |x: [f64; 2]| ((x[0] - a[0]) * d[0] + (x[1] - a[1]) * d[1]) / dd;
+        Some((k, [s(fine.mesh.points[nodes[0]]), s(fine.mesh.points[nodes[1]])]))
+    }
+
+    /// Adds ([P_γ(u_h)]_{R⁻}, (φ_i e_a) · n)_{Γ_C} on the fine contact facets.
+    fn add_residual(&self, fine: &Refinement, u_h: &[[f64; 2]], load: &mut [[f64; 2]]) {
+        let mut dofs = Vec::with_capacity(12);
+        let mut phi = [0.0; 3];
+        for f in 0..fine.mesh.n_facets() {
+            let Some((k, [s0, s1])) = self.parent_face(fine, f) else { continue };
+            let face = &self.nitsche.faces[k];
+            vector_dofs(&self.cell_nodes[k], &mut dofs);
+            let u: Vec<f64> = dofs.iter().map(|&g| u_h[g / 2][g % 2]).collect();
+            let p = |t: f64| {
+                let s = s0 + t * (s1 - s0);
+                self.nitsche.p_gamma(k, &self.nitsche.point(k, s), &u)
+            };
+            // P(t) = α t² + β t + c through three samples (exact: P has degree p ≤ 2 in t)
+            let (p0, pm, p1) = (p(0.0), p(0.5), p(1.0));
+            let roots = roots_in_unit_interval(2.0 * p1 + 2.0 * p0 - 4.0 * pm, 4.0 * pm - 3.0 * p0 - p1, p0);
+            let nodes = fine.mesh.facet(f);
+            let length = fine.mesh.facet_length(f);
+            for (t, w) in split_rule(&self.rule, roots) {
+                let value = p(t).min(0.0);
+                lagrange::segment_values(2, t, &mut phi);
+                for (&n, &ph) in nodes.iter().zip(&phi) {
+                    for (l, normal) in load[n].iter_mut().zip(face.normal) {
+                        *l += w * length * value * ph * normal;
+                    }
+                }
+            }
+        }
+    }
+
+    /// h_F⁻¹ ∫ φ_i φ_j on fine facet f (3 × 3, row-major), if it lies on Γ_C.
+    fn face_mass(&self, fine: &Refinement, f: usize) -> Option<[f64; 9]> {
+        let k = self.face_of_facet[fine.facet_parents[f]]?;
+        let scale = fine.mesh.facet_length(f) / self.nitsche.faces[k].length;
+        let mut m = [0.0; 9];
+        let mut phi = [0.0; 3];
+        for (&t, &w) in self.rule.points.iter().zip(&self.rule.weights) {
+            lagrange::segment_values(2, t, &mut phi);
+            for i in 0..3 {
+                for j in 0..3 {
+                    m[3 * i + j] += w * scale * phi[i] * phi[j];
+                }
+            }
+        }
+        Some(m)
+    }
+}
+
+/// The Gram matrix of one component: ∫ ∇φ_i · ∇φ_j + Σ_F h_F⁻¹ ∫_F φ_i φ_j over the scalar
+/// unknowns. Node n is stored in slot 2n of a vector [`DofMap`] whose slots 2n + 1 are all
+/// fixed, so that the vector pattern and assembly serve a scalar field.
+struct ScalarSystem {
+    dofs: DofMap,
+    pattern: SparsePattern,
+    values: Vec<f64>,
+}
+
+impl ScalarSystem {
+    fn new(mesh: &Mesh, fixed: &[bool], faces: Option<&ContactFaces>, fine: &Refinement) -> Self {
+        let constraints: Vec<(usize, f64)> = (0..mesh.n_points())
+            .flat_map(|n| [(2 * n + 1, true), (2 * n, fixed[n])])
+            .filter(|&(_, fix)| fix)
+            .map(|(dof, _)| (dof, 0.0))
+            .collect();
+        let dofs = DofMap::new(mesh.n_points(), &constraints);
+        let pattern = SparsePattern::new(mesh, &dofs);
+        let mut system = LinearSystem::zeros(&pattern);
+        let tab = Tabulation::new(2, 2);
+        let kernel = |c: usize, local: &mut Local| {
+            let map = AffineMap::new(mesh.cell_vertices(c));
+            let n = 12;
+            local.matrix.fill(0.0);
+            local.load.fill(0.0);
+            for q in 0..tab.n_points() {
+                let w = tab.weights[q] * map.det.abs();
+                let mut g = [[0.0; 2]; 6];
+                for (gi, gr) in g.iter_mut().zip(tab.grad(q)) {
+                    *gi = map.physical_gradient(*gr);
+                }
+                for i in 0..6 {
+                    for j in 0..6 {
+                        local.matrix[2 * i * n + 2 * j] += w * (g[i][0] * g[j][0] + g[i][1] * g[j][1]);
+                    }
+                }
+            }
+        };
+        let dofs_of = |c: usize, out: &mut Vec<usize>| vector_dofs(mesh.cell(c), out);
+        system.assemble(&pattern, &dofs, mesh.n_cells(), 12, dofs_of, kernel);
+        if let Some(faces) = faces {
+            for f in 0..mesh.n_facets() {
+                let Some(m) = faces.face_mass(fine, f) else { continue };
+                let nodes = mesh.facet(f);
+                for (i, &ni) in nodes.iter().enumerate() {
+                    for (j, &nj) in nodes.iter().enumerate() {
+                        let (row, col) = (dofs.free[2 * ni], dofs.free[2 * nj]);
+                        if row != FIXED && col != FIXED {
+                            system.values[pattern.position(row, col)] += m[3 * i + j];
+                        }
+                    }
+                }
+            }
+        }
+        ScalarSystem { dofs, pattern, values: system.values }
+    }
+
+    /// Overwrites the columns of `b` by A⁻¹ b: one sparse Cholesky factorisation (as in
+    /// [`crate::solve::Cholesky`], which refactorises at every solve) for all columns.
+    fn solve_in_place(&self, b: &mut Mat<f64>) -> Result<(), SolveError> {
+        let symbolic = SymbolicLlt::try_new(self.pattern.symbolic(), Side::Lower)
+            .map_err(|e| SolveError::Factorisation(format!("{e:?}")))?;
+        let llt = Llt::try_new_with_symbolic(symbolic, self.pattern.matrix(&self.values), Side::Lower).map_err(
+            |e| match e {
+                faer::sparse::linalg::LltError::Numeric(_) => SolveError::NotPositiveDefinite,
+                other => SolveError::Factorisation(format!("{other:?}")),
+            },
+        )?;
+        llt.solve_in_place(b.as_mut());
+        Ok(())
+    }
+}
+
+/// ‖∇r‖²_T + Σ_{F ⊂ ∂T ∩ Γ_C} h_F⁻¹‖r‖²_F for every coarse cell T.
+fn cell_contributions(coarse: &Mesh, fine: &Refinement, r: &[[f64; 2]], faces: Option<&ContactFaces>) -> Vec<f64> {
+    let mesh = &fine.mesh;
+    let tab = Tabulation::new(2, 2);
+    let fine_cells: Vec<f64> = (0..mesh.n_cells())
+        .into_par_iter()
+        .map(|c| {
+            let map = AffineMap::new(mesh.cell_vertices(c));
+            let nodes = mesh.cell(c);
+            let mut sum = 0.0;
+            for q in 0..tab.n_points() {
+                let mut g = [[0.0f64; 2]; 2];
+                for (&n, gr) in nodes.iter().zip(tab.grad(q)) {
+                    let d = map.physical_gradient(*gr);
+                    for a in 0..2 {
+                        for b in 0..2 {
+                            g[a][b] += r[n][a] * d[b];
+                        }
+                    }
+                }
+                sum += tab.weights[q]
+                    * map.det.abs()
+                    * (g[0][0].powi(2) + g[0][1].powi(2) + g[1][0].powi(2) + g[1][1].powi(2));
+            }
+            sum
+        })
+        .collect();
+    let mut out = vec![0.0; coarse.n_cells()];
+    for (c, v) in fine_cells.into_iter().enumerate() {
+        out[fine.cell_parents[c]] += v;
+    }
+    if let Some(faces) = faces {
+        for f in 0..mesh.n_facets() {
+            let Some(m) = faces.face_mass(fine, f) else { continue };
+            let k = faces.face_of_facet[fine.facet_parents[f]].expect("face mass only on Γ_C");
+            let nodes = mesh.facet(f);
+            let mut sum = 0.0;
+            for (i, &ni) in nodes.iter().enumerate() {
+                for (j, &nj) in nodes.iter().enumerate() {
+                    sum += m[3 * i + j] * (r[ni][0] * r[nj][0] + r[ni][1] * r[nj][1]);
+                }
+            }
+            out[faces.nitsche.faces[k].cell] += sum;
+        }
+    }
+    out
+}
