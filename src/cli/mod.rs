@@ -5,6 +5,7 @@
 
 mod check;
 mod common;
+mod estimate;
 mod mesh;
 mod solve;
 

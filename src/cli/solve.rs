@@ -2,6 +2,7 @@
 //! write ParaView files, `summary.json` and `history.json`.
 
 use super::common::{output_dir, stem, Input};
+use super::estimate::{self, Estimate, EstimateSummary};
 use crate::contact::nitsche::{Gap, NitscheParameters};
 use crate::contact::{solve_contact, ContactSettings, ContactSolution};
 use crate::elasticity::kernels::{principal, von_mises};
@@ -34,6 +35,12 @@ pub struct Args {
     /// Use the plain projection min(x, 0) with its semismooth derivative (δ = 0)
     #[arg(long)]
     semismooth: bool,
+    /// Estimate the error: equilibrated stress reconstruction and the six estimators
+    #[arg(long)]
+    estimate: bool,
+    /// Also check the equilibration of the reconstructed stress (implies --estimate)
+    #[arg(long)]
+    check_equilibration: bool,
 }
 
 /// What `summary.json` records of a run.
@@ -51,6 +58,7 @@ struct Summary {
     min_principal_stress: f64,
     max_principal_stress: f64,
     contact: Option<ContactSummary>,
+    estimate: Option<EstimateSummary>,
     seconds: Timings,
     files: Vec<PathBuf>,
 }
@@ -78,6 +86,7 @@ struct Timings {
     mesh: f64,
     assemble: f64,
     solve: f64,
+    estimate: Option<f64>,
     output: f64,
 }
 
@@ -121,16 +130,34 @@ pub fn run(args: Args) -> Result<()> {
     };
     seconds.solve = t;
     let (x, contact) = solution;
+    let estimate = if args.estimate || args.check_equilibration {
+        let state = contact.as_ref().map(|(c, s)| (c, s.delta));
+        let (e, t) = progress.stage(
+            "estimate",
+            || estimate::run(&problem, &disc, &x, state, args.check_equilibration),
+            |e| {
+                let checks = e
+                    .equilibration
+                    .map_or(String::new(), |q| format!(", equilibrated to {:.1e}", q.worst(problem.mesh.order)));
+                format!("eta = {:.4e}{checks}", e.estimators.global().tot)
+            },
+        )?;
+        seconds.estimate = Some(t);
+        Some(e)
+    } else {
+        None
+    };
     let u = problem.displacement(&disc, &x);
     let sigma = cell_mean_stress(&problem, &u);
     let name = stem(&scene.source);
     let (files, t) = progress.stage(
         "output",
-        || write_results(&dir, &name, &scene, &problem, &u, &sigma, contact.as_ref().map(|c| &c.0)),
+        || write_results(&dir, &name, &scene, &problem, &u, &sigma, contact.as_ref().map(|c| &c.0), estimate.as_ref()),
         |f| format!("{} files in {}", f.len(), dir.display()),
     )?;
     seconds.output = t;
-    let summary = summary(&scene, &problem, &disc, &u, &sigma, contact.as_ref(), seconds, files);
+    let mut summary = summary(&scene, &problem, &disc, &u, &sigma, contact.as_ref(), seconds, files);
+    summary.estimate = estimate.as_ref().map(|e| e.summary());
     write_output(&dir.join("summary.json"), serde_json::to_string_pretty(&summary)?.as_bytes())?;
     if let Some((c, _)) = &contact {
         let stages: Vec<_> = c.stages.iter().collect();
@@ -177,13 +204,22 @@ fn write_results(
     u: &[[f64; 2]],
     sigma: &[[f64; 4]],
     contact: Option<&ContactSolution>,
+    estimate: Option<&Estimate>,
 ) -> Result<Vec<PathBuf>> {
     let mut files = vec![dir.join(format!("{name}.vtu"))];
-    write_mesh_vtu(&files[0], &problem.mesh, &[Field::vector("displacement", u.to_vec())], &stress_fields(sigma))?;
+    let mut cells = stress_fields(sigma);
+    if let Some(e) = estimate {
+        cells.extend(e.cell_fields(&problem.mesh));
+        let dg = dir.join(format!("{name}_dg.vtu"));
+        e.write_discontinuous(&dg, &problem.mesh)?;
+        files.push(dg);
+    }
+    write_mesh_vtu(&files[0], &problem.mesh, &[Field::vector("displacement", u.to_vec())], &cells)?;
     if scene.output.boundary {
-        files.push(dir.join(format!("{name}_boundary.vtu")));
+        let boundary = dir.join(format!("{name}_boundary.vtu"));
         let facet_fields = contact.map(|c| contact_fields(problem.mesh.n_facets(), c)).unwrap_or_default();
-        write_boundary_vtu(&files[1], &problem.mesh, &[Field::vector("displacement", u.to_vec())], &facet_fields)?;
+        write_boundary_vtu(&boundary, &problem.mesh, &[Field::vector("displacement", u.to_vec())], &facet_fields)?;
+        files.push(boundary);
     }
     Ok(files)
 }
@@ -207,7 +243,8 @@ fn stress_fields(sigma: &[[f64; 4]]) -> Vec<Field> {
 /// 0 separation, −1 not a contact facet) and the regularisation error.
 fn contact_fields(n_facets: usize, contact: &ContactSolution) -> Vec<Field> {
     let mut fields = [vec![0.0; n_facets], vec![0.0; n_facets], vec![-1.0; n_facets], vec![0.0; n_facets]];
-    for (&f, state) in contact.facets.iter().zip(&contact.faces) {
+    for (face, state) in contact.nitsche.faces.iter().zip(&contact.faces) {
+        let f = face.facet;
         fields[0][f] = state.pressure;
         fields[1][f] = state.normal_displacement;
         fields[2][f] = if state.contact_length > 0.0 { 1.0 } else { 0.0 };
@@ -242,6 +279,7 @@ fn summary(
         min_principal_stress: principal_stresses.iter().map(|p| p[1]).fold(f64::INFINITY, f64::min),
         max_principal_stress: principal_stresses.iter().map(|p| p[0]).fold(f64::NEG_INFINITY, f64::max),
         contact: contact.map(|(c, settings)| contact_summary(problem, disc, c, settings)),
+        estimate: None,
         seconds,
         files,
     }
@@ -254,8 +292,8 @@ fn contact_summary(
     s: &ContactSettings,
 ) -> ContactSummary {
     let mesh = &problem.mesh;
-    let in_contact = c.facets.iter().zip(&c.faces).filter(|(_, state)| state.contact_length > 0.0);
-    let extent = in_contact.flat_map(|(&f, _)| mesh.facet(f)[..2].iter().map(|&n| mesh.points[n])).fold(
+    let in_contact = c.nitsche.faces.iter().zip(&c.faces).filter(|(_, state)| state.contact_length > 0.0);
+    let extent = in_contact.flat_map(|(face, _)| mesh.facet(face.facet)[..2].iter().map(|&n| mesh.points[n])).fold(
         None,
         |b: Option<[[f64; 2]; 2]>, p| {
             let [lo, hi] = b.unwrap_or([p, p]);

@@ -68,7 +68,9 @@ impl<'a> ContactProblem<'a> {
                 let u = self.local(k, &u_full, &mut dofs);
                 let length = self.nitsche.faces[k].length;
                 let mut state = FaceState::default();
-                for (s, w) in self.nitsche.quadrature(k, &u, self.projection.as_ref()) {
+                let mut levels = self.projection.breakpoints();
+                levels.push(0.0);
+                for (s, w) in self.nitsche.split_rule(k, &self.nitsche.cuts(k, &u, &levels)) {
                     let pt = self.nitsche.point(k, s);
                     let p = self.nitsche.p_gamma(k, &pt, &u);
                     state.pressure -= negative_part(p) * w / length;
@@ -154,7 +156,7 @@ pub fn solve_by_continuation(
         let report = newton(contact, x, options)?;
         x = report.x.clone();
         stages.push(Stage { delta: current, report });
-        if current <= delta {
+        if current <= delta * (1.0 + 1e-9) {
             return Ok((x, stages));
         }
         let next = current / 10.0;
@@ -177,11 +179,13 @@ pub struct ContactSettings {
 pub struct ContactSolution {
     /// Free unknowns.
     pub x: Vec<f64>,
+    /// The iterate before the last Newton step.
+    pub x_prev: Vec<f64>,
     pub stages: Vec<Stage>,
     /// State of every contact face.
     pub faces: Vec<FaceState>,
-    /// Boundary facet index of every contact face.
-    pub facets: Vec<usize>,
+    /// The contact faces and parameters.
+    pub nitsche: Nitsche,
 }
 
 impl ContactSolution {
@@ -205,11 +209,11 @@ pub fn solve_contact(
     settings: &ContactSettings,
 ) -> Result<ContactSolution, NewtonError> {
     let nitsche = Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, tags, settings.parameters);
-    let facets = nitsche.faces.iter().map(|f| f.facet).collect();
     let projection = Box::new(QuadraticSmoothing { delta: settings.delta });
     let mut contact = ContactProblem::new(problem, disc, nitsche, projection);
     let x0 = vec![0.0; disc.dofs.n_free];
     let (x, stages) = solve_by_continuation(&mut contact, settings.delta, settings.delta_start, x0, &settings.newton)?;
     let faces = contact.face_states(&x);
-    Ok(ContactSolution { x, stages, faces, facets })
+    let x_prev = stages.last().map_or_else(|| x.clone(), |s| s.report.x_prev.clone());
+    Ok(ContactSolution { x, x_prev, stages, faces, nitsche: contact.nitsche })
 }

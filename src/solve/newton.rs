@@ -4,7 +4,7 @@
 //! the largest t ∈ {1, ½, ¼, …} with ‖F(x_k + tΔ)‖ ≤ κ ‖F(x_k)‖ (damping only the steps that
 //! blow the residual up, κ = `max_growth`). Each linear solve gets one step of iterative
 //! refinement. It stops when ‖F(x_k)‖ ≤ rtol · scale, where `scale` is the system's load
-//! norm, or when the increment reaches round-off, ‖Δ‖ ≤ 10⁻¹³ ‖x‖. Running out of iterations
+//! norm, or when it stagnates at round-off: ‖Δ‖ ≤ 10⁻¹⁰ ‖x‖ with no halving of ‖F‖. Running out of iterations
 //! is an error that carries the whole history: never a silent wrong answer.
 
 use super::lu::{solve_with, SparseLu};
@@ -91,7 +91,7 @@ impl NewtonReport {
 /// Why Newton stopped without an answer.
 #[derive(Debug, thiserror::Error)]
 pub enum NewtonError {
-    #[error("Newton did not converge in {} steps: relative residuals {}", .history.len(), format_history(.history, *.scale))]
+    #[error("Newton did not converge in {} step(s): relative residuals {}", .history.len(), format_history(.history, *.scale))]
     NotConverged { history: Vec<Iteration>, scale: f64 },
     #[error("Newton step {step}: the increment is not finite (the Jacobian is numerically singular)")]
     NonFinite { step: usize },
@@ -127,7 +127,9 @@ pub fn newton(
         system.evaluate(&x, &mut residual, Some(&mut jacobian));
         seconds.assemble += clock.elapsed().as_secs_f64();
         let r = norm(&residual);
-        let stagnated = history.last().is_some_and(|it: &Iteration| it.increment <= 1e-13 * norm(&x));
+        // round-off floor: a tiny step that no longer reduces the residual
+        let stagnated =
+            history.last().is_some_and(|it: &Iteration| it.increment <= 1e-10 * norm(&x) && r >= 0.5 * it.residual);
         let converged = r <= options.rtol * scale || stagnated;
         if converged && step >= options.min_steps {
             return Ok(NewtonReport { x, x_prev, iterations: history, residual: r, scale, seconds });
