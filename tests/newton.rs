@@ -228,7 +228,7 @@ fn newton_failure_is_a_clear_error() {
                 assert_eq!(history.len(), max_iter);
                 let listed: Vec<String> = history.iter().map(|it| format!("{:.2e}", it.residual / scale)).collect();
                 assert!(
-                    message.contains(&format!("in {max_iter} steps")) && message.contains(&listed.join(", ")),
+                    message.contains(&format!("in {max_iter} step(s)")) && message.contains(&listed.join(", ")),
                     "the message does not list the residual history {listed:?}: {message}"
                 );
             }
