@@ -1,9 +1,14 @@
 """The solution .vtu of `damfem solve` read back with meshio and pyvista, checked against summary.json."""
 
+import json
+import subprocess
+
 import meshio
 import numpy as np
 import pytest
 import pyvista as pv
+
+from conftest import scene
 
 # (scene, --order): Scene A at P1 and P2, and the Hertz scene at its own order (P2)
 CASES = [("scene_a", 1), ("scene_a", 2), ("hertz", None)]
@@ -56,3 +61,29 @@ def test_scene_a_crest_moves_downstream(solved):
     crest = grid.points[:, 1] > 45.0
     assert crest.sum() > 0
     assert grid.point_data["displacement"][crest, 0].mean() > 0.0
+
+
+def test_estimate_fields(damfem, tmp_path):
+    # --check-equilibration adds every estimator and sigma_h to the VTU, writes the
+    # discontinuous _dg.vtu, and reports the global values and checks in the summary
+    out = tmp_path / "estimate"
+    subprocess.run([str(damfem), "solve", "-q", str(scene("scene_a")), "--order", "1", "-o", str(out),
+                    "--check-equilibration"], check=True)
+    summary = json.loads((out / "summary.json").read_text())
+    grid = pv.read(out / "scene_a.vtu")
+    names = ["eta_osc", "eta_flux", "eta_Neu", "eta_disc", "eta_reg", "eta_lin", "eta_tot"]
+    for name in names:
+        assert name in grid.cell_data
+    tot = grid.cell_data["eta_tot"]
+    parts = sum(grid.cell_data[n] for n in names[:-1])
+    np.testing.assert_allclose(tot, parts, rtol=1e-12)
+    assert np.sqrt((tot ** 2).sum()) == pytest.approx(summary["estimate"]["global"]["tot"], rel=1e-9)
+    assert summary["estimate"]["global"]["osc"] == 0.0 and summary["estimate"]["global"]["neu"] == 0.0
+    # weak symmetry is imposed up to the rotation correction for p = 1
+    checks = summary["estimate"]["equilibration"]
+    assert max(v for k, v in checks.items() if k != "weak_symmetry") < 1e-10
+    dg = pv.read(out / "scene_a_dg.vtu")
+    assert dg.n_cells == grid.n_cells and dg.n_points == 3 * grid.n_cells
+    for c in ["sigma_h_xx", "sigma_h_xy", "sigma_h_yx", "sigma_h_yy"]:
+        assert c in dg.point_data and c in grid.cell_data
+        assert np.isfinite(dg.point_data[c]).all()
