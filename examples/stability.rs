@@ -25,13 +25,13 @@ use damfem::contact::nitsche::{Gap, Nitsche, NitscheParameters};
 use damfem::contact::projection::QuadraticSmoothing;
 use damfem::contact::{solve_by_continuation, ContactProblem};
 use damfem::elasticity::stress::cell_mean_stress;
-use damfem::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};
+use damfem::elasticity::{BodyForce, Material, Problem, Traction};
 use damfem::fem::lagrange;
 use damfem::fem::norms::errors;
 use damfem::fem::sparse::SparsePattern;
 use damfem::io::atomic::write_output;
 use damfem::io::gmsh::{mesh_geo, MeshOptions};
-use damfem::mesh::structured::{unit_square, BOTTOM, LEFT, RIGHT, TOP};
+use damfem::mesh::structured::{unit_square, BOTTOM};
 use damfem::mesh::Mesh;
 use damfem::scene::Scene;
 use damfem::solve::lu::solve_with;
@@ -374,46 +374,9 @@ fn rescale(problem: &Problem, sigma0: f64, length: f64) -> Problem {
     scaled
 }
 
-/// V3: manufactured Signorini solution with contact on x < ½ and separation on x > ½
-/// (docs/method.md §7 V3, as in tests/contact.rs). Ω = (0,1)², μ = λ = 1, Γ_C = {y = 0},
-/// Γ_D = {x = 0}, Γ_N = {x = 1} ∪ {y = 1} with g_N = σ(u)n; ψ = (x − ½)₊⁴, φ = (½ − x)₊³,
-/// u = (−y ψ', ψ − y φ).
-mod v3 {
-    const MU: f64 = 1.0;
-    const LAMBDA: f64 = 1.0;
-
-    fn psi(x: f64) -> [f64; 4] {
-        let t = (x - 0.5).max(0.0);
-        [t.powi(4), 4.0 * t.powi(3), 12.0 * t * t, 24.0 * t]
-    }
-
-    fn phi(x: f64) -> [f64; 3] {
-        let t = (0.5 - x).max(0.0);
-        [t.powi(3), -3.0 * t * t, 6.0 * t]
-    }
-
-    pub fn u(p: [f64; 2]) -> [f64; 2] {
-        let (s, f) = (psi(p[0]), phi(p[0]));
-        [-p[1] * s[1], s[0] - p[1] * f[0]]
-    }
-
-    pub fn grad_u(p: [f64; 2]) -> [[f64; 2]; 2] {
-        let (s, f) = (psi(p[0]), phi(p[0]));
-        [[-p[1] * s[2], -s[1]], [s[1] - p[1] * f[1], -f[0]]]
-    }
-
-    /// [σ_xx, σ_yy, σ_xy].
-    pub fn sigma(p: [f64; 2]) -> [f64; 3] {
-        let (s, f, y) = (psi(p[0]), phi(p[0]), p[1]);
-        let c = 2.0 * MU + LAMBDA;
-        [-c * y * s[2] - LAMBDA * f[0], -c * f[0] - LAMBDA * y * s[2], -MU * y * f[1]]
-    }
-
-    pub fn f(p: [f64; 2]) -> [f64; 2] {
-        let (s, f, y) = (psi(p[0]), phi(p[0]), p[1]);
-        [(2.0 * MU + LAMBDA) * y * s[3] + (LAMBDA + MU) * f[1], MU * y * f[2] + LAMBDA * s[2]]
-    }
-}
+/// V3: manufactured Signorini solution (docs/method.md §7), shared with the tests.
+#[path = "../tests/common/v3.rs"]
+mod v3;
 
 /// splitmix64: a small deterministic generator for the distortion.
 struct SplitMix(u64);
@@ -480,21 +443,7 @@ fn v3_problem(n: usize, order: usize, fraction: f64) -> Problem {
     if fraction > 0.0 {
         distort(&mut mesh, fraction, 1.0 / n as f64, SEED);
     }
-    let right = Traction::Field(Arc::new(|x| {
-        let s = v3::sigma(x);
-        [s[0], s[2]]
-    }));
-    let top = Traction::Field(Arc::new(|x| {
-        let s = v3::sigma(x);
-        [s[2], s[1]]
-    }));
-    Problem {
-        materials: vec![Material::from_lame(1.0, 1.0); mesh.n_cells()],
-        dirichlet: vec![Dirichlet { tag: LEFT, fix: [true; 2], value: Arc::new(v3::u) }],
-        neumann: vec![Neumann { tag: RIGHT, traction: right }, Neumann { tag: TOP, traction: top }],
-        body_force: BodyForce::Field(Arc::new(v3::f)),
-        mesh,
-    }
+    v3::problem(mesh)
 }
 
 // ---------------------------------------------------------------------------------------

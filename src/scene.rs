@@ -317,16 +317,6 @@ impl Scene {
     /// Material of every cell: by region name, the default for unnamed regions.
     pub fn cell_materials(&self, mesh: &Mesh) -> Result<Vec<Material>, SceneError> {
         let mut by_tag = BTreeMap::new();
-        let c = &self.contact;
-        if !(c.gamma0 > 0.0) {
-            return Err(self.invalid(format!("contact.gamma0 = {} must be positive", c.gamma0)));
-        }
-        if ![1.0, 0.0, -1.0].contains(&c.theta) {
-            return Err(self.invalid(format!("contact.theta = {} must be 1, 0 or -1", c.theta)));
-        }
-        if c.delta.is_some_and(|d| !(d >= 0.0)) {
-            return Err(self.invalid(format!("contact.delta = {} must be non-negative", c.delta.unwrap_or(0.0))));
-        }
         for (name, m) in &self.materials {
             by_tag.insert(self.group_tag(mesh, 2, name, "material")?, *m);
         }

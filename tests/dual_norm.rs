@@ -6,6 +6,8 @@
 
 mod common;
 
+use common::v3;
+
 use damfem::contact::nitsche::{Gap, Nitsche, NitscheParameters};
 use damfem::contact::projection::QuadraticSmoothing;
 use damfem::contact::{solve_by_continuation, ContactProblem};
@@ -400,64 +402,10 @@ fn contact_patch_test_has_round_off_residual() {
     assert!(dual > 1e-4, "a penetration of 1e-5 with γ = 400 must show: {dual}");
 }
 
-/// V3: manufactured Signorini solution (docs/method.md §7, tests/contact.rs), μ = λ = 1,
-/// contact for x < ½, separation for x > ½.
-mod v3 {
-    pub const MU: f64 = 1.0;
-    pub const LAMBDA: f64 = 1.0;
-
-    fn psi(x: f64) -> [f64; 4] {
-        let t = (x - 0.5).max(0.0);
-        [t.powi(4), 4.0 * t.powi(3), 12.0 * t * t, 24.0 * t]
-    }
-
-    fn phi(x: f64) -> [f64; 3] {
-        let t = (0.5 - x).max(0.0);
-        [t.powi(3), -3.0 * t * t, 6.0 * t]
-    }
-
-    pub fn u(p: [f64; 2]) -> [f64; 2] {
-        let (s, f) = (psi(p[0]), phi(p[0]));
-        [-p[1] * s[1], s[0] - p[1] * f[0]]
-    }
-
-    pub fn grad_u(p: [f64; 2]) -> [[f64; 2]; 2] {
-        let (s, f) = (psi(p[0]), phi(p[0]));
-        [[-p[1] * s[2], -s[1]], [s[1] - p[1] * f[1], -f[0]]]
-    }
-
-    /// [σ_xx, σ_yy, σ_xy].
-    pub fn sigma(p: [f64; 2]) -> [f64; 3] {
-        let (s, f, y) = (psi(p[0]), phi(p[0]), p[1]);
-        let c = 2.0 * MU + LAMBDA;
-        [-c * y * s[2] - LAMBDA * f[0], -c * f[0] - LAMBDA * y * s[2], -MU * y * f[1]]
-    }
-
-    pub fn f(p: [f64; 2]) -> [f64; 2] {
-        let (s, f, y) = (psi(p[0]), phi(p[0]), p[1]);
-        [(2.0 * MU + LAMBDA) * y * s[3] + (LAMBDA + MU) * f[1], MU * y * f[2] + LAMBDA * s[2]]
-    }
-}
-
 /// V3 on the n × n unit square of degree p, solved by the project's Nitsche solver with
 /// θ = 0, γ₀ = 100 and the regularisation δ (δ = 0: the exact projection).
 fn v3_solution(n: usize, order: usize, delta: f64) -> (Problem, Vec<[f64; 2]>) {
-    let mesh = unit_square(n, order);
-    let right = Traction::Field(Arc::new(|x| {
-        let s = v3::sigma(x);
-        [s[0], s[2]]
-    }));
-    let top = Traction::Field(Arc::new(|x| {
-        let s = v3::sigma(x);
-        [s[2], s[1]]
-    }));
-    let problem = Problem {
-        materials: vec![Material::from_lame(v3::LAMBDA, v3::MU); mesh.n_cells()],
-        dirichlet: vec![Dirichlet { tag: LEFT, fix: [true; 2], value: Arc::new(v3::u) }],
-        neumann: vec![Neumann { tag: RIGHT, traction: right }, Neumann { tag: TOP, traction: top }],
-        body_force: BodyForce::Field(Arc::new(v3::f)),
-        mesh,
-    };
+    let problem = v3::problem(unit_square(n, order));
     let disc = problem.discretise();
     let nitsche =
         Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, &[BOTTOM], NitscheParameters::default());
