@@ -70,11 +70,13 @@ fn solve_with_contact(problem: &Problem, tags: &[i32], delta: f64) -> (Vec<[f64;
 }
 
 /// V3 (source: docs/method.md §7), the manufactured Signorini solution, θ = 0, γ₀ = 100,
-/// δ = 10⁻⁸, p = 1, 2. Goal: equilibration to round-off including the three Γ_C traces, and
-/// η ≥ ‖R(u_h)‖ (Riesz representative on the mesh refined once, P2, exact projection).
+/// δ = 10⁻⁸, p = 1, 2, four structured meshes. Goal: equilibration to round-off including
+/// the three Γ_C traces, η ≥ ‖R(u_h)‖ (Riesz representative on the mesh refined once, P2,
+/// exact projection), bounded effectivity and η at the optimal rate.
 #[test]
 fn v3_contact_equilibration_and_guaranteed_bound() {
-    for (order, sizes) in [(1, [4, 8, 16]), (2, [4, 8, 16])] {
+    for (order, sizes) in [(1, [4, 8, 16, 32]), (2, [4, 8, 16, 32])] {
+        let (mut h, mut eta) = (Vec::new(), Vec::new());
         for n in sizes {
             let problem = v3::problem(unit_square(n, order));
             let delta = 1e-8;
@@ -93,6 +95,12 @@ fn v3_contact_equilibration_and_guaranteed_bound() {
             );
             assert!(eq.worst(order) < 1e-10, "P{order} n = {n}: {eq:?}");
             assert!(est.tot >= dual, "P{order} n = {n}: bound violated, eta {} < {dual}", est.tot);
+            assert!(est.tot / dual < 5.0, "P{order} n = {n}: effectivity {}", est.tot / dual);
+            h.push(1.0 / n as f64);
+            eta.push(est.tot);
         }
+        let rate = common::fitted_rate(&h, &eta);
+        println!("P{order}: eta rate {rate:.3}");
+        assert!((rate - order as f64).abs() < 0.2, "P{order}: eta rate {rate}");
     }
 }
