@@ -346,7 +346,6 @@ fn unconverged_newton_iterates_p1_warm_start() {
 /// ψ_a t₃ n. The regularisation case (σ_h2) takes the same code path. Possible fix: apply the rotation
 /// correction (or a per-case compatibility projection) to every case, not just case 0.
 #[test]
-#[ignore = "src bug (estimate/patch.rs): for p = 1 the one-cell patch of the corner (1, 0), where Γ_C meets Γ_N, has a free rotation (deficiency 1) and the rotation correction is applied to case 0 only; the linearisation case gets the pseudo-inverse solution and its Γ_C trace misses ψ_a t₃ n when t₃ varies along the contact face at that corner (early iterates from x_0 = 0): contact check 1.2e-4"]
 fn unconverged_newton_iterates_p1_from_zero() {
     let rows = v3_newton_rows(1, 1e-3, None, 3);
     assert_bound_on_every_iterate(1, &rows);
@@ -534,7 +533,6 @@ const LOW_WATER: f64 = 30.3;
 /// below), so σ_h n is not the L² projection Π_F^p g_N the bound assumes. dual_norm.rs does
 /// split at the level.
 #[test]
-#[ignore = "src bug: Neumann moments of a hydrostatic load are not split at the water level (elasticity/problem.rs add_tractions, estimate/reconstruction.rs traction_moments, estimate/checks.rs Traces::neumann): Neumann check 5.7e-5 on Scene A with the level inside a facet"]
 fn kinked_hydrostatic_load_equilibrates() {
     let mut worst = Vec::new();
     for order in [1, 2] {

@@ -5,7 +5,6 @@
 
 use crate::fem::affine::AffineMap;
 use crate::fem::lagrange;
-use crate::fem::quadrature::Rule1d;
 use crate::fem::tabulate::Tabulation;
 
 /// Element stiffness K_{2i+a, 2j+b} = ∫_T ε(φ_i e_a) : C ε(φ_j e_b), row-major in `k`.
@@ -51,11 +50,12 @@ pub fn body_load(map: &AffineMap, tab: &Tabulation, f: impl Fn([f64; 2]) -> [f64
 }
 
 /// Facet load F_{2i+a} = ∫_F g_a φ_i for a traction `g(x)` on the straight segment a → b whose
-/// nodes are ordered (a, b, midpoint). `phi` is scratch of length order + 1.
+/// nodes are ordered (a, b, midpoint), with a rule (s, weight) on [0, 1]. `phi` is scratch of
+/// length order + 1.
 pub fn traction_load(
     ends: [[f64; 2]; 2],
     order: usize,
-    rule: &Rule1d,
+    rule: &[(f64, f64)],
     g: impl Fn([f64; 2]) -> [f64; 2],
     phi: &mut [f64],
     out: &mut [f64],
@@ -63,7 +63,7 @@ pub fn traction_load(
     let [a, b] = ends;
     let length = (b[0] - a[0]).hypot(b[1] - a[1]);
     out[..2 * (order + 1)].fill(0.0);
-    for (&s, &ws) in rule.points.iter().zip(&rule.weights) {
+    for &(s, ws) in rule {
         let x = [a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1])];
         let gx = g(x);
         lagrange::segment_values(order, s, phi);

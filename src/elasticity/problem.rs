@@ -11,7 +11,7 @@ use super::kernels;
 use super::material::Material;
 use crate::fem::affine::AffineMap;
 use crate::fem::dofs::DofMap;
-use crate::fem::quadrature::gauss_segment;
+use crate::fem::quadrature::{gauss_segment, split_rule};
 use crate::fem::sparse::{vector_dofs, LinearSystem, Local, SparsePattern};
 use crate::fem::tabulate::Tabulation;
 use crate::mesh::{Mesh, Topology};
@@ -40,6 +40,22 @@ pub enum Traction {
 }
 
 impl Traction {
+    /// Parameters s ∈ (0, 1) of the segment a → b where g_N has a kink: the water level of
+    /// a hydrostatic pressure. Quadrature on a facet is split there.
+    pub fn kinks(&self, [a, b]: [[f64; 2]; 2]) -> Vec<f64> {
+        match self {
+            Traction::Hydrostatic { level, .. } if b[1] != a[1] => {
+                let s = (level - a[1]) / (b[1] - a[1]);
+                if s > 0.0 && s < 1.0 {
+                    vec![s]
+                } else {
+                    vec![]
+                }
+            }
+            _ => vec![],
+        }
+    }
+
     /// g_N at point x of a facet with outward normal n.
     pub fn at(&self, x: [f64; 2], n: [f64; 2]) -> [f64; 2] {
         match self {
@@ -87,9 +103,11 @@ pub fn load_degree(order: usize) -> usize {
     2 * order + 6
 }
 
-/// Number of Gauss points per facet for tractions (g_N, v)_F, shared with the estimator.
-pub fn traction_points(order: usize) -> usize {
-    order + 4
+/// The rule (s, weight) on [0, 1] for tractions (g_N, v)_F on the facet with end points
+/// `ends`: p + 4 Gauss points on each piece between the kinks of g_N. The estimator uses the
+/// same rule.
+pub fn traction_rule(traction: &Traction, ends: [[f64; 2]; 2], order: usize) -> Vec<(f64, f64)> {
+    split_rule(&gauss_segment(order + 4), traction.kinks(ends))
 }
 
 /// Dof numbering and matrix pattern of a problem, built once per mesh.
@@ -155,7 +173,6 @@ impl Problem {
 
     fn add_tractions(&self, disc: &Discretisation, system: &mut LinearSystem) {
         let p = self.mesh.order;
-        let rule = gauss_segment(traction_points(p));
         let mut phi = vec![0.0; p + 1];
         let mut f = vec![0.0; 2 * (p + 1)];
         let mut local = Vec::new();
@@ -164,6 +181,7 @@ impl Problem {
                 let nodes = self.mesh.facet(facet);
                 let n = disc.topology.outward_normal(&self.mesh, facet);
                 let ends = [self.mesh.points[nodes[0]], self.mesh.points[nodes[1]]];
+                let rule = traction_rule(&bc.traction, ends, p);
                 kernels::traction_load(ends, p, &rule, |x| bc.traction.at(x, n), &mut phi, &mut f);
                 vector_dofs(nodes, &mut local);
                 system.add_load(&disc.dofs, &local, &f);

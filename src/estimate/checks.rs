@@ -5,7 +5,7 @@
 use super::afw::{self, COMPONENTS};
 use super::face::FaceProjection;
 use super::reconstruction::{contact_rule, tractions, ContactState, Reconstruction};
-use crate::elasticity::problem::load_degree;
+use crate::elasticity::problem::{load_degree, traction_rule};
 use crate::elasticity::{BodyForce, Problem};
 use crate::fem::affine::AffineMap;
 use crate::fem::lagrange;
@@ -211,7 +211,10 @@ impl<'a> Traces<'a> {
             }
             let e = self.topology.facet_edges[f];
             let c = self.topology.facet_cell(f);
-            let (rule, ends) = self.rule(e);
+            let (_, ends) = self.rule(e);
+            let length = crate::mesh::distance(ends[0], ends[1]);
+            let rule: Vec<(f64, f64)> =
+                traction_rule(&bc.traction, ends, mesh.order).into_iter().map(|(s, w)| (s, w * length)).collect();
             let normal = self.topology.outward_normal(mesh, f);
             let projection = FaceProjection::new(mesh.order, &rule);
             // σ_h n along the edge's own normal, which is ± the outward normal

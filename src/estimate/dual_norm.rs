@@ -37,11 +37,11 @@
 //! serves both. ‖r‖²_{C,h} = Σ_a r_aᵀ A_a r_a.
 
 use crate::contact::nitsche::{roots_in_unit_interval, Gap, Nitsche, NitscheParameters};
-use crate::elasticity::{kernels, BodyForce, Problem, Traction};
+use crate::elasticity::{kernels, BodyForce, Problem};
 use crate::fem::affine::AffineMap;
 use crate::fem::dofs::{DofMap, FIXED};
 use crate::fem::lagrange;
-use crate::fem::quadrature::{gauss_segment, Rule1d};
+use crate::fem::quadrature::{gauss_segment, split_rule, Rule1d};
 use crate::fem::sparse::{vector_dofs, LinearSystem, Local, SparsePattern};
 use crate::fem::tabulate::Tabulation;
 use crate::mesh::refine::{elevate_to_p2, refine_levels, Refinement};
@@ -217,19 +217,6 @@ fn volume_residual(problem: &Problem, u_h: &[[f64; 2]], fine: &Refinement) -> Ve
     load
 }
 
-/// Cuts of [0, 1] and a rule per piece: (t, weight) with weights summing to 1.
-fn split_rule(rule: &Rule1d, mut cuts: Vec<f64>) -> Vec<(f64, f64)> {
-    cuts.push(0.0);
-    cuts.push(1.0);
-    cuts.sort_by(f64::total_cmp);
-    cuts.windows(2)
-        .filter(|w| w[1] > w[0])
-        .flat_map(|w| {
-            rule.points.iter().zip(&rule.weights).map(move |(&s, &ws)| (w[0] + s * (w[1] - w[0]), ws * (w[1] - w[0])))
-        })
-        .collect()
-}
-
 /// Adds (g_N, φ_i e_a)_{Γ_N} on the fine Neumann facets.
 fn neumann_residual(problem: &Problem, topology: &Topology, fine: &Refinement, load: &mut [[f64; 2]]) {
     let mesh = &fine.mesh;
@@ -241,18 +228,7 @@ fn neumann_residual(problem: &Problem, topology: &Topology, fine: &Refinement, l
             let nodes = mesh.facet(f);
             let (a, b) = (mesh.points[nodes[0]], mesh.points[nodes[1]]);
             let length = crate::mesh::distance(a, b);
-            let cuts = match bc.traction {
-                // the pressure (H_w − y)₊ has a kink at y = H_w
-                Traction::Hydrostatic { level, .. } if b[1] != a[1] => {
-                    let t = (level - a[1]) / (b[1] - a[1]);
-                    if t > 0.0 && t < 1.0 {
-                        vec![t]
-                    } else {
-                        vec![]
-                    }
-                }
-                _ => vec![],
-            };
+            let cuts = bc.traction.kinks([a, b]);
             for (t, w) in split_rule(&rule, cuts) {
                 let x = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
                 let g = bc.traction.at(x, normal);

@@ -21,7 +21,7 @@ use crate::elasticity::kernels::{displacement_gradient, stress};
 use crate::elasticity::{BodyForce, Problem, Traction};
 use crate::fem::affine::AffineMap;
 use crate::fem::lagrange;
-use crate::fem::quadrature::{gauss_segment, triangle_cached};
+use crate::fem::quadrature::{gauss_segment, split_rule, triangle_cached};
 use crate::mesh::Topology;
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -196,7 +196,8 @@ fn neumann(problem: &Problem, topology: &Topology) -> Vec<f64> {
             let (h_t, area, h_f) = (mesh.cell_diameter(c), mesh.cell_area(c).abs(), mesh.facet_length(f));
             let trace_constant = (h_t * h_t / area / PI * (1.0 / PI + 1.0)).sqrt();
             let normal = topology.outward_normal(mesh, f);
-            let points: Vec<(f64, f64)> = rule.points.iter().zip(&rule.weights).map(|(&s, &w)| (s, w * h_f)).collect();
+            let points: Vec<(f64, f64)> =
+                split_rule(&rule, bc.traction.kinks(ends)).into_iter().map(|(s, w)| (s, w * h_f)).collect();
             let projection = FaceProjection::new(mesh.order, &points);
             let g: Vec<[f64; 2]> = points.iter().map(|&(s, _)| bc.traction.at(lerp(ends, s), normal)).collect();
             let error = (0..2)

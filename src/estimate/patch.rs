@@ -91,9 +91,9 @@ impl PatchInput {
 pub fn solve(input: &PatchInput) -> Result<PatchSolution, String> {
     let cases = input.target.len();
     let (faces, face_rhs) = face_rows(input);
-    let (div, div_rhs, deficiency) = divergence_rows(input);
+    let (div, div_rhs, unseen) = divergence_rows(input);
     let (sym, mut sym_rhs) = symmetry_rows(input);
-    let compatibility = compatibility(input, &face_rhs, &mut sym_rhs);
+    let compatibility = compatibility(input, &face_rhs, &unseen, &mut sym_rhs);
     let b_rows = faces.len() + div.nrows() + sym.len();
     let n = input.n_sigma();
     let mut b = DMatrix::zeros(b_rows, n);
@@ -112,7 +112,7 @@ pub fn solve(input: &PatchInput) -> Result<PatchSolution, String> {
     }
     let minv_bt = apply_inverse_mass(input, &b.transpose());
     let schur = &b * &minv_bt;
-    let solver = SchurSolver::new(schur, deficiency)?;
+    let solver = SchurSolver::new(schur, unseen.len())?;
     let sigma = (0..cases)
         .map(|case| {
             let target = apply_inverse_mass(input, &DMatrix::from_column_slice(n, 1, &input.target[case]));
@@ -196,9 +196,10 @@ fn face_rows(input: &PatchInput) -> (Vec<DVector<f64>>, Vec<Vec<f64>>) {
 }
 
 /// Divergence rows, restricted to test fields orthogonal to the free rigid motions, their
-/// right-hand sides per case, and the number of rigid motions the restriction could not
-/// remove (the dimension of the kernel left in B M⁻¹ Bᵀ).
-fn divergence_rows(input: &PatchInput) -> (DMatrix<f64>, Vec<Vec<f64>>, usize) {
+/// right-hand sides per case, and the free rigid motions with Π^{p−1} z = 0 (as
+/// coefficients over `input.rigid`), which the restriction cannot remove: they stay in the
+/// kernel of B M⁻¹ Bᵀ.
+fn divergence_rows(input: &PatchInput) -> (DMatrix<f64>, Vec<Vec<f64>>, Vec<Vec<f64>>) {
     let (nb, nl) = (input.n_basis, input.n_lower);
     let n_rows = input.cells.len() * nl * 2;
     let mut d = DMatrix::zeros(n_rows, input.n_sigma());
@@ -216,7 +217,7 @@ fn divergence_rows(input: &PatchInput) -> (DMatrix<f64>, Vec<Vec<f64>>, usize) {
     }
     let mut rhs: Vec<Vec<f64>> = input.divergence.clone();
     if input.rigid.is_empty() {
-        return (d, rhs, 0);
+        return (d, rhs, Vec::new());
     }
     // W[row, z] = (ψ_m e_i, z)_T; Qᵀ of W = QR maps the rows onto [range W; null Wᵀ]
     let w = DMatrix::from_fn(n_rows, input.rigid.len(), |row, zi| {
@@ -229,11 +230,12 @@ fn divergence_rows(input: &PatchInput) -> (DMatrix<f64>, Vec<Vec<f64>>, usize) {
     });
     // test fields orthogonal to range(W) = {Π^{p−1} z}: the eigenvectors of I − P_W with
     // eigenvalue 1 (range(W) may have fewer than dim RM dimensions on small patches)
-    let svd = w.svd(true, false);
+    let svd = w.svd(true, true);
     let u: DMatrix<f64> = svd.u.expect("requested");
     let largest = svd.singular_values.max();
-    let rank = svd.singular_values.iter().filter(|&&v| v > 1e-12 * largest).count();
-    let u_k: DMatrix<f64> = u.columns(0, rank).into_owned();
+    let kept: Vec<usize> =
+        (0..svd.singular_values.len()).filter(|&j| svd.singular_values[j] > 1e-12 * largest).collect();
+    let u_k: DMatrix<f64> = u.select_columns(&kept);
     let complement: DMatrix<f64> = DMatrix::identity(n_rows, n_rows) - &u_k * u_k.transpose();
     let eigen = complement.symmetric_eigen();
     let keep: Vec<usize> = (0..n_rows).filter(|&j| eigen.eigenvalues[j] > 0.5).collect();
@@ -242,7 +244,16 @@ fn divergence_rows(input: &PatchInput) -> (DMatrix<f64>, Vec<Vec<f64>>, usize) {
     for column in &mut rhs {
         *column = (q.transpose() * DVector::from_vec(column.clone())).iter().copied().collect();
     }
-    (d, rhs, input.rigid.len() - rank)
+    // rigid motions with Π^{p−1} z = 0: the kernel of W, the complement of its row space
+    let v_t: DMatrix<f64> = svd.v_t.expect("requested");
+    let v_k: DMatrix<f64> = v_t.select_rows(&kept);
+    let r = input.rigid.len();
+    let kernel = (DMatrix::<f64>::identity(r, r) - v_k.transpose() * &v_k).symmetric_eigen();
+    let unseen: Vec<Vec<f64>> = (0..r)
+        .filter(|&j| kernel.eigenvalues[j] > 0.5)
+        .map(|j| kernel.eigenvectors.column(j).iter().copied().collect())
+        .collect();
+    (d, rhs, unseen)
 }
 
 /// Weak-symmetry rows (τ_xy − τ_yx, ψ_m)_T and zero right-hand sides.
@@ -263,16 +274,11 @@ fn symmetry_rows(input: &PatchInput) -> (Vec<DVector<f64>>, Vec<Vec<f64>>) {
     (rows, vec![vec![0.0; n]; input.target.len()])
 }
 
-/// Defect of the compatibility condition (C) of case 0 for each free rigid motion z:
-/// Σ_F (t_F, z)_F − (Π^{p−1} g, z)_{ω_a} − (c, ∇z)_{ω_a}. For p = 1 the symmetry datum is
-/// corrected by c = κ J, (c, ∇z) = −2bκ|ω_a|, which removes the rotational defect. Returns
-/// the largest remaining defect and the largest sum of absolute terms.
-fn compatibility(input: &PatchInput, face_rhs: &[Vec<f64>], sym_rhs: &mut [Vec<f64>]) -> (f64, f64) {
-    if input.rigid.is_empty() {
-        return (0.0, 0.0);
-    }
+/// Defect of the compatibility condition (C) of one case for each free rigid motion z:
+/// Σ_F (t_F, z)_F − (Π^{p−1} g, z)_{ω_a} (with c = 0), and the sum of its absolute terms.
+fn defects(input: &PatchInput, face_rhs: &[f64], divergence: &[f64]) -> Vec<(f64, f64)> {
     let nl = input.n_lower;
-    let defects: Vec<(f64, f64)> = input
+    input
         .rigid
         .iter()
         .map(|z| {
@@ -285,7 +291,7 @@ fn compatibility(input: &PatchInput, face_rhs: &[Vec<f64>], sym_rhs: &mut [Vec<f
                 };
                 for m in 0..=input.order {
                     for i in (0..2).filter(|&i| active[i]) {
-                        let term = face_rhs[0][row] * input.rigid_motion(z, face.nodes[m])[i];
+                        let term = face_rhs[row] * input.rigid_motion(z, face.nodes[m])[i];
                         faces += term;
                         scale += term.abs();
                         row += 1;
@@ -297,7 +303,7 @@ fn compatibility(input: &PatchInput, face_rhs: &[Vec<f64>], sym_rhs: &mut [Vec<f
                 for m in 0..nl {
                     let zm = input.rigid_motion(z, input.lower_nodes[t][m]);
                     for i in 0..2 {
-                        let term = input.divergence[0][(t * nl + m) * 2 + i] * zm[i];
+                        let term = divergence[(t * nl + m) * 2 + i] * zm[i];
                         volume += term;
                         scale += term.abs();
                     }
@@ -305,20 +311,54 @@ fn compatibility(input: &PatchInput, face_rhs: &[Vec<f64>], sym_rhs: &mut [Vec<f
             }
             (faces - volume, scale)
         })
-        .collect();
-    let scale = defects.iter().map(|d| d.1).fold(0.0, f64::max);
-    if input.rotation_correction {
-        let b2: f64 = input.rigid.iter().map(|z| z[2] * z[2]).sum();
-        if b2 > 0.0 {
-            let kappa =
-                -input.rigid.iter().zip(&defects).map(|(z, d)| d.0 * z[2]).sum::<f64>() / (2.0 * input.area * b2);
-            correct_symmetry(input, kappa, &mut sym_rhs[0]);
-            let corrected =
-                input.rigid.iter().zip(&defects).map(|(z, d)| (d.0 + 2.0 * z[2] * kappa * input.area).abs());
-            return (corrected.fold(0.0, f64::max), scale);
+        .collect()
+}
+
+/// κ of the symmetry datum c = κ J that cancels the defects d along the rigid-motion
+/// combinations `directions` (coefficients over `input.rigid`): (c, ∇z) = −2bκ|ω_a| for
+/// z = a + b(−y, x), least squares over the directions. None if they hold no rotation.
+fn rotation_kappa(input: &PatchInput, d: &[(f64, f64)], directions: &[Vec<f64>]) -> Option<f64> {
+    let combine = |c: &Vec<f64>, f: &dyn Fn(usize) -> f64| c.iter().enumerate().map(|(k, ck)| ck * f(k)).sum::<f64>();
+    let (mut num, mut den) = (0.0, 0.0);
+    for c in directions {
+        let (dn, bn) = (combine(c, &|k| d[k].0), combine(c, &|k| input.rigid[k][2]));
+        num += dn * bn;
+        den += bn * bn;
+    }
+    (den > 0.0).then(|| -num / (2.0 * input.area * den))
+}
+
+/// Makes the data compatible where (C) is needed. The total (case 0) must satisfy (C) for
+/// every free z, so that ∇·σ^a = Π^{p−1} g_a exactly: for p = 1 the rotational defect is
+/// cancelled by c = κ J, (c, ∇z) = −2bκ|ω_a|. The other cases only need (C) along the
+/// motions with Π^{p−1} z = 0 (`unseen`), which the restricted divergence cannot absorb.
+/// Returns the largest remaining defect of the total and the largest sum of its terms.
+fn compatibility(
+    input: &PatchInput,
+    face_rhs: &[Vec<f64>],
+    unseen: &[Vec<f64>],
+    sym_rhs: &mut [Vec<f64>],
+) -> (f64, f64) {
+    if input.rigid.is_empty() {
+        return (0.0, 0.0);
+    }
+    let all: Vec<Vec<f64>> =
+        (0..input.rigid.len()).map(|k| (0..input.rigid.len()).map(|j| f64::from(j == k)).collect()).collect();
+    let mut total = (0.0, 0.0);
+    for case in 0..input.target.len() {
+        let d = defects(input, &face_rhs[case], &input.divergence[case]);
+        let directions = if case == 0 { &all } else { unseen };
+        let kappa = if input.rotation_correction { rotation_kappa(input, &d, directions) } else { None };
+        if let Some(kappa) = kappa {
+            correct_symmetry(input, kappa, &mut sym_rhs[case]);
+        }
+        if case == 0 {
+            let kappa = kappa.unwrap_or(0.0);
+            let remaining = input.rigid.iter().zip(&d).map(|(z, d)| (d.0 + 2.0 * z[2] * kappa * input.area).abs());
+            total = (remaining.fold(0.0, f64::max), d.iter().map(|d| d.1).fold(0.0, f64::max));
         }
     }
-    (defects.iter().map(|d| d.0.abs()).fold(0.0, f64::max), scale)
+    total
 }
 
 /// Adds (κ J, m J)_T = 2κ ∫_T ψ_m to the symmetry right-hand side.

@@ -17,11 +17,11 @@ use super::patch::{self, FaceKind, PatchFace, PatchInput};
 use crate::contact::nitsche::Nitsche;
 use crate::contact::projection::{negative_part, Projection};
 use crate::elasticity::kernels::{displacement_gradient, stress};
-use crate::elasticity::problem::{load_degree, traction_points};
+use crate::elasticity::problem::{load_degree, traction_rule};
 use crate::elasticity::{BodyForce, Problem, Traction};
 use crate::fem::affine::AffineMap;
 use crate::fem::lagrange;
-use crate::fem::quadrature::{gauss_segment, triangle_cached};
+use crate::fem::quadrature::triangle_cached;
 use crate::mesh::topology::NONE;
 use crate::mesh::{Mesh, Topology};
 use rayon::prelude::*;
@@ -356,9 +356,8 @@ fn traction_moments(ctx: &Context, traction: &Traction, a: usize, ends: [usize; 
     let mesh = &ctx.problem.mesh;
     let (pa, pb) = (mesh.points[ends[0]], mesh.points[ends[1]]);
     let length = crate::mesh::distance(pa, pb);
-    let rule = gauss_segment(traction_points(mesh.order));
     let mut q = [0.0; 3];
-    for (&s, &w) in rule.points.iter().zip(&rule.weights) {
+    for (s, w) in traction_rule(traction, [pa, pb], mesh.order) {
         let x = [pa[0] + s * (pb[0] - pa[0]), pa[1] + s * (pb[1] - pa[1])];
         let psi = if ends[0] == a { 1.0 - s } else { s };
         let g = traction.at(x, normal);

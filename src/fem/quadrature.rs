@@ -63,6 +63,21 @@ fn legendre_root(n: usize, i: usize) -> (f64, f64) {
 
 /// Gauss–Legendre rule with `n ≥ 1` points on `[0, 1]`, in increasing order.
 ///
+/// The rule applied on each piece of [0, 1] cut at `cuts` (points inside (0, 1); the ends
+/// are added): (s, weight), weights summing to 1. Integrates piecewise polynomials with
+/// breaks at the cuts as exactly as the rule integrates polynomials.
+pub fn split_rule(rule: &Rule1d, mut cuts: Vec<f64>) -> Vec<(f64, f64)> {
+    cuts.push(0.0);
+    cuts.push(1.0);
+    cuts.sort_by(f64::total_cmp);
+    cuts.windows(2)
+        .filter(|w| w[1] > w[0])
+        .flat_map(|w| {
+            rule.points.iter().zip(&rule.weights).map(move |(&s, &ws)| (w[0] + s * (w[1] - w[0]), ws * (w[1] - w[0])))
+        })
+        .collect()
+}
+
 /// On `[−1, 1]` the nodes are the roots `tᵢ` of `P_n` with weights `2 / ((1 − tᵢ²) P_n'(tᵢ)²)`;
 /// they are mapped by `x = (1 − t) / 2`, halving the weights. Exact to degree `2n − 1`.
 pub fn gauss_segment(n: usize) -> Rule1d {
