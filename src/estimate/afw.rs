@@ -46,6 +46,8 @@ pub fn lower_nodes(order: usize) -> &'static [[f64; 2]] {
 pub struct CellIntegrals {
     /// ∫_T φ_k φ_l, n_basis × n_basis, row-major.
     pub mass: Vec<f64>,
+    /// The inverse of `mass`, row-major.
+    pub mass_inverse: Vec<f64>,
     /// ∫_T ∂_j φ_k ψ_m at `[(m · n_basis + k) · 2 + j]`.
     pub divergence: Vec<f64>,
     /// ∫_T φ_k ψ_m at `[m · n_basis + k]`.
@@ -61,6 +63,7 @@ pub fn cell_integrals(order: usize, map: &AffineMap) -> CellIntegrals {
     let (mut phi, mut grad, mut psi) = ([0.0; 6], [[0.0; 2]; 6], [0.0; 3]);
     let mut out = CellIntegrals {
         mass: vec![0.0; nb * nb],
+        mass_inverse: Vec::new(),
         divergence: vec![0.0; nl * nb * 2],
         lower_mass: vec![0.0; nl * nb],
         lower_gram: vec![0.0; nl * nl],
@@ -87,6 +90,9 @@ pub fn cell_integrals(order: usize, map: &AffineMap) -> CellIntegrals {
             }
         }
     }
+    let inverse =
+        nalgebra::DMatrix::from_row_slice(nb, nb, &out.mass).try_inverse().expect("the mass matrix is invertible");
+    out.mass_inverse = inverse.transpose().as_slice().to_vec(); // column-major storage of the transpose = row-major
     out
 }
 

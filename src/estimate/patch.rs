@@ -40,11 +40,11 @@ pub struct PatchFace {
 }
 
 /// Data of one patch problem with `cases` right-hand sides.
-pub struct PatchInput {
+pub struct PatchInput<'a> {
     pub order: usize,
     pub n_basis: usize,
     pub n_lower: usize,
-    pub cells: Vec<CellIntegrals>,
+    pub cells: Vec<&'a CellIntegrals>,
     pub faces: Vec<PatchFace>,
     /// (τ*, φ_k E_c)_T per case, cell-major: `[case][cell · 4 n_basis + c · n_basis + k]`.
     pub target: Vec<Vec<f64>>,
@@ -71,7 +71,7 @@ pub struct PatchSolution {
     pub compatibility: (f64, f64),
 }
 
-impl PatchInput {
+impl PatchInput<'_> {
     fn n_sigma(&self) -> usize {
         self.cells.len() * COMPONENTS * self.n_basis
     }
@@ -111,7 +111,7 @@ pub fn solve(input: &PatchInput) -> Result<PatchSolution, String> {
         rhs.set_column(case, &DVector::from_vec(column));
     }
     let minv_bt = apply_inverse_mass(input, &b.transpose());
-    let schur = &b * &minv_bt;
+    let schur = schur_complement(input, &b, &minv_bt);
     let solver = SchurSolver::new(schur, unseen.len())?;
     let sigma = (0..cases)
         .map(|case| {
@@ -373,18 +373,36 @@ fn correct_symmetry(input: &PatchInput, kappa: f64, sym_rhs: &mut [f64]) {
     }
 }
 
+/// S = B M⁻¹ Bᵀ = Σ_T B_T M_T⁻¹ B_Tᵀ, each cell contributing only to the rows that touch it.
+fn schur_complement(input: &PatchInput, b: &DMatrix<f64>, minv_bt: &DMatrix<f64>) -> DMatrix<f64> {
+    let width = COMPONENTS * input.n_basis;
+    let mut schur = DMatrix::zeros(b.nrows(), b.nrows());
+    for t in 0..input.cells.len() {
+        let start = t * width;
+        let rows: Vec<usize> =
+            (0..b.nrows()).filter(|&r| b.view((r, start), (1, width)).iter().any(|&v| v != 0.0)).collect();
+        let block = b.select_rows(&rows).columns(start, width).into_owned();
+        let scaled = minv_bt.rows(start, width).select_columns(&rows);
+        let product = block * scaled;
+        for (i, &ri) in rows.iter().enumerate() {
+            for (j, &rj) in rows.iter().enumerate() {
+                schur[(ri, rj)] += product[(i, j)];
+            }
+        }
+    }
+    schur
+}
+
 /// M⁻¹ X for the block-diagonal mass matrix of the patch (same cell block for every
 /// component).
 fn apply_inverse_mass(input: &PatchInput, x: &DMatrix<f64>) -> DMatrix<f64> {
     let nb = input.n_basis;
     let mut out = x.clone();
     for (t, cell) in input.cells.iter().enumerate() {
-        let mass = DMatrix::from_row_slice(nb, nb, &cell.mass);
-        let chol = mass.cholesky().expect("the mass matrix is positive definite");
+        let inverse = DMatrix::from_row_slice(nb, nb, &cell.mass_inverse);
         for c in 0..COMPONENTS {
             let start = input.index(t, c, 0);
-            let block = chol.solve(&x.rows(start, nb).into_owned());
-            out.rows_mut(start, nb).copy_from(&block);
+            out.rows_mut(start, nb).copy_from(&(&inverse * x.rows(start, nb)));
         }
     }
     out

@@ -173,7 +173,7 @@ fn hat_gradient(ia: usize) -> [f64; 2] {
 }
 
 /// The data of the patch problem of the k-th vertex.
-fn patch_input(ctx: &Context, k: usize) -> PatchInput {
+fn patch_input<'a>(ctx: &'a Context, k: usize) -> PatchInput<'a> {
     let mesh = &ctx.problem.mesh;
     let order = mesh.order;
     let (nb, nl) = (lagrange::n_basis(order), afw::n_lower(order));
@@ -198,7 +198,7 @@ fn patch_input(ctx: &Context, k: usize) -> PatchInput {
         order,
         n_basis: nb,
         n_lower: nl,
-        cells: cells.iter().map(|&c| clone_integrals(&ctx.integrals[c])).collect(),
+        cells: cells.iter().map(|&c| &ctx.integrals[c]).collect(),
         faces,
         target,
         divergence,
@@ -210,15 +210,6 @@ fn patch_input(ctx: &Context, k: usize) -> PatchInput {
         origin,
         area: cells.iter().map(|&c| ctx.maps[c].area()).sum(),
         rotation_correction: order == 1,
-    }
-}
-
-fn clone_integrals(c: &CellIntegrals) -> CellIntegrals {
-    CellIntegrals {
-        mass: c.mass.clone(),
-        divergence: c.divergence.clone(),
-        lower_mass: c.lower_mass.clone(),
-        lower_gram: c.lower_gram.clone(),
     }
 }
 
