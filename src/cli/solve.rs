@@ -4,7 +4,7 @@
 use super::common::{output_dir, stem, Input};
 use super::estimate::{self, Estimate, EstimateSummary};
 use crate::contact::nitsche::{Gap, NitscheParameters};
-use crate::contact::{solve_contact, ContactSettings, ContactSolution};
+use crate::contact::{solve_contact, ContactSettings, ContactSolution, Stage};
 use crate::elasticity::kernels::{principal, von_mises};
 use crate::elasticity::stress::cell_mean_stress;
 use crate::elasticity::{Discretisation, Problem};
@@ -61,6 +61,13 @@ struct Summary {
     estimate: Option<EstimateSummary>,
     seconds: Timings,
     files: Vec<PathBuf>,
+}
+
+/// What `history.json` records: the Newton steps at each δ and the estimate of the solution.
+#[derive(Serialize)]
+struct History<'a> {
+    newton: Vec<&'a Stage>,
+    estimate: Option<&'a EstimateSummary>,
 }
 
 /// Contact part of the summary.
@@ -159,9 +166,12 @@ pub fn run(args: Args) -> Result<()> {
     let mut summary = summary(&scene, &problem, &disc, &u, &sigma, contact.as_ref(), seconds, files);
     summary.estimate = estimate.as_ref().map(|e| e.summary());
     write_output(&dir.join("summary.json"), serde_json::to_string_pretty(&summary)?.as_bytes())?;
-    if let Some((c, _)) = &contact {
-        let stages: Vec<_> = c.stages.iter().collect();
-        write_output(&dir.join("history.json"), serde_json::to_string_pretty(&stages)?.as_bytes())?;
+    if contact.is_some() || summary.estimate.is_some() {
+        let history = History {
+            newton: contact.as_ref().map(|(c, _)| c.stages.iter().collect()).unwrap_or_default(),
+            estimate: summary.estimate.as_ref(),
+        };
+        write_output(&dir.join("history.json"), serde_json::to_string_pretty(&history)?.as_bytes())?;
     }
     progress.say(&format!(
         "max |u| = {:.4e} m, max von Mises = {:.4e} Pa; results in {}",
