@@ -40,15 +40,14 @@
 //! - the converged contact solve takes 22 Newton steps at 10⁴ and 28 at 10⁵ (target ≤ 10
 //!   at 10⁵ not met): ≈ 50 to 100 bonded Cholesky solves.
 
-use damfem::contact::nitsche::{Gap, Nitsche, NitscheParameters};
+use damfem::contact::nitsche::Nitsche;
 use damfem::contact::projection::QuadraticSmoothing;
-use damfem::contact::{solve_contact, ContactProblem, ContactSettings};
-use damfem::elasticity::{Discretisation, Problem};
+use damfem::contact::{solve_contact, ContactProblem};
 use damfem::io::atomic::write_output;
 use damfem::io::gmsh::{mesh_geo, MeshOptions};
 use damfem::scene::{Role, Scene};
 use damfem::solve::lu::solve_with;
-use damfem::solve::{Cholesky, NewtonOptions, NonlinearSystem, SparseLu};
+use damfem::solve::{Cholesky, NonlinearSystem, SparseLu};
 use faer::sparse::linalg::solvers::{Lu, SymbolicLu};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -141,24 +140,6 @@ struct Row {
     peak_mib: f64,
 }
 
-/// The contact settings of `damfem solve` (src/cli/solve.rs, `contact_settings`) for a scene
-/// without overrides.
-fn cli_settings(scene: &Scene, problem: &Problem, disc: &Discretisation) -> ContactSettings {
-    let c = &scene.contact;
-    let scale = problem.stress_scale(&disc.topology);
-    let delta = c.delta.unwrap_or(1e-4 * scale);
-    ContactSettings {
-        parameters: NitscheParameters {
-            gamma0: c.gamma0,
-            theta: c.theta,
-            gap: Gap { constant: c.gap, gradient: c.gap_gradient },
-        },
-        delta,
-        delta_start: delta.max(c.delta_start.unwrap_or(0.0) * scale),
-        newton: NewtonOptions { max_iter: c.max_iter, rtol: c.rtol, ..Default::default() },
-    }
-}
-
 fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize) -> Row {
     // 1. Mesh Scene A with gmsh at this size factor; the contact problem and its pattern
     let options = MeshOptions {
@@ -183,7 +164,7 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
     );
 
     // 2. Converged contact solve from zero with the CLI's settings: number of Newton steps
-    let settings = cli_settings(scene, &problem, &disc);
+    let settings = scene.contact_settings(&problem, &disc.topology);
     let (solution, contact_solve) =
         timed(|| solve_contact(&problem, &disc, &tags, &settings).expect("Newton converges on Scene A"));
     let newton_steps = solution.newton_steps();

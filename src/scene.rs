@@ -6,8 +6,11 @@
 //! `Gamma_N`, `Gamma_C`, or `dirichlet`, `neumann`, `contact`, any case) and the default
 //! material [`Scene::DEFAULT_MATERIAL`] to every region.
 
+use crate::contact::nitsche::{Gap, NitscheParameters};
+use crate::contact::ContactSettings;
 use crate::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};
 use crate::mesh::{Mesh, Topology};
+use crate::solve::NewtonOptions;
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -217,7 +220,7 @@ impl Scene {
         })?;
         scene.geometry = path.parent().unwrap_or(Path::new("")).join(&scene.geometry);
         scene.source = path.into();
-        scene.validate_sections()?;
+        scene.validate()?;
         Ok(scene)
     }
 
@@ -239,8 +242,8 @@ impl Scene {
         SceneError::Invalid { path: self.source.clone(), message }
     }
 
-    /// Checks the values that need no mesh.
-    fn validate_sections(&self) -> Result<(), SceneError> {
+    /// Checks the values that need no mesh (done by [`Scene::load`]; again after changes).
+    pub fn validate(&self) -> Result<(), SceneError> {
         if !(self.mesh.order == 1 || self.mesh.order == 2) {
             return Err(self.invalid(format!("mesh.order = {} must be 1 or 2", self.mesh.order)));
         }
@@ -321,6 +324,27 @@ impl Scene {
             by_tag.insert(self.group_tag(mesh, 2, name, "material")?, *m);
         }
         Ok(mesh.cell_tags.iter().map(|t| *by_tag.get(t).unwrap_or(&Self::DEFAULT_MATERIAL)).collect())
+    }
+
+    /// The contact solver settings of the `[contact]` table: δ defaults to 10⁻⁴ times the
+    /// stress scale of `problem` (0 for the semismooth projection).
+    pub fn contact_settings(&self, problem: &Problem, topology: &Topology) -> ContactSettings {
+        let c = &self.contact;
+        let scale = problem.stress_scale(topology);
+        let delta = match c.projection {
+            ProjectionKind::Semismooth => 0.0,
+            ProjectionKind::Quadratic => c.delta.unwrap_or(1e-4 * scale),
+        };
+        ContactSettings {
+            parameters: NitscheParameters {
+                gamma0: c.gamma0,
+                theta: c.theta,
+                gap: Gap { constant: c.gap, gradient: c.gap_gradient },
+            },
+            delta,
+            delta_start: delta.max(c.delta_start.unwrap_or(0.0) * scale),
+            newton: NewtonOptions { max_iter: c.max_iter, rtol: c.rtol, ..Default::default() },
+        }
     }
 
     /// Physical tags of the curves with role "contact".

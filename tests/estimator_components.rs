@@ -11,7 +11,7 @@
 mod common;
 
 use common::{v1, v3};
-use damfem::contact::nitsche::{Gap, Nitsche, NitscheParameters};
+use damfem::contact::nitsche::{Nitsche, NitscheParameters};
 use damfem::contact::projection::QuadraticSmoothing;
 use damfem::contact::{solve_contact, ContactProblem, ContactSettings};
 use damfem::elasticity::{BodyForce, Discretisation, Material, Neumann, Problem, Traction};
@@ -182,31 +182,13 @@ fn scene_mesh(file: &str, order: usize, size_factor: f64) -> (Scene, Mesh) {
     (scene, mesh)
 }
 
-/// The CLI's contact settings (src/cli/solve.rs contact_settings without overrides):
-/// δ = 10⁻⁴ S unless the scene gives δ, γ₀ and θ of the scene, its gap, one stage.
-fn cli_settings(scene: &Scene, problem: &Problem, disc: &Discretisation) -> ContactSettings {
-    let c = &scene.contact;
-    let scale = problem.stress_scale(&disc.topology);
-    let delta = c.delta.unwrap_or(1e-4 * scale);
-    ContactSettings {
-        parameters: NitscheParameters {
-            gamma0: c.gamma0,
-            theta: c.theta,
-            gap: Gap { constant: c.gap, gradient: c.gap_gradient },
-        },
-        delta,
-        delta_start: delta.max(c.delta_start.unwrap_or(0.0) * scale),
-        newton: NewtonOptions { max_iter: c.max_iter, rtol: c.rtol, ..Default::default() },
-    }
-}
-
 /// Solves a scene with contact (CLI settings): the problem, its contact tags and the run.
 fn scene_with_contact(file: &str, order: usize, size_factor: f64) -> (Problem, Vec<i32>, ContactRun) {
     let (scene, mesh) = scene_mesh(file, order, size_factor);
     let tags = scene.contact_tags(&mesh).unwrap_or_else(|e| panic!("{e}"));
     let problem = scene.problem(mesh).unwrap_or_else(|e| panic!("{e}"));
     let disc = problem.discretise();
-    let settings = cli_settings(&scene, &problem, &disc);
+    let settings = scene.contact_settings(&problem, &disc.topology);
     assert_eq!(settings.parameters.theta, 0.0, "{file}: the estimator needs theta = 0");
     let run = solve_with_contact(&problem, &disc, &tags, &settings);
     (problem, tags, run)
@@ -512,7 +494,7 @@ fn scene_a_low_water(problem: &Problem, tags: &[i32]) -> (Problem, Evaluation) {
         }
     }
     let disc = low.discretise();
-    let settings = cli_settings(&Scene::load(&manifest("geo/scene_a.toml")).unwrap(), &low, &disc);
+    let settings = Scene::load(&manifest("geo/scene_a.toml")).unwrap().contact_settings(&low, &disc.topology);
     let run = solve_with_contact(&low, &disc, tags, &settings);
     let e = evaluate(&low, &run.u, run.state(), tags, Some(1));
     (low, e)

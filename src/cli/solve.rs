@@ -3,7 +3,6 @@
 
 use super::common::{output_dir, stem, Input};
 use super::estimate::{self, Estimate, EstimateSummary};
-use crate::contact::nitsche::{Gap, NitscheParameters};
 use crate::contact::{solve_contact, ContactSettings, ContactSolution, Stage};
 use crate::elasticity::kernels::{principal, von_mises};
 use crate::elasticity::stress::cell_mean_stress;
@@ -11,7 +10,7 @@ use crate::elasticity::{Discretisation, Problem};
 use crate::io::atomic::write_output;
 use crate::io::vtu::{write_boundary_vtu, write_mesh_vtu, Field};
 use crate::scene::{ProjectionKind, Scene};
-use crate::solve::{Cholesky, NewtonOptions};
+use crate::solve::Cholesky;
 use anyhow::Result;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -100,7 +99,8 @@ struct Timings {
 pub fn run(args: Args) -> Result<()> {
     let input = &args.input;
     let progress = input.progress();
-    let scene = input.scene()?;
+    let mut scene = input.scene()?;
+    override_contact(&args, &mut scene)?;
     let dir = output_dir(&args.output, &scene)?;
     let mut seconds = Timings::default();
     let (mesh, t) = progress.stage(
@@ -120,7 +120,7 @@ pub fn run(args: Args) -> Result<()> {
     let (solution, t) = if tags.is_empty() {
         progress.stage("solve", || Ok((linear_solve(&problem, &disc)?, None)), |_| "sparse Cholesky".into())?
     } else {
-        let settings = contact_settings(&args, &scene, &problem, &disc);
+        let settings = scene.contact_settings(&problem, &disc.topology);
         progress.stage(
             "solve",
             || Ok(solve_contact(&problem, &disc, &tags, &settings).map(|s| (s.x.clone(), Some((s, settings))))?),
@@ -187,22 +187,16 @@ fn linear_solve(problem: &Problem, disc: &Discretisation) -> Result<Vec<f64>> {
     Ok(Cholesky::analyse(&disc.pattern)?.solve(&disc.pattern, &system.values, &system.rhs)?)
 }
 
-/// Contact settings from the scene, overridden by the command line.
-fn contact_settings(args: &Args, scene: &Scene, problem: &Problem, disc: &Discretisation) -> ContactSettings {
-    let c = &scene.contact;
-    let scale = problem.stress_scale(&disc.topology);
-    let semismooth = args.semismooth || c.projection == ProjectionKind::Semismooth;
-    let delta = if semismooth { 0.0 } else { args.delta.or(c.delta).unwrap_or(1e-4 * scale) };
-    ContactSettings {
-        parameters: NitscheParameters {
-            gamma0: args.gamma0.unwrap_or(c.gamma0),
-            theta: args.theta.unwrap_or(c.theta),
-            gap: Gap { constant: c.gap, gradient: c.gap_gradient },
-        },
-        delta,
-        delta_start: delta.max(c.delta_start.unwrap_or(0.0) * scale),
-        newton: NewtonOptions { max_iter: c.max_iter, rtol: c.rtol, ..Default::default() },
+/// The scene's `[contact]` table with the command-line overrides.
+fn override_contact(args: &Args, scene: &mut Scene) -> Result<()> {
+    let c = &mut scene.contact;
+    c.gamma0 = args.gamma0.unwrap_or(c.gamma0);
+    c.theta = args.theta.unwrap_or(c.theta);
+    c.delta = args.delta.or(c.delta);
+    if args.semismooth {
+        c.projection = ProjectionKind::Semismooth;
     }
+    Ok(scene.validate()?)
 }
 
 /// Writes the mesh and boundary VTU files; returns their paths.
