@@ -25,6 +25,7 @@
 //! Data flows one way: a module never calls a module above it; `cli` drives the pipeline.
 //! The method is described in `docs/method.md`.
 
+pub mod adapt;
 pub mod cli;
 pub mod contact;
 pub mod elasticity;

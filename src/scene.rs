@@ -6,6 +6,7 @@
 //! `Gamma_N`, `Gamma_C`, or `dirichlet`, `neumann`, `contact`, any case) and the default
 //! material [`Scene::DEFAULT_MATERIAL`] to every region.
 
+use crate::adapt::{AdaptError, AdaptSettings, Model};
 use crate::contact::nitsche::{Gap, NitscheParameters};
 use crate::contact::ContactSettings;
 use crate::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};
@@ -174,11 +175,15 @@ pub struct OutputSection {
     pub directory: PathBuf,
     /// Also write the boundary facets with their physical tags.
     pub boundary: bool,
+    /// With an estimate: write the η fields of every cell.
+    pub estimators: bool,
+    /// With an estimate: write σ_h (cell means and the discontinuous `_dg.vtu`).
+    pub reconstruction: bool,
 }
 
 impl Default for OutputSection {
     fn default() -> Self {
-        OutputSection { directory: PathBuf::from("out"), boundary: true }
+        OutputSection { directory: PathBuf::from("out"), boundary: true, estimators: true, reconstruction: true }
     }
 }
 
@@ -200,6 +205,8 @@ pub struct Scene {
     pub loads: LoadSection,
     #[serde(default)]
     pub contact: ContactSection,
+    #[serde(default)]
+    pub adapt: AdaptSettings,
     #[serde(default)]
     pub output: OutputSection,
     /// The file this scene was read from (the geometry itself for a default scene).
@@ -233,6 +240,7 @@ impl Scene {
             boundary: BTreeMap::new(),
             loads: LoadSection::default(),
             contact: ContactSection::default(),
+            adapt: AdaptSettings::default(),
             output: OutputSection::default(),
             source: path.into(),
         }
@@ -260,6 +268,7 @@ impl Scene {
         if c.delta.is_some_and(|d| !(d >= 0.0)) {
             return Err(self.invalid(format!("contact.delta = {} must be non-negative", c.delta.unwrap_or(0.0))));
         }
+        self.adapt.validate().map_err(|message| self.invalid(message))?;
         for (name, m) in &self.materials {
             m.validate().map_err(|message| SceneError::Material {
                 path: self.source.clone(),
@@ -326,6 +335,17 @@ impl Scene {
         Ok(mesh.cell_tags.iter().map(|t| *by_tag.get(t).unwrap_or(&Self::DEFAULT_MATERIAL)).collect())
     }
 
+    /// Nitsche parameters of the `[contact]` table.
+    fn nitsche_parameters(&self) -> NitscheParameters {
+        let c = &self.contact;
+        NitscheParameters { gamma0: c.gamma0, theta: c.theta, gap: Gap { constant: c.gap, gradient: c.gap_gradient } }
+    }
+
+    /// Newton options of the `[contact]` table.
+    fn newton_options(&self) -> NewtonOptions {
+        NewtonOptions { max_iter: self.contact.max_iter, rtol: self.contact.rtol, ..Default::default() }
+    }
+
     /// The contact solver settings of the `[contact]` table: δ defaults to 10⁻⁴ times the
     /// stress scale of `problem` (0 for the semismooth projection).
     pub fn contact_settings(&self, problem: &Problem, topology: &Topology) -> ContactSettings {
@@ -336,14 +356,10 @@ impl Scene {
             ProjectionKind::Quadratic => c.delta.unwrap_or(1e-4 * scale),
         };
         ContactSettings {
-            parameters: NitscheParameters {
-                gamma0: c.gamma0,
-                theta: c.theta,
-                gap: Gap { constant: c.gap, gradient: c.gap_gradient },
-            },
+            parameters: self.nitsche_parameters(),
             delta,
             delta_start: delta.max(c.delta_start.unwrap_or(0.0) * scale),
-            newton: NewtonOptions { max_iter: c.max_iter, rtol: c.rtol, ..Default::default() },
+            newton: self.newton_options(),
         }
     }
 
@@ -400,6 +416,18 @@ impl Scene {
             )));
         }
         Ok(problem)
+    }
+}
+
+impl Model for Scene {
+    fn problem(&self, mesh: Mesh) -> Result<(Problem, Vec<i32>), AdaptError> {
+        let tags = self.contact_tags(&mesh).map_err(|e| AdaptError::Problem(e.into()))?;
+        let problem = Scene::problem(self, mesh).map_err(|e| AdaptError::Problem(e.into()))?;
+        Ok((problem, tags))
+    }
+
+    fn contact(&self) -> (NitscheParameters, NewtonOptions) {
+        (self.nitsche_parameters(), self.newton_options())
     }
 }
 

@@ -7,6 +7,7 @@ mod check;
 mod common;
 mod estimate;
 mod mesh;
+mod output;
 mod solve;
 
 use clap::{Parser, Subcommand};

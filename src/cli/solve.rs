@@ -2,18 +2,19 @@
 //! write ParaView files, `summary.json` and `history.json`.
 
 use super::common::{output_dir, stem, Input};
-use super::estimate::{self, Estimate, EstimateSummary};
+use super::estimate::{self, EstimateSummary};
+use super::output::write_results;
 use crate::contact::{solve_contact, ContactSettings, ContactSolution, Stage};
 use crate::elasticity::kernels::{principal, von_mises};
 use crate::elasticity::stress::cell_mean_stress;
 use crate::elasticity::{Discretisation, Problem};
+use crate::estimate::{estimate_iterate, Linearisation};
 use crate::io::atomic::write_output;
-use crate::io::vtu::{write_boundary_vtu, write_mesh_vtu, Field};
 use crate::scene::{ProjectionKind, Scene};
 use crate::solve::Cholesky;
 use anyhow::Result;
 use serde::Serialize;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -138,10 +139,11 @@ pub fn run(args: Args) -> Result<()> {
     seconds.solve = t;
     let (x, contact) = solution;
     let estimate = if args.estimate || args.check_equilibration {
-        let state = contact.as_ref().map(|(c, s)| (c, s.delta));
+        let state =
+            contact.as_ref().map(|(c, s)| Linearisation { nitsche: &c.nitsche, x_prev: &c.x_prev, delta: s.delta });
         let (e, t) = progress.stage(
             "estimate",
-            || estimate::run(&problem, &disc, &x, state, args.check_equilibration),
+            || Ok(estimate_iterate(&problem, &disc, &x, state, args.check_equilibration)?),
             |e| {
                 let checks = e
                     .equilibration
@@ -159,12 +161,15 @@ pub fn run(args: Args) -> Result<()> {
     let name = stem(&scene.source);
     let (files, t) = progress.stage(
         "output",
-        || write_results(&dir, &name, &scene, &problem, &u, &sigma, contact.as_ref().map(|c| &c.0), estimate.as_ref()),
+        || {
+            let faces = contact.as_ref().map(|(c, _)| (&c.nitsche, &c.faces[..]));
+            write_results(&dir, &name, &scene, &problem, &u, &sigma, faces, estimate.as_ref())
+        },
         |f| format!("{} files in {}", f.len(), dir.display()),
     )?;
     seconds.output = t;
     let mut summary = summary(&scene, &problem, &disc, &u, &sigma, contact.as_ref(), seconds, files);
-    summary.estimate = estimate.as_ref().map(|e| e.summary());
+    summary.estimate = estimate.as_ref().map(estimate::summary);
     write_output(&dir.join("summary.json"), serde_json::to_string_pretty(&summary)?.as_bytes())?;
     if contact.is_some() || summary.estimate.is_some() {
         let history = History {
@@ -197,65 +202,6 @@ fn override_contact(args: &Args, scene: &mut Scene) -> Result<()> {
         c.projection = ProjectionKind::Semismooth;
     }
     Ok(scene.validate()?)
-}
-
-/// Writes the mesh and boundary VTU files; returns their paths.
-fn write_results(
-    dir: &Path,
-    name: &str,
-    scene: &Scene,
-    problem: &Problem,
-    u: &[[f64; 2]],
-    sigma: &[[f64; 4]],
-    contact: Option<&ContactSolution>,
-    estimate: Option<&Estimate>,
-) -> Result<Vec<PathBuf>> {
-    let mut files = vec![dir.join(format!("{name}.vtu"))];
-    let mut cells = stress_fields(sigma);
-    if let Some(e) = estimate {
-        cells.extend(e.cell_fields(&problem.mesh));
-        let dg = dir.join(format!("{name}_dg.vtu"));
-        e.write_discontinuous(&dg, &problem.mesh)?;
-        files.push(dg);
-    }
-    write_mesh_vtu(&files[0], &problem.mesh, &[Field::vector("displacement", u.to_vec())], &cells)?;
-    if scene.output.boundary {
-        let boundary = dir.join(format!("{name}_boundary.vtu"));
-        let facet_fields = contact.map(|c| contact_fields(problem.mesh.n_facets(), c)).unwrap_or_default();
-        write_boundary_vtu(&boundary, &problem.mesh, &[Field::vector("displacement", u.to_vec())], &facet_fields)?;
-        files.push(boundary);
-    }
-    Ok(files)
-}
-
-/// Cell fields: σ components, von Mises and principal stresses.
-fn stress_fields(sigma: &[[f64; 4]]) -> Vec<Field> {
-    let component = |k: usize| sigma.iter().map(|s| s[k]).collect();
-    let principal: Vec<[f64; 2]> = sigma.iter().map(|&s| principal(s)).collect();
-    vec![
-        Field::scalar("sigma_xx", component(0)),
-        Field::scalar("sigma_yy", component(1)),
-        Field::scalar("sigma_xy", component(2)),
-        Field::scalar("sigma_zz", component(3)),
-        Field::scalar("von_mises", sigma.iter().map(|&s| von_mises(s)).collect()),
-        Field::scalar("sigma_1", principal.iter().map(|p| p[0]).collect()),
-        Field::scalar("sigma_2", principal.iter().map(|p| p[1]).collect()),
-    ]
-}
-
-/// Facet fields of Γ_C: mean pressure, mean normal displacement, status (1 contact,
-/// 0 separation, −1 not a contact facet) and the regularisation error.
-fn contact_fields(n_facets: usize, contact: &ContactSolution) -> Vec<Field> {
-    let mut fields = [vec![0.0; n_facets], vec![0.0; n_facets], vec![-1.0; n_facets], vec![0.0; n_facets]];
-    for (face, state) in contact.nitsche.faces.iter().zip(&contact.faces) {
-        let f = face.facet;
-        fields[0][f] = state.pressure;
-        fields[1][f] = state.normal_displacement;
-        fields[2][f] = if state.contact_length > 0.0 { 1.0 } else { 0.0 };
-        fields[3][f] = state.regularisation_error;
-    }
-    let names = ["contact_pressure", "normal_displacement", "contact_status", "regularisation_error"];
-    names.into_iter().zip(fields).map(|(n, v)| Field::scalar(n, v)).collect()
 }
 
 #[allow(clippy::too_many_arguments)]

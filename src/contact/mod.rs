@@ -14,6 +14,7 @@ pub mod projection;
 use crate::elasticity::{Discretisation, Problem};
 use crate::fem::dofs::FIXED;
 use crate::fem::sparse::{vector_dofs, LinearSystem, SparsePattern};
+use crate::mesh::Mesh;
 use crate::solve::{newton, NewtonError, NewtonOptions, NewtonReport, NonlinearSystem};
 use nitsche::{Nitsche, NitscheParameters};
 use projection::{negative_part, Projection, QuadraticSmoothing};
@@ -53,36 +54,47 @@ impl<'a> ContactProblem<'a> {
         ContactProblem { problem, disc, nitsche, projection, bulk }
     }
 
-    /// Local dofs of the cell owning face k and the displacement there.
-    fn local(&self, k: usize, u_full: &[f64], dofs: &mut Vec<usize>) -> Vec<f64> {
-        vector_dofs(self.problem.mesh.cell(self.nitsche.faces[k].cell), dofs);
-        dofs.iter().map(|&g| u_full[g]).collect()
-    }
-
     /// Contact state of every face for the free unknowns `x`.
     pub fn face_states(&self, x: &[f64]) -> Vec<FaceState> {
-        let u_full = self.disc.dofs.expand(x);
-        let mut dofs = Vec::new();
-        (0..self.nitsche.faces.len())
-            .map(|k| {
-                let u = self.local(k, &u_full, &mut dofs);
-                let length = self.nitsche.faces[k].length;
-                let mut state = FaceState::default();
-                let mut levels = self.projection.breakpoints();
-                levels.push(0.0);
-                for (s, w) in self.nitsche.split_rule(k, &self.nitsche.cuts(k, &u, &levels)) {
-                    let pt = self.nitsche.point(k, s);
-                    let p = self.nitsche.p_gamma(k, &pt, &u);
-                    state.pressure -= negative_part(p) * w / length;
-                    state.normal_displacement += pt.u_n.iter().zip(&u).map(|(a, b)| a * b).sum::<f64>() * w / length;
-                    state.contact_length += if p < 0.0 { w } else { 0.0 };
-                    let error = (self.projection.value(p) - negative_part(p)).abs();
-                    state.regularisation_error = state.regularisation_error.max(error);
-                }
-                state
-            })
-            .collect()
+        face_states(self.problem, self.disc, &self.nitsche, self.projection.as_ref(), x)
     }
+}
+
+/// Local dofs of the cell owning face k and the displacement there.
+fn local(mesh: &Mesh, nitsche: &Nitsche, k: usize, u_full: &[f64], dofs: &mut Vec<usize>) -> Vec<f64> {
+    vector_dofs(mesh.cell(nitsche.faces[k].cell), dofs);
+    dofs.iter().map(|&g| u_full[g]).collect()
+}
+
+/// Contact state of every face of `nitsche` for the free unknowns `x`.
+pub fn face_states(
+    problem: &Problem,
+    disc: &Discretisation,
+    nitsche: &Nitsche,
+    projection: &dyn Projection,
+    x: &[f64],
+) -> Vec<FaceState> {
+    let u_full = disc.dofs.expand(x);
+    let mut dofs = Vec::new();
+    (0..nitsche.faces.len())
+        .map(|k| {
+            let u = local(&problem.mesh, nitsche, k, &u_full, &mut dofs);
+            let length = nitsche.faces[k].length;
+            let mut state = FaceState::default();
+            let mut levels = projection.breakpoints();
+            levels.push(0.0);
+            for (s, w) in nitsche.split_rule(k, &nitsche.cuts(k, &u, &levels)) {
+                let pt = nitsche.point(k, s);
+                let p = nitsche.p_gamma(k, &pt, &u);
+                state.pressure -= negative_part(p) * w / length;
+                state.normal_displacement += pt.u_n.iter().zip(&u).map(|(a, b)| a * b).sum::<f64>() * w / length;
+                state.contact_length += if p < 0.0 { w } else { 0.0 };
+                let error = (projection.value(p) - negative_part(p)).abs();
+                state.regularisation_error = state.regularisation_error.max(error);
+            }
+            state
+        })
+        .collect()
 }
 
 impl NonlinearSystem for ContactProblem<'_> {
@@ -104,7 +116,7 @@ impl NonlinearSystem for ContactProblem<'_> {
         let (mut r_local, mut j_local, mut dofs) = (vec![0.0; n], vec![0.0; n * n], Vec::new());
         let free = &self.disc.dofs.free;
         for k in 0..self.nitsche.faces.len() {
-            let u = self.local(k, &u_full, &mut dofs);
+            let u = local(&self.problem.mesh, &self.nitsche, k, &u_full, &mut dofs);
             let want_j = jacobian.is_some();
             self.nitsche.face_terms(k, &u, self.projection.as_ref(), &mut r_local, want_j.then_some(&mut j_local[..]));
             for (i, &gi) in dofs.iter().enumerate() {

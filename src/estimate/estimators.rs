@@ -104,6 +104,11 @@ pub fn estimate(
     e
 }
 
+/// ‖σ_h‖ = (Σ_T ‖σ_h1 + σ_h2 + σ_h3‖_T²)^{1/2}: the scale of a relative tolerance on η.
+pub fn stress_norm(problem: &Problem, rec: &Reconstruction) -> f64 {
+    (0..problem.mesh.n_cells()).map(|c| volume_norm(problem, &rec.total(c), c, None).powi(2)).sum::<f64>().sqrt()
+}
+
 /// ‖τ − σ(u_h)‖_T (or ‖τ‖_T without u) for the stress with coefficients `tau` on cell c.
 fn volume_norm(problem: &Problem, tau: &[f64], c: usize, u: Option<&[[f64; 2]]>) -> f64 {
     let mesh = &problem.mesh;

@@ -8,3 +8,4 @@ pub mod norms;
 pub mod quadrature;
 pub mod sparse;
 pub mod tabulate;
+pub mod transfer;

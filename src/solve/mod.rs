@@ -7,7 +7,7 @@ pub mod newton;
 
 pub use cholesky::Cholesky;
 pub use lu::SparseLu;
-pub use newton::{newton, NewtonError, NewtonOptions, NewtonReport, NonlinearSystem};
+pub use newton::{newton, newton_until, Iterate, NewtonError, NewtonOptions, NewtonReport, NonlinearSystem};
 
 /// Failure of a sparse factorisation.
 #[derive(Debug, thiserror::Error)]

@@ -113,6 +113,29 @@ pub fn newton(
     x0: Vec<f64>,
     options: &NewtonOptions,
 ) -> Result<NewtonReport, NewtonError> {
+    newton_until(system, x0, options, |_| false)
+}
+
+/// The current iterate x_k, the previous one and the step between them, shown to a
+/// stopping rule.
+pub struct Iterate<'a> {
+    pub x: &'a [f64],
+    pub x_prev: &'a [f64],
+    /// The step that led to x_k.
+    pub last: &'a Iteration,
+    /// ‖F(x_k)‖.
+    pub residual: f64,
+}
+
+/// Newton that also stops when `stop` accepts an iterate. `stop` sees every iterate after
+/// the first `min_steps` steps, including the one that meets the residual tolerance, so
+/// it can record a quantity of the final iterate.
+pub fn newton_until(
+    system: &impl NonlinearSystem,
+    x0: Vec<f64>,
+    options: &NewtonOptions,
+    mut stop: impl FnMut(&Iterate) -> bool,
+) -> Result<NewtonReport, NewtonError> {
     let pattern = system.pattern();
     let lu = SparseLu::analyse(pattern).map_err(|source| NewtonError::Solve { step: 0, source })?;
     let scale = system.scale().max(f64::MIN_POSITIVE);
@@ -131,7 +154,10 @@ pub fn newton(
         let stagnated =
             history.last().is_some_and(|it: &Iteration| it.increment <= 1e-10 * norm(&x) && r >= 0.5 * it.residual);
         let converged = r <= options.rtol * scale || stagnated;
-        if converged && step >= options.min_steps {
+        let due = step >= options.min_steps;
+        let accepted =
+            due && history.last().is_some_and(|last| stop(&Iterate { x: &x, x_prev: &x_prev, last, residual: r }));
+        if accepted || (due && converged) {
             return Ok(NewtonReport { x, x_prev, iterations: history, residual: r, scale, seconds });
         }
         if step == options.max_iter {

@@ -1,0 +1,295 @@
+//! The adaptive algorithm (docs/method.md §5.3–§5.4).
+//!
+//! Step ℓ meshes the geometry (from the target sizes of step ℓ − 1), moves the previous
+//! displacement onto the new mesh as Newton's initial guess, and solves with the
+//! estimator-driven stopping rules of [`level`]: Newton stops once
+//! η_lin ≤ γ_lin (η_osc + η_flux + η_Neu + η_disc), and δ is divided by ρ_δ until
+//! η_reg ≤ γ_reg (η_osc + η_flux + η_Neu + η_disc + η_lin). The run stops when η_tot meets the
+//! tolerance or after the last step; otherwise cells are marked on η_tot,T ([`marking`]) and
+//! their target sizes define the next mesh. δ is kept from one mesh to the next; the first δ
+//! is δ₀ = `delta0` × the stress scale of the loads (never a multiple of E).
+
+pub mod level;
+pub mod marking;
+
+use crate::contact::nitsche::{Nitsche, NitscheParameters};
+use crate::elasticity::{Discretisation, Problem};
+use crate::estimate::estimators::{stress_norm, GlobalEstimators};
+use crate::estimate::reconstruction::EstimateError;
+use crate::estimate::Estimate;
+use crate::fem::dofs::FIXED;
+use crate::fem::transfer::interpolate;
+use crate::mesh::Mesh;
+use crate::solve::{NewtonError, NewtonOptions, SolveError};
+use marking::{target_sizes, Marking};
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+
+/// How the next mesh is made.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Refinement {
+    /// Halve the size of the marked cells.
+    Adaptive,
+    /// Halve every size (for comparison).
+    Uniform,
+}
+
+/// Parameters of the adaptive loop (the scene's `[adapt]` table).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct AdaptSettings {
+    /// Maximum number of meshes.
+    pub steps: usize,
+    /// Stop when η_tot ≤ tol [Pa·m].
+    pub tol: Option<f64>,
+    /// Stop when η_tot ≤ tol_relative ‖σ_h‖.
+    pub tol_relative: Option<f64>,
+    /// Stop after the first mesh with at least this many unknowns.
+    pub max_unknowns: Option<usize>,
+    pub refinement: Refinement,
+    pub marking: Marking,
+    /// The fraction θ of the marking strategy.
+    pub bulk: f64,
+    /// γ_lin of (S_lin).
+    pub gamma_lin: f64,
+    /// γ_reg of (S_reg).
+    pub gamma_reg: f64,
+    /// δ ← δ / ρ_δ while (S_reg) fails.
+    pub rho_delta: f64,
+    /// δ₀ as a multiple of the stress scale of the loads.
+    pub delta0: f64,
+    /// Most δ reductions on one mesh.
+    pub max_delta_reductions: usize,
+}
+
+impl Default for AdaptSettings {
+    fn default() -> Self {
+        AdaptSettings {
+            steps: 8,
+            tol: None,
+            tol_relative: None,
+            max_unknowns: None,
+            refinement: Refinement::Adaptive,
+            marking: Marking::Dorfler,
+            bulk: 0.5,
+            gamma_lin: 0.1,
+            gamma_reg: 0.1,
+            rho_delta: 2.0,
+            delta0: 0.1,
+            max_delta_reductions: 60,
+        }
+    }
+}
+
+impl AdaptSettings {
+    /// The first value out of range, as "key = value must …".
+    pub fn validate(&self) -> Result<(), String> {
+        let positive = [
+            ("gamma_lin", self.gamma_lin),
+            ("gamma_reg", self.gamma_reg),
+            ("delta0", self.delta0),
+            ("tol", self.tol.unwrap_or(1.0)),
+            ("tol_relative", self.tol_relative.unwrap_or(1.0)),
+        ];
+        if let Some((key, value)) = positive.iter().find(|(_, v)| !(v.is_finite() && *v > 0.0)) {
+            return Err(format!("adapt.{key} = {value} must be positive"));
+        }
+        if !(self.bulk > 0.0 && self.bulk <= 1.0) {
+            return Err(format!("adapt.bulk = {} must be in (0, 1]", self.bulk));
+        }
+        if !(self.rho_delta > 1.0 && self.rho_delta.is_finite()) {
+            return Err(format!("adapt.rho_delta = {} must be greater than 1", self.rho_delta));
+        }
+        if self.steps == 0 {
+            return Err("adapt.steps = 0 must be at least 1".into());
+        }
+        Ok(())
+    }
+
+    /// Whether η_tot meets a tolerance (relative to ‖σ_h‖ = `stress`).
+    fn reached(&self, eta: f64, stress: f64) -> bool {
+        self.tol.is_some_and(|tol| eta <= tol) || self.tol_relative.is_some_and(|tol| eta <= tol * stress)
+    }
+}
+
+/// Why the adaptive loop stopped without finishing.
+#[derive(Debug, thiserror::Error)]
+pub enum AdaptError {
+    #[error("meshing failed: {0}")]
+    Mesh(Box<dyn std::error::Error + Send + Sync>),
+    #[error("{0}")]
+    Problem(Box<dyn std::error::Error + Send + Sync>),
+    #[error("at delta = {delta:.3e}: {source}")]
+    Newton { delta: f64, source: NewtonError },
+    #[error("linear solve: {0}")]
+    Solve(#[from] SolveError),
+    #[error("error estimation: {0}")]
+    Estimate(#[from] EstimateError),
+    #[error(
+        "eta_reg = {eta_reg:.3e} is still too large after {reductions} reductions of delta (now {delta:.3e}); \
+         raise adapt.max_delta_reductions or adapt.gamma_reg"
+    )]
+    Regularisation { delta: f64, reductions: usize, eta_reg: f64 },
+    #[error("writing step {step}: {source}")]
+    Output { step: usize, source: Box<dyn std::error::Error + Send + Sync> },
+}
+
+/// Where the meshes come from.
+pub trait Mesher {
+    /// The mesh of step `step`: the initial mesh, or for step ≥ 1 one with the target cell
+    /// sizes `sizes` on the previous mesh `previous` (uniform refinement ignores them).
+    fn mesh(&mut self, step: usize, previous: Option<(&Mesh, &[f64])>) -> Result<Mesh, AdaptError>;
+}
+
+/// The problem on a mesh and its contact boundary.
+pub trait Model {
+    /// The problem on `mesh` and the physical tags of Γ_C (empty: no contact).
+    fn problem(&self, mesh: Mesh) -> Result<(Problem, Vec<i32>), AdaptError>;
+    /// Nitsche parameters and Newton options of the contact solve.
+    fn contact(&self) -> (NitscheParameters, NewtonOptions);
+}
+
+/// Wall time of each phase of a step [s]. `mesh` is gmsh's (the initial mesh at step 0, a
+/// remesh afterwards), `transfer` moves the previous displacement to the new mesh, `remesh`
+/// marks cells and computes the target sizes for the next mesh.
+#[derive(Debug, Clone, Copy, Default, Serialize)]
+pub struct PhaseTimes {
+    pub mesh: f64,
+    pub transfer: f64,
+    pub assemble: f64,
+    pub solve: f64,
+    pub estimate: f64,
+    pub remesh: f64,
+}
+
+impl PhaseTimes {
+    pub fn total(&self) -> f64 {
+        self.mesh + self.transfer + self.assemble + self.solve + self.estimate + self.remesh
+    }
+}
+
+/// One row of the history: a mesh and what it took.
+#[derive(Debug, Clone, Serialize)]
+pub struct StepRecord {
+    pub step: usize,
+    pub cells: usize,
+    /// Free displacement unknowns.
+    pub unknowns: usize,
+    pub eta: GlobalEstimators,
+    /// ‖σ_h‖, the scale of relative errors.
+    pub stress_norm: f64,
+    /// δ of the final iterate (None without contact).
+    pub delta: Option<f64>,
+    pub n_reg: usize,
+    pub n_lin: usize,
+    pub seconds: PhaseTimes,
+    /// Wall time since the start of the run, at the end of this step.
+    pub elapsed: f64,
+}
+
+/// Everything known at the end of a step, for output.
+pub struct Step<'a> {
+    pub record: &'a StepRecord,
+    pub problem: &'a Problem,
+    pub disc: &'a Discretisation,
+    pub x: &'a [f64],
+    pub estimate: &'a Estimate,
+    pub nitsche: Option<&'a Nitsche>,
+}
+
+/// Runs the adaptive loop; `on_step` sees every step as soon as it is solved (and may write
+/// it out). Returns the history.
+pub fn run(
+    settings: &AdaptSettings,
+    mesher: &mut dyn Mesher,
+    model: &dyn Model,
+    mut on_step: impl FnMut(&Step) -> Result<(), AdaptError>,
+) -> Result<Vec<StepRecord>, AdaptError> {
+    let start = Instant::now();
+    let mut history = Vec::new();
+    let mut previous: Option<(Mesh, Vec<[f64; 2]>, Vec<f64>)> = None;
+    let mut delta = None;
+    for step in 0..settings.steps {
+        let mut seconds = PhaseTimes::default();
+        let clock = Instant::now();
+        let mesh = mesher.mesh(step, previous.as_ref().map(|(m, _, sizes)| (m, &sizes[..])))?;
+        seconds.mesh = clock.elapsed().as_secs_f64();
+        let (problem, tags) = model.problem(mesh)?;
+        let clock = Instant::now();
+        let disc = problem.discretise();
+        seconds.assemble = clock.elapsed().as_secs_f64();
+        let clock = Instant::now();
+        let x0 = match &previous {
+            Some((mesh, u, _)) => initial_guess(&problem, &disc, mesh, u),
+            None => vec![0.0; disc.dofs.n_free],
+        };
+        seconds.transfer = clock.elapsed().as_secs_f64();
+        let level = if tags.is_empty() {
+            level::solve_linear(&problem, &disc)?
+        } else {
+            let (parameters, newton) = model.contact();
+            let delta0 = *delta.get_or_insert_with(|| settings.delta0 * problem.stress_scale(&disc.topology));
+            level::solve_contact(&problem, &disc, &tags, parameters, &newton, settings, x0, delta0)?
+        };
+        delta = level.delta;
+        seconds.solve = level.solve_seconds;
+        seconds.estimate = level.estimate_seconds;
+        let eta = level.estimate.estimators.global();
+        let stress = stress_norm(&problem, &level.estimate.reconstruction);
+        let done = step + 1 == settings.steps
+            || settings.reached(eta.tot, stress)
+            || settings.max_unknowns.is_some_and(|n| disc.dofs.n_free >= n);
+        let clock = Instant::now();
+        let sizes = if done { Vec::new() } else { next_sizes(settings, &problem.mesh, &level.estimate.estimators.tot) };
+        seconds.remesh = clock.elapsed().as_secs_f64();
+        let record = StepRecord {
+            step,
+            cells: problem.mesh.n_cells(),
+            unknowns: disc.dofs.n_free,
+            eta,
+            stress_norm: stress,
+            delta: level.delta,
+            n_reg: level.n_reg,
+            n_lin: level.n_lin,
+            seconds,
+            elapsed: start.elapsed().as_secs_f64(),
+        };
+        on_step(&Step {
+            record: &record,
+            problem: &problem,
+            disc: &disc,
+            x: &level.x,
+            estimate: &level.estimate,
+            nitsche: level.nitsche.as_ref(),
+        })?;
+        history.push(record);
+        if done {
+            break;
+        }
+        let u = problem.displacement(&disc, &level.x);
+        previous = Some((problem.mesh, u, sizes));
+    }
+    Ok(history)
+}
+
+/// Target cell sizes for the next mesh (empty for uniform refinement, which needs none).
+fn next_sizes(settings: &AdaptSettings, mesh: &Mesh, eta: &[f64]) -> Vec<f64> {
+    match settings.refinement {
+        Refinement::Adaptive => target_sizes(mesh, &settings.marking.mark(settings.bulk, eta)),
+        Refinement::Uniform => Vec::new(),
+    }
+}
+
+/// The free unknowns of the displacement `u` of `old` interpolated at the nodes of the new
+/// problem's mesh (its Dirichlet values are the new problem's).
+fn initial_guess(problem: &Problem, disc: &Discretisation, old: &Mesh, u: &[[f64; 2]]) -> Vec<f64> {
+    let values = interpolate(old, u, &problem.mesh.points);
+    let mut x = vec![0.0; disc.dofs.n_free];
+    for (dof, &k) in disc.dofs.free.iter().enumerate() {
+        if k != FIXED {
+            x[k] = values[dof / 2][dof % 2];
+        }
+    }
+    x
+}
