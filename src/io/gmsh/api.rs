@@ -252,3 +252,47 @@ pub(super) fn nodes() -> Result<(GmshVec<usize>, GmshVec<f64>), GmshError> {
     })?;
     Ok((tags, coords))
 }
+
+/// Adds an empty post-processing view called `name`; returns its tag.
+pub(super) fn view_add(name: &str) -> Result<c_int, GmshError> {
+    let name = c_string(name);
+    // SAFETY: `name` is NUL-terminated and outlives the call; tag -1 lets gmsh choose.
+    call("gmshViewAdd", |e| unsafe { ffi::gmshViewAdd(name.as_ptr(), -1, e) })
+}
+
+/// Adds `count` list-based elements of type `data_type` (e.g. "ST": scalar triangles, each as
+/// x1 x2 x3 y1 y2 y3 z1 z2 z3 v1 v2 v3) to view `view`.
+pub(super) fn view_add_list_data(view: c_int, data_type: &str, count: usize, data: &[f64]) -> Result<(), GmshError> {
+    let data_type = c_string(data_type);
+    let count = c_int::try_from(count).map_err(|_| GmshError::Call {
+        call: "gmshViewAddListData",
+        message: format!("{count} elements are too many"),
+    })?;
+    // SAFETY: the pointers are valid for the call; gmsh copies `data` without writing to it
+    // (the C header lacks `const`).
+    call("gmshViewAddListData", |e| unsafe {
+        ffi::gmshViewAddListData(view, data_type.as_ptr(), count, data.as_ptr().cast_mut(), data.len(), e)
+    })
+}
+
+/// Adds a mesh size field of type `kind` (e.g. "PostView"); returns its tag.
+pub(super) fn field_add(kind: &str) -> Result<c_int, GmshError> {
+    let kind = c_string(kind);
+    // SAFETY: `kind` is NUL-terminated and outlives the call; tag -1 lets gmsh choose.
+    call("gmshModelMeshFieldAdd", |e| unsafe { ffi::gmshModelMeshFieldAdd(kind.as_ptr(), -1, e) })
+}
+
+/// Sets the numerical option `option` of field `field`.
+pub(super) fn field_set_number(field: c_int, option: &str, value: f64) -> Result<(), GmshError> {
+    let option = c_string(option);
+    // SAFETY: `option` is NUL-terminated and outlives the call.
+    call("gmshModelMeshFieldSetNumber", |e| unsafe {
+        ffi::gmshModelMeshFieldSetNumber(field, option.as_ptr(), value, e)
+    })
+}
+
+/// Makes field `field` the background mesh size field, replacing any other.
+pub(super) fn field_set_background(field: c_int) -> Result<(), GmshError> {
+    // SAFETY: plain call with a valid `ierr`.
+    call("gmshModelMeshFieldSetAsBackgroundMesh", |e| unsafe { ffi::gmshModelMeshFieldSetAsBackgroundMesh(field, e) })
+}

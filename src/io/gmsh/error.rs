@@ -46,6 +46,10 @@ pub enum GmshError {
     /// A [`MeshOptions`](super::MeshOptions) field is out of range.
     #[error("invalid mesh option {name} = {value}: expected {expected}")]
     BadOption { name: &'static str, value: String, expected: &'static str },
+    /// A [`SizeField`](super::SizeField) or the cell sizes it is built from is invalid, e.g.
+    /// "cell 12 has size NaN, expected a positive finite number".
+    #[error("invalid mesh size field: {reason}")]
+    BadSizeField { reason: String },
     /// A gmsh C API call failed; `message` is gmsh's last error.
     #[error("gmsh call {call} failed: {message}")]
     Call { call: &'static str, message: String },

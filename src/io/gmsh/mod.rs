@@ -33,9 +33,11 @@ mod ffi;
 mod guard;
 mod read;
 mod session;
+mod size_field;
 
 pub use error::GmshError;
 pub use session::Session;
+pub use size_field::SizeField;
 
 use crate::mesh::Mesh;
 use std::path::Path;
@@ -70,9 +72,36 @@ pub fn mesh_geo(
     verbose: bool,
     allow_system_calls: bool,
 ) -> Result<Mesh, GmshError> {
+    mesh_geo_with(path, options, None, verbose, allow_system_calls)
+}
+
+/// Meshes the `.geo` file `path` like [`mesh_geo`], but with mesh sizes taken from `field` only
+/// (see [`Session::set_size_field`]); the physical groups are those of the file. `options`
+/// still scale (`size_factor`) and bound (`size_min`, `size_max`) the sizes.
+pub fn remesh_geo(
+    path: &Path,
+    options: &MeshOptions,
+    field: &SizeField,
+    verbose: bool,
+    allow_system_calls: bool,
+) -> Result<Mesh, GmshError> {
+    mesh_geo_with(path, options, Some(field), verbose, allow_system_calls)
+}
+
+/// [`mesh_geo`], with mesh sizes from `field` if given.
+fn mesh_geo_with(
+    path: &Path,
+    options: &MeshOptions,
+    field: Option<&SizeField>,
+    verbose: bool,
+    allow_system_calls: bool,
+) -> Result<Mesh, GmshError> {
     let mut session = Session::new(verbose)?;
     session.open_geo(path, allow_system_calls)?;
     session.set_options(options)?;
+    if let Some(field) = field {
+        session.set_size_field(field)?;
+    }
     session.generate()?;
     session.mesh()
 }

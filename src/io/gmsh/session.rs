@@ -1,6 +1,6 @@
 //! [`Session`]: exclusive access to gmsh's global state.
 
-use super::{api, guard, read, GmshError, MeshOptions};
+use super::{api, guard, read, GmshError, MeshOptions, SizeField};
 use crate::mesh::Mesh;
 use std::ffi::CString;
 use std::io::Read;
@@ -110,6 +110,27 @@ impl Session {
             api::set_number("Mesh.MeshSizeMax", size)?;
         }
         api::set_number("Mesh.Algorithm", f64::from(options.algorithm))
+    }
+
+    /// Makes `field` the only source of mesh sizes, replacing any background field of the opened
+    /// file: a "PostView" field on a list-based view of its triangles, with no sizes from points,
+    /// curvature or the boundary. gmsh 4.8 gives points outside the view's triangles (on curved
+    /// boundaries, where the old mesh is coarse) its maximum size, so `Mesh.MeshSizeMax` is
+    /// lowered to max(maxᵢ h(xᵢ), `Mesh.MeshSizeMin`). Call it after opening the file, to which
+    /// the field belongs; the view lives until the next session clears the model.
+    pub fn set_size_field(&mut self, field: &SizeField) -> Result<(), GmshError> {
+        field.validate()?;
+        let view = api::view_add("target mesh sizes")?;
+        api::view_add_list_data(view, "ST", field.triangles.len(), &field.list_data())?;
+        let tag = api::field_add("PostView")?;
+        api::field_set_number(tag, "ViewTag", f64::from(view))?;
+        api::field_set_background(tag)?;
+        for name in ["Mesh.MeshSizeFromPoints", "Mesh.MeshSizeFromCurvature", "Mesh.MeshSizeExtendFromBoundary"] {
+            api::set_number(name, 0.0)?;
+        }
+        let size_min = api::get_number("Mesh.MeshSizeMin")?;
+        let size_max = api::get_number("Mesh.MeshSizeMax")?.min(field.max_size().max(size_min));
+        api::set_number("Mesh.MeshSizeMax", size_max)
     }
 
     /// Meshes the model in 2D; with `Mesh.ElementOrder` 2, gmsh then raises the mesh to order 2.

@@ -1,0 +1,98 @@
+//! [`SizeField`]: target mesh sizes that drive gmsh's mesher through a background field.
+
+use super::GmshError;
+use crate::mesh::Mesh;
+
+/// Target mesh sizes as a continuous piecewise-linear field on the vertices of a previous mesh.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SizeField {
+    /// Vertex coordinates.
+    pub points: Vec<[f64; 2]>,
+    /// Point indices of each triangle.
+    pub triangles: Vec<[usize; 3]>,
+    /// Target size h(xᵢ) at each point; h is linear on each triangle.
+    pub sizes: Vec<f64>,
+}
+
+impl SizeField {
+    /// From per-cell target sizes h_T on `mesh` (P1 or P2; only the 3 vertices of each cell
+    /// are used): the size at a vertex is the minimum over the cells around it,
+    /// h(x) = min_{T ∋ x} h_T. Fails unless there is one positive finite h_T per cell.
+    pub fn from_cells(mesh: &Mesh, cell_sizes: &[f64]) -> Result<SizeField, GmshError> {
+        if cell_sizes.len() != mesh.n_cells() {
+            return Err(bad(format!("{} sizes for {} cells", cell_sizes.len(), mesh.n_cells())));
+        }
+        if let Some((c, h)) = cell_sizes.iter().enumerate().find(|&(_, &h)| !positive(h)) {
+            return Err(bad(format!("cell {c} has size {h}, expected a positive finite number")));
+        }
+        let mut index = vec![None; mesh.n_points()];
+        let mut field =
+            SizeField { points: Vec::new(), triangles: Vec::with_capacity(mesh.n_cells()), sizes: Vec::new() };
+        for (c, &h) in cell_sizes.iter().enumerate() {
+            let nodes = mesh.cell(c);
+            let triangle = [0, 1, 2].map(|i| field.vertex(&mut index[nodes[i]], mesh.points[nodes[i]], h));
+            field.triangles.push(triangle);
+        }
+        Ok(field)
+    }
+
+    /// Index of the vertex at `point` (`index`: its index if already added), lowering its size to `h`.
+    fn vertex(&mut self, index: &mut Option<usize>, point: [f64; 2], h: f64) -> usize {
+        let i = *index.get_or_insert_with(|| {
+            self.points.push(point);
+            self.sizes.push(h);
+            self.points.len() - 1
+        });
+        self.sizes[i] = self.sizes[i].min(h);
+        i
+    }
+
+    /// Checks that there are triangles, one size per point, finite coordinates, positive finite
+    /// sizes and triangles that refer to existing points.
+    pub(super) fn validate(&self) -> Result<(), GmshError> {
+        let n = self.points.len();
+        if self.sizes.len() != n {
+            return Err(bad(format!("{} sizes for {n} points", self.sizes.len())));
+        }
+        if self.triangles.is_empty() {
+            return Err(bad("it has no triangles".into()));
+        }
+        if let Some((t, i)) =
+            self.triangles.iter().enumerate().find_map(|(t, v)| v.iter().find(|&&i| i >= n).map(|i| (t, i)))
+        {
+            return Err(bad(format!("triangle {t} refers to point {i}, but there are {n} points")));
+        }
+        for (i, (&[x, y], &h)) in self.points.iter().zip(&self.sizes).enumerate() {
+            if !(x.is_finite() && y.is_finite() && positive(h)) {
+                let expected = "expected finite coordinates and a positive finite size";
+                return Err(bad(format!("point {i} at ({x}, {y}) has size {h}, {expected}")));
+            }
+        }
+        Ok(())
+    }
+
+    /// Largest target size, maxᵢ h(xᵢ).
+    pub(super) fn max_size(&self) -> f64 {
+        self.sizes.iter().copied().fold(0.0, f64::max)
+    }
+
+    /// gmsh list data of scalar triangles ("ST"): x₁ x₂ x₃ y₁ y₂ y₃ z₁ z₂ z₃ h₁ h₂ h₃ per triangle, z = 0.
+    pub(super) fn list_data(&self) -> Vec<f64> {
+        let mut data = Vec::with_capacity(12 * self.triangles.len());
+        for triangle in &self.triangles {
+            data.extend(triangle.map(|i| self.points[i][0]));
+            data.extend(triangle.map(|i| self.points[i][1]));
+            data.extend([0.0; 3]);
+            data.extend(triangle.map(|i| self.sizes[i]));
+        }
+        data
+    }
+}
+
+fn positive(h: f64) -> bool {
+    h.is_finite() && h > 0.0
+}
+
+fn bad(reason: String) -> GmshError {
+    GmshError::BadSizeField { reason }
+}
