@@ -26,6 +26,12 @@ pub enum OutputError {
     /// The VTK library failed to encode the data set.
     #[error("cannot write {}: VTK encoding failed: {message}", path.display())]
     Encode { path: PathBuf, message: String },
+    /// The font needed to lay out text is missing or unreadable.
+    #[error("cannot write {}: cannot use font file {}: {reason}", path.display(), font.display())]
+    Font { path: PathBuf, font: PathBuf, reason: String },
+    /// Drawing or image encoding failed.
+    #[error("cannot write {}: rendering failed: {message}", path.display())]
+    Render { path: PathBuf, message: String },
 }
 
 /// Writes `bytes` to `path` atomically.

@@ -1,6 +1,7 @@
-//! Input and output: gmsh meshes, ParaView files.
+//! Input and output: gmsh meshes, ParaView files, convergence plots.
 
 pub mod atomic;
 pub mod gmsh;
+pub mod plot;
 pub mod pvd;
 pub mod vtu;
