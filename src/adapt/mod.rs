@@ -9,6 +9,8 @@
 //! their target sizes define the next mesh. δ is kept from one mesh to the next; the first δ
 //! is δ₀ = `delta0` × the stress scale of the loads (never a multiple of E).
 
+pub mod geo;
+pub mod history;
 pub mod level;
 pub mod marking;
 

@@ -1,8 +1,9 @@
-//! Command-line interface: `damfem mesh`, `damfem check`, `damfem solve`.
+//! Command-line interface: `damfem mesh`, `damfem check`, `damfem solve`, `damfem adapt`.
 //!
 //! Library errors become one plain sentence on stderr and exit code 1; progress goes to
 //! stderr (one line per stage with its time), results to stdout and the output directory.
 
+mod adapt;
 mod check;
 mod common;
 mod estimate;
@@ -28,6 +29,8 @@ enum Command {
     Check(check::Args),
     /// Solve the elasticity problem of a scene and write ParaView files
     Solve(solve::Args),
+    /// Solve, estimate the error and refine the mesh until the estimate is small enough
+    Adapt(adapt::Args),
 }
 
 /// Runs the command line `args` and returns the process exit code.
@@ -47,6 +50,7 @@ where
         Command::Mesh(a) => mesh::run(a),
         Command::Check(a) => check::run(a),
         Command::Solve(a) => solve::run(a),
+        Command::Adapt(a) => adapt::run(a),
     };
     match result {
         Ok(()) => 0,

@@ -1,0 +1,98 @@
+//! The history of an adaptive run as CSV, and its figures.
+
+use super::StepRecord;
+use crate::io::atomic::OutputError;
+use crate::io::plot::{write_figure, Figure, Series};
+use std::path::{Path, PathBuf};
+
+/// Columns of [`to_csv`].
+const HEADER: &str = "step,cells,unknowns,eta_osc,eta_flux,eta_Neu,eta_disc,eta_reg,eta_lin,eta_tot,stress_norm,\
+delta,n_reg,n_lin,t_mesh,t_transfer,t_assemble,t_solve,t_estimate,t_remesh,elapsed";
+
+/// One line per step; δ is empty without contact.
+pub fn to_csv(history: &[StepRecord]) -> String {
+    let mut csv = format!("{HEADER}\n");
+    for r in history {
+        let (e, t) = (&r.eta, &r.seconds);
+        let delta = r.delta.map_or(String::new(), |d| format!("{d:e}"));
+        csv += &format!(
+            "{},{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{delta},{},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6}\n",
+            r.step,
+            r.cells,
+            r.unknowns,
+            e.osc,
+            e.flux,
+            e.neu,
+            e.disc,
+            e.reg,
+            e.lin,
+            e.tot,
+            r.stress_norm,
+            r.n_reg,
+            r.n_lin,
+            t.mesh,
+            t.transfer,
+            t.assemble,
+            t.solve,
+            t.estimate,
+            t.remesh,
+            r.elapsed
+        );
+    }
+    csv
+}
+
+/// η_tot and its non-zero components against the number of unknowns.
+pub fn components_figure(title: &str, history: &[StepRecord]) -> Figure {
+    let component = |name: &str, value: fn(&StepRecord) -> f64| Series {
+        label: name.into(),
+        points: history.iter().map(|r| (r.unknowns as f64, value(r))).collect(),
+        dashed: name != "η_tot",
+    };
+    let all = [
+        component("η_tot", |r| r.eta.tot),
+        component("η_osc", |r| r.eta.osc),
+        component("η_flux", |r| r.eta.flux),
+        component("η_Neu", |r| r.eta.neu),
+        component("η_disc", |r| r.eta.disc),
+        component("η_reg", |r| r.eta.reg),
+        component("η_lin", |r| r.eta.lin),
+    ];
+    Figure {
+        title: title.into(),
+        x_label: "unknowns".into(),
+        y_label: "estimator".into(),
+        series: all.into_iter().filter(|s| s.points.iter().any(|p| p.1 > 0.0)).collect(),
+    }
+}
+
+/// η_tot of several runs against `x` (unknowns or wall time).
+pub fn comparison_figure(
+    title: &str,
+    x_label: &str,
+    runs: &[(&str, &[StepRecord])],
+    x: fn(&StepRecord) -> f64,
+) -> Figure {
+    Figure {
+        title: title.into(),
+        x_label: x_label.into(),
+        y_label: "η_tot".into(),
+        series: runs
+            .iter()
+            .map(|(label, h)| Series {
+                label: label.to_string(),
+                points: h.iter().map(|r| (x(r), r.eta.tot)).collect(),
+                dashed: false,
+            })
+            .collect(),
+    }
+}
+
+/// Writes `<name>_eta.{svg,png}` (components against unknowns) and `<name>_time.{svg,png}`
+/// (η_tot against wall time); returns the files.
+pub fn write_plots(dir: &Path, name: &str, history: &[StepRecord]) -> Result<Vec<PathBuf>, OutputError> {
+    let mut files = write_figure(&dir.join(format!("{name}_eta")), &components_figure(name, history))?;
+    let time = comparison_figure(name, "wall time [s]", &[("η_tot", history)], |r| r.elapsed);
+    files.extend(write_figure(&dir.join(format!("{name}_time")), &time)?);
+    Ok(files)
+}

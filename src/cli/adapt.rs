@@ -1,0 +1,207 @@
+//! `damfem adapt`: the adaptive loop on a scene, with ParaView files of every step, the
+//! history (JSON and CSV) and its figures.
+
+use super::common::{mesh_options, output_dir, stem, Input};
+use super::output::write_results;
+use crate::adapt::geo::GeoMesher;
+use crate::adapt::history::{to_csv, write_plots};
+use crate::adapt::marking::Marking;
+use crate::adapt::{self, AdaptError, AdaptSettings, Refinement, Step, StepRecord};
+use crate::contact::face_states;
+use crate::contact::projection::QuadraticSmoothing;
+use crate::elasticity::stress::cell_mean_stress;
+use crate::io::atomic::write_output;
+use crate::io::pvd::write_pvd;
+use crate::scene::Scene;
+use anyhow::{Context, Result};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    #[command(flatten)]
+    input: Input,
+    /// Output directory; overrides the scene's [output] directory (default: out)
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Maximum number of meshes; overrides adapt.steps (default 8)
+    #[arg(long)]
+    steps: Option<usize>,
+    /// Stop when eta_tot <= TOL [Pa m]; overrides adapt.tol
+    #[arg(long)]
+    tol: Option<f64>,
+    /// Stop when eta_tot <= TOL ||sigma_h||; overrides adapt.tol_relative
+    #[arg(long)]
+    tol_relative: Option<f64>,
+    /// Stop after the first mesh with at least N unknowns; overrides adapt.max_unknowns
+    #[arg(long)]
+    max_unknowns: Option<usize>,
+    /// Refine everywhere (every size halved at each step) instead of adaptively
+    #[arg(long)]
+    uniform: bool,
+    /// Marking strategy: dorfler (bulk) or maximum; overrides adapt.marking
+    #[arg(long, value_parser = ["dorfler", "maximum"])]
+    marking: Option<String>,
+    /// Fraction theta of the marking strategy; overrides adapt.bulk (default 0.5)
+    #[arg(long)]
+    bulk: Option<f64>,
+    /// gamma_lin of the Newton stopping rule; overrides adapt.gamma_lin (default 0.1)
+    #[arg(long)]
+    gamma_lin: Option<f64>,
+    /// gamma_reg of the regularisation stopping rule; overrides adapt.gamma_reg (default 0.1)
+    #[arg(long)]
+    gamma_reg: Option<f64>,
+}
+
+/// What `history.json` records.
+#[derive(Serialize)]
+struct History<'a> {
+    scene: &'a Path,
+    order: usize,
+    settings: &'a AdaptSettings,
+    steps: &'a [StepRecord],
+    /// Why the run stopped early, if it did.
+    error: Option<String>,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    let progress = args.input.progress();
+    let mut scene = args.input.scene()?;
+    override_settings(&args, &mut scene)?;
+    anyhow::ensure!(
+        scene.geometry.extension().is_some_and(|e| e == "geo"),
+        "{}: adaptive refinement remeshes the geometry, so it needs a .geo file, not a mesh",
+        scene.geometry.display()
+    );
+    let dir = output_dir(&args.output, &scene)?;
+    let name = stem(&scene.source);
+    let mut mesher = GeoMesher {
+        geometry: scene.geometry.clone(),
+        options: mesh_options(&scene),
+        refinement: scene.adapt.refinement,
+        verbose: args.input.verbose,
+        allow_system_calls: args.input.allow_system_calls,
+    };
+    let mut writer = StepWriter { dir: &dir, name: &name, scene: &scene, history: Vec::new(), vtu: Vec::new() };
+    let result = adapt::run(&scene.adapt, &mut mesher, &scene, |step| {
+        writer.write(step).map_err(|source| AdaptError::Output { step: step.record.step, source: source.into() })?;
+        progress.say(&step_line(step.record));
+        Ok(())
+    });
+    let error = result.as_ref().err().map(|e| format!("{e}"));
+    writer.finish(error.clone())?;
+    if let Some(e) = error {
+        anyhow::bail!("{}: adaptive step {}: {e}; the steps before it are in {}", scene.source.display(), writer.history.len(), dir.display());
+    }
+    print_table(&writer.history);
+    progress.say(&format!("results in {} ({name}.pvd, history.csv, {name}_eta.png)", dir.display()));
+    Ok(())
+}
+
+/// The scene's `[adapt]` table with the command-line overrides.
+fn override_settings(args: &Args, scene: &mut Scene) -> Result<()> {
+    let a = &mut scene.adapt;
+    a.steps = args.steps.unwrap_or(a.steps);
+    a.tol = args.tol.or(a.tol);
+    a.tol_relative = args.tol_relative.or(a.tol_relative);
+    a.max_unknowns = args.max_unknowns.or(a.max_unknowns);
+    if args.uniform {
+        a.refinement = Refinement::Uniform;
+    }
+    if let Some(m) = &args.marking {
+        a.marking = if m == "maximum" { Marking::Maximum } else { Marking::Dorfler };
+    }
+    a.bulk = args.bulk.unwrap_or(a.bulk);
+    a.gamma_lin = args.gamma_lin.unwrap_or(a.gamma_lin);
+    a.gamma_reg = args.gamma_reg.unwrap_or(a.gamma_reg);
+    Ok(scene.validate()?)
+}
+
+/// Writes every step as it comes, and the files that list the steps.
+struct StepWriter<'a> {
+    dir: &'a Path,
+    name: &'a str,
+    scene: &'a Scene,
+    history: Vec<StepRecord>,
+    /// The VTU files of every step.
+    vtu: Vec<Vec<PathBuf>>,
+}
+
+impl StepWriter<'_> {
+    /// The ParaView files of `step`, then the collections and the history so far.
+    fn write(&mut self, step: &Step) -> Result<()> {
+        let problem = step.problem;
+        let u = problem.displacement(step.disc, step.x);
+        let sigma = cell_mean_stress(problem, &u);
+        let projection = QuadraticSmoothing { delta: step.record.delta.unwrap_or(0.0) };
+        let states = step.nitsche.map(|n| face_states(problem, step.disc, n, &projection, step.x));
+        let faces = step.nitsche.zip(states.as_deref());
+        let name = format!("{}_{:02}", self.name, step.record.step);
+        let files = write_results(self.dir, &name, self.scene, problem, &u, &sigma, faces, Some(step.estimate))?;
+        self.vtu.push(files);
+        self.history.push(step.record.clone());
+        self.write_lists(None)
+    }
+
+    /// One `.pvd` per kind of VTU file (time = step), `history.json` and `history.csv`.
+    fn write_lists(&self, error: Option<String>) -> Result<()> {
+        let kinds = self.vtu.first().map_or(0, Vec::len);
+        for k in 0..kinds {
+            let entries: Vec<(f64, PathBuf)> =
+                self.vtu.iter().enumerate().map(|(step, files)| (step as f64, files[k].clone())).collect();
+            write_pvd(&self.dir.join(pvd_name(self.name, &entries[0].1)), &entries)?;
+        }
+        let history = History {
+            scene: &self.scene.source,
+            order: self.scene.mesh.order,
+            settings: &self.scene.adapt,
+            steps: &self.history,
+            error,
+        };
+        write_output(&self.dir.join("history.json"), serde_json::to_string_pretty(&history)?.as_bytes())?;
+        write_output(&self.dir.join("history.csv"), to_csv(&self.history).as_bytes())?;
+        Ok(())
+    }
+
+    /// The lists with the reason of an early stop, and the figures of the steps done.
+    fn finish(&self, error: Option<String>) -> Result<()> {
+        self.write_lists(error)?;
+        if !self.history.is_empty() {
+            write_plots(self.dir, self.name, &self.history).context("writing the figures")?;
+        }
+        Ok(())
+    }
+}
+
+/// `<name><kind>.pvd` for the step file `<name>_NN<kind>.vtu`.
+fn pvd_name(name: &str, file: &Path) -> String {
+    let stem = file.file_stem().and_then(|s| s.to_str()).unwrap_or_default();
+    let kind = stem.strip_prefix(name).map_or("", |rest| rest.trim_start_matches('_').trim_start_matches(|c: char| c.is_ascii_digit()));
+    format!("{name}{kind}.pvd")
+}
+
+/// The progress line of a step.
+fn step_line(r: &StepRecord) -> String {
+    let delta = r.delta.map_or(String::new(), |d| format!("  delta {d:.2e}"));
+    format!(
+        "step {:>2}  {:>8} unknowns  eta {:.3e} ({:.2e} of |sigma_h|)  N_reg {:>2}  N_lin {:>2}{delta}  {:.2} s",
+        r.step,
+        r.unknowns,
+        r.eta.tot,
+        r.eta.tot / r.stress_norm,
+        r.n_reg,
+        r.n_lin,
+        r.seconds.total()
+    )
+}
+
+/// The closing table on stdout: one row per step.
+fn print_table(history: &[StepRecord]) {
+    println!("{:>4} {:>9} {:>11} {:>11} {:>11} {:>11} {:>5} {:>5} {:>9}", "step", "unknowns", "eta_tot", "eta_flux", "eta_reg", "eta_lin", "N_reg", "N_lin", "time [s]");
+    for r in history {
+        println!(
+            "{:>4} {:>9} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e} {:>5} {:>5} {:>9.2}",
+            r.step, r.unknowns, r.eta.tot, r.eta.flux, r.eta.reg, r.eta.lin, r.n_reg, r.n_lin, r.seconds.total()
+        );
+    }
+}
