@@ -1,5 +1,5 @@
 # damfem: two commands for a fresh Debian machine.
-#   make demo   installs what is missing, builds in release mode and solves Scene A into out/
+#   make demo   installs what is missing, builds in release mode and runs the adaptive loop on Scene A into out/
 #   make test   installs what is missing and runs the whole test suite
 # Each installation step runs only when something is missing, so a second run is fast.
 
@@ -11,9 +11,12 @@ SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 .PHONY: demo test deps apt-deps python-deps build
 
 demo: deps build
-	./target/release/damfem solve geo/scene_a.toml -o out/scene_a
-	$(PYTHON) scripts/render.py out/scene_a/scene_a.vtu out/scene_a/scene_a.png
-	@echo "results: out/scene_a (open scene_a.vtu and scene_a_boundary.vtu in ParaView; picture: scene_a.png)"
+	./target/release/damfem adapt geo/scene_a.toml -o out/scene_a
+	$(PYTHON) scripts/render.py out/scene_a/scene_a.pvd out/scene_a/scene_a.png
+	$(PYTHON) scripts/render.py out/scene_a/scene_a.pvd out/scene_a/scene_a_mesh.png --field eta_tot --log --edges --warp 0
+	@echo "results in out/scene_a: scene_a.pvd and scene_a_boundary.pvd (every step, for ParaView),"
+	@echo "  history.csv and history.json, figures scene_a_eta.png and scene_a_time.png,"
+	@echo "  pictures scene_a.png (von Mises) and scene_a_mesh.png (final mesh and eta_tot)"
 
 test: deps build
 	cargo test --release

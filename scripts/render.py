@@ -1,14 +1,17 @@
 """Render a damfem result to a PNG, off-screen, with pyvista.
 
-Usage: python scripts/render.py RESULT.vtu OUT.png [--field von_mises] [--warp auto|FACTOR]
+Usage: python scripts/render.py RESULT.vtu|RESULT.pvd OUT.png [--field von_mises] [--warp auto|FACTOR]
+                                [--edges] [--log]
 
-The deformed mesh (displacement magnified so that the largest displacement is 5% of the
+For a .pvd collection (the steps of `damfem adapt`) the last step is drawn. The deformed mesh (displacement magnified so that the largest displacement is 5% of the
 domain size, unless --warp gives the factor) is coloured by a cell field. If
 RESULT_boundary.vtu exists beside it, the contact boundary is drawn on top: red where
-the body is in contact, blue where it has separated.
+the body is in contact, blue where it has separated. --edges draws the cell edges, --log
+a logarithmic colour scale (for estimators).
 """
 
 import argparse
+import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import numpy as np
@@ -33,21 +36,33 @@ def contact_lines(boundary_path, factor):
     return [(warped.extract_cells(np.where(status == s)[0]), colour) for s, colour in ((1, "red"), (0, "blue"))]
 
 
+def last_step(path):
+    """The path itself, or the last data set of a .pvd collection."""
+    if path.suffix != ".pvd":
+        return path
+    datasets = ET.parse(path).getroot().iter("DataSet")
+    return path.parent / max(datasets, key=lambda d: float(d.get("timestep"))).get("file")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("result", type=Path)
     parser.add_argument("png", type=Path)
     parser.add_argument("--field", default="von_mises")
     parser.add_argument("--warp", default="auto")
+    parser.add_argument("--edges", action="store_true")
+    parser.add_argument("--log", action="store_true")
     args = parser.parse_args()
-    grid = pv.read(args.result)
+    result = last_step(args.result)
+    grid = pv.read(result)
     factor = warp_factor(grid, args.warp)
     plotter = pv.Plotter(off_screen=True, window_size=(900, 800))
     plotter.add_mesh(grid, style="wireframe", color="lightgrey", opacity=0.4)
     plotter.add_mesh(grid.warp_by_vector("displacement", factor=factor), scalars=args.field, cmap="viridis",
+                     show_edges=args.edges, log_scale=args.log,
                      scalar_bar_args={"title": f"{args.field}\n(displacement x{factor:.3g})", "vertical": True,
                                       "position_x": 0.82, "position_y": 0.25, "height": 0.5})
-    boundary_path = args.result.with_name(args.result.stem + "_boundary.vtu")
+    boundary_path = result.with_name(result.stem + "_boundary.vtu")
     if boundary_path.exists():
         for lines, colour in contact_lines(boundary_path, factor):
             if lines.n_cells:

@@ -10,6 +10,7 @@ use crate::adapt::{AdaptError, AdaptSettings, Model};
 use crate::contact::nitsche::{Gap, NitscheParameters};
 use crate::contact::ContactSettings;
 use crate::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};
+use crate::io::gmsh::MeshOptions;
 use crate::mesh::{Mesh, Topology};
 use crate::solve::NewtonOptions;
 use serde::Deserialize;
@@ -333,6 +334,18 @@ impl Scene {
             by_tag.insert(self.group_tag(mesh, 2, name, "material")?, *m);
         }
         Ok(mesh.cell_tags.iter().map(|t| *by_tag.get(t).unwrap_or(&Self::DEFAULT_MATERIAL)).collect())
+    }
+
+    /// gmsh options from the `[mesh]` table.
+    pub fn mesh_options(&self) -> MeshOptions {
+        let m = &self.mesh;
+        MeshOptions {
+            order: m.order,
+            size_factor: m.size_factor,
+            size_min: m.size_min,
+            size_max: m.size_max,
+            algorithm: m.algorithm,
+        }
     }
 
     /// Nitsche parameters of the `[contact]` table.

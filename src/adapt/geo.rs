@@ -22,9 +22,8 @@ impl Mesher for GeoMesher {
     fn mesh(&mut self, step: usize, previous: Option<(&Mesh, &[f64])>) -> Result<Mesh, AdaptError> {
         let (path, verbose, allow) = (&self.geometry, self.verbose, self.allow_system_calls);
         let mesh = match (self.refinement, previous) {
-            (Refinement::Adaptive, Some((mesh, sizes))) => {
-                SizeField::from_cells(mesh, sizes).and_then(|field| remesh_geo(path, &self.options, &field, verbose, allow))
-            }
+            (Refinement::Adaptive, Some((mesh, sizes))) => SizeField::from_cells(mesh, sizes)
+                .and_then(|field| remesh_geo(path, &self.options, &field, verbose, allow)),
             _ => {
                 let factor = self.options.size_factor * 0.5f64.powi(step as i32);
                 mesh_geo(path, &MeshOptions { size_factor: factor, ..self.options.clone() }, verbose, allow)

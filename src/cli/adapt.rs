@@ -1,7 +1,7 @@
 //! `damfem adapt`: the adaptive loop on a scene, with ParaView files of every step, the
 //! history (JSON and CSV) and its figures.
 
-use super::common::{mesh_options, output_dir, stem, Input};
+use super::common::{output_dir, stem, Input};
 use super::output::write_results;
 use crate::adapt::geo::GeoMesher;
 use crate::adapt::history::{to_csv, write_plots};
@@ -77,7 +77,7 @@ pub fn run(args: Args) -> Result<()> {
     let name = stem(&scene.source);
     let mut mesher = GeoMesher {
         geometry: scene.geometry.clone(),
-        options: mesh_options(&scene),
+        options: scene.mesh_options(),
         refinement: scene.adapt.refinement,
         verbose: args.input.verbose,
         allow_system_calls: args.input.allow_system_calls,
@@ -91,7 +91,12 @@ pub fn run(args: Args) -> Result<()> {
     let error = result.as_ref().err().map(|e| format!("{e}"));
     writer.finish(error.clone())?;
     if let Some(e) = error {
-        anyhow::bail!("{}: adaptive step {}: {e}; the steps before it are in {}", scene.source.display(), writer.history.len(), dir.display());
+        anyhow::bail!(
+            "{}: adaptive step {}: {e}; the steps before it are in {}",
+            scene.source.display(),
+            writer.history.len(),
+            dir.display()
+        );
     }
     print_table(&writer.history);
     progress.say(&format!("results in {} ({name}.pvd, history.csv, {name}_eta.png)", dir.display()));
@@ -176,7 +181,9 @@ impl StepWriter<'_> {
 /// `<name><kind>.pvd` for the step file `<name>_NN<kind>.vtu`.
 fn pvd_name(name: &str, file: &Path) -> String {
     let stem = file.file_stem().and_then(|s| s.to_str()).unwrap_or_default();
-    let kind = stem.strip_prefix(name).map_or("", |rest| rest.trim_start_matches('_').trim_start_matches(|c: char| c.is_ascii_digit()));
+    let kind = stem
+        .strip_prefix(name)
+        .map_or("", |rest| rest.trim_start_matches('_').trim_start_matches(|c: char| c.is_ascii_digit()));
     format!("{name}{kind}.pvd")
 }
 
@@ -197,11 +204,22 @@ fn step_line(r: &StepRecord) -> String {
 
 /// The closing table on stdout: one row per step.
 fn print_table(history: &[StepRecord]) {
-    println!("{:>4} {:>9} {:>11} {:>11} {:>11} {:>11} {:>5} {:>5} {:>9}", "step", "unknowns", "eta_tot", "eta_flux", "eta_reg", "eta_lin", "N_reg", "N_lin", "time [s]");
+    println!(
+        "{:>4} {:>9} {:>11} {:>11} {:>11} {:>11} {:>5} {:>5} {:>9}",
+        "step", "unknowns", "eta_tot", "eta_flux", "eta_reg", "eta_lin", "N_reg", "N_lin", "time [s]"
+    );
     for r in history {
         println!(
             "{:>4} {:>9} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e} {:>5} {:>5} {:>9.2}",
-            r.step, r.unknowns, r.eta.tot, r.eta.flux, r.eta.reg, r.eta.lin, r.n_reg, r.n_lin, r.seconds.total()
+            r.step,
+            r.unknowns,
+            r.eta.tot,
+            r.eta.flux,
+            r.eta.reg,
+            r.eta.lin,
+            r.n_reg,
+            r.n_lin,
+            r.seconds.total()
         );
     }
 }

@@ -1,6 +1,6 @@
 //! Options and steps shared by the subcommands.
 
-use crate::io::gmsh::{self, MeshOptions};
+use crate::io::gmsh;
 use crate::mesh::Mesh;
 use crate::scene::Scene;
 use anyhow::{Context, Result};
@@ -66,7 +66,7 @@ impl Input {
         let mesh = if geometry.extension().is_some_and(|e| e == "msh") {
             gmsh::read_msh(geometry, self.verbose)?
         } else {
-            gmsh::mesh_geo(geometry, &mesh_options(scene), self.verbose, self.allow_system_calls)?
+            gmsh::mesh_geo(geometry, &scene.mesh_options(), self.verbose, self.allow_system_calls)?
         };
         Ok(mesh)
     }
@@ -74,17 +74,6 @@ impl Input {
     /// Progress reporter honouring `-q`.
     pub fn progress(&self) -> Progress {
         Progress { quiet: self.quiet }
-    }
-}
-
-/// gmsh options from the scene's `[mesh]` table.
-pub fn mesh_options(scene: &Scene) -> MeshOptions {
-    MeshOptions {
-        order: scene.mesh.order,
-        size_factor: scene.mesh.size_factor,
-        size_min: scene.mesh.size_min,
-        size_max: scene.mesh.size_max,
-        algorithm: scene.mesh.algorithm,
     }
 }
 

@@ -1,6 +1,6 @@
 //! `damfem mesh`: mesh a scene's geometry and write the .msh and a .vtu of the mesh.
 
-use super::common::{mesh_options, output_dir, stem, Input};
+use super::common::{output_dir, stem, Input};
 use crate::io::gmsh::Session;
 use crate::io::vtu::{write_boundary_vtu, write_mesh_vtu};
 use anyhow::{Context, Result};
@@ -27,7 +27,7 @@ pub fn run(args: Args) -> Result<()> {
         || {
             let mut session = Session::new(input.verbose)?;
             session.open_geo(&scene.geometry, input.allow_system_calls)?;
-            session.set_options(&mesh_options(&scene))?;
+            session.set_options(&scene.mesh_options())?;
             session.generate()?;
             let mesh = session.mesh()?;
             // gmsh picks the format from the extension: write a hidden .msh, then rename
