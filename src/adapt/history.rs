@@ -96,3 +96,13 @@ pub fn write_plots(dir: &Path, name: &str, history: &[StepRecord]) -> Result<Vec
     files.extend(write_figure(&dir.join(format!("{name}_time")), &time)?);
     Ok(files)
 }
+
+/// Least-squares slope of log y against log x: the rate of y ~ x^slope.
+pub fn loglog_slope(points: &[(f64, f64)]) -> f64 {
+    let logs: Vec<(f64, f64)> = points.iter().map(|&(x, y)| (x.ln(), y.ln())).collect();
+    let n = logs.len() as f64;
+    let (mx, my) = logs.iter().fold((0.0, 0.0), |(a, b), &(x, y)| (a + x / n, b + y / n));
+    let sxy: f64 = logs.iter().map(|&(x, y)| (x - mx) * (y - my)).sum();
+    let sxx: f64 = logs.iter().map(|&(x, _)| (x - mx).powi(2)).sum();
+    sxy / sxx
+}
