@@ -1,5 +1,5 @@
 //! Finite elements on affine triangles: quadrature, Lagrange P1/P2 bases, affine maps,
-//! degrees of freedom and sparse assembly.
+//! degrees of freedom, sparse assembly and transfer of fields between meshes.
 
 pub mod affine;
 pub mod dofs;
