@@ -68,3 +68,31 @@ fn physical_groups_survive_every_remesh() {
     assert_eq!(history.len(), 4);
     assert!(seen.windows(2).all(|w| w[1] > w[0]), "cells per step {seen:?}");
 }
+
+/// Cells per unit area within `r` of `p`, over the mean cells per unit area.
+fn relative_density(mesh: &Mesh, p: [f64; 2], r: f64) -> f64 {
+    let centroid = |c: usize| {
+        let v = mesh.cell_vertices(c);
+        [(v[0][0] + v[1][0] + v[2][0]) / 3.0, (v[0][1] + v[1][1] + v[2][1]) / 3.0]
+    };
+    let near = (0..mesh.n_cells()).filter(|&c| damfem::mesh::distance(centroid(c), p) < r).count() as f64;
+    let area: f64 = (0..mesh.n_cells()).map(|c| mesh.cell_area(c)).sum();
+    (near / (0.5 * std::f64::consts::PI * r * r)) / (mesh.n_cells() as f64 / area)
+}
+
+#[test]
+fn refinement_concentrates_at_the_junction_and_the_end_of_the_contact_zone() {
+    // Scene A lifts off at the heel (x < 11.3) and just before the anchored toe (30.4 < x < 32):
+    // the Γ_D/Γ_C junction at (32, 0) and the contact end at x ≈ 30.4 are the singular points
+    let scene = scene("scene_a", 1);
+    let (mut first, mut last) = (None, None);
+    run(steps(6), &mut mesher(&scene, Refinement::Adaptive), &scene, |mesh, _| {
+        let density = relative_density(mesh, [31.0, 0.0], 2.0);
+        first.get_or_insert(density);
+        last = Some(density);
+    })
+    .expect("adaptive run");
+    let (first, last) = (first.unwrap(), last.unwrap());
+    eprintln!("relative cell density within 2 m of (31, 0): {first:.1} -> {last:.1}");
+    assert!(last > 4.0 * first, "{first} -> {last}");
+}
