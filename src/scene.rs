@@ -381,6 +381,13 @@ impl Scene {
         Ok(self.roles(mesh)?.into_iter().filter(|(_, _, b)| b.role == Role::Contact).map(|(tag, _, _)| tag).collect())
     }
 
+    /// The problem on `mesh` and the tags of its contact curves, as the adaptive loop needs them.
+    pub fn problem_and_contact(&self, mesh: Mesh) -> Result<(Problem, Vec<i32>), AdaptError> {
+        let tags = self.contact_tags(&mesh).map_err(|e| AdaptError::Problem(e.into()))?;
+        let problem = self.problem(mesh).map_err(|e| AdaptError::Problem(e.into()))?;
+        Ok((problem, tags))
+    }
+
     /// The elasticity problem of this scene on `mesh`; contact curves carry no condition here.
     pub fn problem(&self, mesh: Mesh) -> Result<Problem, SceneError> {
         let roles = self.roles(&mesh)?;
@@ -434,9 +441,7 @@ impl Scene {
 
 impl Model for Scene {
     fn problem(&self, mesh: Mesh) -> Result<(Problem, Vec<i32>), AdaptError> {
-        let tags = self.contact_tags(&mesh).map_err(|e| AdaptError::Problem(e.into()))?;
-        let problem = Scene::problem(self, mesh).map_err(|e| AdaptError::Problem(e.into()))?;
-        Ok((problem, tags))
+        self.problem_and_contact(mesh)
     }
 
     fn contact(&self) -> (NitscheParameters, NewtonOptions) {

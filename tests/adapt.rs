@@ -3,6 +3,7 @@
 //! the earlier steps kept.
 
 use damfem::adapt::geo::GeoMesher;
+use damfem::adapt::history::loglog_slope;
 use damfem::adapt::{self, AdaptError, AdaptSettings, Mesher, Model, Refinement, StepRecord};
 use damfem::contact::nitsche::NitscheParameters;
 use damfem::elasticity::Problem;
@@ -95,4 +96,102 @@ fn refinement_concentrates_at_the_junction_and_the_end_of_the_contact_zone() {
     let (first, last) = (first.unwrap(), last.unwrap());
     eprintln!("relative cell density within 2 m of (31, 0): {first:.1} -> {last:.1}");
     assert!(last > 4.0 * first, "{first} -> {last}");
+}
+
+/// Fails at step `at`, meshing normally before.
+struct FailingMesher {
+    inner: GeoMesher,
+    at: usize,
+}
+
+impl Mesher for FailingMesher {
+    fn mesh(&mut self, step: usize, previous: Option<(&Mesh, &[f64])>) -> Result<Mesh, AdaptError> {
+        if step == self.at {
+            return Err(AdaptError::Mesh("gmsh could not mesh surface 1".into()));
+        }
+        self.inner.mesh(step, previous)
+    }
+}
+
+#[test]
+fn a_failed_remesh_stops_the_run_after_the_steps_already_done() {
+    let scene = scene("scene_a", 1);
+    let mut mesher = FailingMesher { inner: mesher(&scene, Refinement::Adaptive), at: 2 };
+    let mut seen = Vec::new();
+    let result = run(steps(5), &mut mesher, &scene, |_, record| seen.push(record.step));
+    assert_eq!(seen, [0, 1]);
+    let message = result.expect_err("the remesh fails").to_string();
+    assert!(message.contains("meshing failed: gmsh could not mesh surface 1"), "{message}");
+}
+
+/// Scene A with a Newton step limit.
+struct Limited {
+    scene: Scene,
+    max_iter: usize,
+}
+
+impl Model for Limited {
+    fn problem(&self, mesh: Mesh) -> Result<(Problem, Vec<i32>), AdaptError> {
+        self.scene.problem_and_contact(mesh)
+    }
+
+    fn contact(&self) -> (NitscheParameters, NewtonOptions) {
+        let (parameters, newton) = self.scene.contact();
+        (parameters, NewtonOptions { max_iter: self.max_iter, ..newton })
+    }
+}
+
+#[test]
+fn a_newton_failure_is_reported_with_its_history() {
+    let scene = scene("scene_a", 1);
+    let model = Limited { scene: scene.clone(), max_iter: 2 };
+    let result = run(steps(3), &mut mesher(&scene, Refinement::Adaptive), &model, |_, _| panic!("no step succeeds"));
+    let message = result.expect_err("two Newton steps are too few from zero").to_string();
+    assert!(message.contains("at delta = ") && message.contains("Newton did not converge in 2 step(s)"), "{message}");
+}
+
+#[test]
+fn warm_starts_need_few_newton_steps_and_delta_moves_on_the_first_mesh_only() {
+    let scene = scene("scene_a", 2);
+    let history = run(steps(5), &mut mesher(&scene, Refinement::Adaptive), &scene, |_, _| {}).expect("adaptive run");
+    let n_lin: Vec<usize> = history.iter().map(|r| r.n_lin).collect();
+    let n_reg: Vec<usize> = history.iter().map(|r| r.n_reg).collect();
+    eprintln!("N_reg {n_reg:?}, N_lin {n_lin:?}");
+    assert!(n_lin[1..].iter().all(|&n| 2 * n <= n_lin[0]), "N_lin {n_lin:?}");
+    assert!(n_reg[1..].iter().all(|&n| n == 0), "N_reg {n_reg:?}");
+    for r in &history {
+        // the stopping rules hold at the accepted iterate
+        let e = &r.eta;
+        assert!(e.lin <= 0.1 * (e.osc + e.flux + e.neu + e.disc), "S_lin fails at step {}", r.step);
+        assert!(e.reg <= 0.1 * (e.osc + e.flux + e.neu + e.disc + e.lin), "S_reg fails at step {}", r.step);
+    }
+}
+
+#[test]
+fn without_contact_each_step_is_one_linear_solve() {
+    let scene = scene("unit_square", 1);
+    let history = run(steps(3), &mut mesher(&scene, Refinement::Adaptive), &scene, |_, _| {}).expect("adaptive run");
+    for r in &history {
+        assert_eq!((r.n_lin, r.n_reg, r.delta), (0, 0, None));
+        assert_eq!([r.eta.disc, r.eta.reg, r.eta.lin], [0.0; 3]);
+        assert!(r.eta.flux > 0.0);
+    }
+    assert!(history[2].eta.tot < history[0].eta.tot);
+}
+
+#[test]
+fn adaptive_refinement_reaches_the_optimal_rate_on_scene_a() {
+    // P1: η ~ N^{-1/2} once the singular points are resolved; uniform refinement is limited
+    // by the Γ_D/Γ_C junction
+    let scene = scene("scene_a", 1);
+    let fit = |h: &[StepRecord]| {
+        let tail = &h[h.len() - 4..];
+        loglog_slope(&tail.iter().map(|r| (r.unknowns as f64, r.eta.tot)).collect::<Vec<_>>())
+    };
+    let adaptive = run(steps(10), &mut mesher(&scene, Refinement::Adaptive), &scene, |_, _| {}).expect("adaptive");
+    let uniform = run(steps(4), &mut mesher(&scene, Refinement::Uniform), &scene, |_, _| {}).expect("uniform");
+    let (a, u) = (fit(&adaptive), fit(&uniform));
+    eprintln!("fitted rates: adaptive {a:.3}, uniform {u:.3}");
+    assert!((a + 0.5).abs() <= 0.1, "adaptive rate {a}");
+    assert!(u > -0.35, "uniform rate {u}");
 }
