@@ -13,10 +13,10 @@ SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 demo: deps build
 	./target/release/damfem adapt geo/scene_a.toml -o out/scene_a
 	$(PYTHON) scripts/render.py out/scene_a/scene_a.pvd out/scene_a/scene_a.png
-	$(PYTHON) scripts/render.py out/scene_a/scene_a.pvd out/scene_a/scene_a_mesh.png --field eta_tot --log --edges --warp 0
+	$(PYTHON) scripts/render.py out/scene_a/scene_a.pvd out/scene_a/scene_a_mesh.png --field eta_tot --log --edges --warp 0 --box 24 40 0 8
 	@echo "results in out/scene_a: scene_a.pvd and scene_a_boundary.pvd (every step, for ParaView),"
 	@echo "  history.csv and history.json, figures scene_a_eta.png and scene_a_time.png,"
-	@echo "  pictures scene_a.png (von Mises) and scene_a_mesh.png (final mesh and eta_tot)"
+	@echo "  pictures scene_a.png (von Mises) and scene_a_mesh.png (final mesh and eta_tot near the toe)"
 
 test: deps build
 	cargo test --release

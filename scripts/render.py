@@ -1,13 +1,14 @@
 """Render a damfem result to a PNG, off-screen, with pyvista.
 
 Usage: python scripts/render.py RESULT.vtu|RESULT.pvd OUT.png [--field von_mises] [--warp auto|FACTOR]
-                                [--edges] [--log]
+                                [--edges] [--log] [--box XMIN XMAX YMIN YMAX]
 
 For a .pvd collection (the steps of `damfem adapt`) the last step is drawn. The deformed mesh (displacement magnified so that the largest displacement is 5% of the
 domain size, unless --warp gives the factor) is coloured by a cell field. If
 RESULT_boundary.vtu exists beside it, the contact boundary is drawn on top: red where
 the body is in contact, blue where it has separated. --edges draws the cell edges, --log
-a logarithmic colour scale (for estimators).
+a logarithmic colour scale (for estimators); --box draws only the cells inside a box (a
+close-up, e.g. of the refined zone).
 """
 
 import argparse
@@ -36,6 +37,13 @@ def contact_lines(boundary_path, factor):
     return [(warped.extract_cells(np.where(status == s)[0]), colour) for s, colour in ((1, "red"), (0, "blue"))]
 
 
+def inside(grid, box):
+    """The cells of `grid` whose centres lie in box = (xmin, xmax, ymin, ymax)."""
+    centres = grid.cell_centers().points
+    keep = (centres[:, 0] >= box[0]) & (centres[:, 0] <= box[1]) & (centres[:, 1] >= box[2]) & (centres[:, 1] <= box[3])
+    return grid.extract_cells(np.where(keep)[0])
+
+
 def last_step(path):
     """The path itself, or the last data set of a .pvd collection."""
     if path.suffix != ".pvd":
@@ -52,19 +60,23 @@ def main():
     parser.add_argument("--warp", default="auto")
     parser.add_argument("--edges", action="store_true")
     parser.add_argument("--log", action="store_true")
+    parser.add_argument("--box", type=float, nargs=4, metavar=("XMIN", "XMAX", "YMIN", "YMAX"))
     args = parser.parse_args()
     result = last_step(args.result)
     grid = pv.read(result)
+    if args.box:
+        grid = inside(grid, args.box)
     factor = warp_factor(grid, args.warp)
     plotter = pv.Plotter(off_screen=True, window_size=(900, 800))
     plotter.add_mesh(grid, style="wireframe", color="lightgrey", opacity=0.4)
     plotter.add_mesh(grid.warp_by_vector("displacement", factor=factor), scalars=args.field, cmap="viridis",
                      show_edges=args.edges, log_scale=args.log,
-                     scalar_bar_args={"title": f"{args.field}\n(displacement x{factor:.3g})", "vertical": True,
+                     scalar_bar_args={"title": args.field + (f"\n(displacement x{factor:.3g})" if factor else ""), "vertical": True,
                                       "position_x": 0.82, "position_y": 0.25, "height": 0.5})
     boundary_path = result.with_name(result.stem + "_boundary.vtu")
     if boundary_path.exists():
         for lines, colour in contact_lines(boundary_path, factor):
+            lines = inside(lines, args.box) if args.box and lines.n_cells else lines
             if lines.n_cells:
                 plotter.add_mesh(lines, color=colour, line_width=6)
     plotter.view_xy()
