@@ -204,10 +204,10 @@ fn help_texts() {
     let out = damfem(&["--help"]);
     assert_ok(&out);
     let main = String::from_utf8_lossy(&out.stdout);
-    for command in ["mesh", "check", "solve"] {
+    for command in ["mesh", "check", "solve", "adapt"] {
         assert!(main.contains(command), "{command} not in: {main}");
     }
-    for command in ["mesh", "check", "solve"] {
+    for command in ["mesh", "check", "solve", "adapt"] {
         let out = damfem(&[command, "--help"]);
         assert_ok(&out);
         let help = String::from_utf8_lossy(&out.stdout);
@@ -384,4 +384,85 @@ fn order_option_on_msh_input() {
     } else {
         assert_error(&out, &["--order", "bare.msh"]);
     }
+}
+
+#[test]
+fn adapt_writes_every_step_its_history_and_figures() {
+    let dir = TempDir::new("adapt");
+    let out = damfem(&[
+        OsStr::new("adapt"),
+        repo("geo/scene_a.toml").as_os_str(),
+        OsStr::new("--order"),
+        OsStr::new("1"),
+        OsStr::new("--steps"),
+        OsStr::new("3"),
+        OsStr::new("-o"),
+        dir.0.as_os_str(),
+    ]);
+    assert_ok(&out);
+    let progress = stderr(&out);
+    assert_eq!(progress.lines().filter(|l| l.starts_with("step ")).count(), 3, "{progress}");
+    let table = String::from_utf8_lossy(&out.stdout);
+    assert!(table.lines().next().is_some_and(|l| l.contains("N_reg") && l.contains("N_lin")), "{table}");
+    for step in 0..3 {
+        for kind in ["", "_boundary", "_dg"] {
+            assert!(dir.join(&format!("scene_a_{step:02}{kind}.vtu")).is_file(), "step {step}{kind}");
+        }
+    }
+    for file in ["scene_a.pvd", "scene_a_boundary.pvd", "scene_a_dg.pvd"] {
+        let pvd = std::fs::read_to_string(dir.join(file)).unwrap();
+        assert_eq!(pvd.matches("<DataSet").count(), 3, "{file}");
+    }
+    let csv = std::fs::read_to_string(dir.join("history.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 4);
+    assert!(csv.starts_with("step,cells,unknowns,eta_osc"));
+    let history: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("history.json")).unwrap()).unwrap();
+    let steps = history["steps"].as_array().unwrap();
+    assert_eq!(steps.len(), 3);
+    assert!(steps[2]["unknowns"].as_u64() > steps[0]["unknowns"].as_u64());
+    assert!(history["error"].is_null());
+    for figure in ["scene_a_eta.svg", "scene_a_eta.png", "scene_a_time.svg", "scene_a_time.png"] {
+        assert!(dir.join(figure).is_file(), "{figure}");
+    }
+    assert!(hidden_files(&dir.0).is_empty());
+}
+
+#[test]
+fn adapt_needs_a_geo_file() {
+    let dir = TempDir::new("adapt-msh");
+    assert_ok(&damfem(&[
+        OsStr::new("mesh"),
+        repo("geo/unit_square.toml").as_os_str(),
+        OsStr::new("-o"),
+        dir.0.as_os_str(),
+    ]));
+    let out =
+        damfem(&[OsStr::new("adapt"), dir.join("unit_square.msh").as_os_str(), OsStr::new("-o"), dir.0.as_os_str()]);
+    assert_error(&out, &["unit_square.msh", "needs a .geo file"]);
+}
+
+#[test]
+fn adapt_rejects_a_bad_marking_fraction() {
+    let out =
+        damfem(&[OsStr::new("adapt"), repo("geo/scene_a.toml").as_os_str(), OsStr::new("--bulk"), OsStr::new("1.5")]);
+    assert_error(&out, &["adapt.bulk = 1.5", "(0, 1]"]);
+}
+
+#[test]
+fn adapt_reports_a_newton_failure_and_keeps_the_history() {
+    let dir = TempDir::new("adapt-newton");
+    let scene = dir.join("limited.toml");
+    let text = std::fs::read_to_string(repo("geo/scene_a.toml")).unwrap();
+    let geometry = repo("geo/scene_a.geo");
+    let text = text
+        .replace("geometry = \"scene_a.geo\"", &format!("geometry = {:?}", geometry.display().to_string()))
+        .replace("[contact]", "[contact]\nmax_iter = 1");
+    std::fs::write(&scene, text).unwrap();
+    let out = damfem(&[OsStr::new("adapt"), scene.as_os_str(), OsStr::new("-o"), dir.0.as_os_str(), OsStr::new("-q")]);
+    assert_error(&out, &["limited.toml", "adaptive step 0", "Newton did not converge in 1 step(s)"]);
+    let history: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("history.json")).unwrap()).unwrap();
+    assert!(history["error"].as_str().unwrap().contains("Newton"));
+    assert!(history["steps"].as_array().unwrap().is_empty());
 }
