@@ -76,7 +76,10 @@ fn run(case: &Case, refinement: Refinement, settings: AdaptSettings) -> Result<R
             error.push(errors(&step.problem.mesh, &u, v3::u, v3::grad_u).1);
         }
         let r = step.record;
-        eprintln!("  {:?} step {} {} unknowns eta {:.3e} {:.1} s", refinement, r.step, r.unknowns, r.eta.tot, r.elapsed);
+        eprintln!(
+            "  {:?} step {} {} unknowns eta {:.3e} {:.1} s",
+            refinement, r.step, r.unknowns, r.eta.tot, r.elapsed
+        );
         Ok(())
     })?;
     Ok(Run { history, error })
@@ -142,8 +145,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let last = uniform.history.last().expect("a step");
         let settings = AdaptSettings { steps: case.steps.1, tol: Some(last.eta.tot), ..Default::default() };
         let adaptive = run(&case, Refinement::Adaptive, settings)?;
-        let (n, t) = reaching(&adaptive.history, last.eta.tot)
-            .map_or((f64::NAN, f64::NAN), |r| (r.unknowns as f64, r.elapsed));
+        let (n, t) =
+            reaching(&adaptive.history, last.eta.tot).map_or((f64::NAN, f64::NAN), |r| (r.unknowns as f64, r.elapsed));
         writeln!(
             table,
             "| {} | {}, {:.1}, {:.3e} | {}, {:.1} | {:.3} | {:.3} | {:.2} | {:.2} | {:.2} |",

@@ -66,6 +66,7 @@ fn regularisation_small(g: &GlobalEstimators, gamma_reg: f64) -> bool {
 /// With contact on the facets tagged `tags`: Newton from `x0` at δ, stopped by (S_lin), and
 /// δ ← δ/ρ_δ until (S_reg). An estimate follows every full Newton step (a damped step does
 /// not solve the linearised problem, so its η_lin would not be a bound).
+#[allow(clippy::too_many_arguments)]
 pub fn solve_contact(
     problem: &Problem,
     disc: &Discretisation,

@@ -16,6 +16,7 @@ pub type ContactFaces<'a> = (&'a Nitsche, &'a [FaceState]);
 
 /// Writes `<name>.vtu`, and as the scene asks `<name>_boundary.vtu` and `<name>_dg.vtu`;
 /// returns their paths.
+#[allow(clippy::too_many_arguments)]
 pub fn write_results(
     dir: &Path,
     name: &str,
