@@ -228,13 +228,26 @@ fn divergence_rows(input: &PatchInput) -> (DMatrix<f64>, Vec<Vec<f64>>, Vec<Vec<
             })
             .sum()
     });
-    // test fields orthogonal to range(W) = {Π^{p−1} z}: the eigenvectors of I − P_W with
-    // eigenvalue 1 (range(W) may have fewer than dim RM dimensions on small patches)
-    let svd = w.svd(true, true);
-    let u: DMatrix<f64> = svd.u.expect("requested");
+    let svd = w.clone().svd(true, true);
     let largest = svd.singular_values.max();
     let kept: Vec<usize> =
         (0..svd.singular_values.len()).filter(|&j| svd.singular_values[j] > 1e-12 * largest).collect();
+    if kept.len() == input.rigid.len() {
+        // W of full rank r, W = QR (Householder): the last n_rows − r rows of Qᵀ are an
+        // orthonormal basis of the test fields orthogonal to range(W) = {Π^{p−1} z}
+        let qr = w.qr();
+        let restrict = |mut m: DMatrix<f64>| {
+            qr.q_tr_mul(&mut m);
+            m.rows(kept.len(), n_rows - kept.len()).into_owned()
+        };
+        for column in &mut rhs {
+            *column = restrict(DMatrix::from_column_slice(n_rows, 1, column)).iter().copied().collect();
+        }
+        return (restrict(d), rhs, Vec::new());
+    }
+    // otherwise (small patches) the test fields orthogonal to range(W): the eigenvectors of
+    // I − P_W with eigenvalue 1
+    let u: DMatrix<f64> = svd.u.expect("requested");
     let u_k: DMatrix<f64> = u.select_columns(&kept);
     let complement: DMatrix<f64> = DMatrix::identity(n_rows, n_rows) - &u_k * u_k.transpose();
     let eigen = complement.symmetric_eigen();
