@@ -64,8 +64,10 @@ fn regularisation_small(g: &GlobalEstimators, gamma_reg: f64) -> bool {
 }
 
 /// With contact on the facets tagged `tags`: Newton from `x0` at δ, stopped by (S_lin), and
-/// δ ← δ/ρ_δ until (S_reg). An estimate follows every full Newton step (a damped step does
-/// not solve the linearised problem, so its η_lin would not be a bound).
+/// δ ← δ/ρ_δ until (S_reg). An estimate follows every full Newton step that at least halved
+/// the residual: a damped step does not solve the linearised problem, so its η_lin would not
+/// be a bound, and while the residual does not contract (the active set still moves) (S_lin)
+/// cannot hold. The final iterate is always estimated.
 #[allow(clippy::too_many_arguments)]
 pub fn solve_contact(
     problem: &Problem,
@@ -87,7 +89,7 @@ pub fn solve_contact(
         let mut inside = 0.0;
         let clock = Instant::now();
         let report = newton_until(&contact, x, newton, |it: &Iterate| {
-            if it.last.step < 1.0 {
+            if it.last.step < 1.0 || it.residual > 0.5 * it.last.residual {
                 return false;
             }
             let clock = Instant::now();
