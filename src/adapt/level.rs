@@ -48,9 +48,19 @@ pub fn solve_linear(problem: &Problem, disc: &Discretisation) -> Result<Level, A
     })
 }
 
-fn with_global(e: Estimate) -> (Estimate, GlobalEstimators) {
+/// The estimate of the contact iterate `x` and its global values; adds its time to `seconds`.
+fn estimate_timed(
+    problem: &Problem,
+    disc: &Discretisation,
+    x: &[f64],
+    state: Linearisation,
+    seconds: &mut f64,
+) -> Result<(Estimate, GlobalEstimators), AdaptError> {
+    let clock = Instant::now();
+    let e = estimate_iterate(problem, disc, x, Some(state), false)?;
+    *seconds += clock.elapsed().as_secs_f64();
     let global = e.estimators.global();
-    (e, global)
+    Ok((e, global))
 }
 
 /// (S_lin): η_lin ≤ γ_lin (η_osc + η_flux + η_Neu + η_disc).
@@ -92,10 +102,8 @@ pub fn solve_contact(
             if it.last.step < 1.0 || it.residual > 0.5 * it.last.residual {
                 return false;
             }
-            let clock = Instant::now();
             let state = Linearisation { nitsche: &contact.nitsche, x_prev: it.x_prev, delta };
-            let e = estimate_iterate(problem, disc, it.x, Some(state), false).map(with_global);
-            inside += clock.elapsed().as_secs_f64();
+            let e = estimate_timed(problem, disc, it.x, state, &mut inside);
             let stop = e.as_ref().map_or(true, |(_, g)| linearisation_small(g, settings.gamma_lin));
             latest = Some((it.x.to_vec(), e));
             stop
@@ -107,11 +115,8 @@ pub fn solve_contact(
         let (estimate, global) = match latest {
             Some((at, e)) if at == report.x => e?,
             _ => {
-                let clock = Instant::now();
                 let state = Linearisation { nitsche: &contact.nitsche, x_prev: &report.x_prev, delta };
-                let e = estimate_iterate(problem, disc, &report.x, Some(state), false)?;
-                estimate_seconds += clock.elapsed().as_secs_f64();
-                with_global(e)
+                estimate_timed(problem, disc, &report.x, state, &mut estimate_seconds)?
             }
         };
         x = report.x;
