@@ -634,6 +634,48 @@ fn zero_oscillation_and_neumann_terms_on_constant_data() {
     }
 }
 
+/// The unit square with rollers on the left (u_x = 0) and bottom (u_y = 0) sides and constant
+/// tractions (1, 0) on the right and (0, −0.5) on the top: σ = diag(1, −0.5), u affine.
+fn roller_problem(mesh: Mesh, tags: [i32; 4]) -> Problem {
+    let [bottom, right, top, left] = tags;
+    let roller = |tag, fix| damfem::elasticity::Dirichlet { tag, fix, value: Arc::new(|_| [0.0; 2]) };
+    Problem {
+        materials: vec![Material::from_lame(1.0, 1.0); mesh.n_cells()],
+        dirichlet: vec![roller(left, [true, false]), roller(bottom, [false, true])],
+        neumann: vec![
+            Neumann { tag: right, traction: Traction::Constant([1.0, 0.0]) },
+            Neumann { tag: top, traction: Traction::Constant([0.0, -0.5]) },
+        ],
+        body_force: BodyForce::None,
+        mesh,
+    }
+}
+
+/// Source: docs/method.md §4.4 (free rigid motions of roller patches, the p = 1 rotation datum).
+/// Goal: when u_h is the exact solution, η_tot is round-off, for P1 and P2, on a structured
+/// and on a gmsh mesh. Roller patches leave one translation free and no rotation; a rotation
+/// datum fitted to the round-off defect of that translation would make η large.
+/// Parameters: unit square, rollers left and bottom, σ = diag(1, −0.5); structured 8 × 8,
+/// gmsh geo/unit_square.geo (h = 1/8).
+#[test]
+fn exact_solution_with_rollers_has_zero_estimate() {
+    for order in [1, 2] {
+        let options = MeshOptions { order, size_factor: 1.0, ..Default::default() };
+        let gmsh = mesh_geo(&manifest("geo/unit_square.geo"), &options, false, false).unwrap_or_else(|e| panic!("{e}"));
+        let tags = ["bottom", "right", "top", "left"].map(|name| gmsh.group(1, name).unwrap().tag);
+        for (label, problem) in [
+            ("structured", roller_problem(unit_square(8, order), [BOTTOM, RIGHT, TOP, LEFT])),
+            ("gmsh", roller_problem(gmsh.clone(), tags)),
+        ] {
+            let e = evaluate(&problem, &solve_linear(&problem), None, &[], None);
+            println!("rollers {label} P{order}: {}; worst check {:.1e}", components(&e.est), e.eq.worst(order));
+            let stress_norm = 1.25_f64.sqrt(); // ‖σ‖_Ω on the unit square
+            assert!(e.est.tot < 1e-10 * stress_norm, "{label} P{order}: eta {} for an exact solution", e.est.tot);
+            assert!(e.eq.worst(order) < 1e-10, "{label} P{order}: {:?}", e.eq);
+        }
+    }
+}
+
 // ---------------------------------------------------------------------------------------
 // 4. the checks can fail
 // ---------------------------------------------------------------------------------------

@@ -329,7 +329,10 @@ fn defects(input: &PatchInput, face_rhs: &[f64], divergence: &[f64]) -> Vec<(f64
 
 /// κ of the symmetry datum c = κ J that cancels the defects d along the rigid-motion
 /// combinations `directions` (coefficients over `input.rigid`): (c, ∇z) = −2bκ|ω_a| for
-/// z = a + b(−y, x), least squares over the directions. None if they hold no rotation.
+/// z = a + b(−y, x), least squares over the directions. None if they hold no rotation:
+/// Σ b² |ω_a| is then round-off (the directions are orthonormal in units of the patch
+/// size), and dividing by it would turn the round-off defect of a translation into a
+/// spurious skew datum (roller patches, where only a translation is free).
 fn rotation_kappa(input: &PatchInput, d: &[(f64, f64)], directions: &[Vec<f64>]) -> Option<f64> {
     let combine = |c: &Vec<f64>, f: &dyn Fn(usize) -> f64| c.iter().enumerate().map(|(k, ck)| ck * f(k)).sum::<f64>();
     let (mut num, mut den) = (0.0, 0.0);
@@ -338,8 +341,11 @@ fn rotation_kappa(input: &PatchInput, d: &[(f64, f64)], directions: &[Vec<f64>])
         num += dn * bn;
         den += bn * bn;
     }
-    (den > 0.0).then(|| -num / (2.0 * input.area * den))
+    (den * input.area > ROTATION_TOLERANCE).then(|| -num / (2.0 * input.area * den))
 }
+
+/// Below this, Σ b² |ω_a| of the free rigid motions is round-off of a rotation-free kernel.
+const ROTATION_TOLERANCE: f64 = 1e-12;
 
 /// Makes the data compatible where (C) is needed. The total (case 0) must satisfy (C) for
 /// every free z, so that ∇·σ^a = Π^{p−1} g_a exactly: for p = 1 the rotational defect is
