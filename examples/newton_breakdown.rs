@@ -8,9 +8,9 @@
 //!   (δ = 10⁻⁴ × stress scale, γ₀ = 100, θ = 0, rtol = 10⁻¹⁰): its number of Newton steps;
 //! - the parts of one Newton step at the converged state: residual + Jacobian evaluation
 //!   (`NonlinearSystem::evaluate`), numeric LU with the symbolic factorisation reused
-//!   (`SparseLu::factor`), triangular solves (`solve_with`), and the residual-only evaluation of
+//!   (`SparseLu::factor`), triangular solves (`LuFactors::solve`), and the residual-only evaluation of
 //!   an accepted full step of the line search;
-//! - the same LU refactored from scratch (`SymbolicLu::try_new` + numeric) and the saving of
+//! - the same LU refactored from scratch (`SparseLu::analyse` + numeric) and the saving of
 //!   reuse per step: the symbolic analysis over a step from scratch, both timed in one block
 //!   (and, noisier, 1 − step / step from scratch over two separately timed numeric LUs);
 //! - the linear elasticity solve on the same mesh with the base bonded (clamped):
@@ -46,9 +46,7 @@ use damfem::contact::{solve_contact, ContactProblem};
 use damfem::io::atomic::write_output;
 use damfem::io::gmsh::{mesh_geo, MeshOptions};
 use damfem::scene::{Role, Scene};
-use damfem::solve::lu::solve_with;
 use damfem::solve::{Cholesky, NonlinearSystem, SparseLu};
-use faer::sparse::linalg::solvers::{Lu, SymbolicLu};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -208,18 +206,18 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
         let minus_r: Vec<f64> = residual.iter().map(|v| -v).collect();
         let (factors, numeric) = timed(|| lu.factor(pattern, &jacobian).expect("numeric LU"));
         s.numeric = numeric;
-        let (delta, solve) = timed(|| solve_with(&factors, &minus_r));
+        let (delta, solve) = timed(|| factors.solve(&minus_r));
         s.solve = solve;
         drop(factors);
         let trial: Vec<f64> = x.iter().zip(&delta).map(|(a, d)| a + d).collect();
         ((), s.residual) = timed(|| system.evaluate(&trial, &mut trial_residual, None));
         // the same factorisation from scratch: symbolic analysis + numeric
         let clock = Instant::now();
-        let symbolic = SymbolicLu::try_new(pattern.symbolic()).expect("symbolic LU");
+        let symbolic = SparseLu::analyse(pattern).expect("symbolic LU");
         s.symbolic = clock.elapsed().as_secs_f64();
-        let scratch = Lu::try_new_with_symbolic(symbolic, pattern.matrix(&jacobian)).expect("numeric LU");
+        let scratch = symbolic.factor(pattern, &jacobian).expect("numeric LU");
         s.scratch = clock.elapsed().as_secs_f64();
-        let delta_scratch = solve_with(&scratch, &minus_r);
+        let delta_scratch = scratch.solve(&minus_r);
         drop(scratch);
         let difference: Vec<f64> = delta.iter().zip(&delta_scratch).map(|(a, b)| a - b).collect();
         assert!(norm(&difference) <= 1e-8 * norm(&delta).max(f64::MIN_POSITIVE), "reused and scratch LU disagree");

@@ -34,10 +34,7 @@ use damfem::io::gmsh::{mesh_geo, MeshOptions};
 use damfem::mesh::structured::{unit_square, BOTTOM};
 use damfem::mesh::Mesh;
 use damfem::scene::Scene;
-use damfem::solve::lu::solve_with;
 use damfem::solve::{Cholesky, NewtonError, NewtonOptions, NonlinearSystem, SparseLu};
-use faer::linalg::solvers::Solve;
-use faer::Mat;
 use std::collections::HashMap;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
@@ -513,16 +510,9 @@ pub fn condition_1(pattern: &SparsePattern, values: &[f64]) -> Option<f64> {
     if n == 0 {
         return None;
     }
-    let lu = SparseLu::analyse(pattern).ok()?.factor(pattern, values).ok()?;
-    let solve = |rhs: &[f64], transpose: bool| -> Vec<f64> {
-        let mut x = Mat::from_fn(n, 1, |i, _| rhs[i]);
-        if transpose {
-            lu.solve_transpose_in_place(x.as_mut());
-        } else {
-            lu.solve_in_place(x.as_mut());
-        }
-        (0..n).map(|i| x[(i, 0)]).collect()
-    };
+    let symbolic = SparseLu::analyse(pattern).ok()?;
+    let lu = symbolic.factor(pattern, values).ok()?;
+    let solve = |rhs: &[f64], transpose: bool| if transpose { lu.solve_transpose(rhs) } else { lu.solve(rhs) };
     let norm1 = |v: &[f64]| v.iter().map(|a| a.abs()).sum::<f64>();
     let mut x = vec![1.0 / n as f64; n];
     let mut estimate = 0.0;
@@ -678,8 +668,7 @@ fn linear_row(row: &mut Row, problem: &Problem, probes: &[[f64; 2]]) -> Option<S
     };
     row.cond = condition_1(&disc.pattern, &system.values);
     let lu = SparseLu::analyse(&disc.pattern)
-        .and_then(|lu| lu.factor(&disc.pattern, &system.values))
-        .map(|f| solve_with(&f, &system.rhs));
+        .and_then(|lu| lu.factor(&disc.pattern, &system.values).map(|f| f.solve(&system.rhs)));
     let reference = match &lu {
         Ok(x) => {
             row.note = format!("LU residual {:.1e}", residual(x));

@@ -24,7 +24,6 @@ use damfem::io::gmsh::{mesh_geo, MeshOptions};
 use damfem::mesh::structured::{rectangle, unit_square, BOTTOM, LEFT, RIGHT, TOP};
 use damfem::mesh::{Mesh, Topology};
 use damfem::scene::Scene;
-use damfem::solve::lu::solve_with;
 use damfem::solve::{Cholesky, NewtonOptions, NonlinearSystem, SparseLu};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -142,10 +141,10 @@ fn full_newton(contact: &ContactProblem, x0: Vec<f64>, steps: usize) -> (Vec<Vec
         }
         let factors = lu.factor(pattern, &jac).unwrap();
         let minus_r: Vec<f64> = r.iter().map(|v| -v).collect();
-        let mut d = solve_with(&factors, &minus_r);
+        let mut d = factors.solve(&minus_r);
         pattern.multiply(&jac, &d, &mut product);
         let defect: Vec<f64> = minus_r.iter().zip(&product).map(|(b, a)| b - a).collect();
-        for (di, c) in d.iter_mut().zip(solve_with(&factors, &defect)) {
+        for (di, c) in d.iter_mut().zip(factors.solve(&defect)) {
             *di += c;
         }
         xs.push(x.iter().zip(&d).map(|(a, b)| a + b).collect());

@@ -7,7 +7,7 @@
 //! norm, or when it stagnates at round-off: ‖Δ‖ ≤ 10⁻¹⁰ ‖x‖ with no halving of ‖F‖. Running out of iterations
 //! is an error that carries the whole history: never a silent wrong answer.
 
-use super::lu::{solve_with, SparseLu};
+use super::lu::SparseLu;
 use super::SolveError;
 use crate::fem::sparse::SparsePattern;
 use serde::Serialize;
@@ -168,11 +168,11 @@ pub fn newton_until(
         seconds.factor += clock.elapsed().as_secs_f64();
         let clock = Instant::now();
         let minus_r: Vec<f64> = residual.iter().map(|v| -v).collect();
-        let mut delta = solve_with(&factors, &minus_r);
+        let mut delta = factors.solve(&minus_r);
         // one step of iterative refinement: the step then solves J Δ = −F to round-off
         pattern.multiply(&jacobian, &delta, &mut trial);
         let defect: Vec<f64> = minus_r.iter().zip(&trial).map(|(b, jd)| b - jd).collect();
-        for (d, c) in delta.iter_mut().zip(solve_with(&factors, &defect)) {
+        for (d, c) in delta.iter_mut().zip(factors.solve(&defect)) {
             *d += c;
         }
         seconds.solve += clock.elapsed().as_secs_f64();
