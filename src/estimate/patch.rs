@@ -4,15 +4,26 @@
 //! linear constraints B σ^a = b:
 //!
 //! - normal-trace continuity on interior faces, ∫_F [[σ n_F]]·q = 0, q ∈ P_p(F)²;
-//! - prescribed normal traces on the other faces, ∫_F σn·q = ∫_F t_F·q (t_F = 0 on faces
-//!   away from a; none for the fixed components of Dirichlet faces);
-//! - divergence, (∇·σ, v)_T = (g, v)_T for v ∈ P_{p−1}(T)², restricted to v orthogonal to
-//!   the rigid motions z the patch leaves free (they form the kernel of Bᵀ);
+//! - prescribed normal traces on the boundary faces through a, ∫_F σn·q = ∫_F t_F·q (none
+//!   for the fixed components of Dirichlet faces);
+//! - σn = 0 on the side of each cell opposite to a, where ψ_a = 0;
+//! - divergence, (∇·σ, v)_T = (g, v)_T for v ∈ P_{p−1}(T)²;
 //! - weak symmetry, (σ, m J)_T = (c, m J)_T for m ∈ P_{p−1}(T).
 //!
-//! With the mass matrix M: σ = τ̂* − M⁻¹Bᵀλ, (B M⁻¹ Bᵀ) λ = B τ̂* − b, τ̂* = M⁻¹(τ*, φ).
-//! One Cholesky factorisation serves every right-hand side (total, regularisation,
-//! linearisation).
+//! The last three act on one cell each and are eliminated cell by cell (static
+//! condensation): with the cell's local rows B_L, mass matrix M and A = B_L M⁻¹ B_Lᵀ,
+//!
+//!   P = M⁻¹ − M⁻¹ B_Lᵀ A⁻¹ B_L M⁻¹,   x₀ = τ̂ − M⁻¹ B_Lᵀ A⁻¹ (B_L τ̂ − b_L),   τ̂ = M⁻¹ (τ*, φ),
+//!
+//! and only the multipliers λ of the face rows through a remain:
+//! (Σ_T B_G P B_Gᵀ) λ = Σ_T B_G x₀ − b_G, then σ = x₀ − P B_Gᵀ λ on each cell. One Cholesky
+//! factorisation serves every right-hand side (total, regularisation, linearisation).
+//!
+//! Rigid motions z that the patch leaves free make the rows dependent: Bᵀλ_z = 0 for the
+//! multipliers λ_z = (z on the faces, −Π^{p−1}z for the divergence, b for the symmetry) of
+//! z = a + b(−y, x). The data are first made compatible, λ_zᵀ b = 0 (condition (C)), and the
+//! condensed matrix is made definite by adding s K Kᵀ, K the face part of the λ_z, which
+//! leaves the solution of compatible systems unchanged.
 
 use super::afw::{CellIntegrals, COMPONENTS};
 use nalgebra::{DMatrix, DVector};
@@ -21,9 +32,11 @@ use nalgebra::{DMatrix, DVector};
 pub enum FaceKind {
     /// Shared by two cells of the patch: continuity of σn.
     Interior,
-    /// σn·e_i = data for the components i with `active[i]`; `data[case][m · 2 + i]` holds
-    /// ∫_F t_i q_m for each right-hand side.
+    /// A boundary face through a: σn·e_i = data for the components i with `active[i]`;
+    /// `data[case][m · 2 + i]` holds ∫_F t_i q_m for each right-hand side.
     Trace { active: [bool; 2], data: Vec<Vec<f64>> },
+    /// The side of a cell opposite to a: σn = 0.
+    Opposite,
 }
 
 /// A face of a patch.
@@ -72,257 +85,331 @@ pub struct PatchSolution {
 }
 
 impl PatchInput<'_> {
-    fn n_sigma(&self) -> usize {
-        self.cells.len() * COMPONENTS * self.n_basis
-    }
-
-    /// Index of coefficient (cell, c, k).
-    fn index(&self, cell: usize, c: usize, k: usize) -> usize {
-        (cell * COMPONENTS + c) * self.n_basis + k
+    /// Coefficients per cell, 4 n_basis.
+    fn width(&self) -> usize {
+        COMPONENTS * self.n_basis
     }
 
     fn rigid_motion(&self, z: &[f64; 3], x: [f64; 2]) -> [f64; 2] {
         let (px, py) = (x[0] - self.origin[0], x[1] - self.origin[1]);
         [z[0] - z[2] * py, z[1] + z[2] * px]
     }
+
+    /// The components i of face rows: both, or the active ones of a trace.
+    fn active(face: &PatchFace) -> [bool; 2] {
+        match &face.kind {
+            FaceKind::Trace { active, .. } => *active,
+            _ => [true; 2],
+        }
+    }
 }
 
-/// Solves the patch problem for every case; fails only if the constraints are dependent.
+/// A face row ∫_F (σn)_i q_m through a, with its right-hand side per case.
+struct FaceRow {
+    face: usize,
+    m: usize,
+    i: usize,
+    rhs: Vec<f64>,
+}
+
+/// Solves the patch problem for every case; fails only if the constraints are dependent
+/// beyond the free rigid motions.
 pub fn solve(input: &PatchInput) -> Result<PatchSolution, String> {
     let cases = input.target.len();
-    let (faces, face_rhs) = face_rows(input);
-    let (div, div_rhs, unseen) = divergence_rows(input);
-    let (sym, mut sym_rhs) = symmetry_rows(input);
-    let compatibility = compatibility(input, &face_rhs, &unseen, &mut sym_rhs);
-    let b_rows = faces.len() + div.nrows() + sym.len();
-    let n = input.n_sigma();
-    let mut b = DMatrix::zeros(b_rows, n);
-    let mut rhs = DMatrix::zeros(b_rows, cases);
-    for (r, row) in faces.iter().enumerate() {
-        b.row_mut(r).copy_from(&row.transpose());
+    let rows = face_rows(input);
+    let data = compatible_data(input, &rows);
+    let mut schur = DMatrix::zeros(rows.len(), rows.len());
+    let mut reduced = DMatrix::zeros(rows.len(), cases);
+    let cells: Vec<Condensed> = (0..input.cells.len())
+        .map(|t| {
+            let cell = condense(input, t, &rows, &data)?;
+            for (a, &ra) in cell.rows.iter().enumerate() {
+                for (b, &rb) in cell.rows.iter().enumerate() {
+                    schur[(ra, rb)] += cell.coupling[(a, b)];
+                }
+                for case in 0..cases {
+                    reduced[(ra, case)] += cell.trace[(a, case)];
+                }
+            }
+            Ok(cell)
+        })
+        .collect::<Result<_, String>>()?;
+    for (r, row) in rows.iter().enumerate() {
+        for case in 0..cases {
+            reduced[(r, case)] -= row.rhs[case];
+        }
     }
-    b.rows_mut(faces.len(), div.nrows()).copy_from(&div);
-    for (r, row) in sym.iter().enumerate() {
-        b.row_mut(faces.len() + div.nrows() + r).copy_from(&row.transpose());
-    }
-    for case in 0..cases {
-        let column: Vec<f64> =
-            face_rhs[case].iter().chain(div_rhs[case].iter()).chain(sym_rhs[case].iter()).copied().collect();
-        rhs.set_column(case, &DVector::from_vec(column));
-    }
-    let minv_bt = apply_inverse_mass(input, &b.transpose());
-    let schur = schur_complement(input, &b, &minv_bt);
-    let solver = SchurSolver::new(schur, unseen.len())?;
+    add_rigid_kernel(input, &rows, &mut schur);
+    let lambda = schur.cholesky().ok_or("the patch constraints are not independent")?.solve(&reduced);
+    let width = input.width();
     let sigma = (0..cases)
         .map(|case| {
-            let target = apply_inverse_mass(input, &DMatrix::from_column_slice(n, 1, &input.target[case]));
-            let lambda = solver.solve(&b * &target - rhs.column(case));
-            (target - &minv_bt * lambda).column(0).iter().copied().collect()
+            let mut out = vec![0.0; input.cells.len() * width];
+            for (t, cell) in cells.iter().enumerate() {
+                let l = DVector::from_fn(cell.rows.len(), |a, _| lambda[(cell.rows[a], case)]);
+                let s = cell.x0.column(case) - &cell.p_bt * l;
+                out[t * width..(t + 1) * width].copy_from_slice(s.as_slice());
+            }
+            out
         })
         .collect();
-    Ok(PatchSolution { sigma, compatibility })
+    Ok(PatchSolution { sigma, compatibility: data.defect })
 }
 
-/// Solver of the Schur complement S = B M⁻¹ Bᵀ: Cholesky, or, when `deficiency` rigid motions
-/// remain in its kernel (patches of one or two cells at a free corner), the pseudo-inverse
-/// without those directions; the right-hand side is compatible, so both solve S λ = r.
-enum SchurSolver {
-    Cholesky(nalgebra::Cholesky<f64, nalgebra::Dyn>),
-    Pseudo(nalgebra::SymmetricEigen<f64, nalgebra::Dyn>, usize),
-}
-
-impl SchurSolver {
-    fn new(schur: DMatrix<f64>, deficiency: usize) -> Result<Self, String> {
-        if deficiency == 0 {
-            return schur
-                .cholesky()
-                .map(SchurSolver::Cholesky)
-                .ok_or_else(|| "the patch constraints are not independent".into());
-        }
-        Ok(SchurSolver::Pseudo(schur.symmetric_eigen(), deficiency))
-    }
-
-    fn solve(&self, r: DVector<f64>) -> DVector<f64> {
-        match self {
-            SchurSolver::Cholesky(c) => c.solve(&r),
-            SchurSolver::Pseudo(e, deficiency) => {
-                let mut order: Vec<usize> = (0..e.eigenvalues.len()).collect();
-                order.sort_by(|&i, &j| e.eigenvalues[i].total_cmp(&e.eigenvalues[j]));
-                let mut lambda = DVector::zeros(r.len());
-                for &j in &order[*deficiency..] {
-                    let v = e.eigenvectors.column(j);
-                    lambda += v * (v.dot(&r) / e.eigenvalues[j]);
-                }
-                lambda
-            }
-        }
-    }
-}
-
-/// Face moment rows and their right-hand sides per case.
-fn face_rows(input: &PatchInput) -> (Vec<DVector<f64>>, Vec<Vec<f64>>) {
+/// The face rows through a (interior faces and boundary traces).
+fn face_rows(input: &PatchInput) -> Vec<FaceRow> {
     let cases = input.target.len();
     let mut rows = Vec::new();
-    let mut rhs = vec![Vec::new(); cases];
-    for face in &input.faces {
-        let (sides, active): (usize, [bool; 2]) = match &face.kind {
-            FaceKind::Interior => (2, [true; 2]),
-            FaceKind::Trace { active, .. } => (1, *active),
-        };
+    for (f, face) in input.faces.iter().enumerate() {
+        if matches!(face.kind, FaceKind::Opposite) {
+            continue;
+        }
+        let active = PatchInput::active(face);
         for m in 0..=input.order {
             for i in (0..2).filter(|&i| active[i]) {
-                let mut row = DVector::zeros(input.n_sigma());
-                for side in 0..sides {
-                    let sign = if side == 0 { 1.0 } else { -1.0 };
-                    for k in 0..input.n_basis {
-                        let moment = face.moments[side][m * input.n_basis + k];
-                        for j in 0..2 {
-                            // (τ n)_i = τ_ij n_j; both sides use the first cell's normal
-                            row[input.index(face.cells[side], 2 * i + j, k)] += sign * moment * face.normal[j];
-                        }
-                    }
-                }
-                rows.push(row);
-                for (case, r) in rhs.iter_mut().enumerate() {
-                    r.push(match &face.kind {
-                        FaceKind::Interior => 0.0,
+                let rhs = (0..cases)
+                    .map(|case| match &face.kind {
                         FaceKind::Trace { data, .. } => data[case][m * 2 + i],
-                    });
-                }
+                        _ => 0.0,
+                    })
+                    .collect();
+                rows.push(FaceRow { face: f, m, i, rhs });
             }
         }
     }
-    (rows, rhs)
+    rows
 }
 
-/// Divergence rows, restricted to test fields orthogonal to the free rigid motions, their
-/// right-hand sides per case, and the free rigid motions with Π^{p−1} z = 0 (as
-/// coefficients over `input.rigid`), which the restriction cannot remove: they stay in the
-/// kernel of B M⁻¹ Bᵀ.
-fn divergence_rows(input: &PatchInput) -> (DMatrix<f64>, Vec<Vec<f64>>, Vec<Vec<f64>>) {
-    let (nb, nl) = (input.n_basis, input.n_lower);
-    let n_rows = input.cells.len() * nl * 2;
-    let mut d = DMatrix::zeros(n_rows, input.n_sigma());
-    for (t, cell) in input.cells.iter().enumerate() {
-        for m in 0..nl {
-            for i in 0..2 {
-                for k in 0..nb {
-                    for j in 0..2 {
-                        // (∂_j τ_ij, ψ_m)_T
-                        d[((t * nl + m) * 2 + i, input.index(t, 2 * i + j, k))] = cell.divergence[(m * nb + k) * 2 + j];
-                    }
+/// Writes the coefficients of the face row (m, i) of `face` on its side `side` into `out`:
+/// ± ∫_F (τ n)_i q_m = ± Σ_{k,j} τ_{ij,k} n_j ∫_F φ_k q_m (both sides use the first cell's
+/// normal, the second with a minus sign).
+fn face_coefficients(input: &PatchInput, face: &PatchFace, side: usize, m: usize, i: usize, out: &mut [f64]) {
+    let nb = input.n_basis;
+    let sign = if side == 0 { 1.0 } else { -1.0 };
+    out.fill(0.0);
+    for k in 0..nb {
+        let moment = sign * face.moments[side][m * nb + k];
+        for j in 0..2 {
+            out[(2 * i + j) * nb + k] = moment * face.normal[j];
+        }
+    }
+}
+
+/// One cell after static condensation of its local rows.
+struct Condensed {
+    /// Indices of the face rows that touch the cell.
+    rows: Vec<usize>,
+    /// P B_Gᵀ (width × rows).
+    p_bt: DMatrix<f64>,
+    /// B_G P B_Gᵀ.
+    coupling: DMatrix<f64>,
+    /// x₀ per case (width × cases) and B_G x₀.
+    x0: DMatrix<f64>,
+    trace: DMatrix<f64>,
+}
+
+/// Local rows of cell t (divergence, symmetry, σn = 0 on the opposite side) and their
+/// right-hand sides per case.
+fn local_rows(input: &PatchInput, t: usize, data: &CompatibleData) -> (DMatrix<f64>, DMatrix<f64>) {
+    let (nb, nl, width, cases) = (input.n_basis, input.n_lower, input.width(), input.target.len());
+    let cell = input.cells[t];
+    let opposite = input.faces.iter().filter(|f| matches!(f.kind, FaceKind::Opposite) && f.cells[0] == t);
+    let n_rows = 3 * nl + opposite.clone().count() * 2 * (input.order + 1);
+    let (mut b, mut rhs) = (DMatrix::zeros(n_rows, width), DMatrix::zeros(n_rows, cases));
+    for m in 0..nl {
+        for i in 0..2 {
+            let r = m * 2 + i;
+            for k in 0..nb {
+                for j in 0..2 {
+                    b[(r, (2 * i + j) * nb + k)] = cell.divergence[(m * nb + k) * 2 + j];
+                    // (∂_j τ_ij, ψ_m)_T
                 }
+            }
+            for case in 0..cases {
+                rhs[(r, case)] = data.divergence[case][(t * nl + m) * 2 + i];
+            }
+        }
+        let r = 2 * nl + m;
+        for k in 0..nb {
+            b[(r, nb + k)] = cell.lower_mass[m * nb + k]; // (τ:J, ψ_m) with τ:J = τ_xy − τ_yx
+            b[(r, 2 * nb + k)] = -cell.lower_mass[m * nb + k];
+        }
+        for case in 0..cases {
+            rhs[(r, case)] = data.symmetry[case][t * nl + m];
+        }
+    }
+    let mut row = vec![0.0; width];
+    let mut r = 3 * nl;
+    for face in opposite {
+        for m in 0..=input.order {
+            for i in 0..2 {
+                face_coefficients(input, face, 0, m, i, &mut row);
+                b.row_mut(r).copy_from_slice(&row);
+                r += 1;
             }
         }
     }
-    let mut rhs: Vec<Vec<f64>> = input.divergence.clone();
-    if input.rigid.is_empty() {
-        return (d, rhs, Vec::new());
+    (b, rhs)
+}
+
+/// Static condensation of cell t.
+fn condense(input: &PatchInput, t: usize, rows: &[FaceRow], data: &CompatibleData) -> Result<Condensed, String> {
+    let width = input.width();
+    let (b_local, b_rhs) = local_rows(input, t, data);
+    let touching: Vec<(usize, usize)> = rows
+        .iter()
+        .enumerate()
+        .filter_map(|(r, row)| {
+            let face = &input.faces[row.face];
+            let side = face.cells.iter().position(|&c| c == t)?;
+            (side == 0 || matches!(face.kind, FaceKind::Interior)).then_some((r, side))
+        })
+        .collect();
+    let mut b_global = DMatrix::zeros(touching.len(), width);
+    let mut row = vec![0.0; width];
+    for (a, &(r, side)) in touching.iter().enumerate() {
+        face_coefficients(input, &input.faces[rows[r].face], side, rows[r].m, rows[r].i, &mut row);
+        b_global.row_mut(a).copy_from_slice(&row);
     }
-    // W[row, z] = (ψ_m e_i, z)_T; Qᵀ of W = QR maps the rows onto [range W; null Wᵀ]
-    let w = DMatrix::from_fn(n_rows, input.rigid.len(), |row, zi| {
+    let minv_bl = apply_inverse_mass(input, t, &b_local.transpose());
+    let a = (&b_local * &minv_bl).cholesky().ok_or("the local constraints of a cell are not independent")?;
+    // P X = M⁻¹X − M⁻¹B_Lᵀ A⁻¹ B_L M⁻¹X
+    let project = |minv_x: DMatrix<f64>| -> DMatrix<f64> { &minv_x - &minv_bl * a.solve(&(&b_local * &minv_x)) };
+    let p_bt = project(apply_inverse_mass(input, t, &b_global.transpose()));
+    let target = DMatrix::from_fn(width, input.target.len(), |k, case| input.target[case][t * width + k]);
+    let tau = apply_inverse_mass(input, t, &target);
+    let x0 = &tau - &minv_bl * a.solve(&(&b_local * &tau - b_rhs));
+    Ok(Condensed {
+        rows: touching.iter().map(|&(r, _)| r).collect(),
+        coupling: &b_global * &p_bt,
+        trace: &b_global * &x0,
+        p_bt,
+        x0,
+    })
+}
+
+/// M⁻¹ X on cell t (the same mass block for every component).
+fn apply_inverse_mass(input: &PatchInput, t: usize, x: &DMatrix<f64>) -> DMatrix<f64> {
+    let nb = input.n_basis;
+    let inverse = DMatrix::from_row_slice(nb, nb, &input.cells[t].mass_inverse);
+    let mut out = x.clone();
+    for c in 0..COMPONENTS {
+        out.rows_mut(c * nb, nb).copy_from(&(&inverse * x.rows(c * nb, nb)));
+    }
+    out
+}
+
+/// Adds s K Kᵀ to the condensed matrix, K = the face rows' part of λ_z for the free rigid
+/// motions z (z_i at the face nodes), s = tr S / tr KᵀK.
+fn add_rigid_kernel(input: &PatchInput, rows: &[FaceRow], schur: &mut DMatrix<f64>) {
+    if input.rigid.is_empty() {
+        return;
+    }
+    let kernel = DMatrix::from_fn(rows.len(), input.rigid.len(), |r, j| {
+        input.rigid_motion(&input.rigid[j], input.faces[rows[r].face].nodes[rows[r].m])[rows[r].i]
+    });
+    let s = schur.trace() / kernel.norm_squared();
+    *schur += s * &kernel * kernel.transpose();
+}
+
+/// Divergence and symmetry right-hand sides per case (layouts of [`PatchInput::divergence`]
+/// and `[case][cell · n_lower + m]`), and the compatibility defect of the total with its scale.
+struct CompatibleData {
+    divergence: Vec<Vec<f64>>,
+    symmetry: Vec<Vec<f64>>,
+    defect: (f64, f64),
+}
+
+/// The divergence and symmetry data of every case, made compatible, and the remaining
+/// compatibility defect of the total. The total (case 0) satisfies (C) by construction up
+/// to the p = 1 rotations, cancelled by c = κ J; the other cases get a rigid-motion term
+/// Π^{p−1} r_i in their divergence data, r_i the rigid motion that restores (C)
+/// (docs/method.md §4.3), and a κ J term along the motions with Π^{p−1} z = 0.
+fn compatible_data(input: &PatchInput, rows: &[FaceRow]) -> CompatibleData {
+    let cases = input.target.len();
+    let mut divergence = input.divergence.clone();
+    let mut symmetry = vec![vec![0.0; input.cells.len() * input.n_lower]; cases];
+    if input.rigid.is_empty() {
+        return CompatibleData { divergence, symmetry, defect: (0.0, 0.0) };
+    }
+    let (projections, coefficients) = (rigid_projections(input), lower_coefficients(input));
+    let gram = projections.transpose() * &coefficients;
+    let eigen = gram.clone().symmetric_eigen();
+    let largest = eigen.eigenvalues.amax();
+    let (seen, unseen): (Vec<usize>, Vec<usize>) =
+        (0..input.rigid.len()).partition(|&j| eigen.eigenvalues[j] > 1e-10 * largest);
+    let unseen: Vec<Vec<f64>> =
+        unseen.iter().map(|&j| eigen.eigenvectors.column(j).iter().copied().collect()).collect();
+    let all: Vec<Vec<f64>> =
+        (0..input.rigid.len()).map(|k| (0..input.rigid.len()).map(|j| f64::from(j == k)).collect()).collect();
+    let mut total = (0.0, 0.0);
+    for case in 0..cases {
+        let d = defects(input, rows, case, &divergence[case], &coefficients);
+        let directions = if case == 0 { &all } else { &unseen };
+        let kappa = if input.rotation_correction { rotation_kappa(input, &d, directions) } else { None };
+        if let Some(kappa) = kappa {
+            correct_symmetry(input, kappa, &mut symmetry[case]);
+        }
+        let kappa = kappa.unwrap_or(0.0);
+        let remaining: Vec<f64> =
+            input.rigid.iter().zip(&d).map(|(z, d)| d.0 + 2.0 * z[2] * kappa * input.area).collect();
+        if case == 0 {
+            total = (remaining.iter().fold(0.0_f64, |m, r| m.max(r.abs())), d.iter().map(|d| d.1).fold(0.0, f64::max));
+        }
+        // r = Σ_j c_j z_j with (Π^{p−1} z_k, Π^{p−1} r) = remaining_k on the seen motions
+        let remaining = DVector::from_vec(remaining);
+        let mut c = DVector::zeros(input.rigid.len());
+        for &j in &seen {
+            let v = eigen.eigenvectors.column(j);
+            c += v * (v.dot(&remaining) / eigen.eigenvalues[j]);
+        }
+        for (value, shift) in divergence[case].iter_mut().zip((&projections * c).iter()) {
+            *value += shift;
+        }
+    }
+    CompatibleData { divergence, symmetry, defect: total }
+}
+
+/// (ψ_m e_i, z)_T for every divergence row (t, m, i) and free rigid motion z.
+fn rigid_projections(input: &PatchInput) -> DMatrix<f64> {
+    let nl = input.n_lower;
+    DMatrix::from_fn(input.cells.len() * nl * 2, input.rigid.len(), |row, j| {
         let (t, m, i) = (row / (2 * nl), (row / 2) % nl, row % 2);
         (0..nl)
             .map(|l| {
-                input.cells[t].lower_gram[m * nl + l] * input.rigid_motion(&input.rigid[zi], input.lower_nodes[t][l])[i]
+                input.cells[t].lower_gram[m * nl + l] * input.rigid_motion(&input.rigid[j], input.lower_nodes[t][l])[i]
             })
             .sum()
-    });
-    let svd = w.clone().svd(true, true);
-    let largest = svd.singular_values.max();
-    let kept: Vec<usize> =
-        (0..svd.singular_values.len()).filter(|&j| svd.singular_values[j] > 1e-12 * largest).collect();
-    if kept.len() == input.rigid.len() {
-        // W of full rank r, W = QR (Householder): the last n_rows − r rows of Qᵀ are an
-        // orthonormal basis of the test fields orthogonal to range(W) = {Π^{p−1} z}
-        let qr = w.qr();
-        let restrict = |mut m: DMatrix<f64>| {
-            qr.q_tr_mul(&mut m);
-            m.rows(kept.len(), n_rows - kept.len()).into_owned()
-        };
-        for column in &mut rhs {
-            *column = restrict(DMatrix::from_column_slice(n_rows, 1, column)).iter().copied().collect();
-        }
-        return (restrict(d), rhs, Vec::new());
-    }
-    // otherwise (small patches) the test fields orthogonal to range(W): the eigenvectors of
-    // I − P_W with eigenvalue 1
-    let u: DMatrix<f64> = svd.u.expect("requested");
-    let u_k: DMatrix<f64> = u.select_columns(&kept);
-    let complement: DMatrix<f64> = DMatrix::identity(n_rows, n_rows) - &u_k * u_k.transpose();
-    let eigen = complement.symmetric_eigen();
-    let keep: Vec<usize> = (0..n_rows).filter(|&j| eigen.eigenvalues[j] > 0.5).collect();
-    let q = DMatrix::from_fn(n_rows, keep.len(), |r, c| eigen.eigenvectors[(r, keep[c])]);
-    let d = q.transpose() * d;
-    for column in &mut rhs {
-        *column = (q.transpose() * DVector::from_vec(column.clone())).iter().copied().collect();
-    }
-    // rigid motions with Π^{p−1} z = 0: the kernel of W, the complement of its row space
-    let v_t: DMatrix<f64> = svd.v_t.expect("requested");
-    let v_k: DMatrix<f64> = v_t.select_rows(&kept);
-    let r = input.rigid.len();
-    let kernel = (DMatrix::<f64>::identity(r, r) - v_k.transpose() * &v_k).symmetric_eigen();
-    let unseen: Vec<Vec<f64>> = (0..r)
-        .filter(|&j| kernel.eigenvalues[j] > 0.5)
-        .map(|j| kernel.eigenvectors.column(j).iter().copied().collect())
-        .collect();
-    (d, rhs, unseen)
+    })
 }
 
-/// Weak-symmetry rows (τ_xy − τ_yx, ψ_m)_T and zero right-hand sides.
-fn symmetry_rows(input: &PatchInput) -> (Vec<DVector<f64>>, Vec<Vec<f64>>) {
-    let (nb, nl) = (input.n_basis, input.n_lower);
-    let mut rows = Vec::new();
-    for (t, cell) in input.cells.iter().enumerate() {
-        for m in 0..nl {
-            let mut row = DVector::zeros(input.n_sigma());
-            for k in 0..nb {
-                row[input.index(t, 1, k)] = cell.lower_mass[m * nb + k]; // τ:J = τ_xy − τ_yx
-                row[input.index(t, 2, k)] = -cell.lower_mass[m * nb + k];
-            }
-            rows.push(row);
-        }
-    }
-    let n = rows.len();
-    (rows, vec![vec![0.0; n]; input.target.len()])
+/// The coefficients z_i(x_m) of Π^{p−1} z for every divergence row (t, m, i) and free z.
+fn lower_coefficients(input: &PatchInput) -> DMatrix<f64> {
+    let nl = input.n_lower;
+    DMatrix::from_fn(input.cells.len() * nl * 2, input.rigid.len(), |row, j| {
+        let (t, m, i) = (row / (2 * nl), (row / 2) % nl, row % 2);
+        input.rigid_motion(&input.rigid[j], input.lower_nodes[t][m])[i]
+    })
 }
 
 /// Defect of the compatibility condition (C) of one case for each free rigid motion z:
-/// Σ_F (t_F, z)_F − (Π^{p−1} g, z)_{ω_a} (with c = 0), and the sum of its absolute terms.
-fn defects(input: &PatchInput, face_rhs: &[f64], divergence: &[f64]) -> Vec<(f64, f64)> {
-    let nl = input.n_lower;
-    input
-        .rigid
-        .iter()
-        .map(|z| {
-            let mut row = 0;
-            let (mut faces, mut scale) = (0.0, 0.0);
-            for face in &input.faces {
-                let active = match &face.kind {
-                    FaceKind::Interior => [true; 2],
-                    FaceKind::Trace { active, .. } => *active,
-                };
-                for m in 0..=input.order {
-                    for i in (0..2).filter(|&i| active[i]) {
-                        let term = face_rhs[row] * input.rigid_motion(z, face.nodes[m])[i];
-                        faces += term;
-                        scale += term.abs();
-                        row += 1;
-                    }
-                }
-            }
-            let mut volume = 0.0;
-            for t in 0..input.cells.len() {
-                for m in 0..nl {
-                    let zm = input.rigid_motion(z, input.lower_nodes[t][m]);
-                    for i in 0..2 {
-                        let term = divergence[(t * nl + m) * 2 + i] * zm[i];
-                        volume += term;
-                        scale += term.abs();
-                    }
-                }
-            }
-            (faces - volume, scale)
+/// Σ_F (t_F, z)_F − (Π^{p−1} g, z)_{ω_a} (with c = 0), and the sum of its absolute terms;
+/// `coefficients` are those of [`lower_coefficients`].
+fn defects(
+    input: &PatchInput,
+    rows: &[FaceRow],
+    case: usize,
+    divergence: &[f64],
+    coefficients: &DMatrix<f64>,
+) -> Vec<(f64, f64)> {
+    (0..input.rigid.len())
+        .map(|j| {
+            let z = &input.rigid[j];
+            let face_terms =
+                rows.iter().map(|row| row.rhs[case] * input.rigid_motion(z, input.faces[row.face].nodes[row.m])[row.i]);
+            let column = coefficients.column(j);
+            let volume_terms = divergence.iter().zip(column.iter()).map(|(g, z)| -g * z);
+            face_terms.chain(volume_terms).fold((0.0, 0.0), |(sum, scale), term| (sum + term, scale + term.abs()))
         })
         .collect()
 }
@@ -347,39 +434,6 @@ fn rotation_kappa(input: &PatchInput, d: &[(f64, f64)], directions: &[Vec<f64>])
 /// Below this, Σ b² |ω_a| of the free rigid motions is round-off of a rotation-free kernel.
 const ROTATION_TOLERANCE: f64 = 1e-12;
 
-/// Makes the data compatible where (C) is needed. The total (case 0) must satisfy (C) for
-/// every free z, so that ∇·σ^a = Π^{p−1} g_a exactly: for p = 1 the rotational defect is
-/// cancelled by c = κ J, (c, ∇z) = −2bκ|ω_a|. The other cases only need (C) along the
-/// motions with Π^{p−1} z = 0 (`unseen`), which the restricted divergence cannot absorb.
-/// Returns the largest remaining defect of the total and the largest sum of its terms.
-fn compatibility(
-    input: &PatchInput,
-    face_rhs: &[Vec<f64>],
-    unseen: &[Vec<f64>],
-    sym_rhs: &mut [Vec<f64>],
-) -> (f64, f64) {
-    if input.rigid.is_empty() {
-        return (0.0, 0.0);
-    }
-    let all: Vec<Vec<f64>> =
-        (0..input.rigid.len()).map(|k| (0..input.rigid.len()).map(|j| f64::from(j == k)).collect()).collect();
-    let mut total = (0.0, 0.0);
-    for case in 0..input.target.len() {
-        let d = defects(input, &face_rhs[case], &input.divergence[case]);
-        let directions = if case == 0 { &all } else { unseen };
-        let kappa = if input.rotation_correction { rotation_kappa(input, &d, directions) } else { None };
-        if let Some(kappa) = kappa {
-            correct_symmetry(input, kappa, &mut sym_rhs[case]);
-        }
-        if case == 0 {
-            let kappa = kappa.unwrap_or(0.0);
-            let remaining = input.rigid.iter().zip(&d).map(|(z, d)| (d.0 + 2.0 * z[2] * kappa * input.area).abs());
-            total = (remaining.fold(0.0, f64::max), d.iter().map(|d| d.1).fold(0.0, f64::max));
-        }
-    }
-    total
-}
-
 /// Adds (κ J, m J)_T = 2κ ∫_T ψ_m to the symmetry right-hand side.
 fn correct_symmetry(input: &PatchInput, kappa: f64, sym_rhs: &mut [f64]) {
     let (nb, nl) = (input.n_basis, input.n_lower);
@@ -390,39 +444,4 @@ fn correct_symmetry(input: &PatchInput, kappa: f64, sym_rhs: &mut [f64]) {
             sym_rhs[t * nl + m] += 2.0 * kappa * integral;
         }
     }
-}
-
-/// S = B M⁻¹ Bᵀ = Σ_T B_T M_T⁻¹ B_Tᵀ, each cell contributing only to the rows that touch it.
-fn schur_complement(input: &PatchInput, b: &DMatrix<f64>, minv_bt: &DMatrix<f64>) -> DMatrix<f64> {
-    let width = COMPONENTS * input.n_basis;
-    let mut schur = DMatrix::zeros(b.nrows(), b.nrows());
-    for t in 0..input.cells.len() {
-        let start = t * width;
-        let rows: Vec<usize> =
-            (0..b.nrows()).filter(|&r| b.view((r, start), (1, width)).iter().any(|&v| v != 0.0)).collect();
-        let block = b.select_rows(&rows).columns(start, width).into_owned();
-        let scaled = minv_bt.rows(start, width).select_columns(&rows);
-        let product = block * scaled;
-        for (i, &ri) in rows.iter().enumerate() {
-            for (j, &rj) in rows.iter().enumerate() {
-                schur[(ri, rj)] += product[(i, j)];
-            }
-        }
-    }
-    schur
-}
-
-/// M⁻¹ X for the block-diagonal mass matrix of the patch (same cell block for every
-/// component).
-fn apply_inverse_mass(input: &PatchInput, x: &DMatrix<f64>) -> DMatrix<f64> {
-    let nb = input.n_basis;
-    let mut out = x.clone();
-    for (t, cell) in input.cells.iter().enumerate() {
-        let inverse = DMatrix::from_row_slice(nb, nb, &cell.mass_inverse);
-        for c in 0..COMPONENTS {
-            let start = input.index(t, c, 0);
-            out.rows_mut(start, nb).copy_from(&(&inverse * x.rows(start, nb)));
-        }
-    }
-    out
 }

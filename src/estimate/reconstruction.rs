@@ -281,14 +281,13 @@ fn patch_faces(ctx: &Context, a: usize, cells: &[usize]) -> (Vec<PatchFace>, Vec
             if mesh.order == 2 {
                 nodes.push([0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1])]);
             }
-            let zero = || vec![vec![0.0; 2 * (mesh.order + 1)]; ctx.cases];
             let (t2, kind, moments1) = match other.and_then(|o| cells.iter().position(|&x| x == o)) {
                 Some(t2) => {
                     let ja = local_vertex(mesh, cells[t2], vertices[va]);
                     let jb = local_vertex(mesh, cells[t2], vertices[vb]);
                     (t2, FaceKind::Interior, face_moments(mesh.order, reference[ja], reference[jb], length))
                 }
-                None if !contains_a => (0, FaceKind::Trace { active: [true; 2], data: zero() }, Vec::new()),
+                None if !contains_a => (0, FaceKind::Opposite, Vec::new()),
                 None => {
                     let ends = [vertices[va], vertices[vb]];
                     match boundary_trace(ctx, e, a, ends, normal) {
