@@ -11,7 +11,7 @@ use super::kernels;
 use super::material::Material;
 use crate::fem::affine::AffineMap;
 use crate::fem::dofs::DofMap;
-use crate::fem::quadrature::{gauss_segment, split_rule};
+use crate::fem::quadrature::{gauss_segment_cached, split_rule};
 use crate::fem::sparse::{vector_dofs, LinearSystem, Local, SparsePattern};
 use crate::fem::tabulate::Tabulation;
 use crate::mesh::{Mesh, Topology};
@@ -107,7 +107,7 @@ pub fn load_degree(order: usize) -> usize {
 /// `ends`: p + 4 Gauss points on each piece between the kinks of g_N. The estimator uses the
 /// same rule.
 pub fn traction_rule(traction: &Traction, ends: [[f64; 2]; 2], order: usize) -> Vec<(f64, f64)> {
-    split_rule(&gauss_segment(order + 4), traction.kinks(ends))
+    split_rule(gauss_segment_cached(order + 4), traction.kinks(ends))
 }
 
 /// Dof numbering and matrix pattern of a problem, built once per mesh.

@@ -13,7 +13,7 @@
 
 use crate::fem::affine::AffineMap;
 use crate::fem::lagrange;
-use crate::fem::quadrature::{gauss_segment, triangle_cached};
+use crate::fem::quadrature::{gauss_segment_cached, triangle_cached};
 
 /// Number of stress components.
 pub const COMPONENTS: usize = 4;
@@ -100,7 +100,7 @@ pub fn cell_integrals(order: usize, map: &AffineMap) -> CellIntegrals {
 /// Lagrange P_p basis of the edge (ends, then midpoint), at `[m · n_basis + k]`.
 pub fn face_moments(order: usize, a: [f64; 2], b: [f64; 2], length: f64) -> Vec<f64> {
     let nb = lagrange::n_basis(order);
-    let rule = gauss_segment(order + 2);
+    let rule = gauss_segment_cached(order + 2);
     let (mut phi, mut q) = ([0.0; 6], [0.0; 3]);
     let mut out = vec![0.0; (order + 1) * nb];
     for (&s, &w) in rule.points.iter().zip(&rule.weights) {

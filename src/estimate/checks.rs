@@ -9,7 +9,7 @@ use crate::elasticity::problem::{load_degree, traction_rule};
 use crate::elasticity::{BodyForce, Problem};
 use crate::fem::affine::AffineMap;
 use crate::fem::lagrange;
-use crate::fem::quadrature::{gauss_segment, triangle_cached};
+use crate::fem::quadrature::{gauss_segment_cached, triangle_cached};
 use crate::mesh::topology::NONE;
 use crate::mesh::Topology;
 use serde::Serialize;
@@ -159,7 +159,7 @@ impl<'a> Traces<'a> {
         let [a, b] = self.topology.edges[e];
         let ends = [mesh.points[a], mesh.points[b]];
         let length = crate::mesh::distance(ends[0], ends[1]);
-        let rule = gauss_segment(mesh.order + 2);
+        let rule = gauss_segment_cached(mesh.order + 2);
         (rule.points.iter().zip(&rule.weights).map(|(&s, &w)| (s, w * length)).collect(), ends)
     }
 

@@ -21,7 +21,7 @@ use crate::elasticity::kernels::{displacement_gradient, stress};
 use crate::elasticity::{BodyForce, Problem, Traction};
 use crate::fem::affine::AffineMap;
 use crate::fem::lagrange;
-use crate::fem::quadrature::{gauss_segment, split_rule, triangle_cached};
+use crate::fem::quadrature::{gauss_segment_cached, split_rule, triangle_cached};
 use crate::mesh::Topology;
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -189,7 +189,7 @@ fn polynomial_on_face(traction: &Traction, ends: [[f64; 2]; 2]) -> bool {
 fn neumann(problem: &Problem, topology: &Topology) -> Vec<f64> {
     let mesh = &problem.mesh;
     let mut eta = vec![0.0; mesh.n_cells()];
-    let rule = gauss_segment(mesh.order + 6);
+    let rule = gauss_segment_cached(mesh.order + 6);
     for bc in &problem.neumann {
         for f in (0..mesh.n_facets()).filter(|&f| mesh.facet_tags[f] == bc.tag) {
             let nodes = mesh.facet(f);

@@ -91,6 +91,13 @@ pub fn gauss_segment(n: usize) -> Rule1d {
     Rule1d { points, weights }
 }
 
+/// [`gauss_segment`]`(n)`, computed on first use and cached; `n ≤ MAX_CACHED_DEGREE`.
+pub fn gauss_segment_cached(n: usize) -> &'static Rule1d {
+    static CACHE: [OnceLock<Rule1d>; MAX_CACHED_DEGREE + 1] = [const { OnceLock::new() }; MAX_CACHED_DEGREE + 1];
+    assert!(n <= MAX_CACHED_DEGREE, "gauss_segment_cached: {n} points > {MAX_CACHED_DEGREE}");
+    CACHE[n].get_or_init(|| gauss_segment(n))
+}
+
 /// Collapsed Gauss rule exact for polynomials of total degree `≤ degree` on the reference
 /// triangle: `n × n` points with the smallest `n` such that `2n − 1 ≥ degree + 1`.
 ///
