@@ -13,6 +13,9 @@
 //! - the same LU refactored from scratch (`SparseLu::analyse` + numeric) and the saving of
 //!   reuse per step: the symbolic analysis over a step from scratch, both timed in one block
 //!   (and, noisier, 1 − step / step from scratch over two separately timed numeric LUs);
+//! - the error estimate of the converged iterate (`estimate_iterate`: the stress
+//!   reconstruction with its three right-hand sides and the six estimators) and the ratio
+//!   estimate / Newton step;
 //! - the linear elasticity solve on the same mesh with the base bonded (clamped):
 //!   `Problem::assemble`, then `Cholesky` symbolic + numeric + solve, and the ratio
 //!   step / Cholesky solve.
@@ -43,6 +46,7 @@
 use damfem::contact::nitsche::Nitsche;
 use damfem::contact::projection::QuadraticSmoothing;
 use damfem::contact::{solve_contact, ContactProblem};
+use damfem::estimate::{estimate_iterate, Linearisation};
 use damfem::io::atomic::write_output;
 use damfem::io::gmsh::{mesh_geo, MeshOptions};
 use damfem::scene::{Role, Scene};
@@ -94,6 +98,7 @@ struct Sample {
     scratch: f64,
     cholesky_symbolic: f64,
     cholesky_solve: f64,
+    estimate: f64,
 }
 
 impl Sample {
@@ -134,6 +139,7 @@ struct Row {
     saving_step_direct: f64,
     step_over_cholesky: f64,
     step_over_assemble_cholesky: f64,
+    estimate_over_step: f64,
     contact_over_cholesky: f64,
     peak_mib: f64,
 }
@@ -230,15 +236,22 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
         });
         s.cholesky_solve = cholesky_solve;
         assert!(u.iter().all(|v| v.is_finite()));
+        // the error estimate of the converged iterate
+        let state = Linearisation { nitsche: &system.nitsche, x_prev: &solution.x_prev, delta: settings.delta };
+        let (estimate, seconds) =
+            timed(|| estimate_iterate(&problem, &disc, &x, Some(state), false).expect("the estimate of Scene A"));
+        s.estimate = seconds;
+        assert!(estimate.estimators.global().tot.is_finite());
         eprintln!(
-            "[{label}] repetition {}: evaluate {:.4}, LU numeric {:.4}, solves {:.4}, LU symbolic {:.4}, LU from scratch {:.4}, Cholesky {:.4} s",
+            "[{label}] repetition {}: evaluate {:.4}, LU numeric {:.4}, solves {:.4}, LU symbolic {:.4}, LU from scratch {:.4}, Cholesky {:.4}, estimate {:.4} s",
             samples.len() + 1,
             s.evaluate,
             s.numeric,
             s.solve,
             s.symbolic,
             s.scratch,
-            s.cholesky()
+            s.cholesky(),
+            s.estimate
         );
         samples.push(s);
     }
@@ -252,6 +265,7 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
         scratch: pick(&|s| s.scratch),
         cholesky_symbolic: pick(&|s| s.cholesky_symbolic),
         cholesky_solve: pick(&|s| s.cholesky_solve),
+        estimate: pick(&|s| s.estimate),
     };
     let cholesky = median_sample.cholesky();
     Row {
@@ -273,6 +287,7 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
         saving_step_direct: pick(&|s| 1.0 - s.step() / s.step_scratch()),
         step_over_cholesky: pick(&|s| s.step() / s.cholesky()),
         step_over_assemble_cholesky: pick(&|s| s.step() / (assemble_bonded + s.cholesky())),
+        estimate_over_step: pick(&|s| s.estimate / s.step()),
         contact_over_cholesky: contact_solve / cholesky,
         peak_mib: peak_memory_mib(),
     }
@@ -315,13 +330,13 @@ fn table(rows: &[Row], repeats: usize) -> String {
             Saving of reuse per step = LU symbolic / step from scratch, both timed in the same block; \
             the direct difference 1 − step / step from scratch compares two separately timed numeric \
             LUs and carries the load noise of the machine.\n\n";
-    out += "| target | unknowns | share of step: evaluate F, J / LU / solves / evaluate F | saving of reuse: LU (symbolic / LU from scratch) | **saving of reuse: step** (≥ 30 %; direct difference in brackets) | **step / Cholesky solve** (≤ 2) | step / (assemble + Cholesky) | **Newton steps** (≤ 10 at 10⁵) | contact solve [s] | mean step in the solve [s] | contact solve / Cholesky solve | peak memory [MiB] |\n";
-    out += "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    out += "| target | unknowns | share of step: evaluate F, J / LU / solves / evaluate F | saving of reuse: LU (symbolic / LU from scratch) | **saving of reuse: step** (≥ 30 %; direct difference in brackets) | **step / Cholesky solve** (≤ 2) | step / (assemble + Cholesky) | **Newton steps** (≤ 10 at 10⁵) | contact solve [s] | mean step in the solve [s] | contact solve / Cholesky solve | estimate [s] | **estimate / step** (≤ 1) | peak memory [MiB] |\n";
+    out += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for r in rows {
         let m = &r.median;
         let share = |t: f64| 100.0 * t / r.step;
         out += &format!(
-            "| {} | {} | {:.1} % / {:.1} % / {:.1} % / {:.1} % | {:.0} % | **{:.0} %** ({:.0} %) | **{:.2}** | {:.2} | **{}** | {:.2} | {:.4} | {:.1} | {:.0} |\n",
+            "| {} | {} | {:.1} % / {:.1} % / {:.1} % / {:.1} % | {:.0} % | **{:.0} %** ({:.0} %) | **{:.2}** | {:.2} | **{}** | {:.2} | {:.4} | {:.1} | {:.4} | **{:.2}** | {:.0} |\n",
             r.label,
             r.unknowns,
             share(m.evaluate),
@@ -337,6 +352,8 @@ fn table(rows: &[Row], repeats: usize) -> String {
             r.contact_solve,
             r.in_situ_step,
             r.contact_over_cholesky,
+            m.estimate,
+            r.estimate_over_step,
             r.peak_mib,
         );
     }

@@ -252,10 +252,29 @@ fn local_rows(input: &PatchInput, t: usize, data: &CompatibleData) -> (DMatrix<f
     (b, rhs)
 }
 
-/// Static condensation of cell t.
+/// Static condensation of cell t: with Z = B_L M⁻¹, A = Z B_Lᵀ = L Lᵀ and V = L⁻¹Z,
+/// P = M⁻¹ − VᵀV and x₀ = P (τ*, φ) + Vᵀ L⁻¹ b_L.
 fn condense(input: &PatchInput, t: usize, rows: &[FaceRow], data: &CompatibleData) -> Result<Condensed, String> {
     let width = input.width();
     let (b_local, b_rhs) = local_rows(input, t, data);
+    let (touching, b_global) = global_block(input, t, rows);
+    let minv = inverse_mass(input, t);
+    let mut v = &b_local * &minv;
+    let a = (&v * b_local.transpose()).cholesky().ok_or("the local constraints of a cell are not independent")?;
+    a.l_dirty().solve_lower_triangular_mut(&mut v);
+    let mut p = minv;
+    p.gemm_tr(-1.0, &v, &v, 1.0);
+    let p_bt = (&b_global * &p).transpose();
+    let target = DMatrix::from_fn(width, input.target.len(), |k, case| input.target[case][t * width + k]);
+    let mut w = b_rhs;
+    a.l_dirty().solve_lower_triangular_mut(&mut w);
+    let mut x0 = &p * target;
+    x0.gemm_tr(1.0, &v, &w, 1.0);
+    Ok(Condensed { rows: touching, coupling: &b_global * &p_bt, trace: &b_global * &x0, p_bt, x0 })
+}
+
+/// The face rows that touch cell t and their coefficients on it (B_G).
+fn global_block(input: &PatchInput, t: usize, rows: &[FaceRow]) -> (Vec<usize>, DMatrix<f64>) {
     let touching: Vec<(usize, usize)> = rows
         .iter()
         .enumerate()
@@ -265,38 +284,24 @@ fn condense(input: &PatchInput, t: usize, rows: &[FaceRow], data: &CompatibleDat
             (side == 0 || matches!(face.kind, FaceKind::Interior)).then_some((r, side))
         })
         .collect();
-    let mut b_global = DMatrix::zeros(touching.len(), width);
-    let mut row = vec![0.0; width];
+    let mut b_global = DMatrix::zeros(touching.len(), input.width());
+    let mut row = vec![0.0; input.width()];
     for (a, &(r, side)) in touching.iter().enumerate() {
         face_coefficients(input, &input.faces[rows[r].face], side, rows[r].m, rows[r].i, &mut row);
         b_global.row_mut(a).copy_from_slice(&row);
     }
-    let minv_bl = apply_inverse_mass(input, t, &b_local.transpose());
-    let a = (&b_local * &minv_bl).cholesky().ok_or("the local constraints of a cell are not independent")?;
-    // P X = M⁻¹X − M⁻¹B_Lᵀ A⁻¹ B_L M⁻¹X
-    let project = |minv_x: DMatrix<f64>| -> DMatrix<f64> { &minv_x - &minv_bl * a.solve(&(&b_local * &minv_x)) };
-    let p_bt = project(apply_inverse_mass(input, t, &b_global.transpose()));
-    let target = DMatrix::from_fn(width, input.target.len(), |k, case| input.target[case][t * width + k]);
-    let tau = apply_inverse_mass(input, t, &target);
-    let x0 = &tau - &minv_bl * a.solve(&(&b_local * &tau - b_rhs));
-    Ok(Condensed {
-        rows: touching.iter().map(|&(r, _)| r).collect(),
-        coupling: &b_global * &p_bt,
-        trace: &b_global * &x0,
-        p_bt,
-        x0,
-    })
+    (touching.into_iter().map(|(r, _)| r).collect(), b_global)
 }
 
-/// M⁻¹ X on cell t (the same mass block for every component).
-fn apply_inverse_mass(input: &PatchInput, t: usize, x: &DMatrix<f64>) -> DMatrix<f64> {
+/// M⁻¹ on cell t: the same mass block for every component.
+fn inverse_mass(input: &PatchInput, t: usize) -> DMatrix<f64> {
     let nb = input.n_basis;
-    let inverse = DMatrix::from_row_slice(nb, nb, &input.cells[t].mass_inverse);
-    let mut out = x.clone();
-    for c in 0..COMPONENTS {
-        out.rows_mut(c * nb, nb).copy_from(&(&inverse * x.rows(c * nb, nb)));
-    }
-    out
+    let block = &input.cells[t].mass_inverse;
+    DMatrix::from_fn(
+        input.width(),
+        input.width(),
+        |r, c| if r / nb == c / nb { block[(r % nb) * nb + c % nb] } else { 0.0 },
+    )
 }
 
 /// Adds s K Kᵀ to the condensed matrix, K = the face rows' part of λ_z for the free rigid
