@@ -67,6 +67,9 @@ pub struct AdaptSettings {
     pub delta0: f64,
     /// Most δ reductions on one mesh.
     pub max_delta_reductions: usize,
+    /// `damfem adapt` only: after the run, refine uniformly from the same first mesh and draw
+    /// both runs on one figure.
+    pub compare_uniform: bool,
 }
 
 impl Default for AdaptSettings {
@@ -84,6 +87,7 @@ impl Default for AdaptSettings {
             rho_delta: 2.0,
             delta0: 0.1,
             max_delta_reductions: 60,
+            compare_uniform: false,
         }
     }
 }
@@ -109,6 +113,11 @@ impl AdaptSettings {
         }
         if self.steps == 0 {
             return Err("adapt.steps = 0 must be at least 1".into());
+        }
+        if self.compare_uniform && self.refinement == Refinement::Uniform {
+            return Err("adapt.compare_uniform = true compares adaptive with uniform refinement, \
+                        so adapt.refinement must be \"adaptive\" (no --uniform)"
+                .into());
         }
         Ok(())
     }
