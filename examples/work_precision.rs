@@ -18,7 +18,7 @@
 mod v3;
 
 use damfem::adapt::geo::GeoMesher;
-use damfem::adapt::history::{comparison_figure, loglog_slope, to_csv};
+use damfem::adapt::history::{adaptive_uniform_figure, comparison_figure, eta_rate, to_csv};
 use damfem::adapt::{self, AdaptError, AdaptSettings, Model, Refinement, StepRecord};
 use damfem::contact::nitsche::NitscheParameters;
 use damfem::elasticity::Problem;
@@ -90,12 +90,6 @@ fn reaching(history: &[StepRecord], eta: f64) -> Option<&StepRecord> {
     history.iter().find(|r| r.eta.tot <= eta * (1.0 + 1e-12))
 }
 
-/// Rate of η_tot against the unknowns over the last four steps (−p/2 is optimal).
-fn rate(history: &[StepRecord]) -> f64 {
-    let tail = &history[history.len().saturating_sub(4)..];
-    loglog_slope(&tail.iter().map(|r| (r.unknowns as f64, r.eta.tot)).collect::<Vec<_>>())
-}
-
 fn estimator_share(history: &[StepRecord]) -> f64 {
     let estimate: f64 = history.iter().map(|r| r.seconds.estimate).sum();
     estimate / history.last().map_or(1.0, |r| r.elapsed)
@@ -158,8 +152,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             t,
             n / last.unknowns as f64,
             t / last.elapsed,
-            rate(&uniform.history),
-            rate(&adaptive.history),
+            eta_rate(&uniform.history),
+            eta_rate(&adaptive.history),
             estimator_share(&adaptive.history)
         )?;
         write_case(&dir, &case, &uniform, &adaptive)?;
@@ -188,7 +182,7 @@ fn write_case(dir: &Path, case: &Case, uniform: &Run, adaptive: &Run) -> Result<
         std::fs::write(dir.join(format!("{}_{kind}.csv", case.name)), csv)?;
     }
     let runs = [("adaptive", &adaptive.history[..]), ("uniform", &uniform.history[..])];
-    let mut by_unknowns = comparison_figure(&case.name, "unknowns", &runs, |r| r.unknowns as f64);
+    let mut by_unknowns = adaptive_uniform_figure(&case.name, &adaptive.history, &uniform.history);
     let mut by_time = comparison_figure(&case.name, "wall time [s]", &runs, |r| r.elapsed);
     if case.exact {
         for (figure, x) in [(&mut by_unknowns, 0), (&mut by_time, 1)] {

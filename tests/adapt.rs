@@ -4,12 +4,14 @@
 
 use damfem::adapt::geo::GeoMesher;
 use damfem::adapt::history::loglog_slope;
-use damfem::adapt::{self, AdaptError, AdaptSettings, Mesher, Model, Refinement, StepRecord};
-use damfem::contact::nitsche::NitscheParameters;
+use damfem::adapt::{self, AdaptError, AdaptSettings, Mesher, Model, Refinement, Step, StepRecord};
+use damfem::contact::nitsche::{Nitsche, NitscheParameters};
+use damfem::contact::projection::QuadraticSmoothing;
+use damfem::contact::ContactProblem;
 use damfem::elasticity::Problem;
 use damfem::mesh::Mesh;
 use damfem::scene::Scene;
-use damfem::solve::NewtonOptions;
+use damfem::solve::{newton_until, NewtonOptions};
 use std::path::Path;
 
 fn scene(name: &str, order: usize) -> Scene {
@@ -150,15 +152,41 @@ fn a_newton_failure_is_reported_with_its_history() {
     assert!(message.contains("at delta = ") && message.contains("Newton did not converge in 2 step(s)"), "{message}");
 }
 
+/// max_{Γ_C} |P_γ(u_h¹)| of the first Newton iterate from u = 0 at δ = `delta0` × the stress
+/// scale of the loads, on the mesh of `step`.
+fn first_iterate_p_max(scene: &Scene, step: &Step, delta0: f64) -> f64 {
+    let (problem, disc) = (step.problem, step.disc);
+    let tags = scene.contact_tags(&problem.mesh).expect("contact tags");
+    let (parameters, newton) = scene.contact();
+    let nitsche = Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, &tags, parameters);
+    let delta = delta0 * problem.stress_scale(&disc.topology);
+    let contact = ContactProblem::new(problem, disc, nitsche, Box::new(QuadraticSmoothing { delta }));
+    let one_step = NewtonOptions { max_iter: 1, min_steps: 1, ..newton };
+    let report = newton_until(&contact, vec![0.0; disc.dofs.n_free], &one_step, |_| true).expect("one Newton step");
+    contact.max_abs_p_gamma(&report.x)
+}
+
 #[test]
 fn warm_starts_need_few_newton_steps_and_delta_moves_on_the_first_mesh_only() {
+    // δ₀ = delta0 × max_{Γ_C} |P_γ(u_h¹)|; with delta0 = 1, ten times the default, (S_reg)
+    // fails at δ₀ on the first mesh, so δ is reduced there, and the warm-started later meshes
+    // keep the reduced δ
     let scene = scene("scene_a", 2);
-    let history = run(steps(5), &mut mesher(&scene, Refinement::Adaptive), &scene, |_, _| {}).expect("adaptive run");
+    let settings = AdaptSettings { steps: 3, delta0: 1.0, ..Default::default() };
+    let mut p_max = None;
+    let history = adapt::run(&settings, &mut mesher(&scene, Refinement::Adaptive), &scene, |step| {
+        p_max.get_or_insert_with(|| first_iterate_p_max(&scene, step, settings.delta0));
+        Ok(())
+    })
+    .expect("adaptive run");
     let n_lin: Vec<usize> = history.iter().map(|r| r.n_lin).collect();
     let n_reg: Vec<usize> = history.iter().map(|r| r.n_reg).collect();
-    eprintln!("N_reg {n_reg:?}, N_lin {n_lin:?}");
+    let delta0 = history[0].delta.expect("contact") * settings.rho_delta.powi(n_reg[0] as i32);
+    let p_max = p_max.expect("a first step");
+    eprintln!("delta0 {delta0:.4e} (max |P_gamma(u1)| {p_max:.4e}), N_reg {n_reg:?}, N_lin {n_lin:?}");
+    assert!((delta0 - settings.delta0 * p_max).abs() <= 1e-12 * delta0, "delta0 {delta0}, max |P_gamma| {p_max}");
+    assert!(n_reg[0] >= 1 && n_reg[1..].iter().all(|&n| n == 0), "N_reg {n_reg:?}");
     assert!(n_lin[1..].iter().all(|&n| 2 * n <= n_lin[0]), "N_lin {n_lin:?}");
-    assert!(n_reg[1..].iter().all(|&n| n == 0), "N_reg {n_reg:?}");
     for r in &history {
         // the stopping rules hold at the accepted iterate
         let e = &r.eta;

@@ -428,6 +428,58 @@ fn adapt_writes_every_step_its_history_and_figures() {
     assert!(hidden_files(&dir.0).is_empty());
 }
 
+/// The `unknowns` of every step of `<dir>/history.json`.
+fn history_unknowns(dir: &Path) -> Vec<u64> {
+    let history: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("history.json")).unwrap()).unwrap();
+    history["steps"].as_array().unwrap().iter().map(|s| s["unknowns"].as_u64().unwrap()).collect()
+}
+
+#[test]
+fn adapt_compares_with_uniform_refinement_on_one_figure() {
+    let dir = TempDir::new("adapt-uniform");
+    let out = damfem(&[
+        OsStr::new("adapt"),
+        repo("geo/scene_a.toml").as_os_str(),
+        OsStr::new("--order"),
+        OsStr::new("1"),
+        OsStr::new("--steps"),
+        OsStr::new("3"),
+        OsStr::new("--compare-uniform"),
+        OsStr::new("-o"),
+        dir.0.as_os_str(),
+    ]);
+    assert_ok(&out);
+    let uniform_dir = dir.join("uniform");
+    for file in ["scene_a_00.vtu", "scene_a.pvd", "history.csv", "history.json", "scene_a_eta.png"] {
+        assert!(dir.join(file).is_file() && uniform_dir.join(file).is_file(), "{file}");
+    }
+    let adaptive = history_unknowns(&dir.0);
+    let uniform = history_unknowns(&uniform_dir);
+    // the same first mesh; uniform stops at the first mesh beyond the adaptive run's last
+    assert_eq!(uniform[0], adaptive[0], "uniform {uniform:?}, adaptive {adaptive:?}");
+    assert!(uniform.windows(2).all(|w| w[1] > w[0]), "uniform {uniform:?}");
+    let last = *adaptive.last().unwrap();
+    assert!(*uniform.last().unwrap() > last && uniform[..uniform.len() - 1].iter().all(|&n| n <= last));
+    let figure = dir.join("scene_a_adaptive_uniform.svg");
+    assert!(dir.join("scene_a_adaptive_uniform.png").is_file());
+    let svg = std::fs::read_to_string(&figure).unwrap();
+    assert!(svg.contains("adaptive, slope") && svg.contains("uniform, slope"), "legend without slopes");
+    assert!(stderr(&out).contains(&figure.display().to_string()), "{}", stderr(&out));
+    assert!(hidden_files(&dir.0).is_empty() && hidden_files(&uniform_dir).is_empty());
+}
+
+#[test]
+fn adapt_refuses_to_compare_uniform_with_itself() {
+    let out = damfem(&[
+        OsStr::new("adapt"),
+        repo("geo/scene_a.toml").as_os_str(),
+        OsStr::new("--uniform"),
+        OsStr::new("--compare-uniform"),
+    ]);
+    assert_error(&out, &["adapt.compare_uniform", "adapt.refinement must be \"adaptive\""]);
+}
+
 #[test]
 fn adapt_needs_a_geo_file() {
     let dir = TempDir::new("adapt-msh");

@@ -97,6 +97,38 @@ pub fn write_plots(dir: &Path, name: &str, history: &[StepRecord]) -> Result<Vec
     Ok(files)
 }
 
+/// η_tot against the unknowns of an adaptive and a uniform run, each labelled with its fitted
+/// slope ([`eta_rate`]) when it has one.
+pub fn adaptive_uniform_figure(title: &str, adaptive: &[StepRecord], uniform: &[StepRecord]) -> Figure {
+    let label = |name: &str, history: &[StepRecord]| match eta_rate(history) {
+        slope if slope.is_finite() => format!("{name}, slope {slope:.2}"),
+        _ => name.to_string(),
+    };
+    let (a, u) = (label("adaptive", adaptive), label("uniform", uniform));
+    comparison_figure(title, "unknowns", &[(&a, adaptive), (&u, uniform)], |r| r.unknowns as f64)
+}
+
+/// Writes `<name>_adaptive_uniform.{svg,png}` ([`adaptive_uniform_figure`]); returns the files.
+pub fn write_adaptive_uniform(
+    dir: &Path,
+    name: &str,
+    adaptive: &[StepRecord],
+    uniform: &[StepRecord],
+) -> Result<Vec<PathBuf>, OutputError> {
+    let figure = adaptive_uniform_figure(&format!("{name}: adaptive against uniform"), adaptive, uniform);
+    write_figure(&dir.join(format!("{name}_adaptive_uniform")), &figure)
+}
+
+/// Steps over which [`eta_rate`] fits.
+pub const RATE_STEPS: usize = 4;
+
+/// The rate of η_tot ~ N^rate against the unknowns N, fitted over the last [`RATE_STEPS`]
+/// steps (−p/2 is optimal in 2D); NaN with fewer than two distinct N.
+pub fn eta_rate(history: &[StepRecord]) -> f64 {
+    let tail = &history[history.len().saturating_sub(RATE_STEPS)..];
+    loglog_slope(&tail.iter().map(|r| (r.unknowns as f64, r.eta.tot)).collect::<Vec<_>>())
+}
+
 /// Least-squares slope of log y against log x: the rate of y ~ x^slope.
 pub fn loglog_slope(points: &[(f64, f64)]) -> f64 {
     let logs: Vec<(f64, f64)> = points.iter().map(|&(x, y)| (x.ln(), y.ln())).collect();

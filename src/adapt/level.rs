@@ -73,10 +73,48 @@ fn regularisation_small(g: &GlobalEstimators, gamma_reg: f64) -> bool {
     g.reg <= gamma_reg * (g.osc + g.flux + g.neu + g.disc + g.lin)
 }
 
+/// The δ a level starts from.
+#[derive(Debug, Clone, Copy)]
+pub enum StartDelta {
+    /// The δ the previous mesh ended with.
+    Kept(f64),
+    /// The first mesh: δ₀ from the first Newton iterate, given the stress scale S of the loads.
+    FirstIterate { load_scale: f64 },
+}
+
+impl StartDelta {
+    /// δ of the first Newton step: the kept δ, or delta0 · S.
+    fn first_step(&self, delta0: f64) -> f64 {
+        match *self {
+            StartDelta::Kept(delta) => delta,
+            StartDelta::FirstIterate { load_scale } => delta0 * load_scale,
+        }
+    }
+}
+
+/// One Newton step from `x0` with the projection of `contact` (δ = delta0 · S, S =
+/// `load_scale`), then δ₀ = delta0 · max_{Γ_C} |P_γ(u_h¹)| over the quadrature points of the
+/// iterate u_h¹, or δ₀ = delta0 · S when that maximum is 0. Returns u_h¹ and δ₀.
+fn first_iterate(
+    contact: &ContactProblem,
+    x0: Vec<f64>,
+    newton: &NewtonOptions,
+    delta0: f64,
+    load_scale: f64,
+) -> Result<(Vec<f64>, f64), AdaptError> {
+    let one_step = NewtonOptions { max_iter: 1, min_steps: 1, ..*newton };
+    let report = newton_until(contact, x0, &one_step, |_| true)
+        .map_err(|source| AdaptError::Newton { delta: delta0 * load_scale, source })?;
+    let p_max = contact.max_abs_p_gamma(&report.x);
+    let scale = if p_max > 0.0 { p_max } else { load_scale };
+    Ok((report.x, delta0 * scale))
+}
+
 /// With contact on the facets tagged `tags`: Newton from `x0` at δ, stopped by (S_lin), and
-/// δ ← δ/ρ_δ until (S_reg). An estimate follows every full Newton step that at least halved
-/// the residual: a damped step does not solve the linearised problem, so its η_lin would not
-/// be a bound, and while the residual does not contract (the active set still moves) (S_lin)
+/// δ ← δ/ρ_δ until (S_reg). On the first mesh δ₀ comes from the first Newton iterate, which
+/// counts in N_lin. An estimate follows every full Newton step that at least halved the
+/// residual: a damped step does not solve the linearised problem, so its η_lin would not be a
+/// bound, and while the residual does not contract (the active set still moves) (S_lin)
 /// cannot hold. The final iterate is always estimated.
 #[allow(clippy::too_many_arguments)]
 pub fn solve_contact(
@@ -87,12 +125,20 @@ pub fn solve_contact(
     newton: &NewtonOptions,
     settings: &AdaptSettings,
     x0: Vec<f64>,
-    delta: f64,
+    start: StartDelta,
 ) -> Result<Level, AdaptError> {
     let nitsche = Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, tags, parameters);
+    let delta = start.first_step(settings.delta0);
     let mut contact = ContactProblem::new(problem, disc, nitsche, Box::new(QuadraticSmoothing { delta }));
-    let (mut x, mut delta, mut n_reg, mut n_lin) = (x0, delta, 0, 0);
-    let (mut solve_seconds, mut estimate_seconds) = (0.0, 0.0);
+    let clock = Instant::now();
+    let (mut x, mut delta, mut n_lin) = match start {
+        StartDelta::Kept(_) => (x0, delta, 0),
+        StartDelta::FirstIterate { load_scale } => {
+            let (x1, delta0) = first_iterate(&contact, x0, newton, settings.delta0, load_scale)?;
+            (x1, delta0, 1)
+        }
+    };
+    let (mut solve_seconds, mut estimate_seconds, mut n_reg) = (clock.elapsed().as_secs_f64(), 0.0, 0);
     loop {
         contact.projection = Box::new(QuadraticSmoothing { delta });
         let mut latest = None;

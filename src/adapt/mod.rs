@@ -6,8 +6,10 @@
 //! η_lin ≤ γ_lin (η_osc + η_flux + η_Neu + η_disc), and δ is divided by ρ_δ until
 //! η_reg ≤ γ_reg (η_osc + η_flux + η_Neu + η_disc + η_lin). The run stops when η_tot meets the
 //! tolerance or after the last step; otherwise cells are marked on η_tot,T ([`marking`]) and
-//! their target sizes define the next mesh. δ is kept from one mesh to the next; the first δ
-//! is δ₀ = `delta0` × the stress scale of the loads (never a multiple of E).
+//! their target sizes define the next mesh. δ is kept from one mesh to the next. On the first
+//! mesh, one Newton step from u = 0 at δ = `delta0` × S (S the stress scale of the loads)
+//! gives u_h¹, and δ₀ = `delta0` × max over the Γ_C quadrature points of |P_γ(u_h¹)| (`delta0`
+//! × S if that is 0); Newton continues from u_h¹ at δ₀. δ is a stress, never a multiple of E.
 
 pub mod geo;
 pub mod history;
@@ -23,6 +25,7 @@ use crate::fem::dofs::FIXED;
 use crate::fem::transfer::interpolate;
 use crate::mesh::Mesh;
 use crate::solve::{NewtonError, NewtonOptions, SolveError};
+use level::StartDelta;
 use marking::{target_sizes, Marking};
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
@@ -59,10 +62,14 @@ pub struct AdaptSettings {
     pub gamma_reg: f64,
     /// δ ← δ / ρ_δ while (S_reg) fails.
     pub rho_delta: f64,
-    /// δ₀ as a multiple of the stress scale of the loads.
+    /// δ₀ = delta0 × max_{Γ_C} |P_γ(u_h¹)|, u_h¹ the first Newton iterate (or delta0 × the
+    /// stress scale of the loads when that maximum is 0).
     pub delta0: f64,
     /// Most δ reductions on one mesh.
     pub max_delta_reductions: usize,
+    /// `damfem adapt` only: after the run, refine uniformly from the same first mesh and draw
+    /// both runs on one figure.
+    pub compare_uniform: bool,
 }
 
 impl Default for AdaptSettings {
@@ -80,6 +87,7 @@ impl Default for AdaptSettings {
             rho_delta: 2.0,
             delta0: 0.1,
             max_delta_reductions: 60,
+            compare_uniform: false,
         }
     }
 }
@@ -105,6 +113,11 @@ impl AdaptSettings {
         }
         if self.steps == 0 {
             return Err("adapt.steps = 0 must be at least 1".into());
+        }
+        if self.compare_uniform && self.refinement == Refinement::Uniform {
+            return Err("adapt.compare_uniform = true compares adaptive with uniform refinement, \
+                        so adapt.refinement must be \"adaptive\" (no --uniform)"
+                .into());
         }
         Ok(())
     }
@@ -231,8 +244,11 @@ pub fn run(
             level::solve_linear(&problem, &disc)?
         } else {
             let (parameters, newton) = model.contact();
-            let delta0 = *delta.get_or_insert_with(|| settings.delta0 * problem.stress_scale(&disc.topology));
-            level::solve_contact(&problem, &disc, &tags, parameters, &newton, settings, x0, delta0)?
+            let start = delta.map_or_else(
+                || StartDelta::FirstIterate { load_scale: problem.stress_scale(&disc.topology) },
+                StartDelta::Kept,
+            );
+            level::solve_contact(&problem, &disc, &tags, parameters, &newton, settings, x0, start)?
         };
         delta = level.delta;
         seconds.solve = level.solve_seconds;

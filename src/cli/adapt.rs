@@ -4,7 +4,7 @@
 use super::common::{output_dir, stem, Input};
 use super::output::write_results;
 use crate::adapt::geo::GeoMesher;
-use crate::adapt::history::{to_csv, write_plots};
+use crate::adapt::history::{to_csv, write_adaptive_uniform, write_plots};
 use crate::adapt::marking::Marking;
 use crate::adapt::{self, AdaptError, AdaptSettings, Refinement, Step, StepRecord};
 use crate::contact::face_states;
@@ -51,6 +51,11 @@ pub struct Args {
     /// gamma_reg of the regularisation stopping rule; overrides adapt.gamma_reg (default 0.1)
     #[arg(long)]
     gamma_reg: Option<f64>,
+    /// Then refine uniformly from the same first mesh until the unknowns exceed the adaptive
+    /// run's (into OUTPUT/uniform) and draw eta_tot of both against the unknowns; sets
+    /// adapt.compare_uniform
+    #[arg(long)]
+    compare_uniform: bool,
 }
 
 /// What `history.json` records.
@@ -75,32 +80,81 @@ pub fn run(args: Args) -> Result<()> {
     );
     let dir = output_dir(&args.output, &scene)?;
     let name = stem(&scene.source);
+    let history = run_sequence(&scene, &args.input, &dir, &name, "")?;
+    print_table(&history);
+    progress.say(&format!("results in {} ({name}.pvd, history.csv, {name}_eta.png)", dir.display()));
+    if scene.adapt.compare_uniform {
+        compare_uniform(&scene, &args.input, &dir, &name, &history)?;
+    }
+    Ok(())
+}
+
+/// The refinement sequence of `scene` into `dir`: every step written as it comes, then the
+/// lists and figures; progress lines start with `prefix`. An error names the step and where
+/// the steps before it are.
+fn run_sequence(scene: &Scene, input: &Input, dir: &Path, name: &str, prefix: &str) -> Result<Vec<StepRecord>> {
+    let progress = input.progress();
     let mut mesher = GeoMesher {
         geometry: scene.geometry.clone(),
         options: scene.mesh_options(),
         refinement: scene.adapt.refinement,
-        verbose: args.input.verbose,
-        allow_system_calls: args.input.allow_system_calls,
+        verbose: input.verbose,
+        allow_system_calls: input.allow_system_calls,
     };
-    let mut writer = StepWriter { dir: &dir, name: &name, scene: &scene, history: Vec::new(), vtu: Vec::new() };
-    let result = adapt::run(&scene.adapt, &mut mesher, &scene, |step| {
+    let mut writer = StepWriter { dir, name, scene, history: Vec::new(), vtu: Vec::new() };
+    let result = adapt::run(&scene.adapt, &mut mesher, scene, |step| {
         writer.write(step).map_err(|source| AdaptError::Output { step: step.record.step, source: source.into() })?;
-        progress.say(&step_line(step.record));
+        progress.say(&format!("{prefix}{}", step_line(step.record)));
         Ok(())
     });
     let error = result.as_ref().err().map(|e| format!("{e}"));
     writer.finish(error.clone())?;
     if let Some(e) = error {
+        let kind = match scene.adapt.refinement {
+            Refinement::Adaptive => "adaptive",
+            Refinement::Uniform => "uniform",
+        };
         anyhow::bail!(
-            "{}: adaptive step {}: {e}; the steps before it are in {}",
+            "{}: {kind} step {}: {e}; the steps before it are in {}",
             scene.source.display(),
             writer.history.len(),
             dir.display()
         );
     }
-    print_table(&writer.history);
-    progress.say(&format!("results in {} ({name}.pvd, history.csv, {name}_eta.png)", dir.display()));
+    Ok(writer.history)
+}
+
+/// Uniform refinement of `scene` from the same first mesh into `<dir>/uniform`, up to the
+/// first mesh with more unknowns than the last of `adaptive` (or adapt.steps meshes), and the
+/// figure `<name>_adaptive_uniform` of both runs.
+fn compare_uniform(scene: &Scene, input: &Input, dir: &Path, name: &str, adaptive: &[StepRecord]) -> Result<()> {
+    let mut uniform = scene.clone();
+    uniform.adapt = uniform_settings(&scene.adapt, adaptive.last().map_or(0, |r| r.unknowns));
+    let sub = output_dir(&Some(dir.join("uniform")), scene)?;
+    let history = run_sequence(&uniform, input, &sub, name, "uniform ")?;
+    println!("uniform refinement from the same first mesh:");
+    print_table(&history);
+    let files = write_adaptive_uniform(dir, name, adaptive, &history).context("writing the comparison figure")?;
+    let figures: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
+    input.progress().say(&format!(
+        "uniform refinement in {}; adaptive against uniform in {}",
+        sub.display(),
+        figures.join(" and ")
+    ));
     Ok(())
+}
+
+/// `adaptive` with every size halved at each step, no tolerance, and a stop at the first mesh
+/// with more than `unknowns` unknowns.
+fn uniform_settings(adaptive: &AdaptSettings, unknowns: usize) -> AdaptSettings {
+    AdaptSettings {
+        refinement: Refinement::Uniform,
+        tol: None,
+        tol_relative: None,
+        max_unknowns: Some(unknowns + 1),
+        compare_uniform: false,
+        ..adaptive.clone()
+    }
 }
 
 /// The scene's `[adapt]` table with the command-line overrides.
@@ -119,6 +173,7 @@ fn override_settings(args: &Args, scene: &mut Scene) -> Result<()> {
     a.bulk = args.bulk.unwrap_or(a.bulk);
     a.gamma_lin = args.gamma_lin.unwrap_or(a.gamma_lin);
     a.gamma_reg = args.gamma_reg.unwrap_or(a.gamma_reg);
+    a.compare_uniform |= args.compare_uniform;
     Ok(scene.validate()?)
 }
 

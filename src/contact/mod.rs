@@ -58,6 +58,21 @@ impl<'a> ContactProblem<'a> {
     pub fn face_states(&self, x: &[f64]) -> Vec<FaceState> {
         face_states(self.problem, self.disc, &self.nitsche, self.projection.as_ref(), x)
     }
+
+    /// max |P_γ(u_h)| over the quadrature points of every contact face (those of the
+    /// residual, split at the kinks of the projection) for the free unknowns `x`; 0 without
+    /// contact faces.
+    pub fn max_abs_p_gamma(&self, x: &[f64]) -> f64 {
+        let u_full = self.disc.dofs.expand(x);
+        let mut dofs = Vec::new();
+        (0..self.nitsche.faces.len())
+            .flat_map(|k| {
+                let u = local(&self.problem.mesh, &self.nitsche, k, &u_full, &mut dofs);
+                let points = self.nitsche.quadrature(k, &u, self.projection.as_ref());
+                points.into_iter().map(move |(s, _)| self.nitsche.p_gamma(k, &self.nitsche.point(k, s), &u).abs())
+            })
+            .fold(0.0, f64::max)
+    }
 }
 
 /// Local dofs of the cell owning face k and the displacement there.
