@@ -386,19 +386,19 @@ fn order_option_on_msh_input() {
     }
 }
 
+/// `damfem adapt geo/scene_a.toml --order 1 --steps 3 [extra] -o dir`.
+fn adapt_scene_a_p1(dir: &TempDir, extra: &[&str]) -> Output {
+    let scene = repo("geo/scene_a.toml");
+    let mut args = vec![OsStr::new("adapt"), scene.as_os_str()];
+    args.extend(["--order", "1", "--steps", "3"].iter().chain(extra).map(OsStr::new));
+    args.extend([OsStr::new("-o"), dir.0.as_os_str()]);
+    damfem(&args)
+}
+
 #[test]
 fn adapt_writes_every_step_its_history_and_figures() {
     let dir = TempDir::new("adapt");
-    let out = damfem(&[
-        OsStr::new("adapt"),
-        repo("geo/scene_a.toml").as_os_str(),
-        OsStr::new("--order"),
-        OsStr::new("1"),
-        OsStr::new("--steps"),
-        OsStr::new("3"),
-        OsStr::new("-o"),
-        dir.0.as_os_str(),
-    ]);
+    let out = adapt_scene_a_p1(&dir, &[]);
     assert_ok(&out);
     let progress = stderr(&out);
     assert_eq!(progress.lines().filter(|l| l.starts_with("step ")).count(), 3, "{progress}");
@@ -438,17 +438,7 @@ fn history_unknowns(dir: &Path) -> Vec<u64> {
 #[test]
 fn adapt_compares_with_uniform_refinement_on_one_figure() {
     let dir = TempDir::new("adapt-uniform");
-    let out = damfem(&[
-        OsStr::new("adapt"),
-        repo("geo/scene_a.toml").as_os_str(),
-        OsStr::new("--order"),
-        OsStr::new("1"),
-        OsStr::new("--steps"),
-        OsStr::new("3"),
-        OsStr::new("--compare-uniform"),
-        OsStr::new("-o"),
-        dir.0.as_os_str(),
-    ]);
+    let out = adapt_scene_a_p1(&dir, &["--compare-uniform"]);
     assert_ok(&out);
     let uniform_dir = dir.join("uniform");
     for file in ["scene_a_00.vtu", "scene_a.pvd", "history.csv", "history.json", "scene_a_eta.png"] {
