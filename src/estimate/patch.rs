@@ -252,23 +252,24 @@ fn local_rows(input: &PatchInput, t: usize, data: &CompatibleData) -> (DMatrix<f
     (b, rhs)
 }
 
-/// Static condensation of cell t: with Z = B_L M⁻¹, A = Z B_Lᵀ = L Lᵀ and V = L⁻¹Z,
-/// P = M⁻¹ − VᵀV and x₀ = P (τ*, φ) + Vᵀ L⁻¹ b_L.
+/// Static condensation of cell t: with A = B_L M⁻¹ B_Lᵀ = L Lᵀ and V = L⁻¹ B_L M⁻¹,
+/// P = M⁻¹ − VᵀV, so P B_Gᵀ = M⁻¹B_Gᵀ − Vᵀ(V B_Gᵀ) and, with F = (τ*, φ),
+/// x₀ = P F + Vᵀ L⁻¹ b_L = M⁻¹F + Vᵀ(L⁻¹ b_L − V F).
 fn condense(input: &PatchInput, t: usize, rows: &[FaceRow], data: &CompatibleData) -> Result<Condensed, String> {
     let width = input.width();
     let (b_local, b_rhs) = local_rows(input, t, data);
     let (touching, b_global) = global_block(input, t, rows);
-    let minv = inverse_mass(input, t);
-    let mut v = &b_local * &minv;
-    let a = (&v * b_local.transpose()).cholesky().ok_or("the local constraints of a cell are not independent")?;
+    let minv_blt = apply_inverse_mass(input, t, b_local.transpose());
+    let a = (&b_local * &minv_blt).cholesky().ok_or("the local constraints of a cell are not independent")?;
+    let mut v = minv_blt.transpose();
     a.l_dirty().solve_lower_triangular_mut(&mut v);
-    let mut p = minv;
-    p.gemm_tr(-1.0, &v, &v, 1.0);
-    let p_bt = (&b_global * &p).transpose();
+    let mut p_bt = apply_inverse_mass(input, t, b_global.transpose());
+    p_bt.gemm_tr(-1.0, &v, &(&v * b_global.transpose()), 1.0);
     let target = DMatrix::from_fn(width, input.target.len(), |k, case| input.target[case][t * width + k]);
     let mut w = b_rhs;
     a.l_dirty().solve_lower_triangular_mut(&mut w);
-    let mut x0 = &p * target;
+    w -= &v * &target;
+    let mut x0 = apply_inverse_mass(input, t, target);
     x0.gemm_tr(1.0, &v, &w, 1.0);
     Ok(Condensed { rows: touching, coupling: &b_global * &p_bt, trace: &b_global * &x0, p_bt, x0 })
 }
@@ -293,15 +294,15 @@ fn global_block(input: &PatchInput, t: usize, rows: &[FaceRow]) -> (Vec<usize>, 
     (touching.into_iter().map(|(r, _)| r).collect(), b_global)
 }
 
-/// M⁻¹ on cell t: the same mass block for every component.
-fn inverse_mass(input: &PatchInput, t: usize) -> DMatrix<f64> {
+/// M⁻¹ X on cell t (the same mass block for every component).
+fn apply_inverse_mass(input: &PatchInput, t: usize, mut x: DMatrix<f64>) -> DMatrix<f64> {
     let nb = input.n_basis;
-    let block = &input.cells[t].mass_inverse;
-    DMatrix::from_fn(
-        input.width(),
-        input.width(),
-        |r, c| if r / nb == c / nb { block[(r % nb) * nb + c % nb] } else { 0.0 },
-    )
+    let inverse = DMatrix::from_row_slice(nb, nb, &input.cells[t].mass_inverse);
+    for c in 0..COMPONENTS {
+        let product = &inverse * x.rows(c * nb, nb);
+        x.rows_mut(c * nb, nb).copy_from(&product);
+    }
+    x
 }
 
 /// Adds s K Kᵀ to the condensed matrix, K = the face rows' part of λ_z for the free rigid
