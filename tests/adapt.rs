@@ -70,6 +70,20 @@ fn physical_groups_survive_every_remesh() {
     assert!(seen.windows(2).all(|w| w[1] > w[0]), "cells per step {seen:?}");
 }
 
+/// Source: docs/method.md §5.4 (the target sizes are those of the cells, h_T or h_T/2).
+/// Goal: with a size factor ≠ 1 the mesh still grows at every adaptive step; the factor
+/// scales the first mesh only (applied again to the size field, it coarsened Scene A from
+/// 654 to 24 unknowns at factor 4). Parameters: Scene A, P1, size factor 4, three steps.
+#[test]
+fn the_size_factor_scales_the_first_mesh_only() {
+    let mut scene = scene("scene_a", 1);
+    scene.mesh.size_factor = 4.0;
+    let mut cells = Vec::new();
+    run(steps(3), &mut mesher(&scene, Refinement::Adaptive), &scene, |mesh, _| cells.push(mesh.n_cells()))
+        .expect("adaptive run");
+    assert!(cells.windows(2).all(|w| w[1] > w[0]), "cells per step {cells:?}");
+}
+
 /// Cells per unit area within `r` of `p`, over the mean cells per unit area.
 fn relative_density(mesh: &Mesh, p: [f64; 2], r: f64) -> f64 {
     let centroid = |c: usize| {
