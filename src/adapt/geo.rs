@@ -2,7 +2,9 @@
 //!
 //! Adaptive steps hand the target sizes to gmsh as a background field on the previous mesh
 //! and mesh the same geometry again, so the physical groups are those of the file at every
-//! step. Uniform steps mesh it with every size halved: `Mesh.MeshSizeFactor` × 2^−ℓ.
+//! step. The field holds sizes measured on a mesh that the size factor already scaled, so a
+//! remesh uses the factor 1: the factor again would scale the mesh by it at every step.
+//! Uniform steps mesh it with every size halved: `Mesh.MeshSizeFactor` × 2^−ℓ.
 
 use super::{AdaptError, Mesher, Refinement};
 use crate::io::gmsh::{mesh_geo, remesh_geo, MeshOptions, SizeField};
@@ -22,8 +24,10 @@ impl Mesher for GeoMesher {
     fn mesh(&mut self, step: usize, previous: Option<(&Mesh, &[f64])>) -> Result<Mesh, AdaptError> {
         let (path, verbose, allow) = (&self.geometry, self.verbose, self.allow_system_calls);
         let mesh = match (self.refinement, previous) {
-            (Refinement::Adaptive, Some((mesh, sizes))) => SizeField::from_cells(mesh, sizes)
-                .and_then(|field| remesh_geo(path, &self.options, &field, verbose, allow)),
+            (Refinement::Adaptive, Some((mesh, sizes))) => {
+                let options = MeshOptions { size_factor: 1.0, ..self.options.clone() };
+                SizeField::from_cells(mesh, sizes).and_then(|field| remesh_geo(path, &options, &field, verbose, allow))
+            }
             _ => {
                 let factor = self.options.size_factor * 0.5f64.powi(step as i32);
                 mesh_geo(path, &MeshOptions { size_factor: factor, ..self.options.clone() }, verbose, allow)
