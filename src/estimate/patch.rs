@@ -52,6 +52,16 @@ pub struct PatchFace {
     pub kind: FaceKind,
 }
 
+impl PatchFace {
+    /// The components i of its rows: both, or the active ones of a trace.
+    fn active(&self) -> [bool; 2] {
+        match &self.kind {
+            FaceKind::Trace { active, .. } => *active,
+            _ => [true; 2],
+        }
+    }
+}
+
 /// Data of one patch problem with `cases` right-hand sides.
 pub struct PatchInput<'a> {
     pub order: usize,
@@ -93,14 +103,6 @@ impl PatchInput<'_> {
     fn rigid_motion(&self, z: &[f64; 3], x: [f64; 2]) -> [f64; 2] {
         let (px, py) = (x[0] - self.origin[0], x[1] - self.origin[1]);
         [z[0] - z[2] * py, z[1] + z[2] * px]
-    }
-
-    /// The components i of face rows: both, or the active ones of a trace.
-    fn active(face: &PatchFace) -> [bool; 2] {
-        match &face.kind {
-            FaceKind::Trace { active, .. } => *active,
-            _ => [true; 2],
-        }
     }
 }
 
@@ -164,7 +166,7 @@ fn face_rows(input: &PatchInput) -> Vec<FaceRow> {
         if matches!(face.kind, FaceKind::Opposite) {
             continue;
         }
-        let active = PatchInput::active(face);
+        let active = face.active();
         for m in 0..=input.order {
             for i in (0..2).filter(|&i| active[i]) {
                 let rhs = (0..cases)
@@ -340,7 +342,7 @@ fn compatible_data(input: &PatchInput, rows: &[FaceRow]) -> CompatibleData {
     }
     let (projections, coefficients) = (rigid_projections(input), lower_coefficients(input));
     let gram = projections.transpose() * &coefficients;
-    let eigen = gram.clone().symmetric_eigen();
+    let eigen = gram.symmetric_eigen();
     let largest = eigen.eigenvalues.amax();
     let (seen, unseen): (Vec<usize>, Vec<usize>) =
         (0..input.rigid.len()).partition(|&j| eigen.eigenvalues[j] > 1e-10 * largest);

@@ -53,15 +53,16 @@ impl SparseLu {
 impl LuFactors<'_> {
     /// Solves A x = b.
     pub fn solve(&self, rhs: &[f64]) -> Vec<f64> {
-        self.solve_conjugate(rhs, false)
+        self.substitute(rhs, false)
     }
 
     /// Solves Aᵀ x = b.
     pub fn solve_transpose(&self, rhs: &[f64]) -> Vec<f64> {
-        self.solve_conjugate(rhs, true)
+        self.substitute(rhs, true)
     }
 
-    fn solve_conjugate(&self, rhs: &[f64], transpose: bool) -> Vec<f64> {
+    /// Forward and back substitution with the factors of A, or of Aᵀ if `transpose`.
+    fn substitute(&self, rhs: &[f64], transpose: bool) -> Vec<f64> {
         let mut x = Mat::from_fn(rhs.len(), 1, |i, _| rhs[i]);
         let (n, par) = (1, PARALLELISM);
         let request = if transpose {
