@@ -240,8 +240,7 @@ fn rates(scene: &Scene, adaptive: usize, uniform: usize) -> (f64, f64) {
 /// Goal: P1, adaptive refinement reaches η ~ N^{−1/2} once the singular points are resolved;
 /// uniform refinement stays limited by the Γ_D/Γ_C junction (about N^{−1/4}).
 /// Parameters: Scene A, P1, 10 adaptive and 4 uniform steps from the scene's mesh; slopes
-/// over the last four steps (measured −0.536 … −0.593 over four runs of this file, whose
-/// parallel tests change gmsh's meshes a little, and −0.198).
+/// over the last four steps (measured −0.548 over 8 068 … 42 424 unknowns, and −0.197).
 #[test]
 fn adaptive_refinement_reaches_the_optimal_rate_on_scene_a() {
     let (a, u) = rates(&scene("scene_a", 1), 10, 4);
@@ -277,7 +276,7 @@ fn coarse_hertz(order: usize) -> Scene {
 /// Goal: P1 on Hertz, adaptive refinement reaches the optimal N^{−1/2}; uniform refinement is
 /// slower (the polygonal contact arc limits it to N^{−1/4}, see the P2 test).
 /// Parameters: geo/hertz.toml, P1, size factor 2 (368 unknowns at first), 7 adaptive and 3
-/// uniform steps; slopes over the last four adaptive steps (measured −0.49 over 2 956 … 24 418
+/// uniform steps; slopes over the last four adaptive steps (measured −0.48 over 2 762 … 24 034
 /// unknowns) and the three uniform steps (−0.36 over 368 … 4 904).
 #[test]
 fn adaptive_p1_reaches_the_optimal_rate_on_hertz() {
@@ -293,7 +292,7 @@ fn adaptive_p1_reaches_the_optimal_rate_on_hertz() {
 /// like N^{−1/2} at best (N^{−1/4} uniformly). If the contact arc is ever curved or the
 /// normal made continuous, the last assertion (a slope above −0.8) will fail and can go.
 /// Parameters: geo/hertz.toml, P2, size factor 2 (1 416 unknowns at first), 8 adaptive and 3
-/// uniform steps; slopes over the last four adaptive steps (measured −0.62 over 6 982 … 24 670
+/// uniform steps; slopes over the last four adaptive steps (measured −0.66 over 7 072 … 24 160
 /// unknowns) and the three uniform steps (−0.22 over 1 416 … 19 396).
 #[test]
 fn adaptive_p2_on_hertz_is_limited_by_the_polygonal_contact_arc() {

@@ -199,3 +199,21 @@ Mesh.MeshSizeExtendFromBoundary = 1;
     let mean = mean_diameter(&ours, |_| true);
     assert!((0.2..0.4).contains(&mean), "mean diameter {mean}");
 }
+
+/// The same geometry and size field give the same mesh whichever thread asks, including threads
+/// other than the one that initialised gmsh (gmsh's OpenMP team size is per thread).
+#[test]
+fn remeshing_is_reproducible_across_threads() {
+    let old = mesh("hertz.geo", 2);
+    let remesh_hertz =
+        || remesh(&geo("hertz.geo"), &old, |c| old.cell_diameter(c) * if c % 3 == 0 { 0.5 } else { 1.0 });
+    let here = remesh_hertz();
+    let elsewhere: Vec<Mesh> = std::thread::scope(|s| {
+        let threads: Vec<_> = (0..3).map(|_| s.spawn(remesh_hertz)).collect();
+        threads.into_iter().map(|t| t.join().unwrap()).collect()
+    });
+    for other in &elsewhere {
+        assert_eq!(other.cell_nodes, here.cell_nodes);
+        assert_eq!(other.points, here.points);
+    }
+}

@@ -23,6 +23,9 @@
 //!   file. The `guard` module therefore checks every file gmsh would read before it reads
 //!   any, and refuses shell commands, `Exit`, file writes and includes it cannot follow;
 //! - `Exit;` in a `.geo` ends the calling process.
+//! - gmsh's OpenMP thread count is a per-thread setting, so every session sets it (to 1) on
+//!   its own thread; otherwise remeshing with a size field from another thread than the first
+//!   gives a different mesh on every call.
 //!
 //! Options a `.geo` file sets, other than those a session resets, persist into later sessions
 //! of the same process.

@@ -56,6 +56,9 @@ impl Session {
         // errors must stay logged (verbosity ≥ 1) for the session to report them
         api::set_number("General.Verbosity", if verbose { 5.0 } else { 1.0 })?;
         api::set_number("General.AbortOnError", 2.0)?;
+        // gmsh passes this to omp_set_num_threads, which acts on the calling thread only: a
+        // thread other than the first would mesh with OpenMP's default team, non-reproducibly
+        api::set_number("General.NumThreads", 1.0)?;
         api::clear()?;
         api::restart_logger()?;
         Ok(Session { _lock: lock, source: PathBuf::from("the empty model"), log_seen: 0 })
