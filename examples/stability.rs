@@ -21,7 +21,7 @@
 //! their reference, printed on the last line ("N combinations: …").
 
 use anyhow::{Context, Result};
-use damfem::contact::nitsche::{Gap, Nitsche, NitscheParameters};
+use damfem::contact::nitsche::{Nitsche, NitscheParameters};
 use damfem::contact::projection::QuadraticSmoothing;
 use damfem::contact::{solve_by_continuation, ContactProblem};
 use damfem::elasticity::stress::cell_mean_stress;
@@ -594,7 +594,7 @@ fn contact_row(row: &mut Row, problem: &Problem, tags: &[i32], knobs: Knobs, len
     let scale = problem.stress_scale(&disc.topology);
     let delta = knobs.delta * scale;
     let start = knobs.start.map_or(delta, |s| (s * scale).max(delta));
-    let parameters = NitscheParameters { gamma0: knobs.gamma0, theta: knobs.theta, gap: Gap::default() };
+    let parameters = NitscheParameters { gamma0: knobs.gamma0, theta: knobs.theta, ..Default::default() };
     let nitsche = Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, tags, parameters);
     let contact_face = nitsche.faces.iter().map(|f| f.length).fold(0.0, f64::max) * length;
     let mut contact = ContactProblem::new(problem, &disc, nitsche, Box::new(QuadraticSmoothing { delta }));

@@ -138,6 +138,9 @@ pub struct ContactSection {
     pub gap: f64,
     /// Gradient of an affine gap g(x) = g₀ + ∇g · x.
     pub gap_gradient: [f64; 2],
+    /// Normal of a flat foundation, pointing from the body into it: the direction ν of u·ν ≤ g
+    /// and of the contact traction. Default: the outward normal of each contact face.
+    pub direction: Option<[f64; 2]>,
     /// Maximum number of Newton steps per regularisation stage.
     pub max_iter: usize,
     /// Relative residual tolerance of Newton.
@@ -154,6 +157,7 @@ impl Default for ContactSection {
             projection: ProjectionKind::Quadratic,
             gap: 0.0,
             gap_gradient: [0.0; 2],
+            direction: None,
             max_iter: 50,
             rtol: 1e-10,
         }
@@ -266,6 +270,9 @@ impl Scene {
         if ![1.0, 0.0, -1.0].contains(&c.theta) {
             return Err(self.invalid(format!("contact.theta = {} must be 1, 0 or -1", c.theta)));
         }
+        if let Some(nu) = c.direction.filter(|nu| !(nu[0].hypot(nu[1]) > 0.0 && nu.iter().all(|x| x.is_finite()))) {
+            return Err(self.invalid(format!("contact.direction = {nu:?} must be a non-zero vector")));
+        }
         if c.delta.is_some_and(|d| !(d >= 0.0)) {
             return Err(self.invalid(format!("contact.delta = {} must be non-negative", c.delta.unwrap_or(0.0))));
         }
@@ -348,10 +355,18 @@ impl Scene {
         }
     }
 
-    /// Nitsche parameters of the `[contact]` table.
-    fn nitsche_parameters(&self) -> NitscheParameters {
+    /// Nitsche parameters of the `[contact]` table (the direction made a unit vector).
+    pub fn nitsche_parameters(&self) -> NitscheParameters {
         let c = &self.contact;
-        NitscheParameters { gamma0: c.gamma0, theta: c.theta, gap: Gap { constant: c.gap, gradient: c.gap_gradient } }
+        NitscheParameters {
+            gamma0: c.gamma0,
+            theta: c.theta,
+            gap: Gap { constant: c.gap, gradient: c.gap_gradient },
+            direction: c.direction.map(|nu| {
+                let norm = nu[0].hypot(nu[1]);
+                [nu[0] / norm, nu[1] / norm]
+            }),
+        }
     }
 
     /// Newton options of the `[contact]` table.
@@ -429,7 +444,16 @@ impl Scene {
         let materials = self.cell_materials(&mesh)?;
         let body_force = if g == 0.0 { BodyForce::None } else { BodyForce::Gravity(g) };
         let problem = Problem { mesh, materials, dirichlet, neumann, body_force };
-        let supports = contact_supports(&problem.mesh, &self.contact_tags(&problem.mesh)?);
+        let contact = self.contact_tags(&problem.mesh)?;
+        let direction = self.nitsche_parameters().direction;
+        if let Some(tag) = facing_away(&problem.mesh, &contact, direction) {
+            let name = problem.mesh.groups.iter().find(|g| g.dim == 1 && g.tag == tag).map_or("?", |g| &g.name);
+            return Err(self.invalid(format!(
+                "contact.direction = {:?} points into the body on the contact curve '{name}' (ν·n ≤ 0 on one of its faces)",
+                self.contact.direction.unwrap_or_default()
+            )));
+        }
+        let supports = contact_supports(&problem.mesh, &contact, direction);
         if let Some(motion) = problem.free_rigid_motion(&supports) {
             return Err(self.invalid(format!(
                 "the Dirichlet and contact conditions leave a rigid motion free ({motion}); {how} that blocks it"
@@ -449,19 +473,26 @@ impl Model for Scene {
     }
 }
 
-/// Nodes of the contact curves with the outward normals of their facets.
-fn contact_supports(mesh: &Mesh, tags: &[i32]) -> Vec<([f64; 2], [f64; 2])> {
-    if tags.is_empty() {
-        return Vec::new();
-    }
-    let topology = Topology::new(mesh);
+/// Nodes of the contact curves with the contact direction of their facets: `direction`, or
+/// the outward normal.
+fn contact_supports(mesh: &Mesh, tags: &[i32], direction: Option<[f64; 2]>) -> Vec<([f64; 2], [f64; 2])> {
+    contact_facets(mesh, tags)
+        .flat_map(|(f, normal)| mesh.facet(f).iter().map(move |&n| (mesh.points[n], direction.unwrap_or(normal))))
+        .collect()
+}
+
+/// Tag of a contact curve with a facet whose outward normal n has ν·n ≤ 0, if any.
+fn facing_away(mesh: &Mesh, tags: &[i32], direction: Option<[f64; 2]>) -> Option<i32> {
+    let nu = direction?;
+    contact_facets(mesh, tags).find(|(_, n)| n[0] * nu[0] + n[1] * nu[1] <= 0.0).map(|(f, _)| mesh.facet_tags[f])
+}
+
+/// The facets of the contact curves with their outward normals.
+fn contact_facets<'a>(mesh: &'a Mesh, tags: &'a [i32]) -> impl Iterator<Item = (usize, [f64; 2])> + 'a {
+    let topology = (!tags.is_empty()).then(|| Topology::new(mesh));
     (0..mesh.n_facets())
         .filter(|&f| tags.contains(&mesh.facet_tags[f]))
-        .flat_map(|f| {
-            let normal = topology.outward_normal(mesh, f);
-            mesh.facet(f).iter().map(move |&n| (mesh.points[n], normal)).collect::<Vec<_>>()
-        })
-        .collect()
+        .map(move |f| (f, topology.as_ref().expect("contact facets imply contact tags").outward_normal(mesh, f)))
 }
 
 /// Role given by the naming convention of bare geometry files.

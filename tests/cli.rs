@@ -508,3 +508,22 @@ fn adapt_reports_a_newton_failure_and_keeps_the_history() {
     assert!(history["error"].as_str().unwrap().contains("Newton"));
     assert!(history["steps"].as_array().unwrap().is_empty());
 }
+
+// A contact direction that is zero, or that points into the body on a contact curve, is refused
+// with the key and the curve named.
+#[test]
+fn bad_contact_direction() {
+    let tmp = TempDir::new("bad-direction");
+    let hertz = std::fs::read_to_string(repo("geo/hertz.toml")).unwrap();
+    let geometry = format!("geometry = {:?}", repo("geo/hertz.geo").display().to_string());
+    let hertz = hertz.replace("geometry = \"hertz.geo\"", &geometry);
+    for (name, direction, expected) in [
+        ("zero", "[0.0, 0.0]", ["contact.direction", "non-zero"]),
+        ("upwards", "[0.0, 1.0]", ["contact.direction", "'Gamma_C'"]),
+    ] {
+        let scene = tmp.join(&format!("{name}.toml"));
+        std::fs::write(&scene, hertz.replace("direction = [0.0, -1.0]", &format!("direction = {direction}"))).unwrap();
+        let message = assert_solve_fails(&format!("bad-direction-{name}"), &scene, &expected);
+        assert!(message.contains(&format!("{name}.toml")), "{message}");
+    }
+}

@@ -8,7 +8,7 @@ mod common;
 
 use common::v3;
 
-use damfem::contact::nitsche::{Gap, Nitsche, NitscheParameters};
+use damfem::contact::nitsche::{Nitsche, NitscheParameters};
 use damfem::contact::projection::QuadraticSmoothing;
 use damfem::contact::{solve_by_continuation, ContactProblem};
 use damfem::elasticity::kernels::{displacement_gradient, stress};
@@ -379,7 +379,7 @@ fn v2_solution(order: usize, theta: f64, top_uy: f64) -> (Problem, Vec<[f64; 2]>
 /// All three θ, P1 and P2.
 #[test]
 fn contact_patch_test_has_round_off_residual() {
-    let data = ContactData { tags: &[BOTTOM], gamma0: 100.0, gap: Gap::default() };
+    let data = ContactData { tags: &[BOTTOM], parameters: NitscheParameters::default() };
     for order in [1, 2] {
         for theta in [1.0, 0.0, -1.0] {
             for d in [-1e-2, 1e-2] {
@@ -466,7 +466,7 @@ fn v3_contact_defect(problem: &Problem, u_h: &[[f64; 2]], gamma0: f64) -> f64 {
 ///     (P2), the bounds of the H¹ error in tests/contact.rs.
 #[test]
 fn contact_residual_orthogonality_bound_and_rate() {
-    let data = ContactData { tags: &[BOTTOM], gamma0: 100.0, gap: Gap::default() };
+    let data = ContactData { tags: &[BOTTOM], parameters: NitscheParameters::default() };
     let (problem, u_h) = v3_solution(8, 2, 0.0);
     let own = residual_dual_norm(&problem, &u_h, Some(&data), 0).unwrap();
     let refined = residual_dual_norm(&problem, &u_h, Some(&data), 2).unwrap();

@@ -3,7 +3,7 @@
 mod common;
 
 use common::{v1, v3};
-use damfem::contact::nitsche::{Gap, Nitsche, NitscheParameters};
+use damfem::contact::nitsche::{Nitsche, NitscheParameters};
 use damfem::contact::projection::QuadraticSmoothing;
 use damfem::contact::{solve_contact, ContactSettings};
 use damfem::elasticity::Problem;
@@ -87,7 +87,7 @@ fn v3_contact_equilibration_and_guaranteed_bound() {
             let rec = reconstruct(&problem, &topology, &u, Some(&state)).unwrap();
             let eq = check(&problem, &topology, &u, &rec, Some(&state));
             let est = estimate(&problem, &topology, &u, &rec, Some(&state)).global();
-            let data = ContactData { tags: &[BOTTOM], gamma0: 100.0, gap: Gap::default() };
+            let data = ContactData { tags: &[BOTTOM], parameters: NitscheParameters::default() };
             let dual = residual_dual_norm(&problem, &u, Some(&data), 1).unwrap();
             println!(
                 "P{order} n = {n}: eta = {:.4e} (flux {:.2e}, Neu {:.2e}, disc {:.2e}, reg {:.2e}, lin {:.2e}), dual norm >= {dual:.4e}, I_eff <= {:.3}; worst check {:.1e}",

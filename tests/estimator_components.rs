@@ -106,11 +106,7 @@ fn evaluate(
     let eq = check(problem, &topology, u, &rec, state.as_ref());
     let est = estimate(problem, &topology, u, &rec, state.as_ref()).global();
     let dual = levels.map(|levels| {
-        let data = contact.map(|(nitsche, _, _)| ContactData {
-            tags,
-            gamma0: nitsche.parameters.gamma0,
-            gap: nitsche.parameters.gap,
-        });
+        let data = contact.map(|(nitsche, _, _)| ContactData { tags, parameters: nitsche.parameters });
         residual_dual_norm(problem, u, data.as_ref(), levels).unwrap_or_else(|e| panic!("{e}"))
     });
     Evaluation { eq, est, dual }

@@ -4,7 +4,7 @@
 
 mod common;
 
-use damfem::contact::nitsche::{Gap, Nitsche, NitscheParameters};
+use damfem::contact::nitsche::{Nitsche, NitscheParameters};
 use damfem::contact::projection::QuadraticSmoothing;
 use damfem::contact::{solve_contact, ContactProblem, ContactSettings};
 use damfem::elasticity::{BodyForce, Dirichlet, Discretisation, Material, Problem};
@@ -38,12 +38,6 @@ fn scene_a(order: usize) -> (Scene, Problem, Discretisation, Vec<i32>, f64) {
     (scene, problem, disc, tags, scale)
 }
 
-/// The scene's Nitsche parameters (γ₀ = 100, θ = 0, gap 0).
-fn parameters(scene: &Scene) -> NitscheParameters {
-    let c = &scene.contact;
-    NitscheParameters { gamma0: c.gamma0, theta: c.theta, gap: Gap { constant: c.gap, gradient: c.gap_gradient } }
-}
-
 fn norm(v: &[f64]) -> f64 {
     v.iter().map(|a| a * a).sum::<f64>().sqrt()
 }
@@ -67,7 +61,7 @@ fn newton_converges_quadratically_once_the_active_set_settles() {
     for order in [1, 2] {
         let (scene, problem, disc, tags, scale) = scene_a(order);
         let settings = ContactSettings {
-            parameters: parameters(&scene),
+            parameters: scene.nitsche_parameters(),
             delta: 1e-4 * scale,
             delta_start: 0.0,
             newton: NewtonOptions::default(),
@@ -125,8 +119,12 @@ fn regularised_solution_tends_to_the_semismooth_one() {
     for (order, last_k) in [(1, 7), (2, 6)] {
         let (scene, problem, disc, tags, scale) = scene_a(order);
         let options = NewtonOptions { rtol: 1e-12, ..Default::default() };
-        let settings =
-            ContactSettings { parameters: parameters(&scene), delta: 0.0, delta_start: 0.1 * scale, newton: options };
+        let settings = ContactSettings {
+            parameters: scene.nitsche_parameters(),
+            delta: 0.0,
+            delta_start: 0.1 * scale,
+            newton: options,
+        };
         let exact = solve_contact(&problem, &disc, &tags, &settings).unwrap_or_else(|e| panic!("{e}"));
         let nitsche = Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, &tags, settings.parameters);
         let mut contact = ContactProblem::new(&problem, &disc, nitsche, Box::new(QuadraticSmoothing { delta: 0.0 }));
@@ -236,7 +234,7 @@ fn newton_failure_is_a_clear_error() {
         }
     };
     let mut settings = ContactSettings {
-        parameters: parameters(&scene),
+        parameters: scene.nitsche_parameters(),
         delta: 1e-4 * scale,
         delta_start: 0.0,
         newton: NewtonOptions { max_iter: 1, ..Default::default() },

@@ -1,6 +1,8 @@
 //! Nitsche terms of frictionless unilateral contact with a rigid foundation on Γ_C.
 //!
-//! With P_γ(v) = σ^n(v) − γ(v^n − g) and a projection [·] (regularised or not), the θ-method
+//! The contact direction ν is the outward normal n of each face unless the foundation's normal
+//! is prescribed (a constant ν, for curved bodies on a flat foundation). With v^n = v·ν,
+//! σ^n(v) = (σ(v)n)·ν, P_γ(v) = σ^n(v) − γ(v^n − g) and a projection [·] (regularised or not), the θ-method
 //! adds to the elasticity residual, for each contact face F (docs/method.md §1.3),
 //!
 //!   R_F(u; v) = −(θ/γ) ∫_F σ^n(u) σ^n(v) + (1/γ) ∫_F [P_γ(u)] (θ σ^n(v) − γ v^n),
@@ -41,11 +43,14 @@ pub struct NitscheParameters {
     /// θ ∈ {1, 0, −1}: symmetric, incomplete (the default), skew-symmetric.
     pub theta: f64,
     pub gap: Gap,
+    /// Prescribed contact direction ν (unit, from the body into the foundation); `None`: the
+    /// outward normal of each face.
+    pub direction: Option<[f64; 2]>,
 }
 
 impl Default for NitscheParameters {
     fn default() -> Self {
-        NitscheParameters { gamma0: 100.0, theta: 0.0, gap: Gap::default() }
+        NitscheParameters { gamma0: 100.0, theta: 0.0, gap: Gap::default(), direction: None }
     }
 }
 
@@ -60,6 +65,8 @@ pub struct ContactFace {
     /// Reference coordinates (in the cell) of the face's end points.
     pub ends: [[f64; 2]; 2],
     pub normal: [f64; 2],
+    /// Contact direction ν: the prescribed one or `normal`.
+    pub direction: [f64; 2],
     pub length: f64,
     /// γ = γ₀ E / h_F.
     pub gamma: f64,
@@ -70,9 +77,10 @@ pub struct ContactFace {
 /// Shape data of the cell basis at one point of a face.
 pub struct FacePoint {
     pub x: [f64; 2],
-    /// σ^n(φ_i e_a) = λ ∂_a φ_i + 2μ (∇φ_i · n) n_a at index 2i + a.
+    /// σ^n(φ_i e_a) = (σ(φ_i e_a)n)·ν = λ ∂_a φ_i (n·ν) + μ((∇φ_i·n) ν_a + (∇φ_i·ν) n_a) at index
+    /// 2i + a.
     pub sigma_n: Vec<f64>,
-    /// (φ_i e_a) · n = φ_i n_a at index 2i + a.
+    /// (φ_i e_a) · ν = φ_i ν_a at index 2i + a.
     pub u_n: Vec<f64>,
 }
 
@@ -96,7 +104,7 @@ impl Nitsche {
     ) -> Self {
         let faces = (0..mesh.n_facets())
             .filter(|&f| tags.contains(&mesh.facet_tags[f]))
-            .map(|f| face(mesh, topology, materials, f, parameters.gamma0))
+            .map(|f| face(mesh, topology, materials, f, &parameters))
             .collect();
         Nitsche { parameters, faces, order: mesh.order, rule: gauss_segment(mesh.order + 2) }
     }
@@ -115,15 +123,16 @@ impl Nitsche {
         let mut grads = [[0.0; 2]; 6];
         lagrange::values(self.order, xi, &mut phi[..nb]);
         lagrange::gradients(self.order, xi, &mut grads[..nb]);
-        let n = face.normal;
+        let (n, nu) = (face.normal, face.direction);
+        let n_nu = n[0] * nu[0] + n[1] * nu[1];
         let mut sigma_n = vec![0.0; 2 * nb];
         let mut u_n = vec![0.0; 2 * nb];
         for i in 0..nb {
             let g = face.map.physical_gradient(grads[i]);
-            let gn = g[0] * n[0] + g[1] * n[1];
+            let (gn, gnu) = (g[0] * n[0] + g[1] * n[1], g[0] * nu[0] + g[1] * nu[1]);
             for a in 0..2 {
-                sigma_n[2 * i + a] = face.lambda * g[a] + 2.0 * face.mu * gn * n[a];
-                u_n[2 * i + a] = phi[i] * n[a];
+                sigma_n[2 * i + a] = face.lambda * g[a] * n_nu + face.mu * (gn * nu[a] + gnu * n[a]);
+                u_n[2 * i + a] = phi[i] * nu[a];
             }
         }
         FacePoint { x: face.map.to_physical(xi), sigma_n, u_n }
@@ -214,7 +223,13 @@ impl Nitsche {
     }
 }
 
-fn face(mesh: &Mesh, topology: &Topology, materials: &[Material], f: usize, gamma0: f64) -> ContactFace {
+fn face(
+    mesh: &Mesh,
+    topology: &Topology,
+    materials: &[Material],
+    f: usize,
+    parameters: &NitscheParameters,
+) -> ContactFace {
     let cell = topology.facet_cell(f);
     let vertices = &mesh.cell(cell)[..3];
     let reference = lagrange::reference_nodes(1);
@@ -222,14 +237,16 @@ fn face(mesh: &Mesh, topology: &Topology, materials: &[Material], f: usize, gamm
     let local = |node: usize| vertices.iter().position(|&v| v == node).expect("face vertex belongs to its cell");
     let length = mesh.facet_length(f);
     let (lambda, mu) = materials[cell].lame();
+    let normal = topology.outward_normal(mesh, f);
     ContactFace {
         facet: f,
         cell,
         map: AffineMap::new(mesh.cell_vertices(cell)),
         ends: [reference[local(nodes[0])], reference[local(nodes[1])]],
-        normal: topology.outward_normal(mesh, f),
+        normal,
+        direction: parameters.direction.unwrap_or(normal),
         length,
-        gamma: gamma0 * materials[cell].young / length,
+        gamma: parameters.gamma0 * materials[cell].young / length,
         lambda,
         mu,
     }

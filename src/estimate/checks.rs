@@ -267,7 +267,7 @@ fn contact_traces(problem: &Problem, u: &[[f64; 2]], rec: &Reconstruction, state
                         tau[2 * j] * face.normal[0] + tau[2 * j + 1] * face.normal[1]
                     })
                     .collect();
-                let g: Vec<f64> = t.iter().map(|ti| ti[i] * face.normal[j]).collect();
+                let g: Vec<f64> = t.iter().map(|ti| ti[i] * face.direction[j]).collect();
                 defect += projection.trace_defect(&w, &g).powi(2);
             }
             worst = worst.max(defect.sqrt());

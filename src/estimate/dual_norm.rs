@@ -36,7 +36,7 @@
 //! by sparse Cholesky; when both components have the same Dirichlet nodes, one factorisation
 //! serves both. ‖r‖²_{C,h} = Σ_a r_aᵀ A_a r_a.
 
-use crate::contact::nitsche::{roots_in_unit_interval, Gap, Nitsche, NitscheParameters};
+use crate::contact::nitsche::{roots_in_unit_interval, Nitsche, NitscheParameters};
 use crate::elasticity::{kernels, BodyForce, Problem};
 use crate::fem::affine::AffineMap;
 use crate::fem::dofs::{DofMap, FIXED};
@@ -63,9 +63,8 @@ const VOLUME_DEGREE: usize = 8;
 pub struct ContactData<'a> {
     /// Physical curve tags of Γ_C.
     pub tags: &'a [i32],
-    /// γ₀ in γ = γ₀ E / h_F.
-    pub gamma0: f64,
-    pub gap: Gap,
+    /// γ₀, the gap and the contact direction (θ plays no part in the residual).
+    pub parameters: NitscheParameters,
 }
 
 /// The Riesz representative r of R(u_h) in V_fine and its norm.
@@ -257,8 +256,7 @@ struct ContactFaces {
 impl ContactFaces {
     fn new(problem: &Problem, topology: &Topology, data: &ContactData) -> Self {
         let coarse = &problem.mesh;
-        let parameters = NitscheParameters { gamma0: data.gamma0, theta: 0.0, gap: data.gap };
-        let nitsche = Nitsche::new(coarse, topology, &problem.materials, data.tags, parameters);
+        let nitsche = Nitsche::new(coarse, topology, &problem.materials, data.tags, data.parameters);
         let mut face_of_facet = vec![None; coarse.n_facets()];
         let ends = nitsche
             .faces
@@ -306,8 +304,8 @@ impl ContactFaces {
                 let value = p(t).min(0.0);
                 lagrange::segment_values(2, t, &mut phi);
                 for (&n, &ph) in nodes.iter().zip(&phi) {
-                    for (l, normal) in load[n].iter_mut().zip(face.normal) {
-                        *l += w * length * value * ph * normal;
+                    for (l, nu) in load[n].iter_mut().zip(face.direction) {
+                        *l += w * length * value * ph * nu;
                     }
                 }
             }

@@ -401,7 +401,7 @@ fn contact_moments(ctx: &Context, k: usize, a: usize, ends: [usize; 2], data: &m
         for (case, out) in data.iter_mut().enumerate() {
             for m in 0..=mesh.order {
                 for i in 0..2 {
-                    out[m * 2 + i] += psi * t[case] * face.normal[i] * q[m] * w;
+                    out[m * 2 + i] += psi * t[case] * face.direction[i] * q[m] * w;
                 }
             }
         }
