@@ -114,43 +114,84 @@ struct FaceRow {
     rhs: Vec<f64>,
 }
 
+/// Scratch matrices of one thread, reused from patch to patch: a matrix is reallocated only
+/// when its shape changes, so the condensation of the many cells with the usual shapes does
+/// not allocate.
+pub struct Workspace {
+    cells: Vec<Condensed>,
+    schur: DMatrix<f64>,
+    reduced: DMatrix<f64>,
+}
+
+impl Default for Workspace {
+    fn default() -> Self {
+        Workspace { cells: Vec::new(), schur: empty(), reduced: empty() }
+    }
+}
+
+fn empty() -> DMatrix<f64> {
+    DMatrix::zeros(0, 0)
+}
+
+/// `m` with the shape rows × cols, reallocated only if its shape differs (most cells of a
+/// mesh give the same shapes); its entries are then arbitrary.
+fn shaped(m: &mut DMatrix<f64>, rows: usize, cols: usize) -> &mut DMatrix<f64> {
+    if m.shape() != (rows, cols) {
+        *m = DMatrix::zeros(rows, cols);
+    }
+    m
+}
+
+/// [`shaped`], zeroed.
+fn zeroed(m: &mut DMatrix<f64>, rows: usize, cols: usize) -> &mut DMatrix<f64> {
+    shaped(m, rows, cols).fill(0.0);
+    m
+}
+
 /// Solves the patch problem for every case; fails only if the constraints are dependent
 /// beyond the free rigid motions.
-pub fn solve(input: &PatchInput) -> Result<PatchSolution, String> {
+pub fn solve(input: &PatchInput, work: &mut Workspace) -> Result<PatchSolution, String> {
     let cases = input.target.len();
     let rows = face_rows(input);
     let data = compatible_data(input, &rows);
-    let mut schur = DMatrix::zeros(rows.len(), rows.len());
-    let mut reduced = DMatrix::zeros(rows.len(), cases);
-    let cells: Vec<Condensed> = (0..input.cells.len())
-        .map(|t| {
-            let cell = condense(input, t, &rows, &data)?;
-            for (a, &ra) in cell.rows.iter().enumerate() {
-                for (b, &rb) in cell.rows.iter().enumerate() {
-                    schur[(ra, rb)] += cell.coupling[(a, b)];
-                }
-                for case in 0..cases {
-                    reduced[(ra, case)] += cell.trace[(a, case)];
-                }
+    let Workspace { cells, schur, reduced } = work;
+    cells.resize_with(cells.len().max(input.cells.len()), Condensed::default);
+    let cells = &mut cells[..input.cells.len()];
+    zeroed(schur, rows.len(), rows.len());
+    zeroed(reduced, rows.len(), cases);
+    for (t, cell) in cells.iter_mut().enumerate() {
+        condense(input, t, &rows, &data, cell)?;
+        for (a, &ra) in cell.rows.iter().enumerate() {
+            for (b, &rb) in cell.rows.iter().enumerate() {
+                schur[(ra, rb)] += cell.coupling[(a, b)];
             }
-            Ok(cell)
-        })
-        .collect::<Result<_, String>>()?;
+            for case in 0..cases {
+                reduced[(ra, case)] += cell.trace[(a, case)];
+            }
+        }
+    }
     for (r, row) in rows.iter().enumerate() {
         for case in 0..cases {
             reduced[(r, case)] -= row.rhs[case];
         }
     }
-    add_rigid_kernel(input, &rows, &mut schur);
-    let lambda = schur.cholesky().ok_or("the patch constraints are not independent")?.solve(&reduced);
+    add_rigid_kernel(input, &rows, schur);
+    let cholesky = std::mem::replace(schur, empty()).cholesky().ok_or("the patch constraints are not independent")?;
+    cholesky.solve_mut(reduced);
+    *schur = cholesky.unpack_dirty();
+    let lambda = &*reduced;
     let width = input.width();
     let sigma = (0..cases)
         .map(|case| {
             let mut out = vec![0.0; input.cells.len() * width];
             for (t, cell) in cells.iter().enumerate() {
-                let l = DVector::from_fn(cell.rows.len(), |a, _| lambda[(cell.rows[a], case)]);
-                let s = cell.x0.column(case) - &cell.p_bt * l;
-                out[t * width..(t + 1) * width].copy_from_slice(s.as_slice());
+                let s = &mut out[t * width..(t + 1) * width];
+                s.copy_from_slice(cell.x0.column(case).as_slice());
+                for (a, &r) in cell.rows.iter().enumerate() {
+                    for (sk, pk) in s.iter_mut().zip(cell.p_bt.column(a).iter()) {
+                        *sk -= pk * lambda[(r, case)];
+                    }
+                }
             }
             out
         })
@@ -197,10 +238,11 @@ fn face_coefficients(input: &PatchInput, face: &PatchFace, side: usize, m: usize
     }
 }
 
-/// One cell after static condensation of its local rows.
+/// One cell after static condensation of its local rows, with its scratch matrices.
 struct Condensed {
-    /// Indices of the face rows that touch the cell.
+    /// Indices of the face rows that touch the cell, and the side of their face it is on.
     rows: Vec<usize>,
+    sides: Vec<usize>,
     /// P B_Gᵀ (width × rows).
     p_bt: DMatrix<f64>,
     /// B_G P B_Gᵀ.
@@ -208,16 +250,49 @@ struct Condensed {
     /// x₀ per case (width × cases) and B_G x₀.
     x0: DMatrix<f64>,
     trace: DMatrix<f64>,
+    /// Scratch: B_L and b_L, B_Gᵀ, M⁻¹B_Lᵀ, A, V, V B_Gᵀ, F, L⁻¹ b_L − V F.
+    b_local: DMatrix<f64>,
+    b_rhs: DMatrix<f64>,
+    b_global_t: DMatrix<f64>,
+    minv_blt: DMatrix<f64>,
+    gram: DMatrix<f64>,
+    v: DMatrix<f64>,
+    v_bgt: DMatrix<f64>,
+    target: DMatrix<f64>,
+    w: DMatrix<f64>,
 }
 
-/// Local rows of cell t (divergence, symmetry, σn = 0 on the opposite side) and their
-/// right-hand sides per case.
-fn local_rows(input: &PatchInput, t: usize, data: &CompatibleData) -> (DMatrix<f64>, DMatrix<f64>) {
+impl Default for Condensed {
+    fn default() -> Self {
+        Condensed {
+            rows: Vec::new(),
+            sides: Vec::new(),
+            p_bt: empty(),
+            coupling: empty(),
+            x0: empty(),
+            trace: empty(),
+            b_local: empty(),
+            b_rhs: empty(),
+            b_global_t: empty(),
+            minv_blt: empty(),
+            gram: empty(),
+            v: empty(),
+            v_bgt: empty(),
+            target: empty(),
+            w: empty(),
+        }
+    }
+}
+
+/// Local rows of cell t (divergence, symmetry, σn = 0 on the opposite side) into `b` and their
+/// right-hand sides per case into `rhs`.
+fn local_rows(input: &PatchInput, t: usize, data: &CompatibleData, b: &mut DMatrix<f64>, rhs: &mut DMatrix<f64>) {
     let (nb, nl, width, cases) = (input.n_basis, input.n_lower, input.width(), input.target.len());
     let cell = input.cells[t];
     let opposite = input.faces.iter().filter(|f| matches!(f.kind, FaceKind::Opposite) && f.cells[0] == t);
     let n_rows = 3 * nl + opposite.clone().count() * 2 * (input.order + 1);
-    let (mut b, mut rhs) = (DMatrix::zeros(n_rows, width), DMatrix::zeros(n_rows, cases));
+    zeroed(b, n_rows, width);
+    zeroed(rhs, n_rows, cases);
     for m in 0..nl {
         for i in 0..2 {
             let r = m * 2 + i;
@@ -251,60 +326,94 @@ fn local_rows(input: &PatchInput, t: usize, data: &CompatibleData) -> (DMatrix<f
             }
         }
     }
-    (b, rhs)
 }
 
-/// Static condensation of cell t: with A = B_L M⁻¹ B_Lᵀ = L Lᵀ and V = L⁻¹ B_L M⁻¹,
+/// Static condensation of cell t into `c`: with A = B_L M⁻¹ B_Lᵀ = L Lᵀ and V = L⁻¹ B_L M⁻¹,
 /// P = M⁻¹ − VᵀV, so P B_Gᵀ = M⁻¹B_Gᵀ − Vᵀ(V B_Gᵀ) and, with F = (τ*, φ),
 /// x₀ = P F + Vᵀ L⁻¹ b_L = M⁻¹F + Vᵀ(L⁻¹ b_L − V F).
-fn condense(input: &PatchInput, t: usize, rows: &[FaceRow], data: &CompatibleData) -> Result<Condensed, String> {
-    let width = input.width();
-    let (b_local, b_rhs) = local_rows(input, t, data);
-    let (touching, b_global) = global_block(input, t, rows);
-    let minv_blt = apply_inverse_mass(input, t, b_local.transpose());
-    let a = (&b_local * &minv_blt).cholesky().ok_or("the local constraints of a cell are not independent")?;
-    let mut v = minv_blt.transpose();
-    a.l_dirty().solve_lower_triangular_mut(&mut v);
-    let mut p_bt = apply_inverse_mass(input, t, b_global.transpose());
-    p_bt.gemm_tr(-1.0, &v, &(&v * b_global.transpose()), 1.0);
-    let target = DMatrix::from_fn(width, input.target.len(), |k, case| input.target[case][t * width + k]);
-    let mut w = b_rhs;
-    a.l_dirty().solve_lower_triangular_mut(&mut w);
-    w -= &v * &target;
-    let mut x0 = apply_inverse_mass(input, t, target);
-    x0.gemm_tr(1.0, &v, &w, 1.0);
-    Ok(Condensed { rows: touching, coupling: &b_global * &p_bt, trace: &b_global * &x0, p_bt, x0 })
+fn condense(
+    input: &PatchInput,
+    t: usize,
+    rows: &[FaceRow],
+    data: &CompatibleData,
+    c: &mut Condensed,
+) -> Result<(), String> {
+    let (width, cases) = (input.width(), input.target.len());
+    local_rows(input, t, data, &mut c.b_local, &mut c.b_rhs);
+    global_block(input, t, rows, c);
+    let n_local = c.b_local.nrows();
+    let n_global = c.rows.len();
+    shaped(&mut c.minv_blt, width, n_local);
+    c.minv_blt.tr_copy_from(&c.b_local);
+    apply_inverse_mass(input, t, &mut c.minv_blt);
+    shaped(&mut c.gram, n_local, n_local);
+    c.b_local.mul_to(&c.minv_blt, &mut c.gram);
+    let a = std::mem::replace(&mut c.gram, empty())
+        .cholesky()
+        .ok_or("the local constraints of a cell are not independent")?;
+    shaped(&mut c.v, n_local, width);
+    c.v.tr_copy_from(&c.minv_blt);
+    a.l_dirty().solve_lower_triangular_mut(&mut c.v);
+    shaped(&mut c.p_bt, width, n_global);
+    c.p_bt.copy_from(&c.b_global_t);
+    apply_inverse_mass(input, t, &mut c.p_bt);
+    shaped(&mut c.v_bgt, n_local, n_global);
+    c.v.mul_to(&c.b_global_t, &mut c.v_bgt);
+    c.p_bt.gemm_tr(-1.0, &c.v, &c.v_bgt, 1.0);
+    shaped(&mut c.target, width, cases);
+    for case in 0..cases {
+        c.target.column_mut(case).copy_from_slice(&input.target[case][t * width..(t + 1) * width]);
+    }
+    shaped(&mut c.w, n_local, cases);
+    c.w.copy_from(&c.b_rhs);
+    a.l_dirty().solve_lower_triangular_mut(&mut c.w);
+    c.w.gemm(-1.0, &c.v, &c.target, 1.0);
+    shaped(&mut c.x0, width, cases);
+    c.x0.copy_from(&c.target);
+    apply_inverse_mass(input, t, &mut c.x0);
+    c.x0.gemm_tr(1.0, &c.v, &c.w, 1.0);
+    c.gram = a.unpack_dirty();
+    shaped(&mut c.coupling, n_global, n_global);
+    c.p_bt.tr_mul_to(&c.b_global_t, &mut c.coupling);
+    shaped(&mut c.trace, n_global, cases);
+    c.b_global_t.tr_mul_to(&c.x0, &mut c.trace);
+    Ok(())
 }
 
-/// The face rows that touch cell t and their coefficients on it (B_G).
-fn global_block(input: &PatchInput, t: usize, rows: &[FaceRow]) -> (Vec<usize>, DMatrix<f64>) {
-    let touching: Vec<(usize, usize)> = rows
-        .iter()
-        .enumerate()
-        .filter_map(|(r, row)| {
-            let face = &input.faces[row.face];
-            let side = face.cells.iter().position(|&c| c == t)?;
-            (side == 0 || matches!(face.kind, FaceKind::Interior)).then_some((r, side))
-        })
-        .collect();
-    let mut b_global = DMatrix::zeros(touching.len(), input.width());
+/// The face rows that touch cell t (`c.rows`, `c.sides`) and their coefficients on it,
+/// transposed (B_Gᵀ, into `c.b_global_t`).
+fn global_block(input: &PatchInput, t: usize, rows: &[FaceRow], c: &mut Condensed) {
+    c.rows.clear();
+    c.sides.clear();
+    for (r, row) in rows.iter().enumerate() {
+        let face = &input.faces[row.face];
+        if let Some(side) = face.cells.iter().position(|&cell| cell == t) {
+            if side == 0 || matches!(face.kind, FaceKind::Interior) {
+                c.rows.push(r);
+                c.sides.push(side);
+            }
+        }
+    }
+    zeroed(&mut c.b_global_t, input.width(), c.rows.len());
     let mut row = vec![0.0; input.width()];
-    for (a, &(r, side)) in touching.iter().enumerate() {
+    for (a, (&r, &side)) in c.rows.iter().zip(&c.sides).enumerate() {
         face_coefficients(input, &input.faces[rows[r].face], side, rows[r].m, rows[r].i, &mut row);
-        b_global.row_mut(a).copy_from_slice(&row);
+        c.b_global_t.column_mut(a).copy_from_slice(&row);
     }
-    (touching.into_iter().map(|(r, _)| r).collect(), b_global)
 }
 
-/// M⁻¹ X on cell t (the same mass block for every component).
-fn apply_inverse_mass(input: &PatchInput, t: usize, mut x: DMatrix<f64>) -> DMatrix<f64> {
+/// X ← M⁻¹ X on cell t: the same mass block for every component, i.e. for each block of n_basis
+/// entries of each column of X (width rows).
+fn apply_inverse_mass(input: &PatchInput, t: usize, x: &mut DMatrix<f64>) {
     let nb = input.n_basis;
-    let inverse = DMatrix::from_row_slice(nb, nb, &input.cells[t].mass_inverse);
-    for c in 0..COMPONENTS {
-        let product = &inverse * x.rows(c * nb, nb);
-        x.rows_mut(c * nb, nb).copy_from(&product);
+    let inverse = &input.cells[t].mass_inverse; // row-major
+    let mut product = [0.0; 6];
+    for block in x.as_mut_slice().chunks_exact_mut(nb) {
+        for (k, p) in product[..nb].iter_mut().enumerate() {
+            *p = inverse[k * nb..(k + 1) * nb].iter().zip(block.iter()).map(|(m, v)| m * v).sum();
+        }
+        block.copy_from_slice(&product[..nb]);
     }
-    x
 }
 
 /// Adds s K Kᵀ to the condensed matrix, K = the face rows' part of λ_z for the free rigid

@@ -110,9 +110,9 @@ pub fn reconstruct(
     let ctx = Context { problem, topology, u, contact, maps, integrals, edge_role, cases };
     let results: Vec<_> = (0..topology.vertices.len())
         .into_par_iter()
-        .map(|k| {
+        .map_init(patch::Workspace::default, |work, k| {
             let input = patch_input(&ctx, k);
-            patch::solve(&input).map_err(|message| {
+            patch::solve(&input, work).map_err(|message| {
                 let [x, y] = mesh.points[topology.vertices[k]];
                 EstimateError::Patch { x, y, message }
             })
