@@ -444,16 +444,16 @@ impl Scene {
         let materials = self.cell_materials(&mesh)?;
         let body_force = if g == 0.0 { BodyForce::None } else { BodyForce::Gravity(g) };
         let problem = Problem { mesh, materials, dirichlet, neumann, body_force };
-        let contact = self.contact_tags(&problem.mesh)?;
+        let facets = contact_facets(&problem.mesh, &self.contact_tags(&problem.mesh)?);
         let direction = self.nitsche_parameters().direction;
-        if let Some(tag) = facing_away(&problem.mesh, &contact, direction) {
+        if let Some(tag) = facing_away(&problem.mesh, &facets, direction) {
             let name = problem.mesh.groups.iter().find(|g| g.dim == 1 && g.tag == tag).map_or("?", |g| &g.name);
             return Err(self.invalid(format!(
                 "contact.direction = {:?} points into the body on the contact curve '{name}' (ν·n ≤ 0 on one of its faces)",
                 self.contact.direction.unwrap_or_default()
             )));
         }
-        let supports = contact_supports(&problem.mesh, &contact, direction);
+        let supports = contact_supports(&problem.mesh, &facets, direction);
         if let Some(motion) = problem.free_rigid_motion(&supports) {
             return Err(self.invalid(format!(
                 "the Dirichlet and contact conditions leave a rigid motion free ({motion}); {how} that blocks it"
@@ -473,26 +473,35 @@ impl Model for Scene {
     }
 }
 
-/// Nodes of the contact curves with the contact direction of their facets: `direction`, or
-/// the outward normal.
-fn contact_supports(mesh: &Mesh, tags: &[i32], direction: Option<[f64; 2]>) -> Vec<([f64; 2], [f64; 2])> {
-    contact_facets(mesh, tags)
-        .flat_map(|(f, normal)| mesh.facet(f).iter().map(move |&n| (mesh.points[n], direction.unwrap_or(normal))))
+/// Nodes of the contact `facets` with their contact direction: `direction`, or the outward
+/// normal.
+fn contact_supports(
+    mesh: &Mesh,
+    facets: &[(usize, [f64; 2])],
+    direction: Option<[f64; 2]>,
+) -> Vec<([f64; 2], [f64; 2])> {
+    facets
+        .iter()
+        .flat_map(|&(f, normal)| mesh.facet(f).iter().map(move |&n| (mesh.points[n], direction.unwrap_or(normal))))
         .collect()
 }
 
-/// Tag of a contact curve with a facet whose outward normal n has ν·n ≤ 0, if any.
-fn facing_away(mesh: &Mesh, tags: &[i32], direction: Option<[f64; 2]>) -> Option<i32> {
+/// Tag of a contact facet whose outward normal n has ν·n ≤ 0, if any.
+fn facing_away(mesh: &Mesh, facets: &[(usize, [f64; 2])], direction: Option<[f64; 2]>) -> Option<i32> {
     let nu = direction?;
-    contact_facets(mesh, tags).find(|(_, n)| n[0] * nu[0] + n[1] * nu[1] <= 0.0).map(|(f, _)| mesh.facet_tags[f])
+    facets.iter().find(|(_, n)| n[0] * nu[0] + n[1] * nu[1] <= 0.0).map(|&(f, _)| mesh.facet_tags[f])
 }
 
-/// The facets of the contact curves with their outward normals.
-fn contact_facets<'a>(mesh: &'a Mesh, tags: &'a [i32]) -> impl Iterator<Item = (usize, [f64; 2])> + 'a {
-    let topology = (!tags.is_empty()).then(|| Topology::new(mesh));
+/// The facets of the contact curves (tags) with their outward normals.
+fn contact_facets(mesh: &Mesh, tags: &[i32]) -> Vec<(usize, [f64; 2])> {
+    if tags.is_empty() {
+        return Vec::new();
+    }
+    let topology = Topology::new(mesh);
     (0..mesh.n_facets())
         .filter(|&f| tags.contains(&mesh.facet_tags[f]))
-        .map(move |f| (f, topology.as_ref().expect("contact facets imply contact tags").outward_normal(mesh, f)))
+        .map(|f| (f, topology.outward_normal(mesh, f)))
+        .collect()
 }
 
 /// Role given by the naming convention of bare geometry files.
