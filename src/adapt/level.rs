@@ -20,12 +20,15 @@ pub struct Level {
     pub nitsche: Option<Nitsche>,
     /// δ of the final iterate (None without Γ_C).
     pub delta: Option<f64>,
-    /// Number of δ reductions and of Newton steps on this level.
+    /// Number of δ reductions, of Newton steps and of estimates on this level.
     pub n_reg: usize,
     pub n_lin: usize,
+    pub n_est: usize,
     /// Wall time of the solves (Newton or Cholesky) and of the estimator runs [s].
     pub solve_seconds: f64,
     pub estimate_seconds: f64,
+    /// The linearisation trend of the last estimate (None without Γ_C).
+    pub trend: Option<Trend>,
 }
 
 /// Without Γ_C: one Cholesky solve and one estimate.
@@ -43,22 +46,32 @@ pub fn solve_linear(problem: &Problem, disc: &Discretisation) -> Result<Level, A
         delta: None,
         n_reg: 0,
         n_lin: 0,
+        n_est: 1,
         solve_seconds,
         estimate_seconds: clock.elapsed().as_secs_f64(),
+        trend: None,
     })
 }
 
-/// The estimate of the contact iterate `x` and its global values; adds its time to `seconds`.
+/// Number and wall time [s] of the estimates of a level.
+#[derive(Default)]
+struct EstimateCount {
+    n: usize,
+    seconds: f64,
+}
+
+/// The estimate of the contact iterate `x` and its global values, counted in `count`.
 fn estimate_timed(
     problem: &Problem,
     disc: &Discretisation,
     x: &[f64],
     state: Linearisation,
-    seconds: &mut f64,
+    count: &mut EstimateCount,
 ) -> Result<(Estimate, GlobalEstimators), AdaptError> {
     let clock = Instant::now();
     let e = estimate_iterate(problem, disc, x, Some(state), false)?;
-    *seconds += clock.elapsed().as_secs_f64();
+    count.n += 1;
+    count.seconds += clock.elapsed().as_secs_f64();
     let global = e.estimators.global();
     Ok((e, global))
 }
@@ -73,11 +86,33 @@ fn regularisation_small(g: &GlobalEstimators, gamma_reg: f64) -> bool {
     g.reg <= gamma_reg * (g.osc + g.flux + g.neu + g.disc + g.lin)
 }
 
-/// The δ a level starts from.
+/// η_lin of the last estimate per unit of Newton residual, κ = η_lin / ‖F(u^k)‖, and the
+/// rest η_osc + η_flux + η_Neu + η_disc of that estimate. The Γ_C traction t₃ behind η_lin
+/// is what u^k leaves of the nonlinear equation, so κ ‖F(u^k)‖ predicts η_lin of a later
+/// iterate without an estimate.
+#[derive(Debug, Clone, Copy)]
+pub struct Trend {
+    per_residual: f64,
+    rest: f64,
+}
+
+impl Trend {
+    fn new(g: &GlobalEstimators, residual: f64) -> Option<Trend> {
+        (residual > 0.0).then(|| Trend { per_residual: g.lin / residual, rest: g.osc + g.flux + g.neu + g.disc })
+    }
+
+    /// Whether the predicted η_lin of an iterate with residual ‖F‖ = `residual` meets (S_lin)
+    /// against the last known rest.
+    fn promising(&self, residual: f64, gamma_lin: f64) -> bool {
+        self.per_residual * residual <= gamma_lin * self.rest
+    }
+}
+
+/// How a level starts.
 #[derive(Debug, Clone, Copy)]
 pub enum StartDelta {
-    /// The δ the previous mesh ended with.
-    Kept(f64),
+    /// The δ the previous mesh ended with, and its linearisation trend.
+    Kept(f64, Option<Trend>),
     /// The first mesh: δ₀ from the first Newton iterate, given the stress scale S of the loads.
     FirstIterate { load_scale: f64 },
 }
@@ -86,7 +121,7 @@ impl StartDelta {
     /// δ of the first Newton step: the kept δ, or delta0 · S.
     fn first_step(&self, delta0: f64) -> f64 {
         match *self {
-            StartDelta::Kept(delta) => delta,
+            StartDelta::Kept(delta, _) => delta,
             StartDelta::FirstIterate { load_scale } => delta0 * load_scale,
         }
     }
@@ -113,9 +148,11 @@ fn first_iterate(
 /// With contact on the facets tagged `tags`: Newton from `x0` at δ, stopped by (S_lin), and
 /// δ ← δ/ρ_δ until (S_reg). On the first mesh δ₀ comes from the first Newton iterate, which
 /// counts in N_lin. An estimate follows every full Newton step that at least halved the
-/// residual: a damped step does not solve the linearised problem, so its η_lin would not be a
-/// bound, and while the residual does not contract (the active set still moves) (S_lin)
-/// cannot hold. The final iterate is always estimated.
+/// residual, unless the [`Trend`] of the last estimate (on this mesh or the previous one)
+/// predicts that (S_lin) fails: a damped step does not solve the linearised problem, so its
+/// η_lin would not be a bound, and while the residual does not contract (the active set still
+/// moves) (S_lin) cannot hold. The prediction only saves estimates: Newton stops on an
+/// estimated (S_lin). The final iterate is always estimated.
 #[allow(clippy::too_many_arguments)]
 pub fn solve_contact(
     problem: &Problem,
@@ -131,38 +168,45 @@ pub fn solve_contact(
     let delta = start.first_step(settings.delta0);
     let mut contact = ContactProblem::new(problem, disc, nitsche, Box::new(QuadraticSmoothing { delta }));
     let clock = Instant::now();
-    let (mut x, mut delta, mut n_lin) = match start {
-        StartDelta::Kept(_) => (x0, delta, 0),
+    let (mut x, mut delta, mut n_lin, mut trend) = match start {
+        StartDelta::Kept(_, trend) => (x0, delta, 0, trend),
         StartDelta::FirstIterate { load_scale } => {
             let (x1, delta0) = first_iterate(&contact, x0, newton, settings.delta0, load_scale)?;
-            (x1, delta0, 1)
+            (x1, delta0, 1, None)
         }
     };
-    let (mut solve_seconds, mut estimate_seconds, mut n_reg) = (clock.elapsed().as_secs_f64(), 0.0, 0);
+    let (mut solve_seconds, mut estimates, mut n_reg) = (clock.elapsed().as_secs_f64(), EstimateCount::default(), 0);
     loop {
         contact.projection = Box::new(QuadraticSmoothing { delta });
         let mut latest = None;
-        let mut inside = 0.0;
+        let mut inside = EstimateCount::default();
         let clock = Instant::now();
         let report = newton_until(&contact, x, newton, |it: &Iterate| {
-            if it.last.step < 1.0 || it.residual > 0.5 * it.last.residual {
+            let contracted = it.last.step == 1.0 && it.residual <= 0.5 * it.last.residual;
+            if !contracted || trend.is_some_and(|t| !t.promising(it.residual, settings.gamma_lin)) {
                 return false;
             }
             let state = Linearisation { nitsche: &contact.nitsche, x_prev: it.x_prev, delta };
             let e = estimate_timed(problem, disc, it.x, state, &mut inside);
             let stop = e.as_ref().map_or(true, |(_, g)| linearisation_small(g, settings.gamma_lin));
+            if let Ok((_, g)) = &e {
+                trend = Trend::new(g, it.residual).or(trend);
+            }
             latest = Some((it.x.to_vec(), e));
             stop
         })
         .map_err(|source| AdaptError::Newton { delta, source })?;
-        solve_seconds += clock.elapsed().as_secs_f64() - inside;
-        estimate_seconds += inside;
+        solve_seconds += clock.elapsed().as_secs_f64() - inside.seconds;
+        estimates.n += inside.n;
+        estimates.seconds += inside.seconds;
         n_lin += report.iterations.len();
         let (estimate, global) = match latest {
             Some((at, e)) if at == report.x => e?,
             _ => {
                 let state = Linearisation { nitsche: &contact.nitsche, x_prev: &report.x_prev, delta };
-                estimate_timed(problem, disc, &report.x, state, &mut estimate_seconds)?
+                let (estimate, global) = estimate_timed(problem, disc, &report.x, state, &mut estimates)?;
+                trend = Trend::new(&global, report.residual).or(trend);
+                (estimate, global)
             }
         };
         x = report.x;
@@ -174,8 +218,10 @@ pub fn solve_contact(
                 delta: Some(delta),
                 n_reg,
                 n_lin,
+                n_est: estimates.n,
                 solve_seconds,
-                estimate_seconds,
+                estimate_seconds: estimates.seconds,
+                trend,
             });
         }
         if n_reg == settings.max_delta_reductions {

@@ -198,6 +198,8 @@ pub struct StepRecord {
     pub delta: Option<f64>,
     pub n_reg: usize,
     pub n_lin: usize,
+    /// Estimates computed on this mesh (at least the final one).
+    pub n_est: usize,
     pub seconds: PhaseTimes,
     /// Wall time since the start of the run, at the end of this step.
     pub elapsed: f64,
@@ -224,7 +226,7 @@ pub fn run(
     let start = Instant::now();
     let mut history = Vec::new();
     let mut previous: Option<(Mesh, Vec<[f64; 2]>, Vec<f64>)> = None;
-    let mut delta = None;
+    let mut kept = None;
     for step in 0..settings.steps {
         let mut seconds = PhaseTimes::default();
         let clock = Instant::now();
@@ -244,13 +246,13 @@ pub fn run(
             level::solve_linear(&problem, &disc)?
         } else {
             let (parameters, newton) = model.contact();
-            let start = delta.map_or_else(
+            let start = kept.map_or_else(
                 || StartDelta::FirstIterate { load_scale: problem.stress_scale(&disc.topology) },
-                StartDelta::Kept,
+                |(delta, trend)| StartDelta::Kept(delta, trend),
             );
             level::solve_contact(&problem, &disc, &tags, parameters, &newton, settings, x0, start)?
         };
-        delta = level.delta;
+        kept = level.delta.map(|delta| (delta, level.trend));
         seconds.solve = level.solve_seconds;
         seconds.estimate = level.estimate_seconds;
         let eta = level.estimate.estimators.global();
@@ -270,6 +272,7 @@ pub fn run(
             delta: level.delta,
             n_reg: level.n_reg,
             n_lin: level.n_lin,
+            n_est: level.n_est,
             seconds,
             elapsed: start.elapsed().as_secs_f64(),
         };
