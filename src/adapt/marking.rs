@@ -1,28 +1,33 @@
-//! Marking cells for refinement and turning the marks into target mesh sizes.
+//! Turning the local estimators η_T into target mesh sizes: by marking (the marked cells
+//! get half their size) or by equidistribution (every cell gets the size that would bring its
+//! η_T to a common target).
 
 use crate::mesh::Mesh;
 use serde::{Deserialize, Serialize};
 
-/// Which cells to refine, from the local estimators η_T and a fraction θ.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+/// How the next sizes follow from η_T and the fraction θ.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum Marking {
-    /// Dörfler bulk criterion: the fewest cells with Σ_marked η_T² ≥ θ Σ_T η_T².
+    /// Dörfler bulk criterion: the fewest cells with Σ_marked η_T² ≥ θ Σ_T η_T² get h_T/2.
     Dorfler,
-    /// Maximum strategy: every T with η_T ≥ θ max_T η_T.
+    /// Maximum strategy: every T with η_T ≥ θ max_T η_T gets h_T/2.
     Maximum,
+    /// Equidistribution: h_T (η_target/η_T)^{1/p} within [h_T/4, 2 h_T], with
+    /// η_target = max(θ η_tot, tol)/√N over N cells.
+    Equidistribution,
 }
 
 impl Marking {
-    /// The marked cells for local estimators `eta`.
-    pub fn mark(self, theta: f64, eta: &[f64]) -> Vec<bool> {
-        match self {
+    /// Target sizes on `mesh` for the local estimators `eta`; `tol` is the absolute tolerance
+    /// on η_tot, if any (equidistribution does not aim below it).
+    pub fn target_sizes(self, theta: f64, eta: &[f64], mesh: &Mesh, tol: Option<f64>) -> Vec<f64> {
+        let marked = match self {
             Marking::Dorfler => dorfler(eta, theta),
-            Marking::Maximum => {
-                let max = eta.iter().copied().fold(0.0, f64::max);
-                eta.iter().map(|&e| e >= theta * max).collect()
-            }
-        }
+            Marking::Maximum => maximum(eta, theta),
+            Marking::Equidistribution => return equidistributed(theta, eta, mesh, tol),
+        };
+        (0..mesh.n_cells()).map(|c| if marked[c] { 0.5 } else { 1.0 } * cell_size(mesh, c)).collect()
     }
 }
 
@@ -42,15 +47,30 @@ fn dorfler(eta: &[f64], theta: f64) -> Vec<bool> {
     marked
 }
 
+fn maximum(eta: &[f64], theta: f64) -> Vec<bool> {
+    let max = eta.iter().copied().fold(0.0, f64::max);
+    eta.iter().map(|&e| e >= theta * max).collect()
+}
+
+/// h_T (η_target/η_T)^{1/p} clipped to [h_T/4, 2 h_T]. On a mesh where every η_T equals
+/// η_tot/√N, the sizes shrink by θ^{1/p} and, with η_T ~ h_T^{p+1}, η_tot by θ.
+fn equidistributed(theta: f64, eta: &[f64], mesh: &Mesh, tol: Option<f64>) -> Vec<f64> {
+    let total = eta.iter().map(|e| e * e).sum::<f64>().sqrt();
+    let target = (theta * total).max(tol.unwrap_or(0.0)) / (eta.len() as f64).sqrt();
+    let exponent = 1.0 / mesh.order as f64;
+    eta.iter()
+        .enumerate()
+        .map(|(c, &e)| {
+            let ratio = if e > 0.0 { (target / e).powf(exponent) } else { f64::INFINITY };
+            ratio.clamp(0.25, 2.0) * cell_size(mesh, c)
+        })
+        .collect()
+}
+
 /// Edge of the equilateral triangle of the same area, √(4|T|/√3): the size gmsh aims at
 /// when it meshes T (the longest edge would overstate it and coarsen the mesh step by step).
 pub fn cell_size(mesh: &Mesh, c: usize) -> f64 {
     (4.0 * mesh.cell_area(c) / 3f64.sqrt()).sqrt()
-}
-
-/// Target sizes: h_T / 2 on marked cells, h_T elsewhere.
-pub fn target_sizes(mesh: &Mesh, marked: &[bool]) -> Vec<f64> {
-    (0..mesh.n_cells()).map(|c| if marked[c] { 0.5 } else { 1.0 } * cell_size(mesh, c)).collect()
 }
 
 #[cfg(test)]
@@ -61,14 +81,32 @@ mod tests {
     fn dorfler_marks_the_fewest_largest_cells() {
         let eta = [1.0, 3.0, 2.0, 0.5];
         // Σ η² = 14.25: θ = 0.5 needs 7.125, and 3² = 9 is enough
-        assert_eq!(Marking::Dorfler.mark(0.5, &eta), [false, true, false, false]);
+        assert_eq!(dorfler(&eta, 0.5), [false, true, false, false]);
         // θ = 0.9 needs 12.825: 9 + 4 = 13
-        assert_eq!(Marking::Dorfler.mark(0.9, &eta), [false, true, true, false]);
-        assert_eq!(Marking::Dorfler.mark(1.0, &eta), [true; 4]);
+        assert_eq!(dorfler(&eta, 0.9), [false, true, true, false]);
+        assert_eq!(dorfler(&eta, 1.0), [true; 4]);
+    }
+
+    #[test]
+    fn equidistribution_scales_each_cell_by_its_own_estimator() {
+        let mesh = crate::mesh::structured::unit_square(4, 2);
+        let h = cell_size(&mesh, 0);
+        let n = mesh.n_cells();
+        // equal η_T: every size shrinks by θ^{1/p}
+        let sizes = Marking::Equidistribution.target_sizes(0.5, &vec![1.0; n], &mesh, None);
+        assert!(sizes.iter().all(|s| (s - 0.5f64.sqrt() * h).abs() < 1e-12 * h), "{sizes:?}");
+        // a tolerance above θ η_tot is the target instead
+        let sizes = Marking::Equidistribution.target_sizes(0.5, &vec![1.0; n], &mesh, Some(2.0 * (n as f64).sqrt()));
+        assert!(sizes.iter().all(|s| (s - 2f64.sqrt() * h).abs() < 1e-12 * h), "{sizes:?}");
+        // the clip: a dominant cell gets h/4, cells without error 2h
+        let mut eta = vec![0.0; n];
+        eta[3] = 1.0;
+        let sizes = Marking::Equidistribution.target_sizes(0.5, &eta, &mesh, None);
+        assert!((sizes[3] - 0.25 * h).abs() < 1e-12 * h && (sizes[0] - 2.0 * h).abs() < 1e-12 * h);
     }
 
     #[test]
     fn maximum_marks_cells_near_the_largest() {
-        assert_eq!(Marking::Maximum.mark(0.5, &[1.0, 3.0, 2.0, 0.5]), [false, true, true, false]);
+        assert_eq!(maximum(&[1.0, 3.0, 2.0, 0.5], 0.5), [false, true, true, false]);
     }
 }

@@ -26,7 +26,7 @@ use crate::fem::transfer::interpolate;
 use crate::mesh::Mesh;
 use crate::solve::{NewtonError, NewtonOptions, SolveError};
 use level::StartDelta;
-use marking::{target_sizes, Marking};
+use marking::Marking;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
@@ -122,9 +122,11 @@ impl AdaptSettings {
         Ok(())
     }
 
-    /// Whether η_tot meets a tolerance (relative to ‖σ_h‖ = `stress`).
-    fn reached(&self, eta: f64, stress: f64) -> bool {
-        self.tol.is_some_and(|tol| eta <= tol) || self.tol_relative.is_some_and(|tol| eta <= tol * stress)
+    /// The absolute tolerance on η_tot, the larger of `tol` and `tol_relative` ‖σ_h‖
+    /// (‖σ_h‖ = `stress`), if either is set.
+    fn tolerance(&self, stress: f64) -> Option<f64> {
+        let relative = self.tol_relative.map(|tol| tol * stress);
+        self.tol.into_iter().chain(relative).reduce(f64::max)
     }
 }
 
@@ -257,11 +259,13 @@ pub fn run(
         seconds.estimate = level.estimate_seconds;
         let eta = level.estimate.estimators.global();
         let stress = stress_norm(&problem, &level.estimate.reconstruction);
+        let tol = settings.tolerance(stress);
         let done = step + 1 == settings.steps
-            || settings.reached(eta.tot, stress)
+            || tol.is_some_and(|tol| eta.tot <= tol)
             || settings.max_unknowns.is_some_and(|n| disc.dofs.n_free >= n);
         let clock = Instant::now();
-        let sizes = if done { Vec::new() } else { next_sizes(settings, &problem.mesh, &level.estimate.estimators.tot) };
+        let sizes =
+            if done { Vec::new() } else { next_sizes(settings, &problem.mesh, &level.estimate.estimators.tot, tol) };
         seconds.remesh = clock.elapsed().as_secs_f64();
         let record = StepRecord {
             step,
@@ -295,9 +299,9 @@ pub fn run(
 }
 
 /// Target cell sizes for the next mesh (empty for uniform refinement, which needs none).
-fn next_sizes(settings: &AdaptSettings, mesh: &Mesh, eta: &[f64]) -> Vec<f64> {
+fn next_sizes(settings: &AdaptSettings, mesh: &Mesh, eta: &[f64], tol: Option<f64>) -> Vec<f64> {
     match settings.refinement {
-        Refinement::Adaptive => target_sizes(mesh, &settings.marking.mark(settings.bulk, eta)),
+        Refinement::Adaptive => settings.marking.target_sizes(settings.bulk, eta, mesh, tol),
         Refinement::Uniform => Vec::new(),
     }
 }

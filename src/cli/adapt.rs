@@ -39,10 +39,12 @@ pub struct Args {
     /// Refine everywhere (every size halved at each step) instead of adaptively
     #[arg(long)]
     uniform: bool,
-    /// Marking strategy: dorfler (bulk) or maximum; overrides adapt.marking
-    #[arg(long, value_parser = ["dorfler", "maximum"])]
-    marking: Option<String>,
-    /// Fraction theta of the marking strategy; overrides adapt.bulk (default 0.5)
+    /// How eta_T sets the next sizes: dorfler (bulk), maximum, or equidistribution; overrides
+    /// adapt.marking
+    #[arg(long, value_enum)]
+    marking: Option<Marking>,
+    /// Fraction theta of the marking strategy (equidistribution: the aimed reduction of eta
+    /// per step); overrides adapt.bulk (default 0.5)
     #[arg(long)]
     bulk: Option<f64>,
     /// gamma_lin of the Newton stopping rule; overrides adapt.gamma_lin (default 0.1)
@@ -167,9 +169,7 @@ fn override_settings(args: &Args, scene: &mut Scene) -> Result<()> {
     if args.uniform {
         a.refinement = Refinement::Uniform;
     }
-    if let Some(m) = &args.marking {
-        a.marking = if m == "maximum" { Marking::Maximum } else { Marking::Dorfler };
-    }
+    a.marking = args.marking.unwrap_or(a.marking);
     a.bulk = args.bulk.unwrap_or(a.bulk);
     a.gamma_lin = args.gamma_lin.unwrap_or(a.gamma_lin);
     a.gamma_reg = args.gamma_reg.unwrap_or(a.gamma_reg);

@@ -3,7 +3,8 @@
 use super::GmshError;
 use crate::mesh::Mesh;
 
-/// Target mesh sizes as a continuous piecewise-linear field on the vertices of a previous mesh.
+/// Target mesh sizes as a piecewise-linear field on the triangles of a previous mesh
+/// (continuous where triangles share points; [`SizeField::from_cells`] shares none).
 #[derive(Debug, Clone, PartialEq)]
 pub struct SizeField {
     /// Vertex coordinates.
@@ -16,8 +17,10 @@ pub struct SizeField {
 
 impl SizeField {
     /// From per-cell target sizes h_T on `mesh` (P1 or P2; only the 3 vertices of each cell
-    /// are used): the size at a vertex is the minimum over the cells around it,
-    /// h(x) = min_{T ∋ x} h_T. Fails unless there is one positive finite h_T per cell.
+    /// are used): h is constant on each cell, every triangle having its own three points, so
+    /// that each cell asks for its own target exactly (a vertex value shared by the cells
+    /// around it, e.g. their minimum, would bias the sizes). Fails unless there is one
+    /// positive finite h_T per cell.
     pub fn from_cells(mesh: &Mesh, cell_sizes: &[f64]) -> Result<SizeField, GmshError> {
         if cell_sizes.len() != mesh.n_cells() {
             return Err(bad(format!("{} sizes for {} cells", cell_sizes.len(), mesh.n_cells())));
@@ -25,26 +28,16 @@ impl SizeField {
         if let Some((c, h)) = cell_sizes.iter().enumerate().find(|&(_, &h)| !positive(h)) {
             return Err(bad(format!("cell {c} has size {h}, expected a positive finite number")));
         }
-        let mut index = vec![None; mesh.n_points()];
+        let n = mesh.n_cells();
         let mut field =
-            SizeField { points: Vec::new(), triangles: Vec::with_capacity(mesh.n_cells()), sizes: Vec::new() };
+            SizeField { points: Vec::with_capacity(3 * n), triangles: Vec::with_capacity(n), sizes: Vec::with_capacity(3 * n) };
         for (c, &h) in cell_sizes.iter().enumerate() {
-            let nodes = mesh.cell(c);
-            let triangle = [0, 1, 2].map(|i| field.vertex(&mut index[nodes[i]], mesh.points[nodes[i]], h));
-            field.triangles.push(triangle);
+            let first = field.points.len();
+            field.points.extend(mesh.cell_vertices(c));
+            field.sizes.extend([h; 3]);
+            field.triangles.push([first, first + 1, first + 2]);
         }
         Ok(field)
-    }
-
-    /// Index of the vertex at `point` (`index`: its index if already added), lowering its size to `h`.
-    fn vertex(&mut self, index: &mut Option<usize>, point: [f64; 2], h: f64) -> usize {
-        let i = *index.get_or_insert_with(|| {
-            self.points.push(point);
-            self.sizes.push(h);
-            self.points.len() - 1
-        });
-        self.sizes[i] = self.sizes[i].min(h);
-        i
     }
 
     /// Checks that there are triangles, one size per point, finite coordinates, positive finite
