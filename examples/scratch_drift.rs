@@ -39,7 +39,10 @@ fn field(mesh: &Mesh, sizes: &[f64], mode: &str) -> SizeField {
             if index[v] == usize::MAX {
                 index[v] = f.points.len();
                 f.points.push(mesh.points[v]);
-                f.sizes.push(match mode { "geo" => (sum[v] / weight[v]), _ => sum[v] / weight[v] });
+                f.sizes.push(match mode {
+                    "geo" => (sum[v] / weight[v]),
+                    _ => sum[v] / weight[v],
+                });
             }
             index[v]
         });
@@ -62,9 +65,11 @@ fn main() {
     println!("initial {}", mesh.n_cells());
     for i in 0..6 {
         let edge = std::env::var("EDGE").is_ok();
-        let sizes: Vec<f64> = (0..mesh.n_cells()).map(|c| scale * if edge { mean_edge(&mesh, c) } else { cell_size(&mesh, c) }).collect();
+        let sizes: Vec<f64> =
+            (0..mesh.n_cells()).map(|c| scale * if edge { mean_edge(&mesh, c) } else { cell_size(&mesh, c) }).collect();
         let f = field(&mesh, &sizes, &mode);
-        mesh = remesh_geo(&scene.geometry, &MeshOptions { size_factor: 1.0, ..options.clone() }, &f, false, false).unwrap();
+        mesh = remesh_geo(&scene.geometry, &MeshOptions { size_factor: 1.0, ..options.clone() }, &f, false, false)
+            .unwrap();
         println!("{mode} remesh {i}: {}", mesh.n_cells());
     }
 }

@@ -71,7 +71,8 @@ fn physical_groups_survive_every_remesh() {
     })
     .expect("adaptive run");
     assert_eq!(history.len(), 4);
-    assert!(seen.windows(2).all(|w| w[1] > w[0]), "cells per step {seen:?}");
+    // equidistribution may coarsen the smooth parts first, but the run refines overall
+    assert!(seen[3] > seen[0] && seen.windows(2).all(|w| w[1] != w[0]), "cells per step {seen:?}");
 }
 
 /// Source: docs/method.md §5.4 (the target sizes are those of the cells, h_T or h_T/2).
@@ -183,10 +184,10 @@ fn first_iterate_p_max(scene: &Scene, step: &Step, delta0: f64) -> f64 {
 }
 
 #[test]
-fn warm_starts_need_few_newton_steps_and_delta_moves_on_the_first_mesh_only() {
+fn warm_starts_need_few_newton_steps_and_delta_moves_mostly_on_the_first_mesh() {
     // δ₀ = delta0 × max_{Γ_C} |P_γ(u_h¹)|; with delta0 = 1, ten times the default, (S_reg)
-    // fails at δ₀ on the first mesh, so δ is reduced there, and the warm-started later meshes
-    // keep the reduced δ
+    // fails at δ₀ on the first mesh, so δ is reduced there; the warm-started later meshes keep
+    // the reduced δ, and reduce it again only as η falls
     let scene = scene("scene_a", 2);
     let settings = AdaptSettings { steps: 3, delta0: 1.0, ..Default::default() };
     let mut p_max = None;
@@ -201,7 +202,7 @@ fn warm_starts_need_few_newton_steps_and_delta_moves_on_the_first_mesh_only() {
     let p_max = p_max.expect("a first step");
     eprintln!("delta0 {delta0:.4e} (max |P_gamma(u1)| {p_max:.4e}), N_reg {n_reg:?}, N_lin {n_lin:?}");
     assert!((delta0 - settings.delta0 * p_max).abs() <= 1e-12 * delta0, "delta0 {delta0}, max |P_gamma| {p_max}");
-    assert!(n_reg[0] >= 1 && n_reg[1..].iter().all(|&n| n == 0), "N_reg {n_reg:?}");
+    assert!(n_reg[1..].iter().sum::<usize>() < n_reg[0], "N_reg {n_reg:?}");
     assert!(n_lin[1..].iter().all(|&n| 2 * n <= n_lin[0]), "N_lin {n_lin:?}");
     let n_est: Vec<usize> = history.iter().map(|r| r.n_est).collect();
     eprintln!("N_est {n_est:?}");
@@ -280,32 +281,29 @@ fn rates(scene: &Scene, adaptive: usize, uniform: usize) -> (f64, f64) {
     (rate(scene, Refinement::Adaptive, adaptive), rate(scene, Refinement::Uniform, uniform))
 }
 
-/// Source: README "Adaptive refinement", docs/method.md §5.3 and §5.5.
-/// Goal: P1, adaptive refinement reaches η ~ N^{−1/2} once the singular points are resolved;
+/// Source: README "Adaptive refinement", docs/method.md §5.3–§5.5.
+/// Goal: P1, adaptive refinement (equidistribution, η halved per step) reaches η ~ N^{−1/2};
 /// uniform refinement stays limited by the Γ_D/Γ_C junction (about N^{−1/4}).
-/// Parameters: Scene A, P1, 10 adaptive and 4 uniform steps from the scene's mesh; slopes
-/// over the last four steps (measured −0.548 over 8 068 … 42 424 unknowns, and −0.197).
+/// Parameters: Scene A, P1, 6 adaptive and 4 uniform steps from the scene's mesh; slopes
+/// over the last four steps (measured −0.53 over 3 020 … 63 826 unknowns, and −0.20).
 #[test]
 fn adaptive_refinement_reaches_the_optimal_rate_on_scene_a() {
-    let (a, u) = rates(&scene("scene_a", 1), 10, 4);
+    let (a, u) = rates(&scene("scene_a", 1), 6, 4);
     assert!((a + 0.5).abs() <= 0.1, "adaptive rate {a}");
     assert!(u > -0.35, "uniform rate {u}");
 }
 
-/// Source: docs/method.md §5.5.
-/// Goal: P2, adaptive refinement is no longer held by the singularities: its slope is at least
-/// the optimal −1 (within 0.1), while uniform refinement stays near −1/4. It is steeper than −1
-/// on these meshes (pre-asymptotic: the Γ_D/Γ_C junction holds most of η² and its part falls
-/// faster than N^{−1}), so only this side is asserted.
-/// Parameters: Scene A, P2, size factor 4 (654 unknowns at first), 12 adaptive and 4 uniform
-/// steps; slopes over the last four steps (measured −1.17 over 9 310 … 20 770 unknowns, and
-/// −0.28 over 654 … 31 110).
+/// Source: docs/method.md §5.3–§5.5.
+/// Goal: P2, adaptive refinement reaches the optimal η ~ N^{−1} while uniform refinement
+/// stays near N^{−1/4}: equidistribution refines the cells at the Γ_D/Γ_C junction by up to 4
+/// per step and coarsens the smooth parts first, so the graded mesh is built within a few steps.
+/// Parameters: Scene A, P2, 10 adaptive and 3 uniform steps from the scene's mesh; slopes
+/// over the last four steps (measured −1.05 over 11 070 … 61 278 unknowns, and −0.25 over
+/// 8 010 … 119 580).
 #[test]
-fn adaptive_p2_is_not_held_by_the_singularities_of_scene_a() {
-    let mut scene = scene("scene_a", 2);
-    scene.mesh.size_factor = 4.0;
-    let (a, u) = rates(&scene, 12, 4);
-    assert!(a <= -0.9, "adaptive rate {a}");
+fn adaptive_p2_reaches_the_optimal_rate_on_scene_a() {
+    let (a, u) = rates(&scene("scene_a", 2), 10, 3);
+    assert!((a + 1.0).abs() <= 0.1, "adaptive rate {a}");
     assert!(u > -0.35, "uniform rate {u}");
 }
 
@@ -320,10 +318,10 @@ fn coarse_hertz(order: usize) -> Scene {
 /// Goal: P1 on Hertz, adaptive refinement reaches the optimal N^{−1/2}. (The Signorini solution
 /// is H^{5/2−ε}, so uniform P1 is not held back and is not compared.)
 /// Parameters: geo/hertz.toml (contact direction (0, −1)), P1, size factor 2 (368 unknowns at
-/// first), 7 adaptive steps; slope over the last four (measured −0.49 over 4 274 … 49 264).
+/// first), 5 adaptive steps; slope over the last four (measured −0.50 over 1 316 … 72 616).
 #[test]
 fn adaptive_p1_reaches_the_optimal_rate_on_hertz() {
-    let a = rate(&coarse_hertz(1), Refinement::Adaptive, 7);
+    let a = rate(&coarse_hertz(1), Refinement::Adaptive, 5);
     assert!((a + 0.5).abs() <= 0.1, "adaptive rate {a}");
 }
 
@@ -331,16 +329,16 @@ fn adaptive_p1_reaches_the_optimal_rate_on_hertz() {
 /// Goal: P2 on Hertz, adaptive refinement reaches the optimal N^{−1} once the ends of the contact
 /// zone are resolved; uniform refinement is held to about N^{−3/4} or less by the H^{5/2−ε}
 /// regularity there. The counters have the reference shape with the default δ₀: most δ
-/// reductions on the first mesh (measured N_reg = 12, 1, 0, 0, 0, 0, 0, 0, 0, 1, 0), then a few
-/// Newton steps per mesh (N_lin = 49, 5, 3, 3, 3, 2, 3, 2, 2, 3, 1).
+/// reductions on the first mesh (measured N_reg = 12, 0, 0, 1, 0, 0, 1, 0), then a few Newton
+/// steps per mesh (N_lin = 49, 3, 2, 3, 2, 2, 3, 1).
 /// Parameters: geo/hertz.toml (contact direction (0, −1)), P2, size factor 2 (1 416 unknowns at
-/// first), 11 adaptive and 3 uniform steps; slopes over the last four adaptive steps (measured
-/// −1.03 over 15 402 … 86 700 unknowns; steeper, −1.5 … −1.8, before) and the three uniform
-/// steps (−0.50 over 1 416 … 19 396).
+/// first), 8 adaptive and 3 uniform steps; slopes over the last four adaptive steps (measured
+/// −1.03 over 11 122 … 85 258 unknowns) and the three uniform steps (−0.50 over
+/// 1 416 … 19 396).
 #[test]
 fn adaptive_p2_reaches_the_optimal_rate_on_hertz() {
     let scene = coarse_hertz(2);
-    let (a, history) = slope_and_history(&scene, Refinement::Adaptive, 11);
+    let (a, history) = slope_and_history(&scene, Refinement::Adaptive, 8);
     let u = rate(&scene, Refinement::Uniform, 3);
     assert!((a + 1.0).abs() <= 0.1, "adaptive rate {a}");
     let n_reg: Vec<usize> = history.iter().map(|r| r.n_reg).collect();

@@ -5,7 +5,8 @@
 use crate::mesh::Mesh;
 use serde::{Deserialize, Serialize};
 
-/// How the next sizes follow from η_T and the fraction θ.
+/// How the next sizes follow from η_T and the fraction θ (never below 10⁻⁸ times the extent
+/// of the domain).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum Marking {
@@ -23,12 +24,32 @@ impl Marking {
     /// on η_tot, if any (equidistribution does not aim below it).
     pub fn target_sizes(self, theta: f64, eta: &[f64], mesh: &Mesh, tol: Option<f64>) -> Vec<f64> {
         let marked = match self {
-            Marking::Dorfler => dorfler(eta, theta),
-            Marking::Maximum => maximum(eta, theta),
-            Marking::Equidistribution => return equidistributed(theta, eta, mesh, tol),
+            Marking::Dorfler => Some(dorfler(eta, theta)),
+            Marking::Maximum => Some(maximum(eta, theta)),
+            Marking::Equidistribution => None,
         };
-        (0..mesh.n_cells()).map(|c| if marked[c] { 0.5 } else { 1.0 } * cell_size(mesh, c)).collect()
+        let sizes = match marked {
+            Some(marked) => {
+                (0..mesh.n_cells()).map(|c| if marked[c] { 0.5 } else { 1.0 } * cell_size(mesh, c)).collect()
+            }
+            None => equidistributed(theta, eta, mesh, tol),
+        };
+        let floor = SMALLEST_SIZE * extent(mesh);
+        sizes.into_iter().map(|h: f64| h.max(floor)).collect()
     }
+}
+
+/// No target size is below this fraction of the domain's extent, where gmsh's own
+/// tolerances start to merge points. (A strong singularity asks for small cells: at the
+/// r^{1/2} corner of Scene A, P2 equidistribution shrinks the corner cell by 4 per step.)
+const SMALLEST_SIZE: f64 = 1e-8;
+
+/// Diagonal of the bounding box of the mesh.
+fn extent(mesh: &Mesh) -> f64 {
+    let (lo, hi) = mesh.points.iter().fold(([f64::MAX; 2], [f64::MIN; 2]), |(lo, hi), p| {
+        ([lo[0].min(p[0]), lo[1].min(p[1])], [hi[0].max(p[0]), hi[1].max(p[1])])
+    });
+    (hi[0] - lo[0]).hypot(hi[1] - lo[1])
 }
 
 fn dorfler(eta: &[f64], theta: f64) -> Vec<bool> {
@@ -89,20 +110,23 @@ mod tests {
 
     #[test]
     fn equidistribution_scales_each_cell_by_its_own_estimator() {
-        let mesh = crate::mesh::structured::unit_square(4, 2);
-        let h = cell_size(&mesh, 0);
-        let n = mesh.n_cells();
+        let size = |order, theta, eta: &[f64], tol| {
+            let mesh = crate::mesh::structured::unit_square(4, order);
+            let h = cell_size(&mesh, 0);
+            Marking::Equidistribution.target_sizes(theta, eta, &mesh, tol).iter().map(|s| s / h).collect::<Vec<_>>()
+        };
+        let close = |sizes: &[f64], expected: f64| sizes.iter().all(|s| (s - expected).abs() < 1e-12);
+        let n = 32;
         // equal η_T: every size shrinks by θ^{1/p}
-        let sizes = Marking::Equidistribution.target_sizes(0.5, &vec![1.0; n], &mesh, None);
-        assert!(sizes.iter().all(|s| (s - 0.5f64.sqrt() * h).abs() < 1e-12 * h), "{sizes:?}");
+        assert!(close(&size(1, 0.5, &vec![1.0; n], None), 0.5));
+        assert!(close(&size(2, 0.5, &vec![1.0; n], None), 0.5f64.sqrt()));
         // a tolerance above θ η_tot is the target instead
-        let sizes = Marking::Equidistribution.target_sizes(0.5, &vec![1.0; n], &mesh, Some(2.0 * (n as f64).sqrt()));
-        assert!(sizes.iter().all(|s| (s - 2f64.sqrt() * h).abs() < 1e-12 * h), "{sizes:?}");
+        assert!(close(&size(1, 0.5, &vec![1.0; n], Some(1.5 * (n as f64).sqrt())), 1.5));
         // the clip: a dominant cell gets h/4, cells without error 2h
         let mut eta = vec![0.0; n];
         eta[3] = 1.0;
-        let sizes = Marking::Equidistribution.target_sizes(0.5, &eta, &mesh, None);
-        assert!((sizes[3] - 0.25 * h).abs() < 1e-12 * h && (sizes[0] - 2.0 * h).abs() < 1e-12 * h);
+        let sizes = size(1, 0.5, &eta, None);
+        assert!(close(&sizes[3..4], 0.25) && close(&sizes[..3], 2.0), "{sizes:?}");
     }
 
     #[test]

@@ -80,7 +80,7 @@ impl Default for AdaptSettings {
             tol_relative: None,
             max_unknowns: None,
             refinement: Refinement::Adaptive,
-            marking: Marking::Dorfler,
+            marking: Marking::Equidistribution,
             bulk: 0.5,
             gamma_lin: 0.1,
             gamma_reg: 0.1,

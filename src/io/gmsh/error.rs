@@ -40,6 +40,9 @@ pub enum GmshError {
     /// The mesh has elements other than triangles and segments of order 1 or 2 (e.g. quadrangles).
     #[error("the mesh of {} has {element} elements, but only triangles and segments of order 1 or 2 are supported", .path.display())]
     Unsupported { path: PathBuf, element: String },
+    /// A triangle has zero area (gmsh can produce them when sizes approach its tolerance).
+    #[error("the mesh of {} has a degenerate triangle at ({x}, {y}); are some mesh sizes too small?", .path.display())]
+    Degenerate { path: PathBuf, x: f64, y: f64 },
     /// A physical curve has nodes that no triangle uses.
     #[error("physical curve \"{group}\" of {} does not lie on the triangles of the mesh", .path.display())]
     DetachedCurve { path: PathBuf, group: String },

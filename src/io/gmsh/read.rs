@@ -27,6 +27,10 @@ pub(super) fn mesh(source: &Path) -> Result<Mesh, GmshError> {
         facet_tags: facets.tags,
         groups,
     };
+    if let Some(c) = (0..mesh.n_cells()).find(|&c| mesh.cell_area(c) == 0.0) {
+        let [x, y] = mesh.points[mesh.cell(c)[0]];
+        return Err(GmshError::Degenerate { path: source.into(), x, y });
+    }
     mesh.orient_counter_clockwise();
     Ok(mesh)
 }

@@ -29,8 +29,11 @@ impl SizeField {
             return Err(bad(format!("cell {c} has size {h}, expected a positive finite number")));
         }
         let n = mesh.n_cells();
-        let mut field =
-            SizeField { points: Vec::with_capacity(3 * n), triangles: Vec::with_capacity(n), sizes: Vec::with_capacity(3 * n) };
+        let mut field = SizeField {
+            points: Vec::with_capacity(3 * n),
+            triangles: Vec::with_capacity(n),
+            sizes: Vec::with_capacity(3 * n),
+        };
         for (c, &h) in cell_sizes.iter().enumerate() {
             let first = field.points.len();
             field.points.extend(mesh.cell_vertices(c));
