@@ -34,7 +34,8 @@ def test_pvd_collection_lists_every_step(adapted):
         assert {"eta_tot", "eta_flux", "sigma_h_xx", "von_mises"} <= set(grid.cell_data.keys())
         assert np.all(np.isfinite(grid.cell_data["eta_tot"]))
         cells.append(grid.n_cells)
-    assert cells == sorted(cells) and cells[0] < cells[-1]
+    # every step is a new mesh; equidistribution may coarsen the smooth parts at first
+    assert len(set(cells)) == STEPS and cells[0] < cells[-1]
 
 
 def test_history_matches_the_files(adapted):
