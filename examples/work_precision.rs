@@ -140,7 +140,13 @@ fn cases(quick: bool) -> Vec<Case> {
             exact: true,
             steps: v3_steps,
         });
-        all.push(scene_case("scene_a", order, if quick { (2, 6) } else { (5 - order, 20) }));
+        // P2 on Scene A stops after step 10: its corner cells then reach 10⁻⁸ of the domain,
+        // gmsh's limit (docs/method.md §5.4)
+        all.push(scene_case(
+            "scene_a",
+            order,
+            if quick { (2, 6) } else { (5 - order, if order == 2 { 11 } else { 20 }) },
+        ));
         all.push(scene_case("hertz", order, if quick { (2, 6) } else { (4, 20) }));
     }
     all

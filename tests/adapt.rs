@@ -358,10 +358,9 @@ fn adaptive_p2_reaches_the_optimal_rate_on_hertz() {
 #[test]
 #[ignore = "study for the notes: cargo test --release --test adapt -- --ignored --nocapture"]
 fn scene_a_p2_estimate_against_the_dual_norm() {
-    let mut scene = scene("scene_a", 2);
-    scene.mesh.size_factor = 4.0;
+    let scene = scene("scene_a", 2);
     let mut previous: Option<(f64, f64, f64)> = None;
-    adapt::run(&steps(15), &mut mesher(&scene, Refinement::Adaptive), &scene, |step| {
+    adapt::run(&steps(10), &mut mesher(&scene, Refinement::Adaptive), &scene, |step| {
         let u = step.problem.displacement(step.disc, step.x);
         let tags = scene.contact_tags(&step.problem.mesh).expect("contact tags");
         let data = step.nitsche.map(|n| ContactData { tags: &tags, parameters: n.parameters });
