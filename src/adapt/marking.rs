@@ -23,16 +23,10 @@ impl Marking {
     /// Target sizes on `mesh` for the local estimators `eta`; `tol` is the absolute tolerance
     /// on η_tot, if any (equidistribution does not aim below it).
     pub fn target_sizes(self, theta: f64, eta: &[f64], mesh: &Mesh, tol: Option<f64>) -> Vec<f64> {
-        let marked = match self {
-            Marking::Dorfler => Some(dorfler(eta, theta)),
-            Marking::Maximum => Some(maximum(eta, theta)),
-            Marking::Equidistribution => None,
-        };
-        let sizes = match marked {
-            Some(marked) => {
-                (0..mesh.n_cells()).map(|c| if marked[c] { 0.5 } else { 1.0 } * cell_size(mesh, c)).collect()
-            }
-            None => equidistributed(theta, eta, mesh, tol),
+        let sizes = match self {
+            Marking::Dorfler => halved(mesh, &dorfler(eta, theta)),
+            Marking::Maximum => halved(mesh, &maximum(eta, theta)),
+            Marking::Equidistribution => equidistributed(theta, eta, mesh, tol),
         };
         let floor = SMALLEST_SIZE * extent(mesh);
         sizes.into_iter().map(|h: f64| h.max(floor)).collect()
@@ -50,6 +44,11 @@ fn extent(mesh: &Mesh) -> f64 {
         ([lo[0].min(p[0]), lo[1].min(p[1])], [hi[0].max(p[0]), hi[1].max(p[1])])
     });
     (hi[0] - lo[0]).hypot(hi[1] - lo[1])
+}
+
+/// h_T/2 on the marked cells, h_T elsewhere.
+fn halved(mesh: &Mesh, marked: &[bool]) -> Vec<f64> {
+    (0..mesh.n_cells()).map(|c| if marked[c] { 0.5 } else { 1.0 } * cell_size(mesh, c)).collect()
 }
 
 fn dorfler(eta: &[f64], theta: f64) -> Vec<bool> {

@@ -6,10 +6,11 @@
 //! η_lin ≤ γ_lin (η_osc + η_flux + η_Neu + η_disc), and δ is divided by ρ_δ until
 //! η_reg ≤ γ_reg (η_osc + η_flux + η_Neu + η_disc + η_lin). The run stops when η_tot meets the
 //! tolerance or after the last step; otherwise η_tot,T gives every cell a target size
-//! ([`marking`]: equidistribution, or marking), and these sizes define the next mesh. δ is kept from one mesh to the next. On the first
-//! mesh, one Newton step from u = 0 at δ = `delta0` × S (S the stress scale of the loads)
-//! gives u_h¹, and δ₀ = `delta0` × max over the Γ_C quadrature points of |P_γ(u_h¹)| (`delta0`
-//! × S if that is 0); Newton continues from u_h¹ at δ₀. δ is a stress, never a multiple of E.
+//! ([`marking`]: equidistribution, or marking), and these sizes define the next mesh. δ is
+//! kept from one mesh to the next. On the first mesh, one Newton step from u = 0 at
+//! δ = `delta0` × S (S the stress scale of the loads) gives u_h¹, and δ₀ = `delta0` × max over
+//! the Γ_C quadrature points of |P_γ(u_h¹)| (`delta0` × S if that is 0); Newton continues
+//! from u_h¹ at δ₀. δ is a stress, never a multiple of E.
 
 pub mod geo;
 pub mod history;
