@@ -46,8 +46,9 @@ pub fn lower_nodes(order: usize) -> &'static [[f64; 2]] {
 pub struct CellIntegrals {
     /// ∫_T φ_k φ_l, n_basis × n_basis, row-major.
     pub mass: Vec<f64>,
-    /// The inverse of `mass`, row-major.
-    pub mass_inverse: Vec<f64>,
+    /// C = L⁻¹ for the Cholesky factor M = L Lᵀ of `mass`, row-major and lower triangular:
+    /// the functions χ_k = Σ_l C_kl φ_l are orthonormal in L²(T).
+    pub orthonormal: Vec<f64>,
     /// ∫_T ∂_j φ_k ψ_m at `[(m · n_basis + k) · 2 + j]`.
     pub divergence: Vec<f64>,
     /// ∫_T φ_k ψ_m at `[m · n_basis + k]`.
@@ -63,7 +64,7 @@ pub fn cell_integrals(order: usize, map: &AffineMap) -> CellIntegrals {
     let (mut phi, mut grad, mut psi) = ([0.0; 6], [[0.0; 2]; 6], [0.0; 3]);
     let mut out = CellIntegrals {
         mass: vec![0.0; nb * nb],
-        mass_inverse: Vec::new(),
+        orthonormal: Vec::new(),
         divergence: vec![0.0; nl * nb * 2],
         lower_mass: vec![0.0; nl * nb],
         lower_gram: vec![0.0; nl * nl],
@@ -90,9 +91,9 @@ pub fn cell_integrals(order: usize, map: &AffineMap) -> CellIntegrals {
             }
         }
     }
-    let inverse =
-        nalgebra::DMatrix::from_row_slice(nb, nb, &out.mass).try_inverse().expect("the mass matrix is invertible");
-    out.mass_inverse = inverse.transpose().as_slice().to_vec(); // column-major storage of the transpose = row-major
+    let factor = nalgebra::DMatrix::from_row_slice(nb, nb, &out.mass).cholesky().expect("the mass matrix is definite");
+    let inverse = factor.l().solve_lower_triangular(&nalgebra::DMatrix::identity(nb, nb)).expect("L is invertible");
+    out.orthonormal = inverse.transpose().as_slice().to_vec(); // column-major storage of the transpose = row-major
     out
 }
 
@@ -202,6 +203,20 @@ mod tests {
                 }
             });
             assert_eq!(rows.rank(1e-10), 2 * nl);
+        }
+    }
+
+    #[test]
+    fn orthonormal_basis_is_orthonormal() {
+        // C M Cᵀ = I for the lower-triangular C
+        for order in [1, 2] {
+            let nb = lagrange::n_basis(order);
+            let ints = cell_integrals(order, &map());
+            let c = nalgebra::DMatrix::from_row_slice(nb, nb, &ints.orthonormal);
+            let m = nalgebra::DMatrix::from_row_slice(nb, nb, &ints.mass);
+            assert!((0..nb).all(|k| (k + 1..nb).all(|l| c[(k, l)] == 0.0)), "C is lower triangular");
+            let product = &c * m * c.transpose();
+            assert!((product - nalgebra::DMatrix::identity(nb, nb)).amax() < 1e-12, "p = {order}");
         }
     }
 

@@ -11,13 +11,19 @@
 //! - weak symmetry, (σ, m J)_T = (c, m J)_T for m ∈ P_{p−1}(T).
 //!
 //! The last three act on one cell each and are eliminated cell by cell (static
-//! condensation): with the cell's local rows B_L, mass matrix M and A = B_L M⁻¹ B_Lᵀ,
+//! condensation, [`Condensed`]). In the L²(T)-orthonormal basis of each cell the cell's part
+//! of the objective is |s − f|², so the elimination is an orthogonal projection: with P the
+//! projector onto the coefficients that the local rows leave free, s₀ the point of the local
+//! rows closest to f and Z the face rows through a (as columns),
 //!
-//!   P = M⁻¹ − M⁻¹ B_Lᵀ A⁻¹ B_L M⁻¹,   x₀ = τ̂ − M⁻¹ B_Lᵀ A⁻¹ (B_L τ̂ − b_L),   τ̂ = M⁻¹ (τ*, φ),
+//!   s = s₀ − P Z λ,
 //!
-//! and only the multipliers λ of the face rows through a remain:
-//! (Σ_T B_G P B_Gᵀ) λ = Σ_T B_G x₀ − b_G, then σ = x₀ − P B_Gᵀ λ on each cell. One Cholesky
-//! factorisation serves every right-hand side (total, regularisation, linearisation).
+//! and only the multipliers λ of the face rows remain: (Σ_T Zᵀ P Z) λ = Σ_T Zᵀ s₀ − b_G.
+//! The divergence and opposite-side rows act on each row of σ alone, with the same
+//! coefficients in both rows, and only weak symmetry couples the rows, so P is built from
+//! one orthonormal basis per cell for one row of σ and one for the symmetry rows. One
+//! Cholesky factorisation of the condensed matrix serves every right-hand side (total,
+//! regularisation, linearisation).
 //!
 //! Rigid motions z that the patch leaves free make the rows dependent: Bᵀλ_z = 0 for the
 //! multipliers λ_z = (z on the faces, −Π^{p−1}z for the divergence, b for the symmetry) of
@@ -160,7 +166,7 @@ pub fn solve(input: &PatchInput, work: &mut Workspace) -> Result<PatchSolution, 
     zeroed(schur, rows.len(), rows.len());
     zeroed(reduced, rows.len(), cases);
     for (t, cell) in cells.iter_mut().enumerate() {
-        condense(input, t, &rows, &data, cell)?;
+        cell.condense(input, t, &rows, &data)?;
         for (a, &ra) in cell.rows.iter().enumerate() {
             for (b, &rb) in cell.rows.iter().enumerate() {
                 schur[(ra, rb)] += cell.coupling[(a, b)];
@@ -179,26 +185,21 @@ pub fn solve(input: &PatchInput, work: &mut Workspace) -> Result<PatchSolution, 
     let cholesky = std::mem::replace(schur, empty()).cholesky().ok_or("the patch constraints are not independent")?;
     cholesky.solve_mut(reduced);
     *schur = cholesky.unpack_dirty();
-    let lambda = &*reduced;
     let width = input.width();
+    let mut lambda = Vec::new();
     let sigma = (0..cases)
         .map(|case| {
             let mut out = vec![0.0; input.cells.len() * width];
             for (t, cell) in cells.iter().enumerate() {
-                let s = &mut out[t * width..(t + 1) * width];
-                s.copy_from_slice(cell.x0.column(case).as_slice());
-                for (a, &r) in cell.rows.iter().enumerate() {
-                    for (sk, pk) in s.iter_mut().zip(cell.p_bt.column(a).iter()) {
-                        *sk -= pk * lambda[(r, case)];
-                    }
-                }
+                lambda.clear();
+                lambda.extend(cell.rows.iter().map(|&r| reduced[(r, case)]));
+                cell.stress(input, t, case, &lambda, &mut out[t * width..(t + 1) * width]);
             }
             out
         })
         .collect();
     Ok(PatchSolution { sigma, compatibility: data.defect })
 }
-
 /// The face rows through a (interior faces and boundary traces).
 fn face_rows(input: &PatchInput) -> Vec<FaceRow> {
     let cases = input.target.len();
@@ -223,197 +224,341 @@ fn face_rows(input: &PatchInput) -> Vec<FaceRow> {
     rows
 }
 
-/// Writes the coefficients of the face row (m, i) of `face` on its side `side` into `out`:
+/// Writes the coefficients of the face row (m, i) of `face` on its side `side` into `out`,
+/// over the 2 n_basis coefficients of row i of τ (the same for both i):
 /// ± ∫_F (τ n)_i q_m = ± Σ_{k,j} τ_{ij,k} n_j ∫_F φ_k q_m (both sides use the first cell's
 /// normal, the second with a minus sign).
-fn face_coefficients(input: &PatchInput, face: &PatchFace, side: usize, m: usize, i: usize, out: &mut [f64]) {
-    let nb = input.n_basis;
+fn face_coefficients(nb: usize, face: &PatchFace, side: usize, m: usize, out: &mut [f64]) {
     let sign = if side == 0 { 1.0 } else { -1.0 };
-    out.fill(0.0);
     for k in 0..nb {
         let moment = sign * face.moments[side][m * nb + k];
         for j in 0..2 {
-            out[(2 * i + j) * nb + k] = moment * face.normal[j];
+            out[j * nb + k] = moment * face.normal[j];
         }
     }
 }
 
-/// One cell after static condensation of its local rows, with its scratch matrices.
+/// One cell after static condensation of its local rows (divergence, weak symmetry, σn = 0
+/// on the side opposite to a).
+///
+/// Coefficients are taken in the L²(T)-orthonormal basis χ = C φ of
+/// [`CellIntegrals::orthonormal`], component by component: σ = Cᵀs, a row b of the
+/// constraints becomes C b, the target becomes f = C (τ*, φ), and the cell's part of the
+/// objective is |s − f|². The divergence and opposite-side rows act on one row of σ at a
+/// time, with the same coefficients W₁ for both rows; only weak symmetry (columns Y) couples
+/// them. Two orthonormal bases, W₁ = Q₁R₁ and (P₁ ⊕ P₁) Y = Q_S R_S with P₁ = I − Q₁Q₁ᵀ,
+/// give the projector P = P₁ ⊕ P₁ − Q_S Q_Sᵀ onto the cell's free coefficients, and
+///
+///   s₀ = the point of the local constraints closest to f,  s = s₀ − P Z λ,
+///
+/// Z the face rows through a. The cell adds Zᵀ P Z to the condensed matrix and Zᵀs₀ to its
+/// right-hand side.
 struct Condensed {
-    /// Indices of the face rows that touch the cell, and the side of their face it is on.
+    /// Indices of the face rows that touch the cell, the row of σ each acts on and the
+    /// side of its face the cell is on.
     rows: Vec<usize>,
+    rows_of_sigma: Vec<usize>,
     sides: Vec<usize>,
-    /// P B_Gᵀ (width × rows).
-    p_bt: DMatrix<f64>,
-    /// B_G P B_Gᵀ.
+    /// Q₁ (2 n_basis × L₁) and R₁ᵀ.
+    q1: DMatrix<f64>,
+    r1: DMatrix<f64>,
+    /// Q_S (4 n_basis × n_lower), R_Sᵀ, and C ∫_T φ ψ_m (n_basis × n_lower).
+    qs: DMatrix<f64>,
+    rs: DMatrix<f64>,
+    skew: DMatrix<f64>,
+    /// The face rows on their row of σ (2 n_basis × rows), Q₁ᵀZ and Q_SᵀZ.
+    z: DMatrix<f64>,
+    q1_z: DMatrix<f64>,
+    qs_z: DMatrix<f64>,
+    /// Zᵀ P Z, and Zᵀ s₀ with s₀ per case (4 n_basis × cases).
     coupling: DMatrix<f64>,
-    /// x₀ per case (width × cases) and B_G x₀.
-    x0: DMatrix<f64>,
     trace: DMatrix<f64>,
-    /// Scratch: B_L and b_L, B_Gᵀ, M⁻¹B_Lᵀ, A, V, V B_Gᵀ, F, L⁻¹ b_L − V F.
-    b_local: DMatrix<f64>,
-    b_rhs: DMatrix<f64>,
-    b_global_t: DMatrix<f64>,
-    minv_blt: DMatrix<f64>,
-    gram: DMatrix<f64>,
-    v: DMatrix<f64>,
-    v_bgt: DMatrix<f64>,
-    target: DMatrix<f64>,
-    w: DMatrix<f64>,
+    s0: DMatrix<f64>,
 }
 
 impl Default for Condensed {
     fn default() -> Self {
         Condensed {
             rows: Vec::new(),
+            rows_of_sigma: Vec::new(),
             sides: Vec::new(),
-            p_bt: empty(),
+            q1: empty(),
+            r1: empty(),
+            qs: empty(),
+            rs: empty(),
+            skew: empty(),
+            z: empty(),
+            q1_z: empty(),
+            qs_z: empty(),
             coupling: empty(),
-            x0: empty(),
             trace: empty(),
-            b_local: empty(),
-            b_rhs: empty(),
-            b_global_t: empty(),
-            minv_blt: empty(),
-            gram: empty(),
-            v: empty(),
-            v_bgt: empty(),
-            target: empty(),
-            w: empty(),
+            s0: empty(),
         }
     }
 }
 
-/// Local rows of cell t (divergence, symmetry, σn = 0 on the opposite side) into `b` and their
-/// right-hand sides per case into `rhs`.
-fn local_rows(input: &PatchInput, t: usize, data: &CompatibleData, b: &mut DMatrix<f64>, rhs: &mut DMatrix<f64>) {
-    let (nb, nl, width, cases) = (input.n_basis, input.n_lower, input.width(), input.target.len());
-    let cell = input.cells[t];
-    let opposite = input.faces.iter().filter(|f| matches!(f.kind, FaceKind::Opposite) && f.cells[0] == t);
-    let n_rows = 3 * nl + opposite.clone().count() * 2 * (input.order + 1);
-    zeroed(b, n_rows, width);
-    zeroed(rhs, n_rows, cases);
-    for m in 0..nl {
-        for i in 0..2 {
-            let r = m * 2 + i;
-            for k in 0..nb {
-                for j in 0..2 {
-                    b[(r, (2 * i + j) * nb + k)] = cell.divergence[(m * nb + k) * 2 + j];
-                    // (∂_j τ_ij, ψ_m)_T
+impl Condensed {
+    /// Static condensation of cell t of the patch.
+    fn condense(
+        &mut self,
+        input: &PatchInput,
+        t: usize,
+        rows: &[FaceRow],
+        data: &CompatibleData,
+    ) -> Result<(), String> {
+        self.row_basis(input, t)?;
+        self.symmetry_basis(input, t)?;
+        self.face_rows(input, t, rows);
+        self.local_solution(input, t, data);
+        let (h, g) = (self.z.nrows(), self.rows.len());
+        shaped(&mut self.q1_z, self.q1.ncols(), g);
+        self.q1.tr_mul_to(&self.z, &mut self.q1_z);
+        shaped(&mut self.qs_z, self.qs.ncols(), g);
+        for (a, &i) in self.rows_of_sigma.iter().enumerate() {
+            for m in 0..self.qs.ncols() {
+                self.qs_z[(m, a)] = dot(&column(&self.qs, m)[i * h..(i + 1) * h], column(&self.z, a));
+            }
+        }
+        // Zᵀ P Z = [same row of σ] (ZᵀZ − (Q₁ᵀZ)ᵀ Q₁ᵀZ) − (Q_SᵀZ)ᵀ Q_SᵀZ
+        shaped(&mut self.coupling, g, g);
+        for a in 0..g {
+            for b in 0..g {
+                let same_row = if self.rows_of_sigma[a] == self.rows_of_sigma[b] {
+                    dot(column(&self.z, a), column(&self.z, b)) - dot(column(&self.q1_z, a), column(&self.q1_z, b))
+                } else {
+                    0.0
+                };
+                self.coupling[(a, b)] = same_row - dot(column(&self.qs_z, a), column(&self.qs_z, b));
+            }
+        }
+        shaped(&mut self.trace, g, self.s0.ncols());
+        for (a, &i) in self.rows_of_sigma.iter().enumerate() {
+            for case in 0..self.s0.ncols() {
+                self.trace[(a, case)] = dot(column(&self.z, a), &column(&self.s0, case)[i * h..(i + 1) * h]);
+            }
+        }
+        Ok(())
+    }
+
+    /// Q₁ and R₁ᵀ from W₁: the divergence rows (∂_j τ_ij, ψ_m)_T and the rows ∫_F (τn)_i q_m
+    /// of the opposite side, on one row i of σ.
+    fn row_basis(&mut self, input: &PatchInput, t: usize) -> Result<(), String> {
+        let (nb, nl, q) = (input.n_basis, input.n_lower, input.order + 1);
+        let cell = input.cells[t];
+        let opposite = input.faces.iter().filter(|f| matches!(f.kind, FaceKind::Opposite) && f.cells[0] == t);
+        let w = shaped(&mut self.q1, 2 * nb, nl + opposite.clone().count() * q);
+        for m in 0..nl {
+            for j in 0..2 {
+                for k in 0..nb {
+                    w[(j * nb + k, m)] = cell.divergence[(m * nb + k) * 2 + j];
                 }
             }
-            for case in 0..cases {
-                rhs[(r, case)] = data.divergence[case][(t * nl + m) * 2 + i];
+        }
+        for (f, face) in opposite.enumerate() {
+            for m in 0..q {
+                face_coefficients(nb, face, 0, m, column_mut(w, nl + f * q + m));
             }
         }
-        let r = 2 * nl + m;
-        for k in 0..nb {
-            b[(r, nb + k)] = cell.lower_mass[m * nb + k]; // (τ:J, ψ_m) with τ:J = τ_xy − τ_yx
-            b[(r, 2 * nb + k)] = -cell.lower_mass[m * nb + k];
+        to_orthonormal_columns(&cell.orthonormal, w);
+        orthonormalise(w, &mut self.r1).ok_or_else(|| "the local constraints of a cell are not independent".into())
+    }
+
+    /// Q_S and R_Sᵀ from the weak-symmetry columns Y, (τ, ψ_m J)_T = (τ_xy − τ_yx, ψ_m)_T,
+    /// projected off Q₁ in both rows of σ; `skew` keeps C ∫_T φ ψ_m.
+    fn symmetry_basis(&mut self, input: &PatchInput, t: usize) -> Result<(), String> {
+        let (nb, nl, h) = (input.n_basis, input.n_lower, 2 * input.n_basis);
+        let cell = input.cells[t];
+        let skew = shaped(&mut self.skew, nb, nl);
+        skew.as_mut_slice().copy_from_slice(&cell.lower_mass[..nl * nb]);
+        to_orthonormal_columns(&cell.orthonormal, skew);
+        let y = zeroed(&mut self.qs, 2 * h, nl);
+        for m in 0..nl {
+            let (first, second) = column_mut(y, m).split_at_mut(h);
+            for (k, &v) in column(&self.skew, m).iter().enumerate() {
+                first[nb + k] = v;
+                second[k] = -v;
+            }
+            project_off(&self.q1, first);
+            project_off(&self.q1, second);
         }
+        orthonormalise(y, &mut self.rs).ok_or_else(|| "the weak symmetry rows of a cell are not independent".into())
+    }
+
+    /// The face rows through a that touch cell t, on their row of σ and in orthonormal
+    /// coordinates.
+    fn face_rows(&mut self, input: &PatchInput, t: usize, rows: &[FaceRow]) {
+        self.rows.clear();
+        self.rows_of_sigma.clear();
+        self.sides.clear();
+        for (r, row) in rows.iter().enumerate() {
+            let face = &input.faces[row.face];
+            if let Some(side) = face.cells.iter().position(|&cell| cell == t) {
+                if side == 0 || matches!(face.kind, FaceKind::Interior) {
+                    self.rows.push(r);
+                    self.rows_of_sigma.push(row.i);
+                    self.sides.push(side);
+                }
+            }
+        }
+        let z = shaped(&mut self.z, 2 * input.n_basis, self.rows.len());
+        for (a, (&r, &side)) in self.rows.iter().zip(&self.sides).enumerate() {
+            face_coefficients(input.n_basis, &input.faces[rows[r].face], side, rows[r].m, column_mut(z, a));
+        }
+        to_orthonormal_columns(&input.cells[t].orthonormal, z);
+    }
+
+    /// s₀ per case: f = C (τ*, φ) moved onto the divergence and opposite-side rows of each
+    /// row of σ, s ← s + Q₁ (R₁ᵀ⁻¹ b₁ − Q₁ᵀ s), then onto weak symmetry,
+    /// s ← s + Q_S R_Sᵀ⁻¹ (b_S − Yᵀ s).
+    fn local_solution(&mut self, input: &PatchInput, t: usize, data: &CompatibleData) {
+        let (nb, nl, cases) = (input.n_basis, input.n_lower, input.target.len());
+        let (h, width) = (2 * nb, input.width());
+        let cell = input.cells[t];
+        let s0 = shaped(&mut self.s0, width, cases);
+        let mut coefficients = [0.0; MAX_LOCAL];
         for case in 0..cases {
-            rhs[(r, case)] = data.symmetry[case][t * nl + m];
+            let s = column_mut(s0, case);
+            s.copy_from_slice(&input.target[case][t * width..(t + 1) * width]);
+            for block in s.chunks_exact_mut(nb) {
+                to_orthonormal(&cell.orthonormal, block);
+            }
+            for (i, part) in s.chunks_exact_mut(h).enumerate() {
+                let b1 = &mut coefficients[..self.q1.ncols()];
+                b1.fill(0.0);
+                for m in 0..nl {
+                    b1[m] = data.divergence[case][(t * nl + m) * 2 + i];
+                }
+                forward_substitute(&self.r1, b1);
+                for (j, bj) in b1.iter_mut().enumerate() {
+                    *bj -= dot(column(&self.q1, j), part);
+                }
+                add_columns(&self.q1, b1, part);
+            }
+            let bs = &mut coefficients[..nl];
+            for (m, b) in bs.iter_mut().enumerate() {
+                let skew = column(&self.skew, m);
+                // Yᵀs = C ∫φ ψ_m · (s_xy − s_yx)
+                *b = data.symmetry[case][t * nl + m] - dot(skew, &s[nb..h]) + dot(skew, &s[h..h + nb]);
+            }
+            forward_substitute(&self.rs, bs);
+            add_columns(&self.qs, bs, s);
         }
     }
-    let mut row = vec![0.0; width];
-    let mut r = 3 * nl;
-    for face in opposite {
-        for m in 0..=input.order {
-            for i in 0..2 {
-                face_coefficients(input, face, 0, m, i, &mut row);
-                b.row_mut(r).copy_from_slice(&row);
-                r += 1;
+
+    /// σ = Cᵀ (s₀ − P Z λ) of one case, with `lambda` the multipliers of the cell's face rows.
+    fn stress(&self, input: &PatchInput, t: usize, case: usize, lambda: &[f64], out: &mut [f64]) {
+        let (nb, h) = (input.n_basis, 2 * input.n_basis);
+        out.fill(0.0);
+        for (a, (&i, l)) in self.rows_of_sigma.iter().zip(lambda).enumerate() {
+            for (v, z) in out[i * h..(i + 1) * h].iter_mut().zip(column(&self.z, a)) {
+                *v -= l * z;
             }
         }
-    }
-}
-
-/// Static condensation of cell t into `c`: with A = B_L M⁻¹ B_Lᵀ = L Lᵀ and V = L⁻¹ B_L M⁻¹,
-/// P = M⁻¹ − VᵀV, so P B_Gᵀ = M⁻¹B_Gᵀ − Vᵀ(V B_Gᵀ) and, with F = (τ*, φ),
-/// x₀ = P F + Vᵀ L⁻¹ b_L = M⁻¹F + Vᵀ(L⁻¹ b_L − V F).
-fn condense(
-    input: &PatchInput,
-    t: usize,
-    rows: &[FaceRow],
-    data: &CompatibleData,
-    c: &mut Condensed,
-) -> Result<(), String> {
-    let (width, cases) = (input.width(), input.target.len());
-    local_rows(input, t, data, &mut c.b_local, &mut c.b_rhs);
-    global_block(input, t, rows, c);
-    let n_local = c.b_local.nrows();
-    let n_global = c.rows.len();
-    shaped(&mut c.minv_blt, width, n_local);
-    c.minv_blt.tr_copy_from(&c.b_local);
-    apply_inverse_mass(input, t, &mut c.minv_blt);
-    shaped(&mut c.gram, n_local, n_local);
-    c.b_local.mul_to(&c.minv_blt, &mut c.gram);
-    let a = std::mem::replace(&mut c.gram, empty())
-        .cholesky()
-        .ok_or("the local constraints of a cell are not independent")?;
-    shaped(&mut c.v, n_local, width);
-    c.v.tr_copy_from(&c.minv_blt);
-    a.l_dirty().solve_lower_triangular_mut(&mut c.v);
-    shaped(&mut c.p_bt, width, n_global);
-    c.p_bt.copy_from(&c.b_global_t);
-    apply_inverse_mass(input, t, &mut c.p_bt);
-    shaped(&mut c.v_bgt, n_local, n_global);
-    c.v.mul_to(&c.b_global_t, &mut c.v_bgt);
-    c.p_bt.gemm_tr(-1.0, &c.v, &c.v_bgt, 1.0);
-    shaped(&mut c.target, width, cases);
-    for case in 0..cases {
-        c.target.column_mut(case).copy_from_slice(&input.target[case][t * width..(t + 1) * width]);
-    }
-    shaped(&mut c.w, n_local, cases);
-    c.w.copy_from(&c.b_rhs);
-    a.l_dirty().solve_lower_triangular_mut(&mut c.w);
-    c.w.gemm(-1.0, &c.v, &c.target, 1.0);
-    shaped(&mut c.x0, width, cases);
-    c.x0.copy_from(&c.target);
-    apply_inverse_mass(input, t, &mut c.x0);
-    c.x0.gemm_tr(1.0, &c.v, &c.w, 1.0);
-    c.gram = a.unpack_dirty();
-    shaped(&mut c.coupling, n_global, n_global);
-    c.p_bt.tr_mul_to(&c.b_global_t, &mut c.coupling);
-    shaped(&mut c.trace, n_global, cases);
-    c.b_global_t.tr_mul_to(&c.x0, &mut c.trace);
-    Ok(())
-}
-
-/// The face rows that touch cell t (`c.rows`, `c.sides`) and their coefficients on it,
-/// transposed (B_Gᵀ, into `c.b_global_t`).
-fn global_block(input: &PatchInput, t: usize, rows: &[FaceRow], c: &mut Condensed) {
-    c.rows.clear();
-    c.sides.clear();
-    for (r, row) in rows.iter().enumerate() {
-        let face = &input.faces[row.face];
-        if let Some(side) = face.cells.iter().position(|&cell| cell == t) {
-            if side == 0 || matches!(face.kind, FaceKind::Interior) {
-                c.rows.push(r);
-                c.sides.push(side);
-            }
+        // −P Z λ = −(P₁ ⊕ P₁) Z λ + Q_S (Q_SᵀZ) λ
+        for part in out.chunks_exact_mut(h) {
+            project_off(&self.q1, part);
+        }
+        let mut qs_zl = [0.0; MAX_LOCAL];
+        for (m, c) in qs_zl[..self.qs.ncols()].iter_mut().enumerate() {
+            *c = (0..lambda.len()).map(|a| self.qs_z[(m, a)] * lambda[a]).sum();
+        }
+        add_columns(&self.qs, &qs_zl[..self.qs.ncols()], out);
+        for (o, s) in out.iter_mut().zip(column(&self.s0, case)) {
+            *o += s;
+        }
+        for block in out.chunks_exact_mut(nb) {
+            from_orthonormal(&input.cells[t].orthonormal, block);
         }
     }
-    zeroed(&mut c.b_global_t, input.width(), c.rows.len());
-    let mut row = vec![0.0; input.width()];
-    for (a, (&r, &side)) in c.rows.iter().zip(&c.sides).enumerate() {
-        face_coefficients(input, &input.faces[rows[r].face], side, rows[r].m, rows[r].i, &mut row);
-        c.b_global_t.column_mut(a).copy_from_slice(&row);
+}
+
+/// Most columns of Q₁ and Q_S: n_lower + p + 1 ≤ 6 for p ≤ 2.
+const MAX_LOCAL: usize = 8;
+
+/// Column j of `m`.
+fn column(m: &DMatrix<f64>, j: usize) -> &[f64] {
+    let rows = m.nrows();
+    &m.as_slice()[j * rows..(j + 1) * rows]
+}
+
+/// Column j of `m`, mutable.
+fn column_mut(m: &mut DMatrix<f64>, j: usize) -> &mut [f64] {
+    let rows = m.nrows();
+    &mut m.as_mut_slice()[j * rows..(j + 1) * rows]
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// v ← C v for C lower triangular, row-major.
+fn to_orthonormal(c: &[f64], v: &mut [f64]) {
+    let n = v.len();
+    for k in (0..n).rev() {
+        v[k] = dot(&c[k * n..k * n + k + 1], &v[..=k]);
     }
 }
 
-/// X ← M⁻¹ X on cell t: the same mass block for every component, i.e. for each block of n_basis
-/// entries of each column of X (width rows).
-fn apply_inverse_mass(input: &PatchInput, t: usize, x: &mut DMatrix<f64>) {
-    let nb = input.n_basis;
-    let inverse = &input.cells[t].mass_inverse; // row-major
-    let mut product = [0.0; 6];
-    for block in x.as_mut_slice().chunks_exact_mut(nb) {
-        for (k, p) in product[..nb].iter_mut().enumerate() {
-            *p = inverse[k * nb..(k + 1) * nb].iter().zip(block.iter()).map(|(m, v)| m * v).sum();
-        }
-        block.copy_from_slice(&product[..nb]);
+/// v ← Cᵀ v for C lower triangular, row-major.
+fn from_orthonormal(c: &[f64], v: &mut [f64]) {
+    let n = v.len();
+    for k in 0..n {
+        v[k] = (k..n).map(|l| c[l * n + k] * v[l]).sum();
     }
+}
+
+/// [`to_orthonormal`] on every block of n_basis entries of every column of `w`.
+fn to_orthonormal_columns(c: &[f64], w: &mut DMatrix<f64>) {
+    let n = (c.len() as f64).sqrt().round() as usize;
+    for block in w.as_mut_slice().chunks_exact_mut(n) {
+        to_orthonormal(c, block);
+    }
+}
+
+/// W ← Q and `r` ← Rᵀ for W = Q R with orthonormal columns Q and R upper triangular
+/// (Cholesky QR: WᵀW = Rᵀ R, then Q = W R⁻¹ column by column); None if W is rank deficient.
+fn orthonormalise(w: &mut DMatrix<f64>, r: &mut DMatrix<f64>) -> Option<()> {
+    let (rows, n) = w.shape();
+    debug_assert!(n <= MAX_LOCAL);
+    shaped(r, n, n);
+    w.tr_mul_to(w, r);
+    let factor = std::mem::replace(r, empty()).cholesky()?;
+    *r = factor.unpack_dirty();
+    for j in 0..n {
+        let (done, rest) = w.as_mut_slice().split_at_mut(j * rows);
+        let wj = &mut rest[..rows];
+        for (k, qk) in done.chunks_exact(rows).enumerate() {
+            let rjk = r[(j, k)];
+            wj.iter_mut().zip(qk).for_each(|(x, q)| *x -= rjk * q);
+        }
+        let rjj = r[(j, j)];
+        wj.iter_mut().for_each(|x| *x /= rjj);
+    }
+    Some(())
+}
+
+/// v ← L⁻¹ v for the lower triangle of `l`.
+fn forward_substitute(l: &DMatrix<f64>, v: &mut [f64]) {
+    for j in 0..v.len() {
+        let sum: f64 = (0..j).map(|k| l[(j, k)] * v[k]).sum();
+        v[j] = (v[j] - sum) / l[(j, j)];
+    }
+}
+
+/// s ← s + Q c.
+fn add_columns(q: &DMatrix<f64>, c: &[f64], s: &mut [f64]) {
+    for (j, cj) in c.iter().enumerate() {
+        s.iter_mut().zip(column(q, j)).for_each(|(x, qj)| *x += cj * qj);
+    }
+}
+
+/// v ← (I − Q Qᵀ) v.
+fn project_off(q: &DMatrix<f64>, v: &mut [f64]) {
+    let mut c = [0.0; MAX_LOCAL];
+    for (j, cj) in c[..q.ncols()].iter_mut().enumerate() {
+        *cj = -dot(column(q, j), v);
+    }
+    add_columns(q, &c[..q.ncols()], v);
 }
 
 /// Adds s K Kᵀ to the condensed matrix, K = the face rows' part of λ_z for the free rigid
