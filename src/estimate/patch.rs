@@ -322,13 +322,14 @@ impl Condensed {
         // Zᵀ P Z = [same row of σ] (ZᵀZ − (Q₁ᵀZ)ᵀ Q₁ᵀZ) − (Q_SᵀZ)ᵀ Q_SᵀZ
         shaped(&mut self.coupling, g, g);
         for a in 0..g {
-            for b in 0..g {
+            for b in a..g {
                 let same_row = if self.rows_of_sigma[a] == self.rows_of_sigma[b] {
                     dot(column(&self.z, a), column(&self.z, b)) - dot(column(&self.q1_z, a), column(&self.q1_z, b))
                 } else {
                     0.0
                 };
                 self.coupling[(a, b)] = same_row - dot(column(&self.qs_z, a), column(&self.qs_z, b));
+                self.coupling[(b, a)] = self.coupling[(a, b)];
             }
         }
         shaped(&mut self.trace, g, self.s0.ncols());
