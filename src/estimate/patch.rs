@@ -488,8 +488,18 @@ fn column_mut(m: &mut DMatrix<f64>, j: usize) -> &mut [f64] {
     &mut m.as_mut_slice()[j * rows..(j + 1) * rows]
 }
 
+/// a · b with four partial sums, so that the products of short columns run in parallel.
 fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
+    let n = a.len().min(b.len());
+    let mut sums = [0.0; 4];
+    for (x, y) in a[..n].chunks_exact(4).zip(b[..n].chunks_exact(4)) {
+        for l in 0..4 {
+            sums[l] += x[l] * y[l];
+        }
+    }
+    let tail = n - n % 4;
+    let rest: f64 = a[tail..n].iter().zip(&b[tail..n]).map(|(x, y)| x * y).sum();
+    (sums[0] + sums[2]) + (sums[1] + sums[3]) + rest
 }
 
 /// v ← C v for C lower triangular, row-major.

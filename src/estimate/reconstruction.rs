@@ -84,6 +84,8 @@ struct Context<'a> {
     contact: Option<&'a ContactState<'a>>,
     maps: Vec<AffineMap>,
     integrals: Vec<CellIntegrals>,
+    /// The volume data of every cell for each of its vertices, from [`volume_data`].
+    volume: Vec<Vec<f64>>,
     /// Role of every edge (Free for interior edges).
     edge_role: Vec<Role>,
     cases: usize,
@@ -107,7 +109,9 @@ pub fn reconstruct(
     let integrals = maps.par_iter().map(|m| cell_integrals(order, m)).collect();
     let edge_role = edge_roles(problem, topology, contact.map(|c| c.nitsche));
     let cases = if contact.is_some() { 3 } else { 1 };
-    let ctx = Context { problem, topology, u, contact, maps, integrals, edge_role, cases };
+    let mut ctx = Context { problem, topology, u, contact, maps, integrals, volume: Vec::new(), edge_role, cases };
+    let volume = (0..mesh.n_cells()).into_par_iter().map(|c| volume_data(&ctx, c)).collect();
+    ctx.volume = volume;
     let results: Vec<_> = (0..topology.vertices.len())
         .into_par_iter()
         .map_init(patch::Workspace::default, |work, k| {
@@ -181,15 +185,12 @@ fn patch_input<'a>(ctx: &'a Context, k: usize) -> PatchInput<'a> {
     let cells = ctx.topology.patch(k);
     let mut target = vec![vec![0.0; cells.len() * COMPONENTS * nb]; ctx.cases];
     let mut divergence = vec![vec![0.0; cells.len() * nl * 2]; ctx.cases];
+    let (wt, wd) = (COMPONENTS * nb, 2 * nl);
     for (t, &c) in cells.iter().enumerate() {
         let ia = local_vertex(mesh, c, a);
-        volume_data(
-            ctx,
-            c,
-            ia,
-            &mut target[0][t * COMPONENTS * nb..(t + 1) * COMPONENTS * nb],
-            &mut divergence[0][t * nl * 2..(t + 1) * nl * 2],
-        );
+        let data = &ctx.volume[c][ia * (wt + wd)..(ia + 1) * (wt + wd)];
+        target[0][t * wt..(t + 1) * wt].copy_from_slice(&data[..wt]);
+        divergence[0][t * wd..(t + 1) * wd].copy_from_slice(&data[wt..]);
     }
     let (faces, fixed) = patch_faces(ctx, a, cells);
     let origin = mesh.points[a];
@@ -217,23 +218,26 @@ fn local_vertex(mesh: &Mesh, c: usize, a: usize) -> usize {
     mesh.cell(c)[..3].iter().position(|&v| v == a).expect("the patch cell contains its vertex")
 }
 
-/// (ψ_a σ(u_h), φ_k E_c)_T and (−ψ_a f + σ(u_h)∇ψ_a, ψ_m e_i)_T on cell c.
-fn volume_data(ctx: &Context, c: usize, ia: usize, target: &mut [f64], divergence: &mut [f64]) {
+/// (ψ_a σ(u_h), φ_k E_c)_T and (−ψ_a f + σ(u_h)∇ψ_a, ψ_m e_i)_T on cell c for each of its
+/// vertices a (local index ia): `[ia · (4 n_basis + 2 n_lower) + …]`, the 4 n_basis target
+/// moments, then the 2 n_lower divergence moments at `m · 2 + i`.
+fn volume_data(ctx: &Context, c: usize) -> Vec<f64> {
     let mesh = &ctx.problem.mesh;
     let order = mesh.order;
     let (nb, nl) = (lagrange::n_basis(order), afw::n_lower(order));
+    let (wt, wd) = (COMPONENTS * nb, 2 * nl);
     let map = &ctx.maps[c];
     let material = ctx.problem.materials[c];
     let (lambda, mu) = material.lame();
     let nodal: Vec<[f64; 2]> = mesh.cell(c).iter().map(|&n| ctx.u[n]).collect();
-    let grad_hat = map.physical_gradient(hat_gradient(ia));
+    let grad_hat: Vec<[f64; 2]> = (0..3).map(|ia| map.physical_gradient(hat_gradient(ia))).collect();
     let rule = triangle_cached(load_degree(order));
     let (mut phi, mut psi, mut grads) = ([0.0; 6], [0.0; 3], [[0.0; 2]; 6]);
+    let mut out = vec![0.0; 3 * (wt + wd)];
     for (&xi, &w) in rule.points.iter().zip(&rule.weights) {
         let w = w * map.det.abs();
         let s = stress(displacement_gradient(map, order, xi, &nodal, &mut grads[..nb]), lambda, mu);
         let sigma = [s[0], s[2], s[2], s[1]]; // xx, xy, yx, yy
-        let h = hat(ia, xi);
         let f = match &ctx.problem.body_force {
             BodyForce::None => [0.0; 2],
             BodyForce::Gravity(g) => [0.0, -material.density * g],
@@ -241,18 +245,23 @@ fn volume_data(ctx: &Context, c: usize, ia: usize, target: &mut [f64], divergenc
         };
         lagrange::values(order, xi, &mut phi[..nb]);
         afw::lower_values(order, xi, &mut psi[..nl]);
-        for cc in 0..COMPONENTS {
-            for kk in 0..nb {
-                target[cc * nb + kk] += h * sigma[cc] * phi[kk] * w; // (ψ_a σ(u_h), φ_k E_c)
+        for (ia, data) in out.chunks_exact_mut(wt + wd).enumerate() {
+            let (target, divergence) = data.split_at_mut(wt);
+            let h = hat(ia, xi);
+            for cc in 0..COMPONENTS {
+                for kk in 0..nb {
+                    target[cc * nb + kk] += h * sigma[cc] * phi[kk] * w; // (ψ_a σ(u_h), φ_k E_c)
+                }
             }
-        }
-        for i in 0..2 {
-            let g = -h * f[i] + sigma[2 * i] * grad_hat[0] + sigma[2 * i + 1] * grad_hat[1]; // g_a,i
-            for m in 0..nl {
-                divergence[m * 2 + i] += g * psi[m] * w;
+            for i in 0..2 {
+                let g = -h * f[i] + sigma[2 * i] * grad_hat[ia][0] + sigma[2 * i + 1] * grad_hat[ia][1]; // g_a,i
+                for m in 0..nl {
+                    divergence[m * 2 + i] += g * psi[m] * w;
+                }
             }
         }
     }
+    out
 }
 
 /// The faces of the patch and the (face end points, fixed components) of its Dirichlet faces.
