@@ -260,11 +260,11 @@ impl Scene {
         if !(self.mesh.order == 1 || self.mesh.order == 2) {
             return Err(self.invalid(format!("mesh.order = {} must be 1 or 2", self.mesh.order)));
         }
-        if !(self.mesh.size_factor > 0.0) {
+        if self.mesh.size_factor.is_nan() || self.mesh.size_factor <= 0.0 {
             return Err(self.invalid(format!("mesh.size_factor = {} must be positive", self.mesh.size_factor)));
         }
         let c = &self.contact;
-        if !(c.gamma0 > 0.0) {
+        if c.gamma0.is_nan() || c.gamma0 <= 0.0 {
             return Err(self.invalid(format!("contact.gamma0 = {} must be positive", c.gamma0)));
         }
         if ![1.0, 0.0, -1.0].contains(&c.theta) {
@@ -273,7 +273,7 @@ impl Scene {
         if let Some(nu) = c.direction.filter(|nu| !(nu[0].hypot(nu[1]) > 0.0 && nu.iter().all(|x| x.is_finite()))) {
             return Err(self.invalid(format!("contact.direction = {nu:?} must be a non-zero vector")));
         }
-        if c.delta.is_some_and(|d| !(d >= 0.0)) {
+        if c.delta.is_some_and(|d| d.is_nan() || d < 0.0) {
             return Err(self.invalid(format!("contact.delta = {} must be non-negative", c.delta.unwrap_or(0.0))));
         }
         self.adapt.validate().map_err(|message| self.invalid(message))?;

@@ -153,7 +153,7 @@ fn order_and_size_factor_override_the_scene() {
     let scene = repo("geo/scene_a.toml");
     let run = |dir: &str, extra: &[&str]| {
         let mut args: Vec<&OsStr> = vec!["solve".as_ref(), "-q".as_ref(), scene.as_os_str()];
-        args.extend(extra.iter().map(|a| OsStr::new(a)));
+        args.extend(extra.iter().map(OsStr::new));
         let out_dir = tmp.join(dir);
         args.extend(["-o".as_ref(), out_dir.as_os_str()]);
         assert_ok(&damfem(&args));

@@ -52,7 +52,7 @@ pub fn write_discontinuous(path: &Path, e: &Estimate, mesh: &Mesh) -> Result<()>
     let order = e.reconstruction.order;
     let reference = lagrange::reference_nodes(1);
     let mut points = Vec::with_capacity(3 * mesh.n_cells());
-    let mut values = vec![Vec::with_capacity(3 * mesh.n_cells()); COMPONENTS];
+    let mut values: Vec<Vec<f64>> = (0..COMPONENTS).map(|_| Vec::with_capacity(3 * mesh.n_cells())).collect();
     for c in 0..mesh.n_cells() {
         let sigma = e.reconstruction.total(c);
         for (v, &xi) in mesh.cell_vertices(c).iter().zip(reference) {

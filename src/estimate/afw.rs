@@ -79,10 +79,10 @@ pub fn cell_integrals(order: usize, map: &AffineMap) -> CellIntegrals {
             for l in 0..nb {
                 out.mass[k * nb + l] += phi[k] * phi[l] * w;
             }
-            for m in 0..nl {
-                out.divergence[(m * nb + k) * 2] += g[0] * psi[m] * w;
-                out.divergence[(m * nb + k) * 2 + 1] += g[1] * psi[m] * w;
-                out.lower_mass[m * nb + k] += phi[k] * psi[m] * w;
+            for (m, &psi_m) in psi[..nl].iter().enumerate() {
+                out.divergence[(m * nb + k) * 2] += g[0] * psi_m * w;
+                out.divergence[(m * nb + k) * 2 + 1] += g[1] * psi_m * w;
+                out.lower_mass[m * nb + k] += phi[k] * psi_m * w;
             }
         }
         for m in 0..nl {

@@ -202,7 +202,7 @@ fn neumann(problem: &Problem, topology: &Topology) -> Vec<f64> {
             let trace_constant = (h_t * h_t / area / PI * (1.0 / PI + 1.0)).sqrt();
             let normal = topology.outward_normal(mesh, f);
             let points: Vec<(f64, f64)> =
-                split_rule(&rule, bc.traction.kinks(ends)).into_iter().map(|(s, w)| (s, w * h_f)).collect();
+                split_rule(rule, bc.traction.kinks(ends)).into_iter().map(|(s, w)| (s, w * h_f)).collect();
             let projection = FaceProjection::new(mesh.order, &points);
             let g: Vec<[f64; 2]> = points.iter().map(|&(s, _)| bc.traction.at(lerp(ends, s), normal)).collect();
             let error = (0..2)

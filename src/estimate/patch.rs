@@ -426,8 +426,8 @@ impl Condensed {
             for (i, part) in s.chunks_exact_mut(h).enumerate() {
                 let b1 = &mut coefficients[..self.q1.ncols()];
                 b1.fill(0.0);
-                for m in 0..nl {
-                    b1[m] = data.divergence[case][(t * nl + m) * 2 + i];
+                for (m, b) in b1[..nl].iter_mut().enumerate() {
+                    *b = data.divergence[case][(t * nl + m) * 2 + i];
                 }
                 forward_substitute(&self.r1, b1);
                 for (j, bj) in b1.iter_mut().enumerate() {

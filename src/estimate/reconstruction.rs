@@ -130,9 +130,9 @@ pub fn reconstruct(
         defect = defect.max(solution.compatibility.0);
         scale = scale.max(solution.compatibility.1);
         for (t, &cell) in topology.patch(k).iter().enumerate() {
-            for case in 0..cases {
+            for (total, part) in sigma.iter_mut().zip(&solution.sigma) {
                 for j in 0..n {
-                    sigma[case][cell * n + j] += solution.sigma[case][t * n + j];
+                    total[cell * n + j] += part[t * n + j];
                 }
             }
         }
@@ -264,8 +264,11 @@ fn volume_data(ctx: &Context, c: usize) -> Vec<f64> {
     out
 }
 
+/// A Dirichlet face of a patch: its end points and its fixed components.
+type FixedFace = ([[f64; 2]; 2], [bool; 2]);
+
 /// The faces of the patch and the (face end points, fixed components) of its Dirichlet faces.
-fn patch_faces(ctx: &Context, a: usize, cells: &[usize]) -> (Vec<PatchFace>, Vec<([[f64; 2]; 2], [bool; 2])>) {
+fn patch_faces(ctx: &Context, a: usize, cells: &[usize]) -> (Vec<PatchFace>, Vec<FixedFace>) {
     let mesh = &ctx.problem.mesh;
     let reference = lagrange::reference_nodes(1);
     let mut faces = Vec::new();
@@ -419,7 +422,7 @@ fn contact_moments(ctx: &Context, k: usize, a: usize, ends: [usize; 2], data: &m
 
 /// Rigid motions z(x) = (a_x − b y, a_y + b x) (x relative to `origin`) that vanish in the
 /// fixed components of the given Dirichlet faces: the kernel of a 3 × 3 Gram matrix.
-fn free_rigid_motions(fixed: &[([[f64; 2]; 2], [bool; 2])], origin: [f64; 2], size: f64) -> Vec<[f64; 3]> {
+fn free_rigid_motions(fixed: &[FixedFace], origin: [f64; 2], size: f64) -> Vec<[f64; 3]> {
     let mut gram = nalgebra::Matrix3::<f64>::zeros();
     for (ends, fix) in fixed {
         for x in ends {
