@@ -200,6 +200,7 @@ pub fn solve(input: &PatchInput, work: &mut Workspace) -> Result<PatchSolution, 
         .collect();
     Ok(PatchSolution { sigma, compatibility: data.defect })
 }
+
 /// The face rows through a (interior faces and boundary traces).
 fn face_rows(input: &PatchInput) -> Vec<FaceRow> {
     let cases = input.target.len();
@@ -360,7 +361,7 @@ impl Condensed {
                 face_coefficients(nb, face, 0, m, column_mut(w, nl + f * q + m));
             }
         }
-        to_orthonormal_columns(&cell.orthonormal, w);
+        to_orthonormal_columns(&cell.orthonormal, nb, w);
         orthonormalise(w, &mut self.r1).ok_or_else(|| "the local constraints of a cell are not independent".into())
     }
 
@@ -371,7 +372,7 @@ impl Condensed {
         let cell = input.cells[t];
         let skew = shaped(&mut self.skew, nb, nl);
         skew.as_mut_slice().copy_from_slice(&cell.lower_mass[..nl * nb]);
-        to_orthonormal_columns(&cell.orthonormal, skew);
+        to_orthonormal_columns(&cell.orthonormal, nb, skew);
         let y = zeroed(&mut self.qs, 2 * h, nl);
         for m in 0..nl {
             let (first, second) = column_mut(y, m).split_at_mut(h);
@@ -405,7 +406,7 @@ impl Condensed {
         for (a, (&r, &side)) in self.rows.iter().zip(&self.sides).enumerate() {
             face_coefficients(input.n_basis, &input.faces[rows[r].face], side, rows[r].m, column_mut(z, a));
         }
-        to_orthonormal_columns(&input.cells[t].orthonormal, z);
+        to_orthonormal_columns(&input.cells[t].orthonormal, input.n_basis, z);
     }
 
     /// s₀ per case: f = C (τ*, φ) moved onto the divergence and opposite-side rows of each
@@ -518,10 +519,9 @@ fn from_orthonormal(c: &[f64], v: &mut [f64]) {
     }
 }
 
-/// [`to_orthonormal`] on every block of n_basis entries of every column of `w`.
-fn to_orthonormal_columns(c: &[f64], w: &mut DMatrix<f64>) {
-    let n = (c.len() as f64).sqrt().round() as usize;
-    for block in w.as_mut_slice().chunks_exact_mut(n) {
+/// [`to_orthonormal`] on every block of `nb` entries of every column of `w`.
+fn to_orthonormal_columns(c: &[f64], nb: usize, w: &mut DMatrix<f64>) {
+    for block in w.as_mut_slice().chunks_exact_mut(nb) {
         to_orthonormal(c, block);
     }
 }
@@ -716,5 +716,41 @@ fn correct_symmetry(input: &PatchInput, kappa: f64, sym_rhs: &mut [f64]) {
             let integral: f64 = (0..nb).map(|k| cell.lower_mass[m * nb + k]).sum();
             sym_rhs[t * nl + m] += 2.0 * kappa * integral;
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn orthonormalise_gives_an_orthonormal_basis_of_the_same_span() {
+        let w = DMatrix::from_fn(7, 3, |i, j| ((i * 5 + j * 3) % 7) as f64 - 2.5 + if i == j { 4.0 } else { 0.0 });
+        let (mut q, mut r) = (w.clone(), empty());
+        orthonormalise(&mut q, &mut r).expect("independent columns");
+        assert!((q.transpose() * &q - DMatrix::identity(3, 3)).amax() < 1e-13, "QᵀQ = I");
+        assert!((&q * r.lower_triangle().transpose() - &w).amax() < 1e-12 * w.amax(), "W = Q Lᵀ");
+        let mut v: Vec<f64> = w.column(1).iter().copied().collect();
+        project_off(&q, &mut v);
+        assert!(v.iter().all(|x| x.abs() < 1e-12), "(I − QQᵀ) w = 0 on the span");
+    }
+
+    #[test]
+    fn orthonormalise_refuses_dependent_columns() {
+        let mut w = DMatrix::from_fn(5, 2, |i, _| i as f64 + 1.0);
+        assert!(orthonormalise(&mut w, &mut empty()).is_none());
+    }
+
+    #[test]
+    fn orthonormal_coordinates_match_the_triangular_products() {
+        let c = [2.0, 0.0, 0.0, -1.0, 3.0, 0.0, 0.5, 0.25, 1.5]; // lower triangular, row-major
+        let matrix = DMatrix::from_row_slice(3, 3, &c);
+        let v = [1.0, -2.0, 0.5];
+        let (mut to, mut from) = (v, v);
+        to_orthonormal(&c, &mut to);
+        from_orthonormal(&c, &mut from);
+        let vector = DVector::from_row_slice(&v);
+        assert!((DVector::from_row_slice(&to) - &matrix * &vector).amax() < 1e-15, "C v");
+        assert!((DVector::from_row_slice(&from) - matrix.transpose() * &vector).amax() < 1e-15, "Cᵀ v");
     }
 }
