@@ -428,6 +428,39 @@ fn adapt_writes_every_step_its_history_and_figures() {
     assert!(hidden_files(&dir.0).is_empty());
 }
 
+#[test]
+fn adapt_stops_when_the_largest_estimators_sit_at_the_smallest_size() {
+    // Scene A with gmsh's smallest size 1 cm: the cells at the anchored toe cannot follow
+    // the 4-fold shrinking that equidistribution asks of them at its corner
+    let dir = TempDir::new("adapt-stall");
+    let scene = std::fs::read_to_string(repo("geo/scene_a.toml")).unwrap();
+    let geometry = repo("geo/scene_a.geo");
+    let scene = scene
+        .replace("geometry = \"scene_a.geo\"", &format!("geometry = {:?}", geometry.display().to_string()))
+        .replace("[mesh]\n", "[mesh]\nsize_min = 0.01\n");
+    std::fs::write(dir.join("stall.toml"), scene).unwrap();
+    let out = damfem(&[
+        OsStr::new("adapt"),
+        dir.join("stall.toml").as_os_str(),
+        OsStr::new("--order"),
+        OsStr::new("1"),
+        OsStr::new("--steps"),
+        OsStr::new("10"),
+        OsStr::new("-o"),
+        dir.join("out").as_os_str(),
+    ]);
+    assert_ok(&out);
+    let progress = stderr(&out);
+    assert!(progress.contains("stopped after step") && progress.contains("smallest size 1.00e-2 m"), "{progress}");
+    let history: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("out/history.json")).unwrap()).unwrap();
+    let steps = history["steps"].as_array().unwrap();
+    assert!(steps.len() < 10, "{} steps", steps.len());
+    let (last, before) = steps.split_last().unwrap();
+    assert!(before.iter().all(|s| s["stall"].is_null()));
+    assert!(last["stall"]["cells"].as_u64().unwrap() >= 1 && last["stall"]["share"].as_f64().unwrap() >= 0.25);
+}
+
 /// The `unknowns` of every step of `<dir>/history.json`.
 fn history_unknowns(dir: &Path) -> Vec<u64> {
     let history: serde_json::Value =

@@ -35,4 +35,8 @@ impl Mesher for GeoMesher {
         };
         mesh.map_err(|e| AdaptError::Mesh(e.into()))
     }
+
+    fn size_min(&self) -> Option<f64> {
+        self.options.size_min
+    }
 }

@@ -5,8 +5,8 @@
 use crate::mesh::Mesh;
 use serde::{Deserialize, Serialize};
 
-/// How the next sizes follow from η_T and the fraction θ (never below 10⁻⁸ times the extent
-/// of the domain).
+/// How the next sizes follow from η_T and the fraction θ (never below a smallest size, at
+/// least [`smallest_size`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum Marking {
@@ -20,17 +20,22 @@ pub enum Marking {
 }
 
 impl Marking {
-    /// Target sizes on `mesh` for the local estimators `eta`; `tol` is the absolute tolerance
-    /// on η_tot, if any (equidistribution does not aim below it).
-    pub fn target_sizes(self, theta: f64, eta: &[f64], mesh: &Mesh, tol: Option<f64>) -> Vec<f64> {
+    /// Target sizes on `mesh` for the local estimators `eta`, none below `floor`; `tol` is
+    /// the absolute tolerance on η_tot, if any (equidistribution does not aim below it).
+    pub fn target_sizes(self, theta: f64, eta: &[f64], mesh: &Mesh, tol: Option<f64>, floor: f64) -> Vec<f64> {
         let sizes = match self {
             Marking::Dorfler => halved(mesh, &dorfler(eta, theta)),
             Marking::Maximum => halved(mesh, &maximum(eta, theta)),
             Marking::Equidistribution => equidistributed(theta, eta, mesh, tol),
         };
-        let floor = SMALLEST_SIZE * extent(mesh);
         sizes.into_iter().map(|h: f64| h.max(floor)).collect()
     }
+}
+
+/// The smallest target size on `mesh` whatever the mesher allows: [`SMALLEST_SIZE`] times the
+/// domain's extent.
+pub fn smallest_size(mesh: &Mesh) -> f64 {
+    SMALLEST_SIZE * extent(mesh)
 }
 
 /// No target size is below this fraction of the domain's extent, where gmsh's own
@@ -112,7 +117,11 @@ mod tests {
         let size = |order, theta, eta: &[f64], tol| {
             let mesh = crate::mesh::structured::unit_square(4, order);
             let h = cell_size(&mesh, 0);
-            Marking::Equidistribution.target_sizes(theta, eta, &mesh, tol).iter().map(|s| s / h).collect::<Vec<_>>()
+            Marking::Equidistribution
+                .target_sizes(theta, eta, &mesh, tol, 0.0)
+                .iter()
+                .map(|s| s / h)
+                .collect::<Vec<_>>()
         };
         let close = |sizes: &[f64], expected: f64| sizes.iter().all(|s| (s - expected).abs() < 1e-12);
         let n = 32;

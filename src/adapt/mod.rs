@@ -11,6 +11,11 @@
 //! δ = `delta0` × S (S the stress scale of the loads) gives u_h¹, and δ₀ = `delta0` × max over
 //! the Γ_C quadrature points of |P_γ(u_h¹)| (`delta0` × S if that is 0); Newton continues
 //! from u_h¹ at δ₀. δ is a stress, never a multiple of E.
+//!
+//! Target sizes never go below the smallest size: 10⁻⁸ of the domain's extent
+//! ([`marking::smallest_size`]), or the mesher's own minimum if larger (gmsh's `size_min`).
+//! Once the cells held at that size carry θ² of η_tot² (θ = `bulk`), no later mesh can
+//! bring η_tot below θ η_tot, the aim of a step, and the run stops with a [`Stall`].
 
 pub mod geo;
 pub mod history;
@@ -158,6 +163,11 @@ pub trait Mesher {
     /// The mesh of step `step`: the initial mesh, or for step ≥ 1 one with the target cell
     /// sizes `sizes` on the previous mesh `previous` (uniform refinement ignores them).
     fn mesh(&mut self, step: usize, previous: Option<(&Mesh, &[f64])>) -> Result<Mesh, AdaptError>;
+
+    /// The smallest cell size it makes [m], if it has one.
+    fn size_min(&self) -> Option<f64> {
+        None
+    }
 }
 
 /// The problem on a mesh and its contact boundary.
@@ -203,9 +213,50 @@ pub struct StepRecord {
     pub n_lin: usize,
     /// Estimates computed on this mesh (at least the final one).
     pub n_est: usize,
+    /// Set on the last step if the run stopped because of the smallest size.
+    pub stall: Option<Stall>,
     pub seconds: PhaseTimes,
     /// Wall time since the start of the run, at the end of this step.
     pub elapsed: f64,
+}
+
+/// Cells whose target is the smallest size while they carry at least θ² of η_tot².
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Stall {
+    /// The smallest size [m].
+    pub size: f64,
+    /// Cells held at it, and their share of η_tot².
+    pub cells: usize,
+    pub share: f64,
+    /// Centre of the one with the largest η_T.
+    pub at: [f64; 2],
+}
+
+impl std::fmt::Display for Stall {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        write!(
+            f,
+            "{} cells near ({:.3}, {:.3}) ask for sizes below the smallest size {:.2e} m \
+             and hold {:.0} % of eta_tot^2, so no mesh can bring eta_tot below adapt.bulk times its value, \
+             the aim of a step",
+            self.cells,
+            self.at[0],
+            self.at[1],
+            self.size,
+            100.0 * self.share
+        )
+    }
+}
+
+/// The [`Stall`] of the target sizes `sizes` on `mesh`, if any: the cells at the smallest
+/// size hold at least θ² of Σ_T η_T².
+fn stalled(theta: f64, size: f64, mesh: &Mesh, eta: &[f64], sizes: &[f64]) -> Option<Stall> {
+    let held: Vec<usize> = (0..sizes.len()).filter(|&c| sizes[c] <= size).collect();
+    let total: f64 = eta.iter().map(|e| e * e).sum();
+    let share = held.iter().map(|&c| eta[c] * eta[c]).sum::<f64>() / total;
+    let worst = held.iter().copied().max_by(|&a, &b| eta[a].total_cmp(&eta[b]))?;
+    let at = mesh.cell_vertices(worst).iter().fold([0.0; 2], |m, v| [m[0] + v[0] / 3.0, m[1] + v[1] / 3.0]);
+    (share >= theta * theta).then_some(Stall { size, cells: held.len(), share, at })
 }
 
 /// Everything known at the end of a step, for output.
@@ -261,12 +312,16 @@ pub fn run(
         let eta = level.estimate.estimators.global();
         let stress = stress_norm(&problem, &level.estimate.reconstruction);
         let tol = settings.tolerance(stress);
-        let done = step + 1 == settings.steps
+        let mut done = step + 1 == settings.steps
             || tol.is_some_and(|tol| eta.tot <= tol)
             || settings.max_unknowns.is_some_and(|n| disc.dofs.n_free >= n);
         let clock = Instant::now();
-        let sizes =
-            if done { Vec::new() } else { next_sizes(settings, &problem.mesh, &level.estimate.estimators.tot, tol) };
+        let eta_cells = &level.estimate.estimators.tot;
+        let floor = marking::smallest_size(&problem.mesh).max(mesher.size_min().unwrap_or(0.0));
+        let sizes = if done { Vec::new() } else { next_sizes(settings, &problem.mesh, eta_cells, tol, floor) };
+        let stall =
+            (!sizes.is_empty()).then(|| stalled(settings.bulk, floor, &problem.mesh, eta_cells, &sizes)).flatten();
+        done |= stall.is_some();
         seconds.remesh = clock.elapsed().as_secs_f64();
         let record = StepRecord {
             step,
@@ -278,6 +333,7 @@ pub fn run(
             n_reg: level.n_reg,
             n_lin: level.n_lin,
             n_est: level.n_est,
+            stall,
             seconds,
             elapsed: start.elapsed().as_secs_f64(),
         };
@@ -300,9 +356,9 @@ pub fn run(
 }
 
 /// Target cell sizes for the next mesh (empty for uniform refinement, which needs none).
-fn next_sizes(settings: &AdaptSettings, mesh: &Mesh, eta: &[f64], tol: Option<f64>) -> Vec<f64> {
+fn next_sizes(settings: &AdaptSettings, mesh: &Mesh, eta: &[f64], tol: Option<f64>, floor: f64) -> Vec<f64> {
     match settings.refinement {
-        Refinement::Adaptive => settings.marking.target_sizes(settings.bulk, eta, mesh, tol),
+        Refinement::Adaptive => settings.marking.target_sizes(settings.bulk, eta, mesh, tol, floor),
         Refinement::Uniform => Vec::new(),
     }
 }
@@ -318,4 +374,30 @@ fn initial_guess(problem: &Problem, disc: &Discretisation, old: &Mesh, u: &[[f64
         }
     }
     x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_stall_needs_theta_squared_of_the_estimate_at_the_smallest_size() {
+        let mesh = crate::mesh::structured::unit_square(2, 1);
+        let floor = marking::smallest_size(&mesh);
+        let n = mesh.n_cells();
+        let mut eta = vec![1.0; n];
+        eta[0] = 2.0;
+        let mut sizes = vec![0.1; n];
+        sizes[0] = floor;
+        // cell 0 holds 4 / (4 + n − 1) = 4/11 of η² on the 8 cells
+        let share = 4.0 / (n as f64 + 3.0);
+        assert_eq!(n, 8);
+        assert!(stalled(0.5, floor, &mesh, &eta, &sizes).is_some(), "4/11 ≥ 0.5²");
+        assert!(stalled(0.7, floor, &mesh, &eta, &sizes).is_none(), "4/11 < 0.7²");
+        let stall = stalled(share.sqrt(), floor, &mesh, &eta, &sizes).expect("θ² = the share");
+        assert_eq!((stall.cells, stall.size), (1, floor));
+        assert!((stall.share - share).abs() < 1e-15);
+        assert!(stalled(share.sqrt() * 1.01, floor, &mesh, &eta, &sizes).is_none());
+        assert!(stalled(0.1, floor, &mesh, &eta, &vec![0.1; n]).is_none(), "no cell at the smallest size");
+    }
 }

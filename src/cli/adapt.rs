@@ -111,6 +111,9 @@ fn run_sequence(scene: &Scene, input: &Input, dir: &Path, name: &str, prefix: &s
     });
     let error = result.as_ref().err().map(|e| format!("{e}"));
     writer.finish(error.clone())?;
+    if let Some((last, stall)) = writer.history.last().and_then(|r| Some((r.step, r.stall?))) {
+        progress.say(&format!("{prefix}stopped after step {last}: {stall}"));
+    }
     if let Some(e) = error {
         let kind = match scene.adapt.refinement {
             Refinement::Adaptive => "adaptive",
