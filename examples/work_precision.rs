@@ -140,8 +140,8 @@ fn cases(quick: bool) -> Vec<Case> {
             exact: true,
             steps: v3_steps,
         });
-        // P2 on Scene A stops after step 10: its corner cells then reach 10⁻⁸ of the domain,
-        // gmsh's limit (docs/method.md §5.4)
+        // P2 on Scene A stops after step 10: its corner cells then reach the smallest size,
+        // 10⁻⁸ of the domain, and step 11 can no longer halve η there (docs/method.md §5.5)
         all.push(scene_case(
             "scene_a",
             order,
