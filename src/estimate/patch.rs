@@ -309,7 +309,7 @@ impl Condensed {
     ) -> Result<(), String> {
         self.row_basis(input, t)?;
         self.symmetry_basis(input, t)?;
-        self.face_rows(input, t, rows);
+        self.face_block(input, t, rows);
         self.local_solution(input, t, data);
         let (h, g) = (self.z.nrows(), self.rows.len());
         shaped(&mut self.q1_z, self.q1.ncols(), g);
@@ -388,7 +388,7 @@ impl Condensed {
 
     /// The face rows through a that touch cell t, on their row of σ and in orthonormal
     /// coordinates.
-    fn face_rows(&mut self, input: &PatchInput, t: usize, rows: &[FaceRow]) {
+    fn face_block(&mut self, input: &PatchInput, t: usize, rows: &[FaceRow]) {
         self.rows.clear();
         self.rows_of_sigma.clear();
         self.sides.clear();

@@ -230,7 +230,7 @@ fn volume_data(ctx: &Context, c: usize) -> Vec<f64> {
     let material = ctx.problem.materials[c];
     let (lambda, mu) = material.lame();
     let nodal: Vec<[f64; 2]> = mesh.cell(c).iter().map(|&n| ctx.u[n]).collect();
-    let grad_hat: Vec<[f64; 2]> = (0..3).map(|ia| map.physical_gradient(hat_gradient(ia))).collect();
+    let grad_hat: [[f64; 2]; 3] = std::array::from_fn(|ia| map.physical_gradient(hat_gradient(ia)));
     let rule = triangle_cached(load_degree(order));
     let (mut phi, mut psi, mut grads) = ([0.0; 6], [0.0; 3], [[0.0; 2]; 6]);
     let mut out = vec![0.0; 3 * (wt + wd)];
