@@ -43,10 +43,9 @@
 //! - the converged contact solve takes 22 Newton steps at 10⁴ and 28 at 10⁵ (target ≤ 10
 //!   at 10⁵ not met): ≈ 50 to 100 bonded Cholesky solves.
 
-use damfem::contact::nitsche::Nitsche;
-use damfem::contact::projection::QuadraticSmoothing;
-use damfem::contact::{solve_contact, ContactProblem};
-use damfem::estimate::{estimate_iterate, Linearisation};
+use damfem::contact::projection::Smoothing;
+use damfem::contact::{solve_by_continuation, ContactProblem};
+use damfem::estimate::estimate_iterate;
 use damfem::io::atomic::write_output;
 use damfem::io::gmsh::{mesh_geo, MeshOptions};
 use damfem::scene::{Role, Scene};
@@ -155,8 +154,8 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
     };
     let (mesh, mesh_seconds) =
         timed(|| mesh_geo(&scene.geometry, &options, false, false).expect("gmsh meshes Scene A"));
-    let problem = scene.problem(mesh.clone()).expect("Scene A is valid");
-    let tags = scene.contact_tags(&problem.mesh).expect("Scene A has a contact curve");
+    let (problem, joint) = scene.problem(mesh.clone()).expect("Scene A is valid");
+    let joint = joint.expect("Scene A has a contact curve");
     let disc = problem.discretise();
     let pattern = &disc.pattern;
     eprintln!(
@@ -168,9 +167,9 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
     );
 
     // 2. Converged contact solve from zero with the CLI's settings: number of Newton steps
-    let settings = scene.contact_settings(&problem, &disc.topology);
+    let settings = scene.continuation(&problem, &disc.topology);
     let (solution, contact_solve) =
-        timed(|| solve_contact(&problem, &disc, &tags, &settings).expect("Newton converges on Scene A"));
+        timed(|| solve_by_continuation(&problem, &disc, &joint, &settings).expect("Newton converges on Scene A"));
     let newton_steps = solution.newton_steps();
     let in_situ_step = solution
         .stages
@@ -186,9 +185,8 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
     );
 
     // 3. The nonlinear system at the converged state, as Newton sees it
-    let nitsche = Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, &tags, settings.parameters);
-    let contact_faces = nitsche.faces.len();
-    let system = ContactProblem::new(&problem, &disc, nitsche, Box::new(QuadraticSmoothing { delta: settings.delta }));
+    let system = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: settings.delta });
+    let contact_faces = system.nitsche.faces.len();
     let x = solution.x.clone();
     let n = pattern.n();
     let (mut residual, mut jacobian, mut trial_residual) = (vec![0.0; n], vec![0.0; pattern.nnz()], vec![0.0; n]);
@@ -199,7 +197,7 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
     for b in bonded_scene.boundary.values_mut().filter(|b| b.role == Role::Contact) {
         b.role = Role::Dirichlet;
     }
-    let bonded = bonded_scene.problem(mesh).expect("the bonded scene is valid");
+    let (bonded, _) = bonded_scene.problem(mesh).expect("the bonded scene is valid");
     let bonded_disc = bonded.discretise();
     let (bonded_system, assemble_bonded) = timed(|| bonded.assemble(&bonded_disc));
 
@@ -237,9 +235,9 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
         s.cholesky_solve = cholesky_solve;
         assert!(u.iter().all(|v| v.is_finite()));
         // the error estimate of the converged iterate
-        let state = Linearisation { nitsche: &system.nitsche, x_prev: &solution.x_prev, delta: settings.delta };
+        let state = solution.linearisation(&problem, &disc);
         let (estimate, seconds) =
-            timed(|| estimate_iterate(&problem, &disc, &x, Some(state), false).expect("the estimate of Scene A"));
+            timed(|| estimate_iterate(&problem, &disc, &x, Some(&state), false).expect("the estimate of Scene A"));
         s.estimate = seconds;
         assert!(estimate.estimators.global().tot.is_finite());
         eprintln!(

@@ -21,9 +21,9 @@
 //! their reference, printed on the last line ("N combinations: …").
 
 use anyhow::{Context, Result};
-use damfem::contact::nitsche::{Nitsche, NitscheParameters};
-use damfem::contact::projection::QuadraticSmoothing;
-use damfem::contact::{solve_by_continuation, ContactProblem};
+use damfem::contact::nitsche::NitscheParameters;
+use damfem::contact::projection::Smoothing;
+use damfem::contact::{continuation, ContactJoint, ContactProblem};
 use damfem::elasticity::stress::cell_mean_stress;
 use damfem::elasticity::{BodyForce, Material, Problem, Traction};
 use damfem::fem::lagrange;
@@ -318,8 +318,8 @@ fn scene_a(meshes: &mut Meshes, order: usize, size: f64, nu: Option<f64>) -> Res
         scene.materials.values_mut().for_each(|m| m.poisson = nu);
     }
     let mesh = meshes.get(&scene, order, size)?;
-    let tags = scene.contact_tags(&mesh)?;
-    Ok((scene.problem(mesh)?, tags))
+    let (problem, joint) = scene.problem(mesh)?;
+    Ok((problem, joint.map(|j| j.tags).unwrap_or_default()))
 }
 
 /// Scene B with the rock's Young's modulus divided by `divisor`.
@@ -328,7 +328,7 @@ fn scene_b(meshes: &mut Meshes, order: usize, size: f64, divisor: f64) -> Result
     let rock = scene.materials.get_mut("rock").context("scene B has no material 'rock'")?;
     rock.young /= divisor;
     let mesh = meshes.get(&scene, order, size)?;
-    Ok(scene.problem(mesh)?)
+    Ok(scene.problem(mesh)?.0)
 }
 
 /// The same problem in units where stresses are divided by `sigma0` and lengths by `length`:
@@ -595,11 +595,11 @@ fn contact_row(row: &mut Row, problem: &Problem, tags: &[i32], knobs: Knobs, len
     let delta = knobs.delta * scale;
     let start = knobs.start.map_or(delta, |s| (s * scale).max(delta));
     let parameters = NitscheParameters { gamma0: knobs.gamma0, theta: knobs.theta, ..Default::default() };
-    let nitsche = Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, tags, parameters);
-    let contact_face = nitsche.faces.iter().map(|f| f.length).fold(0.0, f64::max) * length;
-    let mut contact = ContactProblem::new(problem, &disc, nitsche, Box::new(QuadraticSmoothing { delta }));
+    let joint = ContactJoint::frictionless(tags.to_vec(), parameters);
+    let mut contact = ContactProblem::new(problem, &disc, &joint, Smoothing { delta });
+    let contact_face = contact.nitsche.faces.iter().map(|f| f.length).fold(0.0, f64::max) * length;
     let options = NewtonOptions { rtol: knobs.rtol, max_iter: knobs.max_iter, ..NewtonOptions::default() };
-    match solve_by_continuation(&mut contact, delta, start, vec![0.0; disc.dofs.n_free], &options) {
+    match continuation(&mut contact, delta, start, vec![0.0; disc.dofs.n_free], &options) {
         Ok((x, stages)) => {
             let last = &stages.last().expect("at least one stage").report;
             let rel = last.residual / last.scale;

@@ -23,6 +23,7 @@ use damfem::adapt::geo::GeoMesher;
 use damfem::adapt::history::{adaptive_uniform_figure, comparison_figure, eta_rate, to_csv, RATE_STEPS};
 use damfem::adapt::{self, AdaptError, AdaptSettings, Model, Refinement, StepRecord};
 use damfem::contact::nitsche::NitscheParameters;
+use damfem::contact::ContactJoint;
 use damfem::elasticity::Problem;
 use damfem::fem::norms::errors;
 use damfem::io::gmsh::MeshOptions;
@@ -38,12 +39,12 @@ use std::path::{Path, PathBuf};
 struct V3;
 
 impl Model for V3 {
-    fn problem(&self, mesh: Mesh) -> Result<(Problem, Vec<i32>), AdaptError> {
-        Ok((v3::problem(mesh), vec![BOTTOM]))
+    fn problem(&self, mesh: Mesh) -> Result<(Problem, Option<ContactJoint>), AdaptError> {
+        Ok((v3::problem(mesh), Some(ContactJoint::frictionless(vec![BOTTOM], NitscheParameters::default()))))
     }
 
-    fn contact(&self) -> (NitscheParameters, NewtonOptions) {
-        (NitscheParameters::default(), NewtonOptions::default())
+    fn newton(&self) -> NewtonOptions {
+        NewtonOptions::default()
     }
 }
 

@@ -8,7 +8,7 @@
 
 use crate::adapt::{AdaptError, AdaptSettings, Model};
 use crate::contact::nitsche::{Gap, NitscheParameters};
-use crate::contact::ContactSettings;
+use crate::contact::{ContactJoint, Continuation};
 use crate::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};
 use crate::io::gmsh::MeshOptions;
 use crate::mesh::{Mesh, Topology};
@@ -356,7 +356,7 @@ impl Scene {
     }
 
     /// Nitsche parameters of the `[contact]` table (the direction made a unit vector).
-    pub fn nitsche_parameters(&self) -> NitscheParameters {
+    fn nitsche_parameters(&self) -> NitscheParameters {
         let c = &self.contact;
         NitscheParameters {
             gamma0: c.gamma0,
@@ -370,41 +370,58 @@ impl Scene {
     }
 
     /// Newton options of the `[contact]` table.
-    fn newton_options(&self) -> NewtonOptions {
+    pub fn newton_options(&self) -> NewtonOptions {
         NewtonOptions { max_iter: self.contact.max_iter, rtol: self.contact.rtol, ..Default::default() }
     }
 
-    /// The contact solver settings of the `[contact]` table: δ defaults to 10⁻⁴ times the
+    /// How `damfem solve` reaches δ, from the `[contact]` table: δ defaults to 10⁻⁴ times the
     /// stress scale of `problem` (0 for the semismooth projection).
-    pub fn contact_settings(&self, problem: &Problem, topology: &Topology) -> ContactSettings {
+    pub fn continuation(&self, problem: &Problem, topology: &Topology) -> Continuation {
         let c = &self.contact;
         let scale = problem.stress_scale(topology);
         let delta = match c.projection {
             ProjectionKind::Semismooth => 0.0,
             ProjectionKind::Quadratic => c.delta.unwrap_or(1e-4 * scale),
         };
-        ContactSettings {
-            parameters: self.nitsche_parameters(),
+        Continuation {
             delta,
             delta_start: delta.max(c.delta_start.unwrap_or(0.0) * scale),
             newton: self.newton_options(),
         }
     }
 
+    /// The `[contact]` keys that only `damfem solve` reads: the adaptive loop chooses δ itself
+    /// (`[adapt] delta0`), so it refuses them rather than ignore them.
+    pub fn check_adaptive(&self) -> Result<(), SceneError> {
+        let c = &self.contact;
+        let set = [
+            ("contact.delta", c.delta.is_some()),
+            ("contact.delta_start", c.delta_start.is_some()),
+            ("contact.projection = \"semismooth\"", c.projection == ProjectionKind::Semismooth),
+        ];
+        match set.iter().find(|(_, given)| *given) {
+            Some((key, _)) => Err(self.invalid(format!(
+                "{key} is read by `damfem solve` only; `damfem adapt` chooses the regularisation from \
+                 adapt.delta0 and reduces it by adapt.rho_delta, so remove the key or use `damfem solve`"
+            ))),
+            None => Ok(()),
+        }
+    }
+
     /// Physical tags of the curves with role "contact".
-    pub fn contact_tags(&self, mesh: &Mesh) -> Result<Vec<i32>, SceneError> {
+    fn contact_tags(&self, mesh: &Mesh) -> Result<Vec<i32>, SceneError> {
         Ok(self.roles(mesh)?.into_iter().filter(|(_, _, b)| b.role == Role::Contact).map(|(tag, _, _)| tag).collect())
     }
 
-    /// The problem on `mesh` and the tags of its contact curves, as the adaptive loop needs them.
-    pub fn problem_and_contact(&self, mesh: Mesh) -> Result<(Problem, Vec<i32>), AdaptError> {
-        let tags = self.contact_tags(&mesh).map_err(|e| AdaptError::Problem(e.into()))?;
-        let problem = self.problem(mesh).map_err(|e| AdaptError::Problem(e.into()))?;
-        Ok((problem, tags))
+    /// The contact joint of the curves with role "contact" on `mesh`, if there are any.
+    fn joint(&self, mesh: &Mesh) -> Result<Option<ContactJoint>, SceneError> {
+        let tags = self.contact_tags(mesh)?;
+        Ok((!tags.is_empty()).then(|| ContactJoint::frictionless(tags, self.nitsche_parameters())))
     }
 
-    /// The elasticity problem of this scene on `mesh`; contact curves carry no condition here.
-    pub fn problem(&self, mesh: Mesh) -> Result<Problem, SceneError> {
+    /// The elasticity problem of this scene on `mesh` and its contact joint (None without
+    /// curves of role "contact").
+    pub fn problem(&self, mesh: Mesh) -> Result<(Problem, Option<ContactJoint>), SceneError> {
         let roles = self.roles(&mesh)?;
         let g = self.loads.gravity;
         let mut dirichlet = Vec::new();
@@ -444,7 +461,8 @@ impl Scene {
         let materials = self.cell_materials(&mesh)?;
         let body_force = if g == 0.0 { BodyForce::None } else { BodyForce::Gravity(g) };
         let problem = Problem { mesh, materials, dirichlet, neumann, body_force };
-        let facets = contact_facets(&problem.mesh, &self.contact_tags(&problem.mesh)?);
+        let joint = self.joint(&problem.mesh)?;
+        let facets = joint.as_ref().map_or_else(Vec::new, |j| contact_facets(&problem.mesh, &j.tags));
         let direction = self.nitsche_parameters().direction;
         if let Some(tag) = facing_away(&problem.mesh, &facets, direction) {
             let name = problem.mesh.groups.iter().find(|g| g.dim == 1 && g.tag == tag).map_or("?", |g| &g.name);
@@ -459,17 +477,17 @@ impl Scene {
                 "the Dirichlet and contact conditions leave a rigid motion free ({motion}); {how} that blocks it"
             )));
         }
-        Ok(problem)
+        Ok((problem, joint))
     }
 }
 
 impl Model for Scene {
-    fn problem(&self, mesh: Mesh) -> Result<(Problem, Vec<i32>), AdaptError> {
-        self.problem_and_contact(mesh)
+    fn problem(&self, mesh: Mesh) -> Result<(Problem, Option<ContactJoint>), AdaptError> {
+        Scene::problem(self, mesh).map_err(|e| AdaptError::Problem(e.into()))
     }
 
-    fn contact(&self) -> (NitscheParameters, NewtonOptions) {
-        (self.nitsche_parameters(), self.newton_options())
+    fn newton(&self) -> NewtonOptions {
+        self.newton_options()
     }
 }
 
@@ -494,14 +512,8 @@ fn facing_away(mesh: &Mesh, facets: &[(usize, [f64; 2])], direction: Option<[f64
 
 /// The facets of the contact curves (tags) with their outward normals.
 fn contact_facets(mesh: &Mesh, tags: &[i32]) -> Vec<(usize, [f64; 2])> {
-    if tags.is_empty() {
-        return Vec::new();
-    }
     let topology = Topology::new(mesh);
-    (0..mesh.n_facets())
-        .filter(|&f| tags.contains(&mesh.facet_tags[f]))
-        .map(|f| (f, topology.outward_normal(mesh, f)))
-        .collect()
+    mesh.facets_tagged(tags).map(|f| (f, topology.outward_normal(mesh, f))).collect()
 }
 
 /// Role given by the naming convention of bare geometry files.

@@ -5,12 +5,12 @@
 use damfem::adapt::geo::GeoMesher;
 use damfem::adapt::history::loglog_slope;
 use damfem::adapt::{self, AdaptError, AdaptSettings, Mesher, Model, Refinement, Step, StepRecord};
-use damfem::contact::nitsche::{Nitsche, NitscheParameters};
-use damfem::contact::projection::QuadraticSmoothing;
-use damfem::contact::ContactProblem;
+
+use damfem::contact::projection::Smoothing;
+use damfem::contact::{ContactJoint, ContactProblem, Linearisation};
 use damfem::elasticity::Problem;
-use damfem::estimate::dual_norm::{residual_dual_norm, ContactData};
-use damfem::estimate::{estimate_iterate, Linearisation};
+use damfem::estimate::dual_norm::residual_dual_norm;
+use damfem::estimate::estimate_iterate;
 use damfem::mesh::Mesh;
 use damfem::scene::Scene;
 use damfem::solve::{newton_until, NewtonOptions};
@@ -150,13 +150,12 @@ struct Limited {
 }
 
 impl Model for Limited {
-    fn problem(&self, mesh: Mesh) -> Result<(Problem, Vec<i32>), AdaptError> {
-        self.scene.problem_and_contact(mesh)
+    fn problem(&self, mesh: Mesh) -> Result<(Problem, Option<ContactJoint>), AdaptError> {
+        Model::problem(&self.scene, mesh)
     }
 
-    fn contact(&self) -> (NitscheParameters, NewtonOptions) {
-        let (parameters, newton) = self.scene.contact();
-        (parameters, NewtonOptions { max_iter: self.max_iter, ..newton })
+    fn newton(&self) -> NewtonOptions {
+        NewtonOptions { max_iter: self.max_iter, ..self.scene.newton_options() }
     }
 }
 
@@ -173,12 +172,11 @@ fn a_newton_failure_is_reported_with_its_history() {
 /// scale of the loads, on the mesh of `step`.
 fn first_iterate_p_max(scene: &Scene, step: &Step, delta0: f64) -> f64 {
     let (problem, disc) = (step.problem, step.disc);
-    let tags = scene.contact_tags(&problem.mesh).expect("contact tags");
-    let (parameters, newton) = scene.contact();
-    let nitsche = Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, &tags, parameters);
+    let (_, joint) = scene.problem(problem.mesh.clone()).expect("problem");
+    let joint = joint.expect("Scene A has a contact curve");
     let delta = delta0 * problem.stress_scale(&disc.topology);
-    let contact = ContactProblem::new(problem, disc, nitsche, Box::new(QuadraticSmoothing { delta }));
-    let one_step = NewtonOptions { max_iter: 1, min_steps: 1, ..newton };
+    let contact = ContactProblem::new(problem, disc, &joint, Smoothing { delta });
+    let one_step = NewtonOptions { max_iter: 1, min_steps: 1, ..scene.newton_options() };
     let report = newton_until(&contact, vec![0.0; disc.dofs.n_free], &one_step, |_| true).expect("one Newton step");
     contact.max_abs_p_gamma(&report.x)
 }
@@ -226,17 +224,17 @@ fn warm_starts_need_few_newton_steps_and_delta_moves_mostly_on_the_first_mesh() 
 fn eta_lin_follows_the_newton_residual() {
     let scene = scene("scene_a", 2);
     let mesh = mesher(&scene, Refinement::Adaptive).mesh(0, None).expect("mesh");
-    let (problem, tags) = scene.problem_and_contact(mesh).expect("problem");
+    let (problem, joint) = scene.problem(mesh).expect("problem");
+    let joint = joint.expect("Scene A has a contact curve");
     let disc = problem.discretise();
-    let (parameters, newton) = scene.contact();
-    let nitsche = Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, &tags, parameters);
+    let newton = scene.newton_options();
     let delta = 0.1 * problem.stress_scale(&disc.topology);
-    let contact = ContactProblem::new(&problem, &disc, nitsche, Box::new(QuadraticSmoothing { delta }));
+    let contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta });
     let mut kappa = Vec::new();
     newton_until(&contact, vec![0.0; disc.dofs.n_free], &newton, |it| {
         if it.last.step == 1.0 && it.residual <= 0.5 * it.last.residual {
-            let state = Linearisation { nitsche: &contact.nitsche, x_prev: it.x_prev, delta };
-            let e = estimate_iterate(&problem, &disc, it.x, Some(state), false).expect("estimate");
+            let state = Linearisation::new(&problem, &disc, &contact.nitsche, contact.smoothing, it.x_prev);
+            let e = estimate_iterate(&problem, &disc, it.x, Some(&state), false).expect("estimate");
             kappa.push((e.estimators.global().lin / it.residual, it.residual));
         }
         false
@@ -361,9 +359,8 @@ fn scene_a_p2_estimate_against_the_dual_norm() {
     let mut previous: Option<(f64, f64, f64)> = None;
     adapt::run(&steps(10), &mut mesher(&scene, Refinement::Adaptive), &scene, |step| {
         let u = step.problem.displacement(step.disc, step.x);
-        let tags = scene.contact_tags(&step.problem.mesh).expect("contact tags");
-        let data = step.nitsche.map(|n| ContactData { tags: &tags, parameters: n.parameters });
-        let dual = residual_dual_norm(step.problem, &u, data.as_ref(), 1).expect("dual norm");
+        let (_, joint) = scene.problem(step.problem.mesh.clone()).expect("problem");
+        let dual = residual_dual_norm(step.problem, &u, joint.as_ref(), 1).expect("dual norm");
         let (n, eta) = (step.record.unknowns as f64, step.record.eta.tot);
         let slope = |from: f64, to: f64, n0: f64| (to / from).ln() / (n / n0).ln();
         let slopes = previous.map(|(n0, e0, d0)| (slope(e0, eta, n0), slope(d0, dual, n0)));

@@ -2,9 +2,9 @@
 
 mod common;
 
-use damfem::contact::nitsche::{Nitsche, NitscheParameters};
-use damfem::contact::projection::QuadraticSmoothing;
-use damfem::contact::{solve_by_continuation, ContactProblem};
+use damfem::contact::nitsche::NitscheParameters;
+use damfem::contact::projection::Smoothing;
+use damfem::contact::{continuation, ContactJoint, ContactProblem};
 use damfem::elasticity::{BodyForce, Dirichlet, Material, Problem};
 use damfem::mesh::structured::{unit_square, BOTTOM, TOP};
 use damfem::solve::{newton, NewtonOptions};
@@ -25,8 +25,8 @@ fn patch_test(order: usize, theta: f64, top_uy: f64, exact: impl Fn([f64; 2]) ->
     };
     let disc = problem.discretise();
     let parameters = NitscheParameters { theta, ..Default::default() };
-    let nitsche = Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, &[BOTTOM], parameters);
-    let contact = ContactProblem::new(&problem, &disc, nitsche, Box::new(QuadraticSmoothing { delta: 1e-4 }));
+    let joint = ContactJoint::frictionless(vec![BOTTOM], parameters);
+    let contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 1e-4 });
     let report = newton(&contact, vec![0.0; disc.dofs.n_free], &NewtonOptions::default()).expect("Newton converges");
     let u = problem.displacement(&disc, &report.x);
     let error =
@@ -62,12 +62,11 @@ fn solve_v3(n: usize, order: usize) -> (f64, f64, f64, usize) {
     use damfem::fem::norms::errors;
     let problem = v3::problem(unit_square(n, order));
     let disc = problem.discretise();
-    let nitsche =
-        Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, &[BOTTOM], NitscheParameters::default());
-    let mut contact = ContactProblem::new(&problem, &disc, nitsche, Box::new(QuadraticSmoothing { delta: 1e-10 }));
+    let joint = ContactJoint::frictionless(vec![BOTTOM], NitscheParameters::default());
+    let mut contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 1e-10 });
     let x0 = vec![0.0; disc.dofs.n_free];
-    let (x, stages) = solve_by_continuation(&mut contact, 1e-10, 0.1, x0, &NewtonOptions::default())
-        .unwrap_or_else(|e| panic!("{e}"));
+    let (x, stages) =
+        continuation(&mut contact, 1e-10, 0.1, x0, &NewtonOptions::default()).unwrap_or_else(|e| panic!("{e}"));
     let steps = stages.iter().map(|s| s.report.iterations.len()).sum();
     let u = problem.displacement(&disc, &x);
     let (_, h1) = errors(&problem.mesh, &u, v3::u, v3::grad_u);

@@ -8,12 +8,12 @@ mod common;
 
 use common::v3;
 
-use damfem::contact::nitsche::{Nitsche, NitscheParameters};
-use damfem::contact::projection::QuadraticSmoothing;
-use damfem::contact::{solve_by_continuation, ContactProblem};
+use damfem::contact::nitsche::NitscheParameters;
+use damfem::contact::projection::Smoothing;
+use damfem::contact::{continuation, ContactJoint, ContactProblem};
 use damfem::elasticity::kernels::{displacement_gradient, stress};
 use damfem::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction, VectorFn};
-use damfem::estimate::dual_norm::{residual_dual_norm, residual_riesz, ContactData};
+use damfem::estimate::dual_norm::{residual_dual_norm, residual_riesz};
 use damfem::fem::affine::AffineMap;
 use damfem::fem::norms::errors;
 use damfem::fem::quadrature::gauss_segment;
@@ -365,8 +365,8 @@ fn v2_solution(order: usize, theta: f64, top_uy: f64) -> (Problem, Vec<[f64; 2]>
     };
     let disc = problem.discretise();
     let parameters = NitscheParameters { theta, ..Default::default() };
-    let nitsche = Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, &[BOTTOM], parameters);
-    let contact = ContactProblem::new(&problem, &disc, nitsche, Box::new(QuadraticSmoothing { delta: 1e-4 }));
+    let joint = ContactJoint::frictionless(vec![BOTTOM], parameters);
+    let contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 1e-4 });
     let report = newton(&contact, vec![0.0; disc.dofs.n_free], &NewtonOptions::default()).expect("Newton converges");
     let u = problem.displacement(&disc, &report.x);
     (problem, u)
@@ -379,7 +379,7 @@ fn v2_solution(order: usize, theta: f64, top_uy: f64) -> (Problem, Vec<[f64; 2]>
 /// All three θ, P1 and P2.
 #[test]
 fn contact_patch_test_has_round_off_residual() {
-    let data = ContactData { tags: &[BOTTOM], parameters: NitscheParameters::default() };
+    let data = ContactJoint::frictionless(vec![BOTTOM], NitscheParameters::default());
     for order in [1, 2] {
         for theta in [1.0, 0.0, -1.0] {
             for d in [-1e-2, 1e-2] {
@@ -407,12 +407,11 @@ fn contact_patch_test_has_round_off_residual() {
 fn v3_solution(n: usize, order: usize, delta: f64) -> (Problem, Vec<[f64; 2]>) {
     let problem = v3::problem(unit_square(n, order));
     let disc = problem.discretise();
-    let nitsche =
-        Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, &[BOTTOM], NitscheParameters::default());
-    let mut contact = ContactProblem::new(&problem, &disc, nitsche, Box::new(QuadraticSmoothing { delta }));
+    let joint = ContactJoint::frictionless(vec![BOTTOM], NitscheParameters::default());
+    let mut contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta });
     let x0 = vec![0.0; disc.dofs.n_free];
-    let (x, _) = solve_by_continuation(&mut contact, delta, 0.1, x0, &NewtonOptions::default())
-        .unwrap_or_else(|e| panic!("{e}"));
+    let (x, _) =
+        continuation(&mut contact, delta, 0.1, x0, &NewtonOptions::default()).unwrap_or_else(|e| panic!("{e}"));
     let u = problem.displacement(&disc, &x);
     (problem, u)
 }
@@ -466,7 +465,7 @@ fn v3_contact_defect(problem: &Problem, u_h: &[[f64; 2]], gamma0: f64) -> f64 {
 ///     (P2), the bounds of the H¹ error in tests/contact.rs.
 #[test]
 fn contact_residual_orthogonality_bound_and_rate() {
-    let data = ContactData { tags: &[BOTTOM], parameters: NitscheParameters::default() };
+    let data = ContactJoint::frictionless(vec![BOTTOM], NitscheParameters::default());
     let (problem, u_h) = v3_solution(8, 2, 0.0);
     let own = residual_dual_norm(&problem, &u_h, Some(&data), 0).unwrap();
     let refined = residual_dual_norm(&problem, &u_h, Some(&data), 2).unwrap();

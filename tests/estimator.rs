@@ -3,16 +3,13 @@
 mod common;
 
 use common::{v1, v3};
-use damfem::contact::nitsche::{Nitsche, NitscheParameters};
-use damfem::contact::projection::QuadraticSmoothing;
-use damfem::contact::{solve_contact, ContactSettings};
+use damfem::contact::nitsche::NitscheParameters;
+use damfem::contact::{solve_by_continuation, ContactJoint, ContactSolution, Continuation, Linearisation};
 use damfem::elasticity::Problem;
 use damfem::estimate::checks::check;
 use damfem::estimate::dual_norm::residual_dual_norm;
-use damfem::estimate::dual_norm::ContactData;
 use damfem::estimate::estimators::estimate;
 use damfem::estimate::reconstruction::reconstruct;
-use damfem::estimate::reconstruction::ContactState;
 use damfem::mesh::structured::unit_square;
 use damfem::mesh::structured::BOTTOM;
 use damfem::solve::Cholesky;
@@ -57,16 +54,13 @@ fn v1_equilibration_and_guaranteed_bound() {
     }
 }
 
-/// The converged contact solution of `problem` with contact on `tags`, and the reconstruction
-/// inputs: (u, u_prev, Nitsche faces, δ).
-fn solve_with_contact(problem: &Problem, tags: &[i32], delta: f64) -> (Vec<[f64; 2]>, Vec<[f64; 2]>, Nitsche) {
+/// The converged contact solution of `problem` with contact on `joint` at δ: the nodal
+/// displacement and the contact solution.
+fn solve_with_contact(problem: &Problem, joint: &ContactJoint, delta: f64) -> (Vec<[f64; 2]>, ContactSolution) {
     let disc = problem.discretise();
-    let parameters = NitscheParameters::default();
-    let settings = ContactSettings { parameters, delta, delta_start: 0.1, newton: NewtonOptions::default() };
-    let solution = solve_contact(problem, &disc, tags, &settings).unwrap();
-    let last = &solution.stages.last().unwrap().report;
-    let nitsche = Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, tags, parameters);
-    (problem.displacement(&disc, &last.x), problem.displacement(&disc, &last.x_prev), nitsche)
+    let settings = Continuation { delta, delta_start: 0.1, newton: NewtonOptions::default() };
+    let solution = solve_by_continuation(problem, &disc, joint, &settings).unwrap();
+    (problem.displacement(&disc, &solution.x), solution)
 }
 
 /// V3 (source: docs/method.md §7), the manufactured Signorini solution, θ = 0, γ₀ = 100,
@@ -80,15 +74,18 @@ fn v3_contact_equilibration_and_guaranteed_bound() {
         for n in sizes {
             let problem = v3::problem(unit_square(n, order));
             let delta = 1e-8;
-            let (u, u_prev, nitsche) = solve_with_contact(&problem, &[BOTTOM], delta);
-            let projection = QuadraticSmoothing { delta };
-            let state = ContactState { nitsche: &nitsche, projection: &projection, u_prev: &u_prev };
+            let joint = ContactJoint::frictionless(vec![BOTTOM], NitscheParameters::default());
+            let (u, solution) = solve_with_contact(&problem, &joint, delta);
             let topology = damfem::mesh::Topology::new(&problem.mesh);
+            let state = Linearisation {
+                nitsche: &solution.nitsche,
+                smoothing: solution.smoothing,
+                u_prev: problem.displacement(&problem.discretise(), &solution.x_prev),
+            };
             let rec = reconstruct(&problem, &topology, &u, Some(&state)).unwrap();
             let eq = check(&problem, &topology, &u, &rec, Some(&state));
             let est = estimate(&problem, &topology, &u, &rec, Some(&state)).global();
-            let data = ContactData { tags: &[BOTTOM], parameters: NitscheParameters::default() };
-            let dual = residual_dual_norm(&problem, &u, Some(&data), 1).unwrap();
+            let dual = residual_dual_norm(&problem, &u, Some(&joint), 1).unwrap();
             println!(
                 "P{order} n = {n}: eta = {:.4e} (flux {:.2e}, Neu {:.2e}, disc {:.2e}, reg {:.2e}, lin {:.2e}), dual norm >= {dual:.4e}, I_eff <= {:.3}; worst check {:.1e}",
                 est.tot, est.flux, est.neu, est.disc, est.reg, est.lin, est.tot / dual, eq.worst(order)

@@ -12,14 +12,14 @@ mod common;
 
 use common::{v1, v3};
 use damfem::contact::nitsche::{Nitsche, NitscheParameters};
-use damfem::contact::projection::QuadraticSmoothing;
-use damfem::contact::{solve_contact, ContactProblem, ContactSettings};
+use damfem::contact::projection::Smoothing;
+use damfem::contact::{solve_by_continuation, ContactJoint, ContactProblem, Continuation, Linearisation};
 use damfem::elasticity::{BodyForce, Discretisation, Material, Neumann, Problem, Traction};
 use damfem::estimate::afw::COMPONENTS;
 use damfem::estimate::checks::{check, Equilibration};
-use damfem::estimate::dual_norm::{residual_dual_norm, ContactData};
+use damfem::estimate::dual_norm::residual_dual_norm;
 use damfem::estimate::estimators::{estimate, GlobalEstimators};
-use damfem::estimate::reconstruction::{reconstruct, ContactState, Reconstruction};
+use damfem::estimate::reconstruction::{reconstruct, Reconstruction};
 use damfem::io::gmsh::{mesh_geo, MeshOptions};
 use damfem::mesh::structured::{rectangle, unit_square, BOTTOM, LEFT, RIGHT, TOP};
 use damfem::mesh::{Mesh, Topology};
@@ -55,20 +55,19 @@ struct ContactRun {
     contact_length: f64,
 }
 
-/// Solves with solve_contact (adapted from solve_with_contact of tests/estimator.rs, with the
-/// settings as an argument).
+/// Solves along the δ path of `settings` (as tests/estimator.rs does).
 fn solve_with_contact(
     problem: &Problem,
     disc: &Discretisation,
-    tags: &[i32],
-    settings: &ContactSettings,
+    joint: &ContactJoint,
+    settings: &Continuation,
 ) -> ContactRun {
-    let solution = solve_contact(problem, disc, tags, settings).unwrap_or_else(|e| panic!("{e}"));
+    let solution = solve_by_continuation(problem, disc, joint, settings).unwrap_or_else(|e| panic!("{e}"));
     let last = &solution.stages.last().unwrap().report;
     ContactRun {
         u: problem.displacement(disc, &last.x),
         u_prev: problem.displacement(disc, &last.x_prev),
-        nitsche: Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, tags, settings.parameters),
+        nitsche: solution.nitsche.clone(),
         delta: settings.delta,
         newton_steps: solution.stages.iter().map(|s| s.report.iterations.len()).sum(),
         contact_length: solution.contact_length(),
@@ -99,14 +98,16 @@ fn evaluate(
     levels: Option<usize>,
 ) -> Evaluation {
     let topology = Topology::new(&problem.mesh);
-    let projection = contact.map(|(_, delta, _)| QuadraticSmoothing { delta });
-    let state =
-        contact.map(|(nitsche, _, u_prev)| ContactState { nitsche, projection: projection.as_ref().unwrap(), u_prev });
+    let state = contact.map(|(nitsche, delta, u_prev)| Linearisation {
+        nitsche,
+        smoothing: Smoothing { delta },
+        u_prev: u_prev.to_vec(),
+    });
     let rec = reconstruct(problem, &topology, u, state.as_ref()).unwrap_or_else(|e| panic!("{e}"));
     let eq = check(problem, &topology, u, &rec, state.as_ref());
     let est = estimate(problem, &topology, u, &rec, state.as_ref()).global();
     let dual = levels.map(|levels| {
-        let data = contact.map(|(nitsche, _, _)| ContactData { tags, parameters: nitsche.parameters });
+        let data = contact.map(|(nitsche, _, _)| ContactJoint::frictionless(tags.to_vec(), nitsche.parameters));
         residual_dual_norm(problem, u, data.as_ref(), levels).unwrap_or_else(|e| panic!("{e}"))
     });
     Evaluation { eq, est, dual }
@@ -180,13 +181,13 @@ fn scene_mesh(file: &str, order: usize, size_factor: f64) -> (Scene, Mesh) {
 /// Solves a scene with contact (CLI settings): the problem, its contact tags and the run.
 fn scene_with_contact(file: &str, order: usize, size_factor: f64) -> (Problem, Vec<i32>, ContactRun) {
     let (scene, mesh) = scene_mesh(file, order, size_factor);
-    let tags = scene.contact_tags(&mesh).unwrap_or_else(|e| panic!("{e}"));
-    let problem = scene.problem(mesh).unwrap_or_else(|e| panic!("{e}"));
+    let (problem, joint) = scene.problem(mesh).unwrap_or_else(|e| panic!("{e}"));
+    let joint = joint.unwrap_or_else(|| panic!("{file} has a contact curve"));
     let disc = problem.discretise();
-    let settings = scene.contact_settings(&problem, &disc.topology);
-    assert_eq!(settings.parameters.theta, 0.0, "{file}: the estimator needs theta = 0");
-    let run = solve_with_contact(&problem, &disc, &tags, &settings);
-    (problem, tags, run)
+    let settings = scene.continuation(&problem, &disc.topology);
+    assert_eq!(joint.parameters.theta, 0.0, "{file}: the estimator needs theta = 0");
+    let run = solve_with_contact(&problem, &disc, &joint, &settings);
+    (problem, joint.tags, run)
 }
 
 // ---------------------------------------------------------------------------------------
@@ -206,15 +207,16 @@ fn v3_newton_rows(order: usize, delta: f64, warm_delta: Option<f64>, max_steps: 
     let problem = v3::problem(unit_square(8, order));
     let disc = problem.discretise();
     let parameters = NitscheParameters::default();
-    let nitsche = Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, &[BOTTOM], parameters);
+    let joint = ContactJoint::frictionless(vec![BOTTOM], parameters);
     let x0 = match warm_delta {
         None => vec![0.0; disc.dofs.n_free],
         Some(d) => {
-            let settings = ContactSettings { parameters, delta: d, delta_start: 0.1, newton: NewtonOptions::default() };
-            solve_contact(&problem, &disc, &[BOTTOM], &settings).unwrap_or_else(|e| panic!("{e}")).x
+            let settings = Continuation { delta: d, delta_start: 0.1, newton: NewtonOptions::default() };
+            solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("{e}")).x
         }
     };
-    let contact = ContactProblem::new(&problem, &disc, nitsche.clone(), Box::new(QuadraticSmoothing { delta }));
+    let contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta });
+    let nitsche = &contact.nitsche;
     let (xs, residuals) = full_newton(&contact, x0, max_steps);
     let last = residuals.iter().position(|&r| r <= 1e-12).unwrap_or(max_steps).max(1);
     let start = if warm_delta.is_some() { "warm start" } else { "x_0 = 0" };
@@ -224,7 +226,7 @@ fn v3_newton_rows(order: usize, delta: f64, warm_delta: Option<f64>, max_steps: 
     for k in 1..=last {
         let u = problem.displacement(&disc, &xs[k]);
         let u_prev = problem.displacement(&disc, &xs[k - 1]);
-        let eval = evaluate(&problem, &u, Some((&nitsche, delta, &u_prev)), &[BOTTOM], Some(1));
+        let eval = evaluate(&problem, &u, Some((nitsche, delta, &u_prev)), &[BOTTOM], Some(1));
         let ratio = rows.last().map_or(f64::NAN, |r| eval.est.lin / r.eval.est.lin.powi(2));
         println!(
             " {k:2}  {:.2e}  {:.4e}  {:.4e}  {:5.3}  {:.3e}  {:.3e}  {:.3e}  {:.3e}  {ratio:9.3e}          {:.1e}",
@@ -372,7 +374,7 @@ fn scene_b_equilibrates() {
     for order in [1, 2] {
         let clock = std::time::Instant::now();
         let (scene, mesh) = scene_mesh("geo/scene_b.toml", order, 2.0);
-        let problem = scene.problem(mesh).unwrap_or_else(|e| panic!("{e}"));
+        let (problem, _) = scene.problem(mesh).unwrap_or_else(|e| panic!("{e}"));
         assert!(problem.dirichlet.iter().any(|bc| bc.fix == [true, false]), "scene B has rollers");
         let u = solve_linear(&problem);
         let e = evaluate(&problem, &u, None, &[], None);
@@ -489,8 +491,12 @@ fn scene_a_low_water(problem: &Problem, tags: &[i32]) -> (Problem, Evaluation) {
         }
     }
     let disc = low.discretise();
-    let settings = Scene::load(&manifest("geo/scene_a.toml")).unwrap().contact_settings(&low, &disc.topology);
-    let run = solve_with_contact(&low, &disc, tags, &settings);
+    let scene = Scene::load(&manifest("geo/scene_a.toml")).unwrap();
+    let settings = scene.continuation(&low, &disc.topology);
+    let (_, joint) = scene.problem(low.mesh.clone()).unwrap_or_else(|e| panic!("{e}"));
+    let joint = joint.expect("Scene A has a contact curve");
+    assert_eq!(joint.tags, tags, "the contact curves of Scene A");
+    let run = solve_with_contact(&low, &disc, &joint, &settings);
     let e = evaluate(&low, &run.u, run.state(), tags, Some(1));
     (low, e)
 }
@@ -683,9 +689,9 @@ fn regularisation_sweep(name: &str, problem: &Problem, deltas: &[f64]) -> Vec<f6
     let mut reg = Vec::new();
     println!("{name} P{order}:  delta  steps  eta_reg     eta_disc    eta_flux    eta_lin     eta_tot     dual        I_eff  worst");
     for &delta in deltas {
-        let parameters = NitscheParameters::default();
-        let settings = ContactSettings { parameters, delta, delta_start: 0.1, newton: NewtonOptions::default() };
-        let run = solve_with_contact(problem, &disc, &[BOTTOM], &settings);
+        let joint = ContactJoint::frictionless(vec![BOTTOM], NitscheParameters::default());
+        let settings = Continuation { delta, delta_start: 0.1, newton: NewtonOptions::default() };
+        let run = solve_with_contact(problem, &disc, &joint, &settings);
         let (e, steps) = (evaluate(problem, &run.u, run.state(), &[BOTTOM], Some(1)), run.newton_steps);
         let dual = e.dual.unwrap();
         println!(
@@ -835,15 +841,11 @@ fn tampered_reconstruction_fails_the_checks() {
     // V3: a patch on the Neumann side and the σ_h2/σ_h3 split on Γ_C
     let problem = v3::problem(unit_square(4, 2));
     let disc = problem.discretise();
-    let settings = ContactSettings {
-        parameters: NitscheParameters::default(),
-        delta: 1e-3,
-        delta_start: 0.1,
-        newton: NewtonOptions::default(),
-    };
-    let run = solve_with_contact(&problem, &disc, &[BOTTOM], &settings);
-    let projection = QuadraticSmoothing { delta: run.delta };
-    let state = ContactState { nitsche: &run.nitsche, projection: &projection, u_prev: &run.u_prev };
+    let joint = ContactJoint::frictionless(vec![BOTTOM], NitscheParameters::default());
+    let settings = Continuation { delta: 1e-3, delta_start: 0.1, newton: NewtonOptions::default() };
+    let run = solve_with_contact(&problem, &disc, &joint, &settings);
+    let state =
+        Linearisation { nitsche: &run.nitsche, smoothing: Smoothing { delta: run.delta }, u_prev: run.u_prev.clone() };
     let topology = Topology::new(&problem.mesh);
     let valid_rec = reconstruct(&problem, &topology, &run.u, Some(&state)).unwrap();
     let valid = check(&problem, &topology, &run.u, &valid_rec, Some(&state));

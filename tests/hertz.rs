@@ -31,9 +31,9 @@
 //! +1.35 %; 0.035: −0.91 %, +0.85 %; 0.025: −0.90 %, +0.89 %): the constraint on u·n with
 //! n_x ≈ x/R adds u_x x/R ∝ x² to the gap, an O(b/R) change of the effective radius.
 
-use damfem::contact::nitsche::{Gap, Nitsche, NitscheParameters};
-use damfem::contact::projection::{negative_part, QuadraticSmoothing};
-use damfem::contact::{solve_contact, ContactSettings};
+use damfem::contact::nitsche::{Gap, NitscheParameters};
+use damfem::contact::projection::{negative_part, Smoothing};
+use damfem::contact::{solve_by_continuation, ContactJoint, Continuation};
 use damfem::elasticity::{BodyForce, Dirichlet, Material, Problem};
 use damfem::fem::sparse::vector_dofs;
 use damfem::io::gmsh::{mesh_geo, MeshOptions};
@@ -147,26 +147,21 @@ fn solve_hertz(size_factor: f64, direction: Option<[f64; 2]>) -> HertzRun {
     let scale = problem.stress_scale(&disc.topology);
     let parameters =
         NitscheParameters { gamma0: 100.0, theta: 0.0, gap: Gap { constant: R, gradient: [0.0, 1.0] }, direction };
-    let settings = ContactSettings {
-        parameters,
-        delta: 1e-6 * scale,
-        delta_start: 1e-2 * scale,
-        newton: NewtonOptions::default(),
-    };
-    let solution = solve_contact(&problem, &disc, &[gamma_c], &settings).unwrap_or_else(|e| panic!("{e}"));
-    // solve_contact returns face states only: rebuild the faces for normals, lengths and P_γ
-    let nitsche = Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, &[gamma_c], parameters);
+    let settings = Continuation { delta: 1e-6 * scale, delta_start: 1e-2 * scale, newton: NewtonOptions::default() };
+    let joint = ContactJoint::frictionless(vec![gamma_c], parameters);
+    let solution = solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("{e}"));
+    let nitsche = &solution.nitsche;
     assert_eq!(nitsche.faces.len(), solution.faces.len());
     let force = nitsche.faces.iter().zip(&solution.faces).map(|(f, s)| s.pressure * f.length * -f.direction[1]).sum();
 
     let u_full = disc.dofs.expand(&solution.x);
-    let plain = QuadraticSmoothing { delta: 0.0 }; // its quadrature splits faces where P_γ = 0
+    let plain = Smoothing::NONE; // its quadrature splits faces where P_γ = 0
     let (mut profile, mut face_means, mut dofs) = (Vec::new(), Vec::new(), Vec::new());
     let mut at_vertices: BTreeMap<usize, Vec<(f64, f64)>> = BTreeMap::new(); // node ↦ [(x, P)]
     for (k, face) in nitsche.faces.iter().enumerate() {
         vector_dofs(problem.mesh.cell(face.cell), &mut dofs);
         let u: Vec<f64> = dofs.iter().map(|&g| u_full[g]).collect();
-        for (s, w) in nitsche.quadrature(k, &u, &plain) {
+        for (s, w) in nitsche.quadrature(k, &u, plain) {
             let point = nitsche.point(k, s);
             profile.push((point.x[0], -negative_part(nitsche.p_gamma(k, &point, &u)), w));
         }

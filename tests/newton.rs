@@ -4,9 +4,9 @@
 
 mod common;
 
-use damfem::contact::nitsche::{Nitsche, NitscheParameters};
-use damfem::contact::projection::QuadraticSmoothing;
-use damfem::contact::{solve_contact, ContactProblem, ContactSettings};
+use damfem::contact::nitsche::NitscheParameters;
+use damfem::contact::projection::Smoothing;
+use damfem::contact::{solve_by_continuation, ContactJoint, ContactProblem, Continuation};
 use damfem::elasticity::{BodyForce, Dirichlet, Discretisation, Material, Problem};
 use damfem::fem::dofs::FIXED;
 use damfem::io::gmsh::{mesh_geo, MeshOptions};
@@ -19,7 +19,7 @@ use std::sync::Arc;
 /// Scene A (geo/scene_a.toml: gravity dam on rigid rock, heel side of the base in contact,
 /// toe anchored, flood on the upstream face) meshed by gmsh at degree `order`: the scene,
 /// its problem, discretisation, contact tags and stress scale S.
-fn scene_a(order: usize) -> (Scene, Problem, Discretisation, Vec<i32>, f64) {
+fn scene_a(order: usize) -> (Problem, Discretisation, ContactJoint, f64) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("geo/scene_a.toml");
     let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
     let m = &scene.mesh;
@@ -31,11 +31,10 @@ fn scene_a(order: usize) -> (Scene, Problem, Discretisation, Vec<i32>, f64) {
         algorithm: m.algorithm,
     };
     let mesh = mesh_geo(&scene.geometry, &options, false, false).expect("gmsh meshes scene A");
-    let tags = scene.contact_tags(&mesh).unwrap_or_else(|e| panic!("{e}"));
-    let problem = scene.problem(mesh).unwrap_or_else(|e| panic!("{e}"));
+    let (problem, joint) = scene.problem(mesh).unwrap_or_else(|e| panic!("{e}"));
     let disc = problem.discretise();
     let scale = problem.stress_scale(&disc.topology);
-    (scene, problem, disc, tags, scale)
+    (problem, disc, joint.expect("Scene A has a contact curve"), scale)
 }
 
 fn norm(v: &[f64]) -> f64 {
@@ -59,14 +58,9 @@ fn distance(a: &[f64], b: &[f64]) -> f64 {
 #[test]
 fn newton_converges_quadratically_once_the_active_set_settles() {
     for order in [1, 2] {
-        let (scene, problem, disc, tags, scale) = scene_a(order);
-        let settings = ContactSettings {
-            parameters: scene.nitsche_parameters(),
-            delta: 1e-4 * scale,
-            delta_start: 0.0,
-            newton: NewtonOptions::default(),
-        };
-        let solution = solve_contact(&problem, &disc, &tags, &settings).unwrap_or_else(|e| panic!("{e}"));
+        let (problem, disc, joint, scale) = scene_a(order);
+        let settings = Continuation { delta: 1e-4 * scale, delta_start: 0.0, newton: NewtonOptions::default() };
+        let solution = solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("{e}"));
         assert_eq!(solution.stages.len(), 1);
         let report = &solution.stages[0].report;
         let increments: Vec<f64> = report.iterations.iter().map(|it| it.increment).collect();
@@ -106,7 +100,7 @@ fn newton_converges_quadratically_once_the_active_set_settles() {
 /// discrete solution u_δ tends to the semismooth one u_0 (δ = 0) with ‖u_δ − u_0‖ = O(δ).
 /// Goal: measure the rate. Problem: Scene A as above (P1 and P2), δ = S·10^{−k/2},
 /// k = 2, …, 7 (P1) or 2, …, 6 (P2), each solved by Newton from the previous u_δ with
-/// rtol = 10⁻¹²; u_0 from solve_contact with δ = 0 (continuation from 10⁻¹ S).
+/// rtol = 10⁻¹²; u_0 from solve_by_continuation with δ = 0 (continuation from 10⁻¹ S).
 /// Norm: Euclidean norm of the free unknowns. The fitted slope must be at least 0.9.
 /// Observed: slope 2. [P_γ(u_0)]_{reg,δ} differs from [P_γ(u_0)]_{R⁻} only where
 /// |P_γ(u_0)| < δ, and P_γ(u_0) crosses 0 transversally at the ends of the contact zone, so
@@ -117,23 +111,17 @@ fn newton_converges_quadratically_once_the_active_set_settles() {
 #[test]
 fn regularised_solution_tends_to_the_semismooth_one() {
     for (order, last_k) in [(1, 7), (2, 6)] {
-        let (scene, problem, disc, tags, scale) = scene_a(order);
+        let (problem, disc, joint, scale) = scene_a(order);
         let options = NewtonOptions { rtol: 1e-12, ..Default::default() };
-        let settings = ContactSettings {
-            parameters: scene.nitsche_parameters(),
-            delta: 0.0,
-            delta_start: 0.1 * scale,
-            newton: options,
-        };
-        let exact = solve_contact(&problem, &disc, &tags, &settings).unwrap_or_else(|e| panic!("{e}"));
-        let nitsche = Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, &tags, settings.parameters);
-        let mut contact = ContactProblem::new(&problem, &disc, nitsche, Box::new(QuadraticSmoothing { delta: 0.0 }));
+        let settings = Continuation { delta: 0.0, delta_start: 0.1 * scale, newton: options };
+        let exact = solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("{e}"));
+        let mut contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 0.0 });
         let mut x = vec![0.0; disc.dofs.n_free];
         let (mut deltas, mut errors) = (Vec::new(), Vec::new());
         println!("P{order}: S = {scale:.4e} Pa, ‖u_0‖ = {:.4e}", norm(&exact.x));
         for k in 2..=last_k {
             let delta = scale * 10f64.powf(-0.5 * k as f64);
-            contact.projection = Box::new(QuadraticSmoothing { delta });
+            contact.set_delta(delta);
             let report = newton(&contact, x, &options).unwrap_or_else(|e| panic!("δ = {delta:e}: {e}"));
             x = report.x;
             let error = distance(&x, &exact.x);
@@ -177,9 +165,8 @@ fn regularised_solution_error_is_linear_in_delta_for_grazing_contact() {
     };
     let disc = problem.discretise();
     let scale = problem.stress_scale(&disc.topology);
-    let nitsche =
-        Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, &[BOTTOM], NitscheParameters::default());
-    let mut contact = ContactProblem::new(&problem, &disc, nitsche, Box::new(QuadraticSmoothing { delta: 0.0 }));
+    let joint = ContactJoint::frictionless(vec![BOTTOM], NitscheParameters::default());
+    let mut contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 0.0 });
     // u_0: the interpolant of (εx, 0), which must solve the semismooth problem
     let mut exact = vec![0.0; disc.dofs.n_free];
     for (node, p) in problem.mesh.points.iter().enumerate() {
@@ -197,7 +184,7 @@ fn regularised_solution_error_is_linear_in_delta_for_grazing_contact() {
     let options = NewtonOptions { rtol: 1e-12, ..Default::default() };
     for k in 1..=4 {
         let delta = scale * 10f64.powi(-k);
-        contact.projection = Box::new(QuadraticSmoothing { delta });
+        contact.set_delta(delta);
         let report = newton(&contact, exact.clone(), &options).unwrap_or_else(|e| panic!("δ = {delta:e}: {e}"));
         let error = distance(&report.x, &exact);
         println!("δ = {:.0e} S: ‖u_δ − u_0‖ = {error:.4e}, ‖u_δ − u_0‖/δ = {:.6e}", delta / scale, error / delta);
@@ -211,12 +198,12 @@ fn regularised_solution_error_is_linear_in_delta_for_grazing_contact() {
 
 /// A Newton failure is an error. Source: src/solve/newton.rs (running out of iterations is
 /// NewtonError::NotConverged with the residual history). Problem: Scene A at P1 as above,
-/// δ = 10⁻⁴ S, solved from u = 0 with max_iter = 1 through solve_contact, and with
+/// δ = 10⁻⁴ S, solved from u = 0 with max_iter = 1 through solve_by_continuation, and with
 /// max_iter = 3 through newton directly: both must return NotConverged (no panic, no
 /// answer) whose message lists every relative residual of the history.
 #[test]
 fn newton_failure_is_a_clear_error() {
-    let (scene, problem, disc, tags, scale) = scene_a(1);
+    let (problem, disc, joint, scale) = scene_a(1);
     let expect_not_converged = |result: Result<Vec<f64>, NewtonError>, max_iter: usize| {
         let error = result.expect_err("Newton cannot converge in so few steps");
         let message = error.to_string();
@@ -233,15 +220,13 @@ fn newton_failure_is_a_clear_error() {
             other => panic!("expected NotConverged, got {other:?}"),
         }
     };
-    let mut settings = ContactSettings {
-        parameters: scene.nitsche_parameters(),
+    let mut settings = Continuation {
         delta: 1e-4 * scale,
         delta_start: 0.0,
         newton: NewtonOptions { max_iter: 1, ..Default::default() },
     };
-    expect_not_converged(solve_contact(&problem, &disc, &tags, &settings).map(|s| s.x), 1);
+    expect_not_converged(solve_by_continuation(&problem, &disc, &joint, &settings).map(|s| s.x), 1);
     settings.newton.max_iter = 3;
-    let nitsche = Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, &tags, settings.parameters);
-    let contact = ContactProblem::new(&problem, &disc, nitsche, Box::new(QuadraticSmoothing { delta: settings.delta }));
+    let contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: settings.delta });
     expect_not_converged(newton(&contact, vec![0.0; disc.dofs.n_free], &settings.newton).map(|r| r.x), 3);
 }

@@ -2,24 +2,19 @@
 //! inside a loop on the regularisation δ stopped by (S_reg).
 
 use super::{AdaptError, AdaptSettings};
-use crate::contact::nitsche::{Nitsche, NitscheParameters};
-use crate::contact::projection::QuadraticSmoothing;
-use crate::contact::ContactProblem;
+use crate::contact::projection::Smoothing;
+use crate::contact::{ContactJoint, ContactProblem, Linearisation, Solution, Stage};
 use crate::elasticity::{Discretisation, Problem};
 use crate::estimate::estimators::GlobalEstimators;
-use crate::estimate::{estimate_iterate, Estimate, Linearisation};
-use crate::solve::{newton_until, Cholesky, Iterate, NewtonOptions};
+use crate::estimate::{estimate_iterate, Estimate};
+use crate::solve::{newton_until, Iterate, NewtonOptions};
 use std::time::Instant;
 
 /// The result of one mesh level.
 pub struct Level {
-    /// Free unknowns of the final iterate.
-    pub x: Vec<f64>,
+    /// The final iterate, with its contact state.
+    pub solution: Solution,
     pub estimate: Estimate,
-    /// The contact faces (None without Γ_C).
-    pub nitsche: Option<Nitsche>,
-    /// δ of the final iterate (None without Γ_C).
-    pub delta: Option<f64>,
     /// Number of δ reductions, of Newton steps and of estimates on this level.
     pub n_reg: usize,
     pub n_lin: usize,
@@ -32,18 +27,15 @@ pub struct Level {
 }
 
 /// Without Γ_C: one Cholesky solve and one estimate.
-pub fn solve_linear(problem: &Problem, disc: &Discretisation) -> Result<Level, AdaptError> {
+pub fn linear_level(problem: &Problem, disc: &Discretisation) -> Result<Level, AdaptError> {
     let clock = Instant::now();
-    let system = problem.assemble(disc);
-    let x = Cholesky::analyse(&disc.pattern)?.solve(&disc.pattern, &system.values, &system.rhs)?;
+    let x = problem.solve_linear(disc)?;
     let solve_seconds = clock.elapsed().as_secs_f64();
     let clock = Instant::now();
     let estimate = estimate_iterate(problem, disc, &x, None, false)?;
     Ok(Level {
-        x,
+        solution: Solution::Linear(x),
         estimate,
-        nitsche: None,
-        delta: None,
         n_reg: 0,
         n_lin: 0,
         n_est: 1,
@@ -65,7 +57,7 @@ fn estimate_timed(
     problem: &Problem,
     disc: &Discretisation,
     x: &[f64],
-    state: Linearisation,
+    state: &Linearisation,
     count: &mut EstimateCount,
 ) -> Result<(Estimate, GlobalEstimators), AdaptError> {
     let clock = Instant::now();
@@ -129,55 +121,58 @@ impl StartDelta {
 
 /// One Newton step from `x0` with the projection of `contact` (δ = delta0 · S, S =
 /// `load_scale`), then δ₀ = delta0 · max_{Γ_C} |P_γ(u_h¹)| over the quadrature points of the
-/// iterate u_h¹, or δ₀ = delta0 · S when that maximum is 0. Returns u_h¹ and δ₀.
+/// iterate u_h¹, or δ₀ = delta0 · S when that maximum is 0. Returns the stage of that step
+/// (its report holds u_h¹) and δ₀.
 fn first_iterate(
     contact: &ContactProblem,
     x0: Vec<f64>,
     newton: &NewtonOptions,
     delta0: f64,
     load_scale: f64,
-) -> Result<(Vec<f64>, f64), AdaptError> {
+) -> Result<(Stage, f64), AdaptError> {
     let one_step = NewtonOptions { max_iter: 1, min_steps: 1, ..*newton };
-    let report = newton_until(contact, x0, &one_step, |_| true)
-        .map_err(|source| AdaptError::Newton { delta: delta0 * load_scale, source })?;
+    let delta = contact.smoothing.delta;
+    let report =
+        newton_until(contact, x0, &one_step, |_| true).map_err(|source| AdaptError::Newton { delta, source })?;
     let p_max = contact.max_abs_p_gamma(&report.x);
     let scale = if p_max > 0.0 { p_max } else { load_scale };
-    Ok((report.x, delta0 * scale))
+    Ok((Stage { delta, report }, delta0 * scale))
 }
 
-/// With contact on the facets tagged `tags`: Newton from `x0` at δ, stopped by (S_lin), and
-/// δ ← δ/ρ_δ until (S_reg). On the first mesh δ₀ comes from the first Newton iterate, which
-/// counts in N_lin. An estimate follows every full Newton step that at least halved the
-/// residual, unless the [`Trend`] of the last estimate (on this mesh or the previous one)
-/// predicts that (S_lin) fails: a damped step does not solve the linearised problem, so its
-/// η_lin would not be a bound, and while the residual does not contract (the active set still
-/// moves) (S_lin) cannot hold. The prediction only saves estimates: Newton stops on an
-/// estimated (S_lin). The final iterate is always estimated.
-#[allow(clippy::too_many_arguments)]
-pub fn solve_contact(
+/// With contact on `joint`: Newton from `x0` at δ, stopped by (S_lin), and δ ← δ/ρ_δ until
+/// (S_reg). On the first mesh δ₀ comes from the first Newton iterate, which counts in N_lin.
+/// An estimate follows every full Newton step that at least halved the residual, unless the
+/// [`Trend`] of the last estimate (on this mesh or the previous one) predicts that (S_lin)
+/// fails: a damped step does not solve the linearised problem, so its η_lin would not be a
+/// bound, and while the residual does not contract (the active set still moves) (S_lin)
+/// cannot hold. The prediction only saves estimates: Newton stops on an estimated (S_lin).
+/// The final iterate is always estimated.
+pub fn contact_level(
     problem: &Problem,
     disc: &Discretisation,
-    tags: &[i32],
-    parameters: NitscheParameters,
+    joint: &ContactJoint,
     newton: &NewtonOptions,
     settings: &AdaptSettings,
     x0: Vec<f64>,
     start: StartDelta,
 ) -> Result<Level, AdaptError> {
-    let nitsche = Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, tags, parameters);
     let delta = start.first_step(settings.delta0);
-    let mut contact = ContactProblem::new(problem, disc, nitsche, Box::new(QuadraticSmoothing { delta }));
+    let mut contact = ContactProblem::new(problem, disc, joint, Smoothing { delta });
     let clock = Instant::now();
-    let (mut x, mut delta, mut n_lin, mut trend) = match start {
-        StartDelta::Kept(_, trend) => (x0, delta, 0, trend),
+    let mut stages = Vec::new();
+    let (mut x, mut delta, mut trend) = match start {
+        StartDelta::Kept(_, trend) => (x0, delta, trend),
         StartDelta::FirstIterate { load_scale } => {
-            let (x1, delta0) = first_iterate(&contact, x0, newton, settings.delta0, load_scale)?;
-            (x1, delta0, 1, None)
+            let (stage, delta0) = first_iterate(&contact, x0, newton, settings.delta0, load_scale)?;
+            let x1 = stage.report.x.clone();
+            stages.push(stage);
+            (x1, delta0, None)
         }
     };
     let (mut solve_seconds, mut estimates, mut n_reg) = (clock.elapsed().as_secs_f64(), EstimateCount::default(), 0);
     loop {
-        contact.projection = Box::new(QuadraticSmoothing { delta });
+        contact.set_delta(delta);
+        let smoothing = contact.smoothing;
         let mut latest = None;
         let mut inside = EstimateCount::default();
         let clock = Instant::now();
@@ -186,8 +181,8 @@ pub fn solve_contact(
             if !contracted || trend.is_some_and(|t| !t.promising(it.residual, settings.gamma_lin)) {
                 return false;
             }
-            let state = Linearisation { nitsche: &contact.nitsche, x_prev: it.x_prev, delta };
-            let e = estimate_timed(problem, disc, it.x, state, &mut inside);
+            let state = Linearisation::new(problem, disc, &contact.nitsche, smoothing, it.x_prev);
+            let e = estimate_timed(problem, disc, it.x, &state, &mut inside);
             let stop = e.as_ref().map_or(true, |(_, g)| linearisation_small(g, settings.gamma_lin));
             if let Ok((_, g)) = &e {
                 trend = Trend::new(g, it.residual).or(trend);
@@ -199,23 +194,22 @@ pub fn solve_contact(
         solve_seconds += clock.elapsed().as_secs_f64() - inside.seconds;
         estimates.n += inside.n;
         estimates.seconds += inside.seconds;
-        n_lin += report.iterations.len();
         let (estimate, global) = match latest {
             Some((at, e)) if at == report.x => e?,
             _ => {
-                let state = Linearisation { nitsche: &contact.nitsche, x_prev: &report.x_prev, delta };
-                let (estimate, global) = estimate_timed(problem, disc, &report.x, state, &mut estimates)?;
+                let state = Linearisation::new(problem, disc, &contact.nitsche, smoothing, &report.x_prev);
+                let (estimate, global) = estimate_timed(problem, disc, &report.x, &state, &mut estimates)?;
                 trend = Trend::new(&global, report.residual).or(trend);
                 (estimate, global)
             }
         };
-        x = report.x;
+        x = report.x.clone();
+        stages.push(Stage { delta, report });
         if regularisation_small(&global, settings.gamma_reg) {
+            let n_lin = stages.iter().map(|s| s.report.iterations.len()).sum();
             return Ok(Level {
-                x,
+                solution: Solution::Contact(Box::new(contact.solution(x, stages))),
                 estimate,
-                nitsche: Some(contact.nitsche),
-                delta: Some(delta),
                 n_reg,
                 n_lin,
                 n_est: estimates.n,

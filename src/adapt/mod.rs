@@ -22,7 +22,7 @@ pub mod history;
 pub mod level;
 pub mod marking;
 
-use crate::contact::nitsche::{Nitsche, NitscheParameters};
+use crate::contact::{ContactJoint, ContactSolution};
 use crate::elasticity::{Discretisation, Problem};
 use crate::estimate::estimators::{stress_norm, GlobalEstimators};
 use crate::estimate::reconstruction::EstimateError;
@@ -172,10 +172,10 @@ pub trait Mesher {
 
 /// The problem on a mesh and its contact boundary.
 pub trait Model {
-    /// The problem on `mesh` and the physical tags of Γ_C (empty: no contact).
-    fn problem(&self, mesh: Mesh) -> Result<(Problem, Vec<i32>), AdaptError>;
-    /// Nitsche parameters and Newton options of the contact solve.
-    fn contact(&self) -> (NitscheParameters, NewtonOptions);
+    /// The problem on `mesh` and its contact joint (None: no Γ_C).
+    fn problem(&self, mesh: Mesh) -> Result<(Problem, Option<ContactJoint>), AdaptError>;
+    /// Newton options of the contact solve.
+    fn newton(&self) -> NewtonOptions;
 }
 
 /// Wall time of each phase of a step [s]. `mesh` is gmsh's (the initial mesh at step 0, a
@@ -266,7 +266,7 @@ pub struct Step<'a> {
     pub disc: &'a Discretisation,
     pub x: &'a [f64],
     pub estimate: &'a Estimate,
-    pub nitsche: Option<&'a Nitsche>,
+    pub contact: Option<&'a ContactSolution>,
 }
 
 /// Runs the adaptive loop; `on_step` sees every step as soon as it is solved (and may write
@@ -286,7 +286,7 @@ pub fn run(
         let clock = Instant::now();
         let mesh = mesher.mesh(step, previous.as_ref().map(|(m, _, sizes)| (m, &sizes[..])))?;
         seconds.mesh = clock.elapsed().as_secs_f64();
-        let (problem, tags) = model.problem(mesh)?;
+        let (problem, joint) = model.problem(mesh)?;
         let clock = Instant::now();
         let disc = problem.discretise();
         seconds.assemble = clock.elapsed().as_secs_f64();
@@ -296,17 +296,18 @@ pub fn run(
             None => vec![0.0; disc.dofs.n_free],
         };
         seconds.transfer = clock.elapsed().as_secs_f64();
-        let level = if tags.is_empty() {
-            level::solve_linear(&problem, &disc)?
-        } else {
-            let (parameters, newton) = model.contact();
-            let start = kept.map_or_else(
-                || StartDelta::FirstIterate { load_scale: problem.stress_scale(&disc.topology) },
-                |(delta, trend)| StartDelta::Kept(delta, trend),
-            );
-            level::solve_contact(&problem, &disc, &tags, parameters, &newton, settings, x0, start)?
+        let level = match &joint {
+            None => level::linear_level(&problem, &disc)?,
+            Some(joint) => {
+                let start = kept.map_or_else(
+                    || StartDelta::FirstIterate { load_scale: problem.stress_scale(&disc.topology) },
+                    |(delta, trend)| StartDelta::Kept(delta, trend),
+                );
+                level::contact_level(&problem, &disc, joint, &model.newton(), settings, x0, start)?
+            }
         };
-        kept = level.delta.map(|delta| (delta, level.trend));
+        let contact = level.solution.contact();
+        kept = contact.map(|c| (c.smoothing.delta, level.trend));
         seconds.solve = level.solve_seconds;
         seconds.estimate = level.estimate_seconds;
         let eta = level.estimate.estimators.global();
@@ -329,7 +330,7 @@ pub fn run(
             unknowns: disc.dofs.n_free,
             eta,
             stress_norm: stress,
-            delta: level.delta,
+            delta: contact.map(|c| c.smoothing.delta),
             n_reg: level.n_reg,
             n_lin: level.n_lin,
             n_est: level.n_est,
@@ -341,15 +342,15 @@ pub fn run(
             record: &record,
             problem: &problem,
             disc: &disc,
-            x: &level.x,
+            x: level.solution.x(),
             estimate: &level.estimate,
-            nitsche: level.nitsche.as_ref(),
+            contact,
         })?;
         history.push(record);
         if done {
             break;
         }
-        let u = problem.displacement(&disc, &level.x);
+        let u = problem.displacement(&disc, level.solution.x());
         previous = Some((problem.mesh, u, sizes));
     }
     Ok(history)

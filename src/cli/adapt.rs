@@ -1,14 +1,12 @@
 //! `damfem adapt`: the adaptive loop on a scene, with ParaView files of every step, the
 //! history (JSON and CSV) and its figures.
 
-use super::common::{output_dir, stem, Input};
-use super::output::write_results;
+use super::common::{output_dir, stem, Input, Output};
+use super::output::{write_results, Results};
 use crate::adapt::geo::GeoMesher;
 use crate::adapt::history::{to_csv, write_adaptive_uniform, write_plots};
 use crate::adapt::marking::Marking;
 use crate::adapt::{self, AdaptError, AdaptSettings, Refinement, Step, StepRecord};
-use crate::contact::face_states;
-use crate::contact::projection::QuadraticSmoothing;
 use crate::elasticity::stress::cell_mean_stress;
 use crate::io::atomic::write_output;
 use crate::io::pvd::write_pvd;
@@ -21,9 +19,8 @@ use std::path::{Path, PathBuf};
 pub struct Args {
     #[command(flatten)]
     input: Input,
-    /// Output directory; overrides the scene's [output] directory (default: out)
-    #[arg(short, long)]
-    output: Option<PathBuf>,
+    #[command(flatten)]
+    output: Output,
     /// Maximum number of meshes; overrides adapt.steps (default 8)
     #[arg(long)]
     steps: Option<usize>,
@@ -80,7 +77,7 @@ pub fn run(args: Args) -> Result<()> {
         "{}: adaptive refinement remeshes the geometry, so it needs a .geo file, not a mesh",
         scene.geometry.display()
     );
-    let dir = output_dir(&args.output, &scene)?;
+    let dir = args.output.dir(&scene)?;
     let name = stem(&scene.source);
     let history = run_sequence(&scene, &args.input, &dir, &name, "")?;
     print_table(&history);
@@ -135,7 +132,7 @@ fn run_sequence(scene: &Scene, input: &Input, dir: &Path, name: &str, prefix: &s
 fn compare_uniform(scene: &Scene, input: &Input, dir: &Path, name: &str, adaptive: &[StepRecord]) -> Result<()> {
     let mut uniform = scene.clone();
     uniform.adapt = uniform_settings(&scene.adapt, adaptive.last().map_or(0, |r| r.unknowns));
-    let sub = output_dir(&Some(dir.join("uniform")), scene)?;
+    let sub = output_dir(dir.join("uniform"))?;
     let history = run_sequence(&uniform, input, &sub, name, "uniform ")?;
     println!("uniform refinement from the same first mesh:");
     print_table(&history);
@@ -177,7 +174,8 @@ fn override_settings(args: &Args, scene: &mut Scene) -> Result<()> {
     a.gamma_lin = args.gamma_lin.unwrap_or(a.gamma_lin);
     a.gamma_reg = args.gamma_reg.unwrap_or(a.gamma_reg);
     a.compare_uniform |= args.compare_uniform;
-    Ok(scene.validate()?)
+    scene.validate()?;
+    Ok(scene.check_adaptive()?)
 }
 
 /// Writes every step as it comes, and the files that list the steps.
@@ -196,11 +194,9 @@ impl StepWriter<'_> {
         let problem = step.problem;
         let u = problem.displacement(step.disc, step.x);
         let sigma = cell_mean_stress(problem, &u);
-        let projection = QuadraticSmoothing { delta: step.record.delta.unwrap_or(0.0) };
-        let states = step.nitsche.map(|n| face_states(problem, step.disc, n, &projection, step.x));
-        let faces = step.nitsche.zip(states.as_deref());
+        let results = Results { problem, u: &u, sigma: &sigma, contact: step.contact, estimate: Some(step.estimate) };
         let name = format!("{}_{:02}", self.name, step.record.step);
-        let files = write_results(self.dir, &name, self.scene, problem, &u, &sigma, faces, Some(step.estimate))?;
+        let files = write_results(self.dir, &name, self.scene, &results)?;
         self.vtu.push(files);
         self.history.push(step.record.clone());
         self.write_lists(None)

@@ -19,7 +19,7 @@ pub fn run(args: Args) -> Result<()> {
         |m| format!("{} nodes, {} cells, P{}", m.n_points(), m.n_cells(), m.order),
     )?;
     let roles = scene.roles(&mesh)?;
-    let problem = scene.problem(mesh)?;
+    let (problem, _) = scene.problem(mesh)?;
     let mesh = &problem.mesh;
     for (tag, name, b) in &roles {
         progress.say(&format!("curve    {name:<20} {:?}, length {:.4}", b.role, mesh.boundary_length(*tag)));

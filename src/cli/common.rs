@@ -77,9 +77,24 @@ impl Input {
     }
 }
 
-/// Output directory: `-o` if given, else the scene's `[output] directory`. Created if missing.
-pub fn output_dir(option: &Option<PathBuf>, scene: &Scene) -> Result<PathBuf> {
-    let dir = option.clone().unwrap_or_else(|| scene.output.directory.clone());
+/// The output option of the subcommands that write files.
+#[derive(clap::Args, Debug, Clone)]
+pub struct Output {
+    /// Output directory; overrides the scene's [output] directory (default: out)
+    #[arg(short, long = "output", value_name = "DIR")]
+    pub directory: Option<PathBuf>,
+}
+
+impl Output {
+    /// The output directory of `scene`: `-o` if given, else the scene's `[output] directory`.
+    /// Created if missing.
+    pub fn dir(&self, scene: &Scene) -> Result<PathBuf> {
+        output_dir(self.directory.clone().unwrap_or_else(|| scene.output.directory.clone()))
+    }
+}
+
+/// Creates `dir` if missing and checks that it is writable.
+pub fn output_dir(dir: PathBuf) -> Result<PathBuf> {
     std::fs::create_dir_all(&dir).with_context(|| format!("cannot create output directory {}", dir.display()))?;
     let probe = dir.join(".damfem-write-test");
     std::fs::write(&probe, b"").with_context(|| format!("cannot write to output directory {}", dir.display()))?;

@@ -1,43 +1,35 @@
 //! `damfem mesh`: mesh a scene's geometry and write the .msh and a .vtu of the mesh.
 
-use super::common::{output_dir, stem, Input};
-use crate::io::gmsh::Session;
+use super::common::{stem, Input, Output};
+use crate::io::gmsh;
 use crate::io::vtu::{write_boundary_vtu, write_mesh_vtu};
-use anyhow::{Context, Result};
-use std::path::PathBuf;
+use anyhow::Result;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
     #[command(flatten)]
     input: Input,
-    /// Output directory; overrides the scene's [output] directory (default: out)
-    #[arg(short, long)]
-    output: Option<PathBuf>,
+    #[command(flatten)]
+    output: Output,
 }
 
 pub fn run(args: Args) -> Result<()> {
     let input = &args.input;
     let progress = input.progress();
     let scene = input.scene()?;
-    let dir = output_dir(&args.output, &scene)?;
+    let dir = args.output.dir(&scene)?;
     let name = stem(&scene.source);
     let msh = dir.join(format!("{name}.msh"));
     let (mesh, _) = progress.stage(
         "mesh",
         || {
-            let mut session = Session::new(input.verbose)?;
-            session.open_geo(&scene.geometry, input.allow_system_calls)?;
-            session.set_options(&scene.mesh_options())?;
-            session.generate()?;
-            let mesh = session.mesh()?;
-            // gmsh picks the format from the extension: write a hidden .msh, then rename
-            let partial = dir.join(format!(".{name}.{}.partial.msh", std::process::id()));
-            if let Err(e) = session.write(&partial) {
-                std::fs::remove_file(&partial).ok();
-                return Err(e.into());
-            }
-            std::fs::rename(&partial, &msh).with_context(|| format!("cannot write {}", msh.display()))?;
-            Ok(mesh)
+            Ok(gmsh::save_geo_mesh(
+                &scene.geometry,
+                &scene.mesh_options(),
+                &msh,
+                input.verbose,
+                input.allow_system_calls,
+            )?)
         },
         |m| format!("{} nodes, {} cells, P{}", m.n_points(), m.n_cells(), m.order),
     )?;

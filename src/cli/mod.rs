@@ -6,7 +6,6 @@
 mod adapt;
 mod check;
 mod common;
-mod estimate;
 mod mesh;
 mod output;
 mod solve;

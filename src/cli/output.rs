@@ -1,39 +1,57 @@
-//! ParaView files of one solution, shared by `solve` and `adapt`.
+//! ParaView files and summaries of one solution, shared by `solve` and `adapt`.
 
-use super::estimate::{cell_fields, write_discontinuous};
-use crate::contact::nitsche::Nitsche;
-use crate::contact::FaceState;
+use crate::contact::ContactSolution;
 use crate::elasticity::kernels::{principal, von_mises};
 use crate::elasticity::Problem;
+use crate::estimate::checks::Equilibration;
+use crate::estimate::estimators::{GlobalEstimators, NAMES};
 use crate::estimate::Estimate;
 use crate::io::vtu::{write_boundary_vtu, write_mesh_vtu, Field};
-use crate::scene::Scene;
+use crate::scene::{OutputSection, Scene};
 use anyhow::Result;
+use serde::Serialize;
 use std::path::{Path, PathBuf};
 
-/// The contact faces and their states.
-pub type ContactFaces<'a> = (&'a Nitsche, &'a [FaceState]);
+/// Names of the reconstructed stress components.
+const SIGMA_H: [&str; 4] = ["sigma_h_xx", "sigma_h_xy", "sigma_h_yx", "sigma_h_yy"];
+
+/// One solution as the output files need it.
+pub struct Results<'a> {
+    pub problem: &'a Problem,
+    /// Nodal displacements.
+    pub u: &'a [[f64; 2]],
+    /// Cell means of σ(u_h) [xx, yy, xy, zz].
+    pub sigma: &'a [[f64; 4]],
+    pub contact: Option<&'a ContactSolution>,
+    pub estimate: Option<&'a Estimate>,
+}
+
+/// What `summary.json` records of an estimate.
+#[derive(Serialize)]
+pub struct EstimateSummary {
+    pub global: GlobalEstimators,
+    pub equilibration: Option<Equilibration>,
+}
+
+impl EstimateSummary {
+    pub fn new(e: &Estimate) -> Self {
+        EstimateSummary { global: e.estimators.global(), equilibration: e.equilibration }
+    }
+}
 
 /// Writes `<name>.vtu`, and as the scene asks `<name>_boundary.vtu` and `<name>_dg.vtu`;
 /// returns their paths.
-#[allow(clippy::too_many_arguments)]
-pub fn write_results(
-    dir: &Path,
-    name: &str,
-    scene: &Scene,
-    problem: &Problem,
-    u: &[[f64; 2]],
-    sigma: &[[f64; 4]],
-    contact: Option<ContactFaces>,
-    estimate: Option<&Estimate>,
-) -> Result<Vec<PathBuf>> {
+pub fn write_results(dir: &Path, name: &str, scene: &Scene, results: &Results) -> Result<Vec<PathBuf>> {
+    let Results { problem, u, sigma, contact, estimate } = *results;
     let mut files = vec![dir.join(format!("{name}.vtu"))];
     let mut cells = stress_fields(sigma);
     if let Some(e) = estimate {
-        cells.extend(cell_fields(e, &problem.mesh, &scene.output));
+        cells.extend(estimate_fields(e, &scene.output));
         if scene.output.reconstruction {
             let dg = dir.join(format!("{name}_dg.vtu"));
-            write_discontinuous(&dg, e, &problem.mesh)?;
+            let fields: Vec<Field> =
+                SIGMA_H.iter().zip(e.reconstruction.vertex_values()).map(|(n, v)| Field::scalar(*n, v)).collect();
+            write_mesh_vtu(&dg, &problem.mesh.discontinuous(), &fields, &[])?;
             files.push(dg);
         }
     }
@@ -62,11 +80,23 @@ fn stress_fields(sigma: &[[f64; 4]]) -> Vec<Field> {
     ]
 }
 
+/// Cell fields the output section asks for: every η component and the cell means of σ_h.
+fn estimate_fields(e: &Estimate, output: &OutputSection) -> Vec<Field> {
+    let mut fields = Vec::new();
+    if output.estimators {
+        fields.extend(NAMES.iter().zip(e.estimators.components()).map(|(n, v)| Field::scalar(*n, v.clone())));
+    }
+    if output.reconstruction {
+        fields.extend(SIGMA_H.iter().zip(e.reconstruction.cell_means()).map(|(n, v)| Field::scalar(*n, v)));
+    }
+    fields
+}
+
 /// Facet fields of Γ_C: mean pressure, mean normal displacement, status (1 contact,
 /// 0 separation, −1 not a contact facet) and the regularisation error.
-fn contact_fields(n_facets: usize, (nitsche, states): ContactFaces) -> Vec<Field> {
+fn contact_fields(n_facets: usize, contact: &ContactSolution) -> Vec<Field> {
     let mut fields = [vec![0.0; n_facets], vec![0.0; n_facets], vec![-1.0; n_facets], vec![0.0; n_facets]];
-    for (face, state) in nitsche.faces.iter().zip(states) {
+    for (face, state) in contact.nitsche.faces.iter().zip(&contact.faces) {
         let f = face.facet;
         fields[0][f] = state.pressure;
         fields[1][f] = state.normal_displacement;

@@ -1,17 +1,15 @@
 //! `damfem solve`: mesh, assemble, solve (with Nitsche contact when the scene has Γ_C),
 //! write ParaView files, `summary.json` and `history.json`.
 
-use super::common::{output_dir, stem, Input};
-use super::estimate::{self, EstimateSummary};
-use super::output::write_results;
-use crate::contact::{solve_contact, ContactSettings, ContactSolution, Stage};
+use super::common::{stem, Input, Output};
+use super::output::{write_results, EstimateSummary, Results};
+use crate::contact::{solve_by_continuation, ContactJoint, ContactSolution, Continuation, Solution, Stage};
 use crate::elasticity::kernels::{principal, von_mises};
 use crate::elasticity::stress::cell_mean_stress;
 use crate::elasticity::{Discretisation, Problem};
-use crate::estimate::{estimate_iterate, Linearisation};
+use crate::estimate::{estimate_iterate, Estimate};
 use crate::io::atomic::write_output;
 use crate::scene::{ProjectionKind, Scene};
-use crate::solve::Cholesky;
 use anyhow::Result;
 use serde::Serialize;
 use std::path::PathBuf;
@@ -20,9 +18,8 @@ use std::path::PathBuf;
 pub struct Args {
     #[command(flatten)]
     input: Input,
-    /// Output directory; overrides the scene's [output] directory (default: out)
-    #[arg(short, long)]
-    output: Option<PathBuf>,
+    #[command(flatten)]
+    output: Output,
     /// Nitsche parameter γ₀ (γ = γ₀ E / h_F); overrides contact.gamma0 (default 100)
     #[arg(long)]
     gamma0: Option<f64>,
@@ -100,80 +97,60 @@ struct Timings {
 pub fn run(args: Args) -> Result<()> {
     let input = &args.input;
     let progress = input.progress();
+    let mut seconds = Timings::default();
+    // 1. Scene and mesh
     let mut scene = input.scene()?;
     override_contact(&args, &mut scene)?;
-    let dir = output_dir(&args.output, &scene)?;
-    let mut seconds = Timings::default();
+    let dir = args.output.dir(&scene)?;
     let (mesh, t) = progress.stage(
         "mesh",
         || input.mesh(&scene),
         |m| format!("{} nodes, {} cells, P{}", m.n_points(), m.n_cells(), m.order),
     )?;
     seconds.mesh = t;
-    let problem = scene.problem(mesh)?;
-    let tags = scene.contact_tags(&problem.mesh)?;
+    // 2. Problem: the elasticity problem, its contact joint, dofs and pattern
+    let (problem, joint) = scene.problem(mesh)?;
     let (disc, t) = progress.stage(
         "assemble",
         || Ok(problem.discretise()),
         |d| format!("{} unknowns, {} nonzeros", d.dofs.n_free, d.pattern.nnz()),
     )?;
     seconds.assemble = t;
-    let (solution, t) = if tags.is_empty() {
-        progress.stage("solve", || Ok((linear_solve(&problem, &disc)?, None)), |_| "sparse Cholesky".into())?
-    } else {
-        let settings = scene.contact_settings(&problem, &disc.topology);
-        progress.stage(
-            "solve",
-            || Ok(solve_contact(&problem, &disc, &tags, &settings).map(|s| (s.x.clone(), Some((s, settings))))?),
-            |(_, c)| match c {
-                Some((s, st)) => format!(
-                    "Newton, {} steps, δ = {:.3e}, contact length {:.4}",
-                    s.newton_steps(),
-                    st.delta,
-                    s.contact_length()
-                ),
-                None => String::new(),
-            },
-        )?
-    };
+    // 3. Solve: one Cholesky solve, or Newton along the δ path with contact
+    let continuation = scene.continuation(&problem, &disc.topology);
+    let (solution, t) =
+        progress.stage("solve", || solve(&problem, &disc, joint.as_ref(), &continuation), describe_solution)?;
     seconds.solve = t;
-    let (x, contact) = solution;
+    // 4. Estimate
     let estimate = if args.estimate || args.check_equilibration {
-        let state =
-            contact.as_ref().map(|(c, s)| Linearisation { nitsche: &c.nitsche, x_prev: &c.x_prev, delta: s.delta });
         let (e, t) = progress.stage(
             "estimate",
-            || Ok(estimate_iterate(&problem, &disc, &x, state, args.check_equilibration)?),
-            |e| {
-                let checks = e
-                    .equilibration
-                    .map_or(String::new(), |q| format!(", equilibrated to {:.1e}", q.worst(problem.mesh.order)));
-                format!("eta = {:.4e}{checks}", e.estimators.global().tot)
-            },
+            || estimate(&problem, &disc, &solution, args.check_equilibration),
+            |e| describe_estimate(e, problem.mesh.order),
         )?;
         seconds.estimate = Some(t);
         Some(e)
     } else {
         None
     };
-    let u = problem.displacement(&disc, &x);
+    // 5. Write the ParaView files, the summary and the history
+    let u = problem.displacement(&disc, solution.x());
     let sigma = cell_mean_stress(&problem, &u);
+    let results =
+        Results { problem: &problem, u: &u, sigma: &sigma, contact: solution.contact(), estimate: estimate.as_ref() };
     let name = stem(&scene.source);
     let (files, t) = progress.stage(
         "output",
-        || {
-            let faces = contact.as_ref().map(|(c, _)| (&c.nitsche, &c.faces[..]));
-            write_results(&dir, &name, &scene, &problem, &u, &sigma, faces, estimate.as_ref())
-        },
+        || write_results(&dir, &name, &scene, &results),
         |f| format!("{} files in {}", f.len(), dir.display()),
     )?;
     seconds.output = t;
-    let mut summary = summary(&scene, &problem, &disc, &u, &sigma, contact.as_ref(), seconds, files);
-    summary.estimate = estimate.as_ref().map(estimate::summary);
+    let mut summary = summary(&scene, &disc, &results, &continuation, seconds, files);
+    summary.estimate = estimate.as_ref().map(EstimateSummary::new);
     write_output(&dir.join("summary.json"), serde_json::to_string_pretty(&summary)?.as_bytes())?;
-    if contact.is_some() || summary.estimate.is_some() {
+    if solution.contact().is_some() || summary.estimate.is_some() {
         let history = History {
-            newton: contact.as_ref().map(|(c, _)| c.stages.iter().collect()).unwrap_or_default(),
+            newton: solution.contact().map(|c| c.stages.iter().collect()).unwrap_or_default(),
             estimate: summary.estimate.as_ref(),
         };
         write_output(&dir.join("history.json"), serde_json::to_string_pretty(&history)?.as_bytes())?;
@@ -187,9 +164,40 @@ pub fn run(args: Args) -> Result<()> {
     Ok(())
 }
 
-fn linear_solve(problem: &Problem, disc: &Discretisation) -> Result<Vec<f64>> {
-    let system = problem.assemble(disc);
-    Ok(Cholesky::analyse(&disc.pattern)?.solve(&disc.pattern, &system.values, &system.rhs)?)
+/// One Cholesky solve without a joint; the δ path of `continuation` with one.
+fn solve(
+    problem: &Problem,
+    disc: &Discretisation,
+    joint: Option<&ContactJoint>,
+    continuation: &Continuation,
+) -> Result<Solution> {
+    Ok(match joint {
+        None => Solution::Linear(problem.solve_linear(disc)?),
+        Some(joint) => Solution::Contact(Box::new(solve_by_continuation(problem, disc, joint, continuation)?)),
+    })
+}
+
+fn describe_solution(solution: &Solution) -> String {
+    match solution.contact() {
+        None => "sparse Cholesky".into(),
+        Some(c) => format!(
+            "Newton, {} steps, δ = {:.3e}, contact length {:.4}",
+            c.newton_steps(),
+            c.smoothing.delta,
+            c.contact_length()
+        ),
+    }
+}
+
+/// The estimate of the solution, with the equilibration checks if asked.
+fn estimate(problem: &Problem, disc: &Discretisation, solution: &Solution, checks: bool) -> Result<Estimate> {
+    let state = solution.contact().map(|c| c.linearisation(problem, disc));
+    Ok(estimate_iterate(problem, disc, solution.x(), state.as_ref(), checks)?)
+}
+
+fn describe_estimate(e: &Estimate, order: usize) -> String {
+    let checks = e.equilibration.map_or(String::new(), |q| format!(", equilibrated to {:.1e}", q.worst(order)));
+    format!("eta = {:.4e}{checks}", e.estimators.global().tot)
 }
 
 /// The scene's `[contact]` table with the command-line overrides.
@@ -204,17 +212,15 @@ fn override_contact(args: &Args, scene: &mut Scene) -> Result<()> {
     Ok(scene.validate()?)
 }
 
-#[allow(clippy::too_many_arguments)]
 fn summary(
     scene: &Scene,
-    problem: &Problem,
     disc: &Discretisation,
-    u: &[[f64; 2]],
-    sigma: &[[f64; 4]],
-    contact: Option<&(ContactSolution, ContactSettings)>,
+    results: &Results,
+    continuation: &Continuation,
     seconds: Timings,
     files: Vec<PathBuf>,
 ) -> Summary {
+    let Results { problem, u, sigma, contact, .. } = *results;
     let principal_stresses: Vec<[f64; 2]> = sigma.iter().map(|&s| principal(s)).collect();
     Summary {
         scene: scene.source.clone(),
@@ -228,7 +234,7 @@ fn summary(
         max_von_mises: sigma.iter().map(|&s| von_mises(s)).fold(0.0, f64::max),
         min_principal_stress: principal_stresses.iter().map(|p| p[1]).fold(f64::INFINITY, f64::min),
         max_principal_stress: principal_stresses.iter().map(|p| p[0]).fold(f64::NEG_INFINITY, f64::max),
-        contact: contact.map(|(c, settings)| contact_summary(problem, disc, c, settings)),
+        contact: contact.map(|c| contact_summary(problem, disc, c, continuation)),
         estimate: None,
         seconds,
         files,
@@ -239,7 +245,7 @@ fn contact_summary(
     problem: &Problem,
     disc: &Discretisation,
     c: &ContactSolution,
-    s: &ContactSettings,
+    continuation: &Continuation,
 ) -> ContactSummary {
     let mesh = &problem.mesh;
     let in_contact = c.nitsche.faces.iter().zip(&c.faces).filter(|(_, state)| state.contact_length > 0.0);
@@ -252,9 +258,9 @@ fn contact_summary(
     );
     ContactSummary {
         faces: c.faces.len(),
-        gamma0: s.parameters.gamma0,
-        theta: s.parameters.theta,
-        delta: s.delta,
+        gamma0: c.nitsche.parameters.gamma0,
+        theta: c.nitsche.parameters.theta,
+        delta: continuation.delta,
         stress_scale: problem.stress_scale(&disc.topology),
         contact_length: c.contact_length(),
         contact_extent: extent,

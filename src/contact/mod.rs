@@ -1,12 +1,16 @@
 //! Frictionless unilateral contact on Γ_C with a rigid foundation, by Nitsche's method.
 //!
-//! [`ContactProblem`] is the nonlinear system F(x) = 0 over the free displacement dofs,
+//! A [`ContactJoint`] is the one description of a contact boundary, built by the scene: where
+//! (the physical tags of Γ_C), which law, and the Nitsche parameters. On a mesh it becomes the
+//! faces of [`Nitsche`]. [`ContactProblem`] is the nonlinear system F(x) = 0 over the free
+//! displacement dofs,
 //!
 //!   F(u; v) = (σ(u), ε(v)) − (f, v) − (g_N, v)_{Γ_N} + Σ_F R_F(u; v),
 //!
-//! with the face terms R_F of [`nitsche`] and a projection from [`projection`]. The bulk
-//! stiffness K and load b are assembled once; each evaluation adds the face terms of the
-//! cells that own a contact face.
+//! with the face terms R_F of [`nitsche`] and the [`Smoothing`] of the projection at δ. The
+//! bulk stiffness K and load b are assembled once; each evaluation adds the face terms of the
+//! cells that own a contact face. A solve returns a [`ContactSolution`]: the iterate, the
+//! linearisation point and smoothing it was computed with, and the state of every face.
 
 pub mod nitsche;
 pub mod projection;
@@ -17,14 +21,43 @@ use crate::fem::sparse::{vector_dofs, LinearSystem, SparsePattern};
 use crate::mesh::Mesh;
 use crate::solve::{newton, NewtonError, NewtonOptions, NewtonReport, NonlinearSystem};
 use nitsche::{Nitsche, NitscheParameters};
-use projection::{negative_part, Projection, QuadraticSmoothing};
+use projection::{negative_part, Smoothing};
+
+/// The law of a joint.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum JointLaw {
+    /// No tangential traction.
+    #[default]
+    Frictionless,
+}
+
+/// A contact boundary: the curves of Γ_C, the joint law and the Nitsche parameters.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactJoint {
+    /// Physical tags of the curves of Γ_C.
+    pub tags: Vec<i32>,
+    pub law: JointLaw,
+    pub parameters: NitscheParameters,
+}
+
+impl ContactJoint {
+    /// A frictionless joint on the curves `tags`.
+    pub fn frictionless(tags: Vec<i32>, parameters: NitscheParameters) -> Self {
+        ContactJoint { tags, law: JointLaw::Frictionless, parameters }
+    }
+
+    /// The contact faces of the joint on the mesh of `problem`.
+    pub fn faces(&self, problem: &Problem, disc: &Discretisation) -> Nitsche {
+        Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, self)
+    }
+}
 
 /// The elasticity problem with Nitsche contact on some of its boundary curves.
 pub struct ContactProblem<'a> {
     pub problem: &'a Problem,
     pub disc: &'a Discretisation,
     pub nitsche: Nitsche,
-    pub projection: Box<dyn Projection>,
+    pub smoothing: Smoothing,
     /// K over the free dofs and b = f + g_N − K_fc g_D.
     bulk: LinearSystem,
 }
@@ -43,20 +76,27 @@ pub struct FaceState {
 }
 
 impl<'a> ContactProblem<'a> {
-    /// Assembles the bulk terms once.
-    pub fn new(
-        problem: &'a Problem,
-        disc: &'a Discretisation,
-        nitsche: Nitsche,
-        projection: Box<dyn Projection>,
-    ) -> Self {
+    /// Assembles the bulk terms once; the faces are those of `joint`.
+    pub fn new(problem: &'a Problem, disc: &'a Discretisation, joint: &ContactJoint, smoothing: Smoothing) -> Self {
         let bulk = problem.assemble(disc);
-        ContactProblem { problem, disc, nitsche, projection, bulk }
+        ContactProblem { problem, disc, nitsche: joint.faces(problem, disc), smoothing, bulk }
+    }
+
+    /// Sets the regularisation δ of the projection.
+    pub fn set_delta(&mut self, delta: f64) {
+        self.smoothing = Smoothing { delta };
     }
 
     /// Contact state of every face for the free unknowns `x`.
     pub fn face_states(&self, x: &[f64]) -> Vec<FaceState> {
-        face_states(self.problem, self.disc, &self.nitsche, self.projection.as_ref(), x)
+        let u_full = self.disc.dofs.expand(x);
+        let mut dofs = Vec::new();
+        (0..self.nitsche.faces.len())
+            .map(|k| {
+                let u = local(&self.problem.mesh, &self.nitsche, k, &u_full, &mut dofs);
+                face_state(&self.nitsche, self.smoothing, k, &u)
+            })
+            .collect()
     }
 
     /// max |P_γ(u_h)| over the quadrature points of every contact face (those of the
@@ -68,10 +108,17 @@ impl<'a> ContactProblem<'a> {
         (0..self.nitsche.faces.len())
             .flat_map(|k| {
                 let u = local(&self.problem.mesh, &self.nitsche, k, &u_full, &mut dofs);
-                let points = self.nitsche.quadrature(k, &u, self.projection.as_ref());
+                let points = self.nitsche.quadrature(k, &u, self.smoothing);
                 points.into_iter().map(move |(s, _)| self.nitsche.p_gamma(k, &self.nitsche.point(k, s), &u).abs())
             })
             .fold(0.0, f64::max)
+    }
+
+    /// The solution `x` reached by `stages`, with the state of every face.
+    pub fn solution(self, x: Vec<f64>, stages: Vec<Stage>) -> ContactSolution {
+        let faces = self.face_states(&x);
+        let x_prev = stages.last().map_or_else(|| x.clone(), |s| s.report.x_prev.clone());
+        ContactSolution { x, x_prev, smoothing: self.smoothing, stages, faces, nitsche: self.nitsche }
     }
 }
 
@@ -81,35 +128,22 @@ fn local(mesh: &Mesh, nitsche: &Nitsche, k: usize, u_full: &[f64], dofs: &mut Ve
     dofs.iter().map(|&g| u_full[g]).collect()
 }
 
-/// Contact state of every face of `nitsche` for the free unknowns `x`.
-pub fn face_states(
-    problem: &Problem,
-    disc: &Discretisation,
-    nitsche: &Nitsche,
-    projection: &dyn Projection,
-    x: &[f64],
-) -> Vec<FaceState> {
-    let u_full = disc.dofs.expand(x);
-    let mut dofs = Vec::new();
-    (0..nitsche.faces.len())
-        .map(|k| {
-            let u = local(&problem.mesh, nitsche, k, &u_full, &mut dofs);
-            let length = nitsche.faces[k].length;
-            let mut state = FaceState::default();
-            let mut levels = projection.breakpoints();
-            levels.push(0.0);
-            for (s, w) in nitsche.split_rule(k, &nitsche.cuts(k, &u, &levels)) {
-                let pt = nitsche.point(k, s);
-                let p = nitsche.p_gamma(k, &pt, &u);
-                state.pressure -= negative_part(p) * w / length;
-                state.normal_displacement += pt.u_n.iter().zip(&u).map(|(a, b)| a * b).sum::<f64>() * w / length;
-                state.contact_length += if p < 0.0 { w } else { 0.0 };
-                let error = (projection.value(p) - negative_part(p)).abs();
-                state.regularisation_error = state.regularisation_error.max(error);
-            }
-            state
-        })
-        .collect()
+/// The state of face k for the local displacement `u` of its cell.
+fn face_state(nitsche: &Nitsche, smoothing: Smoothing, k: usize, u: &[f64]) -> FaceState {
+    let length = nitsche.faces[k].length;
+    let mut state = FaceState::default();
+    let mut levels = smoothing.breakpoints();
+    levels.push(0.0);
+    for (s, w) in nitsche.split_rule(k, &nitsche.cuts(k, u, &levels)) {
+        let pt = nitsche.point(k, s);
+        let p = nitsche.p_gamma(k, &pt, u);
+        state.pressure -= negative_part(p) * w / length;
+        state.normal_displacement += pt.u_n.iter().zip(u).map(|(a, b)| a * b).sum::<f64>() * w / length;
+        state.contact_length += if p < 0.0 { w } else { 0.0 };
+        let error = (smoothing.value(p) - negative_part(p)).abs();
+        state.regularisation_error = state.regularisation_error.max(error);
+    }
+    state
 }
 
 impl NonlinearSystem for ContactProblem<'_> {
@@ -133,7 +167,7 @@ impl NonlinearSystem for ContactProblem<'_> {
         for k in 0..self.nitsche.faces.len() {
             let u = local(&self.problem.mesh, &self.nitsche, k, &u_full, &mut dofs);
             let want_j = jacobian.is_some();
-            self.nitsche.face_terms(k, &u, self.projection.as_ref(), &mut r_local, want_j.then_some(&mut j_local[..]));
+            self.nitsche.face_terms(k, &u, self.smoothing, &mut r_local, want_j.then_some(&mut j_local[..]));
             for (i, &gi) in dofs.iter().enumerate() {
                 let row = free[gi];
                 if row == FIXED {
@@ -163,12 +197,11 @@ pub struct Stage {
     pub report: NewtonReport,
 }
 
-/// Solves the contact problem with the quadratic smoothing at `delta`, by continuation:
-/// δ_k = max(delta, delta_start / 10^k), each stage starting from the previous solution;
-/// for delta = 0 the path jumps to 0 after eight decades.
-/// A direct solve at a tiny δ from a poor initial guess moves the active set one face per
-/// step; the path reaches it in a few steps per stage. `delta_start ≤ delta` is one stage.
-pub fn solve_by_continuation(
+/// Newton along the path δ_k = max(delta, delta_start / 10^k), each stage starting from the
+/// previous solution; for delta = 0 the path jumps to 0 after eight decades. A direct solve
+/// at a tiny δ from a poor initial guess moves the active set one face per step; the path
+/// reaches it in a few steps per stage. `delta_start ≤ delta` is one stage.
+pub fn continuation(
     contact: &mut ContactProblem,
     delta: f64,
     delta_start: f64,
@@ -179,7 +212,7 @@ pub fn solve_by_continuation(
     let mut x = x0;
     let mut current = delta_start.max(delta);
     loop {
-        contact.projection = Box::new(QuadraticSmoothing { delta: current });
+        contact.set_delta(current);
         let report = newton(contact, x, options)?;
         x = report.x.clone();
         stages.push(Stage { delta: current, report });
@@ -191,23 +224,24 @@ pub fn solve_by_continuation(
     }
 }
 
-/// Everything the contact solve needs besides the problem.
+/// How `damfem solve` reaches the regularisation δ: a continuation path from `delta_start`.
 #[derive(Debug, Clone, Copy)]
-pub struct ContactSettings {
-    pub parameters: NitscheParameters,
-    /// Target regularisation δ (0: the plain projection with its semismooth derivative).
+pub struct Continuation {
+    /// Target regularisation δ [Pa] (0: the plain projection with its semismooth derivative).
     pub delta: f64,
-    /// First δ of the continuation path (≤ delta: a single Newton solve at delta).
+    /// First δ of the path (≤ delta: a single Newton solve at delta).
     pub delta_start: f64,
     pub newton: NewtonOptions,
 }
 
-/// The contact solution and how it was reached.
+/// A contact iterate and what it was computed with.
 pub struct ContactSolution {
     /// Free unknowns.
     pub x: Vec<f64>,
-    /// The iterate before the last Newton step.
+    /// The iterate before the last Newton step: the linearisation point of x.
     pub x_prev: Vec<f64>,
+    /// The smoothing of the last Newton step.
+    pub smoothing: Smoothing,
     pub stages: Vec<Stage>,
     /// State of every contact face.
     pub faces: Vec<FaceState>,
@@ -225,22 +259,71 @@ impl ContactSolution {
     pub fn contact_length(&self) -> f64 {
         self.faces.iter().map(|f| f.contact_length).sum()
     }
+
+    /// What the estimator needs of this iterate.
+    pub fn linearisation(&self, problem: &Problem, disc: &Discretisation) -> Linearisation<'_> {
+        Linearisation::new(problem, disc, &self.nitsche, self.smoothing, &self.x_prev)
+    }
 }
 
-/// Solves the elasticity problem with Nitsche contact on the facets tagged `tags`, from a
-/// zero initial guess.
-pub fn solve_contact(
+/// A Newton iterate u^k on Γ_C as the estimator sees it: the faces, the smoothing of its
+/// step and the previous iterate u^{k−1}, at which the Newton equation that u^k solves was
+/// linearised.
+pub struct Linearisation<'a> {
+    pub nitsche: &'a Nitsche,
+    pub smoothing: Smoothing,
+    /// u^{k−1} at the nodes.
+    pub u_prev: Vec<[f64; 2]>,
+}
+
+impl<'a> Linearisation<'a> {
+    /// The state of an iterate whose previous iterate has the free unknowns `x_prev`.
+    pub fn new(
+        problem: &Problem,
+        disc: &Discretisation,
+        nitsche: &'a Nitsche,
+        smoothing: Smoothing,
+        x_prev: &[f64],
+    ) -> Self {
+        Linearisation { nitsche, smoothing, u_prev: problem.displacement(disc, x_prev) }
+    }
+}
+
+/// Solves the elasticity problem with contact on `joint` from a zero initial guess, along
+/// the δ path of `settings`.
+pub fn solve_by_continuation(
     problem: &Problem,
     disc: &Discretisation,
-    tags: &[i32],
-    settings: &ContactSettings,
+    joint: &ContactJoint,
+    settings: &Continuation,
 ) -> Result<ContactSolution, NewtonError> {
-    let nitsche = Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, tags, settings.parameters);
-    let projection = Box::new(QuadraticSmoothing { delta: settings.delta });
-    let mut contact = ContactProblem::new(problem, disc, nitsche, projection);
+    let mut contact = ContactProblem::new(problem, disc, joint, Smoothing { delta: settings.delta });
     let x0 = vec![0.0; disc.dofs.n_free];
-    let (x, stages) = solve_by_continuation(&mut contact, settings.delta, settings.delta_start, x0, &settings.newton)?;
-    let faces = contact.face_states(&x);
-    let x_prev = stages.last().map_or_else(|| x.clone(), |s| s.report.x_prev.clone());
-    Ok(ContactSolution { x, x_prev, stages, faces, nitsche: contact.nitsche })
+    let (x, stages) = continuation(&mut contact, settings.delta, settings.delta_start, x0, &settings.newton)?;
+    Ok(contact.solution(x, stages))
+}
+
+/// The free unknowns of a solve, with the contact state when the problem has Γ_C.
+pub enum Solution {
+    /// Without Γ_C: one linear solve.
+    Linear(Vec<f64>),
+    Contact(Box<ContactSolution>),
+}
+
+impl Solution {
+    /// The free unknowns.
+    pub fn x(&self) -> &[f64] {
+        match self {
+            Solution::Linear(x) => x,
+            Solution::Contact(c) => &c.x,
+        }
+    }
+
+    /// The contact state, if the problem has Γ_C.
+    pub fn contact(&self) -> Option<&ContactSolution> {
+        match self {
+            Solution::Linear(_) => None,
+            Solution::Contact(c) => Some(c),
+        }
+    }
 }

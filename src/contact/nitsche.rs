@@ -15,7 +15,8 @@
 //! is split at the roots of P_γ(u_h) = b for every breakpoint b of the projection, and each
 //! piece is integrated with p + 2 Gauss points, exact for the polynomial integrands.
 
-use super::projection::Projection;
+use super::projection::Smoothing;
+use super::ContactJoint;
 use crate::elasticity::Material;
 use crate::fem::affine::AffineMap;
 use crate::fem::lagrange;
@@ -94,18 +95,10 @@ pub struct Nitsche {
 }
 
 impl Nitsche {
-    /// Contact faces: the boundary facets whose tag is in `tags`.
-    pub fn new(
-        mesh: &Mesh,
-        topology: &Topology,
-        materials: &[Material],
-        tags: &[i32],
-        parameters: NitscheParameters,
-    ) -> Self {
-        let faces = (0..mesh.n_facets())
-            .filter(|&f| tags.contains(&mesh.facet_tags[f]))
-            .map(|f| face(mesh, topology, materials, f, &parameters))
-            .collect();
+    /// Contact faces: the boundary facets of the curves of `joint`.
+    pub fn new(mesh: &Mesh, topology: &Topology, materials: &[Material], joint: &ContactJoint) -> Self {
+        let parameters = joint.parameters;
+        let faces = mesh.facets_tagged(&joint.tags).map(|f| face(mesh, topology, materials, f, &parameters)).collect();
         Nitsche { parameters, faces, order: mesh.order, rule: gauss_segment(mesh.order + 2) }
     }
 
@@ -146,9 +139,9 @@ impl Nitsche {
         sigma_n - gamma * (u_n - self.parameters.gap.at(point.x))
     }
 
-    /// Quadrature on face k split at the kinks of `projection` ∘ P_γ(u_h): (s, weight·|F|).
-    pub fn quadrature(&self, k: usize, u: &[f64], projection: &dyn Projection) -> Vec<(f64, f64)> {
-        self.split_rule(k, &self.cuts(k, u, &projection.breakpoints()))
+    /// Quadrature on face k split at the kinks of `smoothing` ∘ P_γ(u_h): (s, weight·|F|).
+    pub fn quadrature(&self, k: usize, u: &[f64], smoothing: Smoothing) -> Vec<(f64, f64)> {
+        self.split_rule(k, &self.cuts(k, u, &smoothing.breakpoints()))
     }
 
     /// 0, 1 and the parameters s ∈ (0, 1) where P_γ(u_h)(s) equals one of `levels`, sorted.
@@ -186,7 +179,7 @@ impl Nitsche {
         &self,
         k: usize,
         u: &[f64],
-        projection: &dyn Projection,
+        smoothing: Smoothing,
         residual: &mut [f64],
         mut jacobian: Option<&mut [f64]>,
     ) {
@@ -198,11 +191,11 @@ impl Nitsche {
         }
         let mut test = vec![0.0; n];
         let mut trial = vec![0.0; n];
-        for (s, w) in self.quadrature(k, u, projection) {
+        for (s, w) in self.quadrature(k, u, smoothing) {
             let pt = self.point(k, s);
             let p = self.p_gamma(k, &pt, u);
             let sigma_n_u = dot(&pt.sigma_n, u);
-            let (value, slope) = (projection.value(p), projection.derivative(p));
+            let (value, slope) = (smoothing.value(p), smoothing.derivative(p));
             for i in 0..n {
                 test[i] = theta * pt.sigma_n[i] - gamma * pt.u_n[i]; // θ σ^n(v) − γ v^n
                 trial[i] = pt.sigma_n[i] - gamma * pt.u_n[i]; // σ^n(w) − γ w^n

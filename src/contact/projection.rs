@@ -10,24 +10,19 @@
 //! lies below min(x, 0) and differs from it by at most δ/4 (at x = 0). With δ = 0 it is the
 //! plain projection with the semismooth derivative 1 for x < 0, 0 for x ≥ 0.
 
-/// A monotone, 1-Lipschitz approximation of min(x, 0).
-pub trait Projection: Sync + Send {
-    /// The projected value.
-    fn value(&self, x: f64) -> f64;
-    /// Its derivative (a generalised derivative at kinks).
-    fn derivative(&self, x: f64) -> f64;
-    /// The points where the function is not a polynomial; quadrature splits faces there.
-    fn breakpoints(&self) -> Vec<f64>;
-}
-
-/// The quadratic C¹ smoothing of min(x, 0) with half-width δ ≥ 0 (δ = 0: no smoothing).
+/// The quadratic C¹ smoothing [x]_{reg,δ} of min(x, 0) with half-width δ ≥ 0 (δ = 0: the
+/// plain projection): a monotone, 1-Lipschitz approximation of min(x, 0). δ is a stress [Pa].
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct QuadraticSmoothing {
+pub struct Smoothing {
     pub delta: f64,
 }
 
-impl Projection for QuadraticSmoothing {
-    fn value(&self, x: f64) -> f64 {
+impl Smoothing {
+    /// The plain projection min(x, 0) with its semismooth derivative.
+    pub const NONE: Smoothing = Smoothing { delta: 0.0 };
+
+    /// The projected value [x]_{reg,δ}.
+    pub fn value(&self, x: f64) -> f64 {
         let d = self.delta;
         if x <= -d {
             x
@@ -38,7 +33,8 @@ impl Projection for QuadraticSmoothing {
         }
     }
 
-    fn derivative(&self, x: f64) -> f64 {
+    /// Its derivative (at the kink of δ = 0, the generalised derivative 0).
+    pub fn derivative(&self, x: f64) -> f64 {
         let d = self.delta;
         if x <= -d && !(d == 0.0 && x == 0.0) {
             1.0
@@ -49,7 +45,8 @@ impl Projection for QuadraticSmoothing {
         }
     }
 
-    fn breakpoints(&self) -> Vec<f64> {
+    /// The points where [x]_{reg,δ} is not a polynomial; quadrature splits faces there.
+    pub fn breakpoints(&self) -> Vec<f64> {
         if self.delta == 0.0 {
             vec![0.0]
         } else {
@@ -69,7 +66,7 @@ mod tests {
 
     #[test]
     fn smoothing_properties() {
-        let p = QuadraticSmoothing { delta: 0.3 };
+        let p = Smoothing { delta: 0.3 };
         let xs: Vec<f64> = (-200..=200).map(|k| k as f64 * 0.005).collect();
         for &x in &xs {
             let (v, exact) = (p.value(x), negative_part(x));
@@ -83,7 +80,7 @@ mod tests {
         for x in [-0.3, 0.3] {
             assert!((p.value(x - 1e-9) - p.value(x + 1e-9)).abs() < 1e-8);
         }
-        let plain = QuadraticSmoothing { delta: 0.0 };
+        let plain = Smoothing::NONE;
         assert_eq!((plain.value(-2.0), plain.value(1.0)), (-2.0, 0.0));
         assert_eq!((plain.derivative(-2.0), plain.derivative(1.0), plain.derivative(0.0)), (1.0, 0.0, 0.0));
     }

@@ -15,6 +15,7 @@ use crate::fem::quadrature::{gauss_segment_cached, split_rule};
 use crate::fem::sparse::{vector_dofs, LinearSystem, Local, SparsePattern};
 use crate::fem::tabulate::Tabulation;
 use crate::mesh::{Mesh, Topology};
+use crate::solve::{Cholesky, SolveError};
 use std::sync::Arc;
 
 /// A vector field x ↦ v(x).
@@ -118,6 +119,21 @@ pub struct Discretisation {
 }
 
 impl Problem {
+    /// The body force f(x) [N/m³] at the point `x` of cell `c`.
+    pub fn body_force_at(&self, c: usize, x: [f64; 2]) -> [f64; 2] {
+        match &self.body_force {
+            BodyForce::None => [0.0; 2],
+            BodyForce::Gravity(g) => [0.0, -self.materials[c].density * g],
+            BodyForce::Field(field) => field(x),
+        }
+    }
+
+    /// Solves the problem without contact: K x = b by sparse Cholesky; the free unknowns.
+    pub fn solve_linear(&self, disc: &Discretisation) -> Result<Vec<f64>, SolveError> {
+        let system = self.assemble(disc);
+        Cholesky::analyse(&disc.pattern)?.solve(&disc.pattern, &system.values, &system.rhs)
+    }
+
     /// Number of displacement unknowns 2 × nodes (constrained ones included).
     pub fn n_dofs(&self) -> usize {
         2 * self.mesh.n_points()
@@ -160,11 +176,7 @@ impl Problem {
             kernels::stiffness(&map, &stiff_tab, lambda, mu, &mut grads[..nb], &mut local.matrix);
             match &self.body_force {
                 BodyForce::None => local.load.fill(0.0),
-                BodyForce::Gravity(g) => {
-                    let w = -self.materials[c].density * g;
-                    kernels::body_load(&map, &load_tab, |_| [0.0, w], &mut local.load)
-                }
-                BodyForce::Field(field) => kernels::body_load(&map, &load_tab, |x| field(x), &mut local.load),
+                _ => kernels::body_load(&map, &load_tab, |x| self.body_force_at(c, x), &mut local.load),
             }
         };
         let dofs_of = |c: usize, out: &mut Vec<usize>| vector_dofs(self.mesh.cell(c), out);
@@ -208,12 +220,7 @@ impl Problem {
         let body = (0..mesh.n_cells()).map(|c| {
             let v = mesh.cell_vertices(c);
             let x = [(v[0][0] + v[1][0] + v[2][0]) / 3.0, (v[0][1] + v[1][1] + v[2][1]) / 3.0];
-            let f = match &self.body_force {
-                BodyForce::None => 0.0,
-                BodyForce::Gravity(g) => self.materials[c].density * g,
-                BodyForce::Field(field) => norm(field(x)),
-            };
-            f * diam
+            norm(self.body_force_at(c, x)) * diam
         });
         let young = self.materials.iter().map(|m| m.young).fold(0.0, f64::max);
         let imposed = self.dirichlet.iter().flat_map(|bc| {

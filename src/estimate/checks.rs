@@ -4,9 +4,10 @@
 
 use super::afw::{self, COMPONENTS};
 use super::face::FaceProjection;
-use super::reconstruction::{contact_rule, tractions, ContactState, Reconstruction};
+use super::reconstruction::{contact_rule, tractions, Reconstruction};
+use crate::contact::Linearisation;
 use crate::elasticity::problem::{load_degree, traction_rule};
-use crate::elasticity::{BodyForce, Problem};
+use crate::elasticity::Problem;
 use crate::fem::affine::AffineMap;
 use crate::fem::lagrange;
 use crate::fem::quadrature::{gauss_segment_cached, triangle_cached};
@@ -47,7 +48,7 @@ pub fn check(
     topology: &Topology,
     u: &[[f64; 2]],
     rec: &Reconstruction,
-    contact: Option<&ContactState>,
+    contact: Option<&Linearisation>,
 ) -> Equilibration {
     let traces = Traces::new(problem, topology, rec);
     Equilibration {
@@ -72,11 +73,7 @@ fn divergence(problem: &Problem, rec: &Reconstruction) -> f64 {
         let ints = afw::cell_integrals(order, &map);
         let gram = nalgebra::DMatrix::from_row_slice(nl, nl, &ints.lower_gram).cholesky().expect("positive definite");
         let sigma = rec.total(c);
-        let f = |x: [f64; 2]| match &problem.body_force {
-            BodyForce::None => [0.0; 2],
-            BodyForce::Gravity(g) => [0.0, -problem.materials[c].density * g],
-            BodyForce::Field(field) => field(x),
-        };
+        let f = |x: [f64; 2]| problem.body_force_at(c, x);
         let mut psi = [0.0; 3];
         let mut moments = [nalgebra::DVector::zeros(nl), nalgebra::DVector::zeros(nl)];
         let (mut defect, mut size, mut norm_sigma) = (0.0, 0.0, 0.0);
@@ -244,12 +241,12 @@ fn inverse(map: &AffineMap, x: [f64; 2]) -> [f64; 2] {
 }
 
 /// max over contact faces and i = 1, 2, 3 of ‖σ_hi n − Π_F^p t_i n‖_F.
-fn contact_traces(problem: &Problem, u: &[[f64; 2]], rec: &Reconstruction, state: &ContactState) -> f64 {
+fn contact_traces(problem: &Problem, u: &[[f64; 2]], rec: &Reconstruction, state: &Linearisation) -> f64 {
     let mesh = &problem.mesh;
     let mut worst: f64 = 0.0;
     for (k, face) in state.nitsche.faces.iter().enumerate() {
         let local = |field: &[[f64; 2]]| -> Vec<f64> { mesh.cell(face.cell).iter().flat_map(|&n| field[n]).collect() };
-        let (uk, u_prev) = (local(u), local(state.u_prev));
+        let (uk, u_prev) = (local(u), local(&state.u_prev));
         let rule = contact_rule(state, k, &uk, &u_prev);
         let projection = FaceProjection::new(mesh.order, &rule);
         let t: Vec<[f64; 3]> = rule.iter().map(|&(s, _)| tractions(state, k, s, &uk, &u_prev)).collect();

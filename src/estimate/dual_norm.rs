@@ -36,8 +36,9 @@
 //! by sparse Cholesky; when both components have the same Dirichlet nodes, one factorisation
 //! serves both. ‖r‖²_{C,h} = Σ_a r_aᵀ A_a r_a.
 
-use crate::contact::nitsche::{roots_in_unit_interval, Nitsche, NitscheParameters};
-use crate::elasticity::{kernels, BodyForce, Problem};
+use crate::contact::nitsche::{roots_in_unit_interval, Nitsche};
+use crate::contact::ContactJoint;
+use crate::elasticity::{kernels, Problem};
 use crate::fem::affine::AffineMap;
 use crate::fem::dofs::{DofMap, FIXED};
 use crate::fem::lagrange;
@@ -57,15 +58,6 @@ pub const DEFAULT_LEVELS: usize = 2;
 
 /// Degree of the volume quadrature on fine cells (2·2 + 4).
 const VOLUME_DEGREE: usize = 8;
-
-/// Frictionless contact on Γ_C, as in the Nitsche discretisation that produced u_h.
-#[derive(Debug, Clone, Copy)]
-pub struct ContactData<'a> {
-    /// Physical curve tags of Γ_C.
-    pub tags: &'a [i32],
-    /// γ₀, the gap and the contact direction (θ plays no part in the residual).
-    pub parameters: NitscheParameters,
-}
 
 /// The Riesz representative r of R(u_h) in V_fine and its norm.
 #[derive(Debug, Clone)]
@@ -88,7 +80,7 @@ pub struct RieszRepresentative {
 pub fn residual_dual_norm(
     problem: &Problem,
     u_h: &[[f64; 2]],
-    contact: Option<&ContactData>,
+    contact: Option<&ContactJoint>,
     levels: usize,
 ) -> Result<f64, SolveError> {
     residual_riesz(problem, u_h, contact, levels).map(|r| r.norm)
@@ -99,7 +91,7 @@ pub fn residual_dual_norm(
 pub fn residual_riesz(
     problem: &Problem,
     u_h: &[[f64; 2]],
-    contact: Option<&ContactData>,
+    contact: Option<&ContactJoint>,
     levels: usize,
 ) -> Result<RieszRepresentative, SolveError> {
     let coarse = &problem.mesh;
@@ -191,11 +183,7 @@ fn volume_residual(problem: &Problem, u_h: &[[f64; 2]], fine: &Refinement) -> Ve
                 );
                 let [sxx, syy, sxy, _] = kernels::stress(grad, lambda, mu);
                 let sigma = [[sxx, sxy], [sxy, syy]];
-                let f = match &problem.body_force {
-                    BodyForce::None => [0.0; 2],
-                    BodyForce::Gravity(g) => [0.0, -material.density * g],
-                    BodyForce::Field(field) => field(x),
-                };
+                let f = problem.body_force_at(parent, x);
                 for (i, (phi, gr)) in tab.phi(q).iter().zip(tab.grad(q)).enumerate() {
                     let g = map.physical_gradient(*gr);
                     for a in 0..2 {
@@ -254,9 +242,9 @@ struct ContactFaces {
 }
 
 impl ContactFaces {
-    fn new(problem: &Problem, topology: &Topology, data: &ContactData) -> Self {
+    fn new(problem: &Problem, topology: &Topology, data: &ContactJoint) -> Self {
         let coarse = &problem.mesh;
-        let nitsche = Nitsche::new(coarse, topology, &problem.materials, data.tags, data.parameters);
+        let nitsche = Nitsche::new(coarse, topology, &problem.materials, data);
         let mut face_of_facet = vec![None; coarse.n_facets()];
         let ends = nitsche
             .faces

@@ -16,7 +16,8 @@
 
 use super::afw::{self, COMPONENTS};
 use super::face::FaceProjection;
-use super::reconstruction::{tractions, ContactState, Reconstruction};
+use super::reconstruction::{tractions, Reconstruction};
+use crate::contact::Linearisation;
 use crate::elasticity::kernels::{displacement_gradient, stress};
 use crate::elasticity::{BodyForce, Problem, Traction};
 use crate::fem::affine::AffineMap;
@@ -79,7 +80,7 @@ pub fn estimate(
     topology: &Topology,
     u: &[[f64; 2]],
     rec: &Reconstruction,
-    contact: Option<&ContactState>,
+    contact: Option<&Linearisation>,
 ) -> Estimators {
     let n = problem.mesh.n_cells();
     let mut e = Estimators {
@@ -220,12 +221,12 @@ fn lerp(ends: [[f64; 2]; 2], s: f64) -> [f64; 2] {
 }
 
 /// Contact-face parts of η_disc, η_reg and η_lin.
-fn contact_faces(problem: &Problem, u: &[[f64; 2]], rec: &Reconstruction, state: &ContactState, e: &mut Estimators) {
+fn contact_faces(problem: &Problem, u: &[[f64; 2]], rec: &Reconstruction, state: &Linearisation, e: &mut Estimators) {
     let mesh = &problem.mesh;
     let nitsche = state.nitsche;
     for (k, face) in nitsche.faces.iter().enumerate() {
         let local = |field: &[[f64; 2]]| -> Vec<f64> { mesh.cell(face.cell).iter().flat_map(|&n| field[n]).collect() };
-        let (uk, u_prev) = (local(u), local(state.u_prev));
+        let (uk, u_prev) = (local(u), local(&state.u_prev));
         let rule = super::reconstruction::contact_rule(state, k, &uk, &u_prev);
         let projection = FaceProjection::new(mesh.order, &rule);
         let t1: Vec<f64> = rule.iter().map(|&(s, _)| tractions(state, k, s, &uk, &u_prev)[0]).collect();

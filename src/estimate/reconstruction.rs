@@ -15,24 +15,17 @@
 use super::afw::{self, cell_integrals, face_moments, CellIntegrals, COMPONENTS};
 use super::patch::{self, FaceKind, PatchFace, PatchInput};
 use crate::contact::nitsche::Nitsche;
-use crate::contact::projection::{negative_part, Projection};
+use crate::contact::projection::negative_part;
+use crate::contact::Linearisation;
 use crate::elasticity::kernels::{displacement_gradient, stress};
 use crate::elasticity::problem::{load_degree, traction_rule};
-use crate::elasticity::{BodyForce, Problem, Traction};
+use crate::elasticity::{Problem, Traction};
 use crate::fem::affine::AffineMap;
 use crate::fem::lagrange;
 use crate::fem::quadrature::triangle_cached;
 use crate::mesh::topology::NONE;
 use crate::mesh::{Mesh, Topology};
 use rayon::prelude::*;
-
-/// The Newton state needed for the Γ_C tractions.
-pub struct ContactState<'a> {
-    pub nitsche: &'a Nitsche,
-    pub projection: &'a dyn Projection,
-    /// The previous Newton iterate u^{k−1} (nodal).
-    pub u_prev: &'a [[f64; 2]],
-}
 
 /// Why the reconstruction could not be built.
 #[derive(Debug, thiserror::Error)]
@@ -65,6 +58,42 @@ impl Reconstruction {
     pub fn total(&self, c: usize) -> Vec<f64> {
         (0..COMPONENTS * self.n_basis).map(|k| (0..3).map(|i| self.cell(i, c)[k]).sum()).collect()
     }
+
+    /// Number of cells.
+    pub fn n_cells(&self) -> usize {
+        self.sigma[0].len() / (COMPONENTS * self.n_basis)
+    }
+
+    /// Cell means (1/|T|) ∫_T σ_h of the components [xx, xy, yx, yy]: ∫_T φ_k / |T| is 1/3 for
+    /// each P1 basis function, and 0 at the vertices and 1/3 at the midpoints for P2.
+    pub fn cell_means(&self) -> [Vec<f64>; COMPONENTS] {
+        let nb = self.n_basis;
+        let mean = |k: usize| if self.order == 2 && k < 3 { 0.0 } else { 1.0 / 3.0 };
+        let mut means: [Vec<f64>; COMPONENTS] = std::array::from_fn(|_| Vec::with_capacity(self.n_cells()));
+        for t in 0..self.n_cells() {
+            let sigma = self.total(t);
+            for (c, column) in means.iter_mut().enumerate() {
+                column.push((0..nb).map(|k| sigma[c * nb + k] * mean(k)).sum());
+            }
+        }
+        means
+    }
+
+    /// σ_h at the three vertices of every cell, in the order of [`Mesh::discontinuous`]
+    /// (cell c, vertex v at 3c + v), components [xx, xy, yx, yy].
+    pub fn vertex_values(&self) -> [Vec<f64>; COMPONENTS] {
+        let mut values: [Vec<f64>; COMPONENTS] = std::array::from_fn(|_| Vec::with_capacity(3 * self.n_cells()));
+        for c in 0..self.n_cells() {
+            let sigma = self.total(c);
+            for &xi in lagrange::reference_nodes(1) {
+                let tau = afw::evaluate(self.order, &sigma, xi);
+                for (column, value) in values.iter_mut().zip(tau) {
+                    column.push(value);
+                }
+            }
+        }
+        values
+    }
 }
 
 /// Role of a boundary facet in the patch problems.
@@ -81,7 +110,7 @@ struct Context<'a> {
     problem: &'a Problem,
     topology: &'a Topology,
     u: &'a [[f64; 2]],
-    contact: Option<&'a ContactState<'a>>,
+    contact: Option<&'a Linearisation<'a>>,
     maps: Vec<AffineMap>,
     integrals: Vec<CellIntegrals>,
     /// The volume data of every cell for each of its vertices, from [`volume_data`].
@@ -96,7 +125,7 @@ pub fn reconstruct(
     problem: &Problem,
     topology: &Topology,
     u: &[[f64; 2]],
-    contact: Option<&ContactState>,
+    contact: Option<&Linearisation>,
 ) -> Result<Reconstruction, EstimateError> {
     if let Some(c) = contact {
         if c.nitsche.parameters.theta != 0.0 {
@@ -238,11 +267,7 @@ fn volume_data(ctx: &Context, c: usize) -> Vec<f64> {
         let w = w * map.det.abs();
         let s = stress(displacement_gradient(map, order, xi, &nodal, &mut grads[..nb]), lambda, mu);
         let sigma = [s[0], s[2], s[2], s[1]]; // xx, xy, yx, yy
-        let f = match &ctx.problem.body_force {
-            BodyForce::None => [0.0; 2],
-            BodyForce::Gravity(g) => [0.0, -material.density * g],
-            BodyForce::Field(field) => field(map.to_physical(xi)),
-        };
+        let f = ctx.problem.body_force_at(c, map.to_physical(xi));
         lagrange::values(order, xi, &mut phi[..nb]);
         afw::lower_values(order, xi, &mut psi[..nl]);
         for (ia, data) in out.chunks_exact_mut(wt + wd).enumerate() {
@@ -374,21 +399,21 @@ fn traction_moments(ctx: &Context, traction: &Traction, a: usize, ends: [usize; 
 
 /// The Γ_C tractions (t₁, t₂, t₃) at parameter `s` of contact face k, for the local
 /// displacements `u` and `u_prev` of its cell.
-pub(crate) fn tractions(c: &ContactState, k: usize, s: f64, u: &[f64], u_prev: &[f64]) -> [f64; 3] {
+pub(crate) fn tractions(c: &Linearisation, k: usize, s: f64, u: &[f64], u_prev: &[f64]) -> [f64; 3] {
     let point = c.nitsche.point(k, s);
     let (p, p_prev) = (c.nitsche.p_gamma(k, &point, u), c.nitsche.p_gamma(k, &point, u_prev));
-    let projection = c.projection;
-    let (exact, regularised) = (negative_part(p), projection.value(p));
-    let linearised = projection.value(p_prev) + projection.derivative(p_prev) * (p - p_prev);
+    let smoothing = c.smoothing;
+    let (exact, regularised) = (negative_part(p), smoothing.value(p));
+    let linearised = smoothing.value(p_prev) + smoothing.derivative(p_prev) * (p - p_prev);
     [exact, regularised - exact, linearised - regularised]
 }
 
 /// The rule on contact face k split at every kink of t₁, t₂ and t₃: (s, weight · |F|).
-pub(crate) fn contact_rule(c: &ContactState, k: usize, u: &[f64], u_prev: &[f64]) -> Vec<(f64, f64)> {
-    let mut levels = c.projection.breakpoints();
+pub(crate) fn contact_rule(c: &Linearisation, k: usize, u: &[f64], u_prev: &[f64]) -> Vec<(f64, f64)> {
+    let mut levels = c.smoothing.breakpoints();
     levels.push(0.0);
     let mut cuts = c.nitsche.cuts(k, u, &levels);
-    cuts.extend(c.nitsche.cuts(k, u_prev, &c.projection.breakpoints()));
+    cuts.extend(c.nitsche.cuts(k, u_prev, &c.smoothing.breakpoints()));
     cuts.sort_by(f64::total_cmp);
     c.nitsche.split_rule(k, &cuts)
 }
@@ -400,7 +425,7 @@ fn contact_moments(ctx: &Context, k: usize, a: usize, ends: [usize; 2], data: &m
     let mesh = &ctx.problem.mesh;
     let face = &c.nitsche.faces[k];
     let local = |field: &[[f64; 2]]| -> Vec<f64> { mesh.cell(face.cell).iter().flat_map(|&n| field[n]).collect() };
-    let (u, u_prev) = (local(ctx.u), local(c.u_prev));
+    let (u, u_prev) = (local(ctx.u), local(&c.u_prev));
     // the Nitsche face runs from facet node 0 to facet node 1
     let reversed = mesh.facet(face.facet)[0] != ends[0];
     let mut q = [0.0; 3];

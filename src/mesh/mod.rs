@@ -73,6 +73,25 @@ impl Mesh {
         &self.cell_nodes[c * n..(c + 1) * n]
     }
 
+    /// The P1 mesh in which every cell has its own copies of its three vertices (cell c,
+    /// vertex v is point 3c + v), for fields that jump across edges.
+    pub fn discontinuous(&self) -> Mesh {
+        Mesh {
+            points: (0..self.n_cells()).flat_map(|c| self.cell_vertices(c)).collect(),
+            order: 1,
+            cell_nodes: (0..3 * self.n_cells()).collect(),
+            cell_tags: self.cell_tags.clone(),
+            facet_nodes: Vec::new(),
+            facet_tags: Vec::new(),
+            groups: self.groups.clone(),
+        }
+    }
+
+    /// The boundary facets whose physical tag is one of `tags`, in mesh order.
+    pub fn facets_tagged<'a>(&'a self, tags: &'a [i32]) -> impl Iterator<Item = usize> + 'a {
+        (0..self.n_facets()).filter(move |&f| tags.contains(&self.facet_tags[f]))
+    }
+
     /// Node indices of boundary facet `f`.
     pub fn facet(&self, f: usize) -> &[usize] {
         let n = self.nodes_per_facet();

@@ -91,6 +91,29 @@ pub fn remesh_geo(
     mesh_geo_with(path, options, Some(field), verbose, allow_system_calls)
 }
 
+/// Meshes the `.geo` file `path` like [`mesh_geo`] and also saves gmsh's mesh file `msh`
+/// (format from its extension), written under a hidden name and renamed, so that a failed
+/// write leaves no partial file.
+pub fn save_geo_mesh(
+    path: &Path,
+    options: &MeshOptions,
+    msh: &Path,
+    verbose: bool,
+    allow_system_calls: bool,
+) -> Result<Mesh, GmshError> {
+    let mut session = generated(path, options, None, verbose, allow_system_calls)?;
+    let mesh = session.mesh()?;
+    let file = msh.file_name().map_or_else(|| "mesh.msh".into(), |f| f.to_string_lossy().into_owned());
+    let partial = msh.with_file_name(format!(".{}.{file}", std::process::id()));
+    let written = session.write(&partial).and_then(|()| {
+        std::fs::rename(&partial, msh).map_err(|e| GmshError::Write { path: msh.into(), message: e.to_string() })
+    });
+    if written.is_err() {
+        std::fs::remove_file(&partial).ok();
+    }
+    written.map(|()| mesh)
+}
+
 /// [`mesh_geo`], with mesh sizes from `field` if given.
 fn mesh_geo_with(
     path: &Path,
@@ -99,6 +122,17 @@ fn mesh_geo_with(
     verbose: bool,
     allow_system_calls: bool,
 ) -> Result<Mesh, GmshError> {
+    generated(path, options, field, verbose, allow_system_calls)?.mesh()
+}
+
+/// A session holding the 2D mesh of the `.geo` file `path` (sizes from `field` if given).
+fn generated(
+    path: &Path,
+    options: &MeshOptions,
+    field: Option<&SizeField>,
+    verbose: bool,
+    allow_system_calls: bool,
+) -> Result<Session, GmshError> {
     let mut session = Session::new(verbose)?;
     session.open_geo(path, allow_system_calls)?;
     session.set_options(options)?;
@@ -106,7 +140,7 @@ fn mesh_geo_with(
         session.set_size_field(field)?;
     }
     session.generate()?;
-    session.mesh()
+    Ok(session)
 }
 
 /// Reads the gmsh mesh file `path` (`.msh`).
