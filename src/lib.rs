@@ -7,23 +7,36 @@
 //! ## Pipeline
 //!
 //! ```text
-//!  .geo + scene.toml    scene (materials, boundary roles, loads, contact settings)
+//!  .geo + scene.toml    scene: materials, boundary roles, loads; builds the Problem and
+//!    │                  its ContactJoint (Γ_C tags, joint law, Nitsche parameters)
 //!    │  io::gmsh        open, mesh (P1/P2), read nodes, cells, physical groups by name
 //!    ▼
-//!  Mesh + tags          mesh::{topology, structured, refine}
-//!    │  fem             quadrature, Lagrange P1/P2, affine maps, sparse assembly
-//!    │  elasticity      plane-strain Hooke law, element kernels, loads
-//!    │  contact         Nitsche terms on Γ_C, regularised projection, δ-continuation
+//!  Mesh + tags          mesh: topology, vertex patches, structured test meshes
+//!    │  fem             quadrature, Lagrange P1/P2, affine maps, sparse assembly, transfer
+//!    │  elasticity      plane-strain Hooke law, element kernels, loads, the linear solve
+//!    │  contact         Nitsche terms on Γ_C, the smoothing of min(x, 0) at δ
 //!    ▼
 //!  solve                sparse Cholesky / LU (faer), symbolic factorisation reused; Newton
 //!    ▼
+//!  contact::ContactSolution   the iterate, its linearisation point and smoothing, face states
+//!    ▼
 //!  estimate             AFW patch problems → σ_h1 + σ_h2 + σ_h3 → η_osc … η_lin, checks
 //!    ▼
-//!  io::vtu / io::pvd    ParaView files
+//!  adapt                Newton stopped by η_lin, δ by η_reg; marking, gmsh remeshing with a
+//!    │                  size field from η_T, the displacement moved to the new mesh
+//!    ▼
+//!  io::vtu / io::pvd    ParaView files; cli writes summaries, histories and plots
 //! ```
 //!
-//! Data flows one way: a module never calls a module above it; `cli` drives the pipeline.
-//! The method is described in `docs/method.md`.
+//! Data flows one way: a module never calls a module above it; `cli` drives the pipeline and
+//! holds no numerical work of its own. The method is described in `docs/method.md`.
+//!
+//! ## Status and limits
+//!
+//! The joint is frictionless and the foundation rigid; a curve of role `contact` is a contact
+//! with a rigid obstacle. The estimator covers the Nitsche variant θ = 0 and triangles of
+//! moderate aspect ratio (docs/method.md §4.1); its bound holds for iterates that solve the
+//! linearised problem of their last Newton step (every converged or full-step iterate).
 
 pub mod adapt;
 pub mod cli;

@@ -80,7 +80,7 @@ pub struct Hydrostatic {
     /// Water density ρ_w [kg/m³], default 1000.
     #[serde(default = "water_density")]
     pub density: f64,
-    /// Water level H_w [m] (the y coordinate of the free surface).
+    /// Water level H_w \[m\] (the y coordinate of the free surface).
     pub level: f64,
 }
 
@@ -96,10 +96,10 @@ pub struct BoundarySection {
     /// Dirichlet: fixed components (default both).
     #[serde(default)]
     pub fix: Fix,
-    /// Dirichlet: prescribed displacement [m] (default 0).
+    /// Dirichlet: prescribed displacement \[m\] (default 0).
     #[serde(default)]
     pub value: [f64; 2],
-    /// Neumann: constant traction [Pa].
+    /// Neumann: constant traction \[Pa\].
     pub traction: Option<[f64; 2]>,
     /// Neumann: hydrostatic water pressure.
     pub hydrostatic: Option<Hydrostatic>,
@@ -127,14 +127,14 @@ pub struct ContactSection {
     pub gamma0: f64,
     /// θ: 1 symmetric, 0 incomplete (the estimator's variant), −1 skew-symmetric.
     pub theta: f64,
-    /// Regularisation δ [Pa] of the projection; default 10⁻⁴ × the scene's stress scale.
+    /// Regularisation δ \[Pa\] of the projection; default 10⁻⁴ × the scene's stress scale.
     pub delta: Option<f64>,
     /// First δ of the continuation path, as a multiple of the stress scale (none: solve
     /// directly at δ).
     pub delta_start: Option<f64>,
     /// "quadratic" (C¹ smoothing with δ) or "semismooth" (δ = 0).
     pub projection: ProjectionKind,
-    /// Constant normal gap g₀ [m] to the foundation (u^n ≤ g).
+    /// Constant normal gap g₀ \[m\] to the foundation (u^n ≤ g).
     pub gap: f64,
     /// Gradient of an affine gap g(x) = g₀ + ∇g · x.
     pub gap_gradient: [f64; 2],

@@ -560,3 +560,25 @@ fn bad_contact_direction() {
         assert!(message.contains(&format!("{name}.toml")), "{message}");
     }
 }
+
+// The [contact] keys that only `damfem solve` reads are refused by `damfem adapt`, which
+// chooses δ itself, rather than ignored.
+#[test]
+fn adapt_refuses_the_keys_of_solve() {
+    let tmp = TempDir::new("adapt-solve-keys");
+    let text = std::fs::read_to_string(repo("geo/scene_a.toml")).unwrap();
+    let geometry = format!("geometry = {:?}", repo("geo/scene_a.geo").display().to_string());
+    let text = text.replace("geometry = \"scene_a.geo\"", &geometry);
+    for (key, line) in [
+        ("contact.delta", "delta = 1.0"),
+        ("contact.delta_start", "delta_start = 0.1"),
+        ("contact.projection", "projection = \"semismooth\""),
+    ] {
+        let scene = tmp.join("scene.toml");
+        std::fs::write(&scene, text.replace("[contact]", &format!("[contact]\n{line}"))).unwrap();
+        let out = tmp.join("out");
+        let result = damfem(&[OsStr::new("adapt"), scene.as_os_str(), OsStr::new("-o"), out.as_os_str()]);
+        assert_error(&result, &[key, "damfem solve", "adapt.delta0"]);
+        assert!(!out.join("history.json").exists(), "{key}: no output");
+    }
+}

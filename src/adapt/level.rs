@@ -19,7 +19,7 @@ pub struct Level {
     pub n_reg: usize,
     pub n_lin: usize,
     pub n_est: usize,
-    /// Wall time of the solves (Newton or Cholesky) and of the estimator runs [s].
+    /// Wall time of the solves (Newton or Cholesky) and of the estimator runs \[s\].
     pub solve_seconds: f64,
     pub estimate_seconds: f64,
     /// The linearisation trend of the last estimate (None without Γ_C).

@@ -32,7 +32,7 @@ impl Marking {
     }
 }
 
-/// The smallest target size on `mesh` whatever the mesher allows: [`SMALLEST_SIZE`] times the
+/// The smallest target size on `mesh` whatever the mesher allows: `SMALLEST_SIZE` times the
 /// domain's extent.
 pub fn smallest_size(mesh: &Mesh) -> f64 {
     SMALLEST_SIZE * extent(mesh)

@@ -164,7 +164,7 @@ pub trait Mesher {
     /// sizes `sizes` on the previous mesh `previous` (uniform refinement ignores them).
     fn mesh(&mut self, step: usize, previous: Option<(&Mesh, &[f64])>) -> Result<Mesh, AdaptError>;
 
-    /// The smallest cell size it makes [m], if it has one.
+    /// The smallest cell size it makes \[m\], if it has one.
     fn size_min(&self) -> Option<f64> {
         None
     }
@@ -178,7 +178,7 @@ pub trait Model {
     fn newton(&self) -> NewtonOptions;
 }
 
-/// Wall time of each phase of a step [s]. `mesh` is gmsh's (the initial mesh at step 0, a
+/// Wall time of each phase of a step \[s\]. `mesh` is gmsh's (the initial mesh at step 0, a
 /// remesh afterwards), `transfer` moves the previous displacement to the new mesh, `remesh`
 /// marks cells and computes the target sizes for the next mesh.
 #[derive(Debug, Clone, Copy, Default, Serialize)]
@@ -223,7 +223,7 @@ pub struct StepRecord {
 /// Cells whose target is the smallest size while they carry at least θ² of η_tot².
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Stall {
-    /// The smallest size [m].
+    /// The smallest size \[m\].
     pub size: f64,
     /// Cells held at it, and their share of η_tot².
     pub cells: usize,

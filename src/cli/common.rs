@@ -81,7 +81,7 @@ impl Input {
 #[derive(clap::Args, Debug, Clone)]
 pub struct Output {
     /// Output directory; overrides the scene's [output] directory (default: out)
-    #[arg(short, long = "output", value_name = "DIR")]
+    #[arg(short = 'o', long = "output", value_name = "DIR")]
     pub directory: Option<PathBuf>,
 }
 

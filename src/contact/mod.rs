@@ -227,7 +227,7 @@ pub fn continuation(
 /// How `damfem solve` reaches the regularisation δ: a continuation path from `delta_start`.
 #[derive(Debug, Clone, Copy)]
 pub struct Continuation {
-    /// Target regularisation δ [Pa] (0: the plain projection with its semismooth derivative).
+    /// Target regularisation δ \[Pa\] (0: the plain projection with its semismooth derivative).
     pub delta: f64,
     /// First δ of the path (≤ delta: a single Newton solve at delta).
     pub delta_start: f64,

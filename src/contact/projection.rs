@@ -1,8 +1,8 @@
-//! The projection [x]_{R⁻} = min(x, 0) and its C¹ regularisation [x]_{reg,δ}.
+//! The projection \[x\]_{R⁻} = min(x, 0) and its C¹ regularisation \[x\]_{reg,δ}.
 //!
 //! Quadratic smoothing (docs/method.md §1.4):
 //!
-//!   [x]_{reg,δ} = x                 for x ≤ −δ,
+//!   \[x\]_{reg,δ} = x                 for x ≤ −δ,
 //!               = −(x − δ)²/(4δ)    for |x| < δ,
 //!               = 0                 for x ≥ δ,
 //!
@@ -10,8 +10,8 @@
 //! lies below min(x, 0) and differs from it by at most δ/4 (at x = 0). With δ = 0 it is the
 //! plain projection with the semismooth derivative 1 for x < 0, 0 for x ≥ 0.
 
-/// The quadratic C¹ smoothing [x]_{reg,δ} of min(x, 0) with half-width δ ≥ 0 (δ = 0: the
-/// plain projection): a monotone, 1-Lipschitz approximation of min(x, 0). δ is a stress [Pa].
+/// The quadratic C¹ smoothing \[x\]_{reg,δ} of min(x, 0) with half-width δ ≥ 0 (δ = 0: the
+/// plain projection): a monotone, 1-Lipschitz approximation of min(x, 0). δ is a stress \[Pa\].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Smoothing {
     pub delta: f64,
@@ -21,7 +21,7 @@ impl Smoothing {
     /// The plain projection min(x, 0) with its semismooth derivative.
     pub const NONE: Smoothing = Smoothing { delta: 0.0 };
 
-    /// The projected value [x]_{reg,δ}.
+    /// The projected value \[x\]_{reg,δ}.
     pub fn value(&self, x: f64) -> f64 {
         let d = self.delta;
         if x <= -d {
@@ -45,7 +45,7 @@ impl Smoothing {
         }
     }
 
-    /// The points where [x]_{reg,δ} is not a polynomial; quadrature splits faces there.
+    /// The points where \[x\]_{reg,δ} is not a polynomial; quadrature splits faces there.
     pub fn breakpoints(&self) -> Vec<f64> {
         if self.delta == 0.0 {
             vec![0.0]

@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-/// Young's modulus E [Pa], Poisson's ratio ν and density ρ [kg/m³].
+/// Young's modulus E \[Pa\], Poisson's ratio ν and density ρ [kg/m³].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Material {

@@ -32,7 +32,7 @@ pub struct Dirichlet {
 /// Traction g_N on a Neumann boundary.
 #[derive(Clone)]
 pub enum Traction {
-    /// A constant vector [Pa].
+    /// A constant vector \[Pa\].
     Constant([f64; 2]),
     /// Water pressure p = ρ_w g (H_w − y)₊ acting along −n (g points along −y).
     Hydrostatic { density: f64, gravity: f64, level: f64 },
@@ -201,7 +201,7 @@ impl Problem {
         }
     }
 
-    /// A stress scale S [Pa] of the loads: the largest of max|g_N|, max|f| · diam(Ω) and
+    /// A stress scale S \[Pa\] of the loads: the largest of max|g_N|, max|f| · diam(Ω) and
     /// max E |g_D| / diam(Ω), sampled at the boundary nodes and cell centroids. Used to set
     /// the regularisation δ, which must never scale with E alone.
     pub fn stress_scale(&self, topology: &Topology) -> f64 {

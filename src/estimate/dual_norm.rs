@@ -8,7 +8,7 @@
 //!
 //!   ⟨R(u_h), v⟩ = (f, v) + (g_N, v)_{Γ_N} + ([P_γ(u_h)]_{R⁻}, v^n)_{Γ_C} − (σ(u_h), ε(v)),
 //!
-//! with the exact projection [x]_{R⁻} = min(x, 0), P_γ(u_h) = σ^n(u_h) − γ(u_h^n − g) and
+//! with the exact projection \[x\]_{R⁻} = min(x, 0), P_γ(u_h) = σ^n(u_h) − γ(u_h^n − g) and
 //! γ|_F = γ₀ E / h_F on each coarse contact face F. The test functions v vanish on Γ_D (only
 //! the fixed components of a roller). The norm on the test space is
 //!

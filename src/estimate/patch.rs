@@ -11,7 +11,7 @@
 //! - weak symmetry, (σ, m J)_T = (c, m J)_T for m ∈ P_{p−1}(T).
 //!
 //! The last three act on one cell each and are eliminated cell by cell (static
-//! condensation, [`Condensed`]). In the L²(T)-orthonormal basis of each cell the cell's part
+//! condensation, `Condensed`). In the L²(T)-orthonormal basis of each cell the cell's part
 //! of the objective is |s − f|², so the elimination is an orthogonal projection: with P the
 //! projector onto the coefficients that the local rows leave free, s₀ the point of the local
 //! rows closest to f and Z the face rows through a (as columns),
