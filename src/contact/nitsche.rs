@@ -21,7 +21,7 @@ use crate::elasticity::Material;
 use crate::fem::affine::AffineMap;
 use crate::fem::lagrange;
 use crate::fem::quadrature::{gauss_segment, Rule1d};
-use crate::mesh::{Mesh, Topology};
+use crate::mesh::{Mesh, Segment, Topology};
 
 /// Normal gap to the foundation, g(x) = g₀ + ∇g · x (u^n ≤ g).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -111,7 +111,7 @@ impl Nitsche {
     pub fn point(&self, k: usize, s: f64) -> FacePoint {
         let face = &self.faces[k];
         let nb = lagrange::n_basis(self.order);
-        let xi = lerp(face.ends[0], face.ends[1], s);
+        let xi = Segment::new(face.ends[0], face.ends[1]).point(s);
         let mut phi = [0.0; 6];
         let mut grads = [[0.0; 2]; 6];
         lagrange::values(self.order, xi, &mut phi[..nb]);
@@ -146,14 +146,8 @@ impl Nitsche {
 
     /// 0, 1 and the parameters s ∈ (0, 1) where P_γ(u_h)(s) equals one of `levels`, sorted.
     pub fn cuts(&self, k: usize, u: &[f64], levels: &[f64]) -> Vec<f64> {
-        let p = |s: f64| self.p_gamma(k, &self.point(k, s), u);
-        let (p0, pm, p1) = (p(0.0), p(0.5), p(1.0));
-        // P(s) = a s² + b s + c through the three samples
-        let (a, b, c) = (2.0 * p1 + 2.0 * p0 - 4.0 * pm, 4.0 * pm - 3.0 * p0 - p1, p0);
         let mut cuts = vec![0.0, 1.0];
-        for t in levels {
-            cuts.extend(roots_in_unit_interval(a, b, c - t));
-        }
+        cuts.extend(crossings(|s| self.p_gamma(k, &self.point(k, s), u), levels));
         cuts.sort_by(f64::total_cmp);
         cuts
     }
@@ -245,17 +239,21 @@ fn face(
     }
 }
 
-fn lerp(a: [f64; 2], b: [f64; 2], s: f64) -> [f64; 2] {
-    [a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1])]
-}
-
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
+/// The parameters s ∈ (0, 1) where a polynomial P of degree ≤ 2 equals one of `levels`, from
+/// P(s) = a s² + b s + c fitted through P(0), P(½), P(1) (exact for degree ≤ 2).
+pub fn crossings(p: impl Fn(f64) -> f64, levels: &[f64]) -> Vec<f64> {
+    let (p0, pm, p1) = (p(0.0), p(0.5), p(1.0));
+    let (a, b, c) = (2.0 * p1 + 2.0 * p0 - 4.0 * pm, 4.0 * pm - 3.0 * p0 - p1, p0);
+    levels.iter().flat_map(|t| roots_in_unit_interval(a, b, c - t)).collect()
+}
+
 /// Roots in (0, 1) of a s² + b s + c, by the cancellation-free quadratic formula; a nearly
 /// vanishing a (relative to b and c) is treated as linear.
-pub fn roots_in_unit_interval(a: f64, b: f64, c: f64) -> Vec<f64> {
+fn roots_in_unit_interval(a: f64, b: f64, c: f64) -> Vec<f64> {
     let inside = |s: &f64| *s > 0.0 && *s < 1.0;
     let size = a.abs().max(b.abs()).max(c.abs());
     if size == 0.0 {

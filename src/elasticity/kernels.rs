@@ -6,6 +6,7 @@
 use crate::fem::affine::AffineMap;
 use crate::fem::lagrange;
 use crate::fem::tabulate::Tabulation;
+use crate::mesh::Segment;
 
 /// Element stiffness K_{2i+a, 2j+b} = ∫_T ε(φ_i e_a) : C ε(φ_j e_b), row-major in `k`.
 /// `tab` must integrate degree 2(p−1) exactly; `grads` is scratch of length n_basis.
@@ -60,11 +61,11 @@ pub fn traction_load(
     phi: &mut [f64],
     out: &mut [f64],
 ) {
-    let [a, b] = ends;
-    let length = (b[0] - a[0]).hypot(b[1] - a[1]);
+    let segment = Segment::new(ends[0], ends[1]);
+    let length = segment.length();
     out[..2 * (order + 1)].fill(0.0);
     for &(s, ws) in rule {
-        let x = [a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1])];
+        let x = segment.point(s);
         let gx = g(x);
         lagrange::segment_values(order, s, phi);
         for (i, &p) in phi.iter().enumerate() {

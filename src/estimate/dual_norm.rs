@@ -36,7 +36,7 @@
 //! by sparse Cholesky; when both components have the same Dirichlet nodes, one factorisation
 //! serves both. ‖r‖²_{C,h} = Σ_a r_aᵀ A_a r_a.
 
-use crate::contact::nitsche::{roots_in_unit_interval, Nitsche};
+use crate::contact::nitsche::{crossings, Nitsche};
 use crate::contact::ContactJoint;
 use crate::elasticity::{kernels, Problem};
 use crate::fem::affine::AffineMap;
@@ -47,10 +47,8 @@ use crate::fem::sparse::{vector_dofs, LinearSystem, Local, SparsePattern};
 use crate::fem::tabulate::Tabulation;
 use crate::mesh::refine::{elevate_to_p2, refine_levels, Refinement};
 use crate::mesh::{Mesh, Topology};
-use crate::solve::SolveError;
-use faer::linalg::solvers::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
-use faer::{Mat, Side};
+use crate::solve::{Cholesky, SolveError};
+use faer::Mat;
 use rayon::prelude::*;
 
 /// Refinement levels used when the caller has no reason to choose.
@@ -283,9 +281,7 @@ impl ContactFaces {
                 let s = s0 + t * (s1 - s0);
                 self.nitsche.p_gamma(k, &self.nitsche.point(k, s), &u)
             };
-            // P(t) = α t² + β t + c through three samples (exact: P has degree p ≤ 2 in t)
-            let (p0, pm, p1) = (p(0.0), p(0.5), p(1.0));
-            let roots = roots_in_unit_interval(2.0 * p1 + 2.0 * p0 - 4.0 * pm, 4.0 * pm - 3.0 * p0 - p1, p0);
+            let roots = crossings(p, &[0.0]);
             let nodes = fine.mesh.facet(f);
             let length = fine.mesh.facet_length(f);
             for (t, w) in split_rule(&self.rule, roots) {
@@ -375,19 +371,9 @@ impl ScalarSystem {
         ScalarSystem { dofs, pattern, values: system.values }
     }
 
-    /// Overwrites the columns of `b` by A⁻¹ b: one sparse Cholesky factorisation (as in
-    /// [`crate::solve::Cholesky`], which refactorises at every solve) for all columns.
+    /// Overwrites the columns of `b` by A⁻¹ b: one sparse Cholesky factorisation for all columns.
     fn solve_in_place(&self, b: &mut Mat<f64>) -> Result<(), SolveError> {
-        let symbolic = SymbolicLlt::try_new(self.pattern.symbolic(), Side::Lower)
-            .map_err(|e| SolveError::Factorisation(format!("{e:?}")))?;
-        let llt = Llt::try_new_with_symbolic(symbolic, self.pattern.matrix(&self.values), Side::Lower).map_err(
-            |e| match e {
-                faer::sparse::linalg::LltError::Numeric(_) => SolveError::NotPositiveDefinite,
-                other => SolveError::Factorisation(format!("{other:?}")),
-            },
-        )?;
-        llt.solve_in_place(b.as_mut());
-        Ok(())
+        Cholesky::analyse(&self.pattern)?.factor(&self.pattern, &self.values)?.solve_in_place(b)
     }
 }
 

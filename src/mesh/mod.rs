@@ -8,8 +8,11 @@
 //! The mesh knows nothing of finite elements: it only describes the domain.
 
 pub mod refine;
+pub mod segment;
 pub mod structured;
 pub mod topology;
+
+pub use segment::Segment;
 
 pub use topology::Topology;
 

@@ -84,18 +84,12 @@ impl Topology {
     /// from the vertex of the owning cell that is not on the facet.
     pub fn outward_normal(&self, mesh: &Mesh, f: usize) -> [f64; 2] {
         let nodes = mesh.facet(f);
-        let (a, b) = (mesh.points[nodes[0]], mesh.points[nodes[1]]);
-        let length = super::distance(a, b);
-        let mut n = [(b[1] - a[1]) / length, -(b[0] - a[0]) / length];
         let opposite = mesh.cell(self.facet_cell(f))[..3]
             .iter()
             .find(|&&v| v != nodes[0] && v != nodes[1])
             .map(|&v| mesh.points[v])
             .expect("a triangle has a vertex off each edge");
-        if (opposite[0] - a[0]) * n[0] + (opposite[1] - a[1]) * n[1] > 0.0 {
-            n = [-n[0], -n[1]];
-        }
-        n
+        super::Segment::new(mesh.points[nodes[0]], mesh.points[nodes[1]]).outward_normal(opposite)
     }
 }
 

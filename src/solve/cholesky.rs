@@ -6,7 +6,7 @@
 use super::{workspace, SolveError, PARALLELISM};
 use crate::fem::sparse::SparsePattern;
 use faer::dyn_stack::MemStack;
-use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, SymbolicCholesky};
+use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, LltRef, SymbolicCholesky};
 use faer::{Conj, Mat, Side};
 
 /// Symbolic Cholesky factorisation of a [`SparsePattern`] (lower triangle).
@@ -23,16 +23,12 @@ impl Cholesky {
         Ok(Cholesky { symbolic })
     }
 
-    /// Solves K x = b for K with the analysed pattern and the given values.
-    pub fn solve(&self, pattern: &SparsePattern, values: &[f64], rhs: &[f64]) -> Result<Vec<f64>, SolveError> {
+    /// Numeric factorisation of K with the analysed pattern and the given values.
+    pub fn factor(&self, pattern: &SparsePattern, values: &[f64]) -> Result<CholeskyFactors<'_>, SolveError> {
         let mut factor = vec![0.0; self.symbolic.len_val()];
-        let request = self
-            .symbolic
-            .factorize_numeric_llt_scratch::<f64>(PARALLELISM, Default::default())
-            .or(self.symbolic.solve_in_place_scratch::<f64>(1, PARALLELISM));
-        let mut buffer = workspace(request)?;
-        let llt = self
-            .symbolic
+        let mut buffer =
+            workspace(self.symbolic.factorize_numeric_llt_scratch::<f64>(PARALLELISM, Default::default()))?;
+        self.symbolic
             .factorize_numeric_llt(
                 &mut factor,
                 pattern.matrix(values),
@@ -43,8 +39,33 @@ impl Cholesky {
                 Default::default(),
             )
             .map_err(|_| SolveError::NotPositiveDefinite)?;
+        Ok(CholeskyFactors { symbolic: &self.symbolic, factor })
+    }
+
+    /// Solves K x = b for K with the analysed pattern and the given values.
+    pub fn solve(&self, pattern: &SparsePattern, values: &[f64], rhs: &[f64]) -> Result<Vec<f64>, SolveError> {
         let mut x = Mat::from_fn(rhs.len(), 1, |i, _| rhs[i]);
-        llt.solve_in_place_with_conj(Conj::No, x.as_mut(), PARALLELISM, MemStack::new(&mut buffer));
+        self.factor(pattern, values)?.solve_in_place(&mut x)?;
         Ok((0..rhs.len()).map(|i| x[(i, 0)]).collect())
+    }
+}
+
+/// Numeric Cholesky factors, for any number of right-hand sides.
+pub struct CholeskyFactors<'a> {
+    symbolic: &'a SymbolicCholesky<usize>,
+    factor: Vec<f64>,
+}
+
+impl CholeskyFactors<'_> {
+    /// Overwrites every column b of `rhs` by K⁻¹ b.
+    pub fn solve_in_place(&self, rhs: &mut Mat<f64>) -> Result<(), SolveError> {
+        let mut buffer = workspace(self.symbolic.solve_in_place_scratch::<f64>(rhs.ncols(), PARALLELISM))?;
+        LltRef::new(self.symbolic, &self.factor).solve_in_place_with_conj(
+            Conj::No,
+            rhs.as_mut(),
+            PARALLELISM,
+            MemStack::new(&mut buffer),
+        );
+        Ok(())
     }
 }
