@@ -36,7 +36,7 @@ fn main() -> Result<()> {
 pub struct Summary {
     pub unknowns: usize,
     pub newton_steps: usize,
-    /// Length of the contact zone [m].
+    /// Length of the contact zone \[m\].
     pub contact_length: f64,
     /// η_tot [Pa·m].
     pub eta_tot: f64,
@@ -74,7 +74,7 @@ pub fn run(output: &Path) -> Result<Summary> {
     if let Some(dir) = output.parent() {
         std::fs::create_dir_all(dir)?;
     }
-    write_mesh_vtu(&output, &problem.mesh, &[Field::vector("displacement", u)], &cells)?;
+    write_mesh_vtu(output, &problem.mesh, &[Field::vector("displacement", u)], &cells)?;
 
     Ok(Summary {
         unknowns: disc.dofs.n_free,

@@ -48,3 +48,4 @@ pub mod io;
 pub mod mesh;
 pub mod scene;
 pub mod solve;
+pub mod verify;

@@ -6,7 +6,8 @@
 #[path = "../examples/stability.rs"]
 mod stability;
 
-use stability::{Plan, Status};
+use damfem::verify::sweep::{broken, Status};
+use stability::Plan;
 
 #[test]
 fn quick_sweep_converges_or_explains_and_stays_finite() {
@@ -30,7 +31,7 @@ fn quick_sweep_converges_or_explains_and_stays_finite() {
         }
         assert_ne!(row.finite(), Some(false), "{name}: NaN/inf in {:?}", row.solution.as_ref().map(|s| &s.nonfinite));
     }
-    assert!(stability::broken(&rows).is_empty());
+    assert!(broken(&rows).is_empty());
 
     // properties that must hold, not findings: the base case converges, the dimensionless
     // runs reproduce the SI answer, the Cholesky solves of Scene B agree with LU

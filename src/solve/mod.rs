@@ -2,6 +2,7 @@
 //! and Newton's method built on them.
 
 pub mod cholesky;
+pub mod condition;
 pub mod lu;
 pub mod newton;
 
