@@ -202,7 +202,7 @@ struct NewtonRow {
 
 /// V3 (n = 8, degree `order`), θ = 0, γ₀ = 100: full Newton steps at δ from `x0` (zero, or
 /// the converged solution at `warm_delta`), until ‖F‖ ≤ 10⁻¹² ‖b‖ or `max_steps`; every
-/// iterate evaluated with ContactState { u_prev: x_{k−1} } and the dual norm (levels 1).
+/// iterate evaluated with the linearisation point u_prev = x_{k−1} and the dual norm (levels 1).
 fn v3_newton_rows(order: usize, delta: f64, warm_delta: Option<f64>, max_steps: usize) -> Vec<NewtonRow> {
     let problem = v3::problem(unit_square(8, order));
     let disc = problem.discretise();
@@ -726,7 +726,7 @@ const DELTAS: [f64; 4] = [1e-1, 1e-2, 1e-3, 1e-4];
 /// |P_γ(u_h)| < δ) and §4 (σ_h2 carries t₂ = [P_γ(u_h)]_{reg,δ} − [P_γ(u_h)]_{R⁻}).
 /// Goal: η_reg = O(δ) on converged solutions, and η_tot ≥ dual norm for every δ.
 /// Parameters: V3, structured n = 8, P2, θ = 0, γ₀ = 100, δ = 10⁻¹, …, 10⁻⁴ (stress scale
-/// ~1), solve_contact with continuation from δ₀ = 0.1; dual norm on the mesh refined once.
+/// ~1), solve_by_continuation from δ₀ = 0.1; dual norm on the mesh refined once.
 ///
 /// Finding: on V3, η_reg decreases like δ², not δ (successive slopes 1.49, 2.05, 2.00). P_γ(u_h)
 /// crosses zero transversally at the contact–separation point, so t₂ (of size ≤ δ/4) lives on
