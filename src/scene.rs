@@ -8,7 +8,7 @@
 
 use crate::adapt::{AdaptError, AdaptSettings, Model};
 use crate::contact::nitsche::{Gap, NitscheParameters};
-use crate::contact::{ContactJoint, Continuation};
+use crate::contact::{ContactJoint, Continuation, JointLaw};
 use crate::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};
 use crate::io::gmsh::MeshOptions;
 use crate::mesh::{Mesh, Topology};
@@ -141,10 +141,44 @@ pub struct ContactSection {
     /// Normal of a flat foundation, pointing from the body into it: the direction ν of u·ν ≤ g
     /// and of the contact traction. Default: the outward normal of each contact face.
     pub direction: Option<[f64; 2]>,
+    /// Coulomb friction coefficient F = tan φ (0: frictionless).
+    pub friction: f64,
+    /// Cohesion c [Pa] of a Mohr–Coulomb joint, on its closed part.
+    pub cohesion: f64,
+    /// Tresca threshold s [Pa] (exclusive with `friction`).
+    pub threshold: Option<f64>,
     /// Maximum number of Newton steps per regularisation stage.
     pub max_iter: usize,
     /// Relative residual tolerance of Newton.
     pub rtol: f64,
+}
+
+impl ContactSection {
+    /// The joint law of the friction keys.
+    pub fn law(&self) -> JointLaw {
+        match (self.threshold, self.friction, self.cohesion) {
+            (Some(threshold), _, _) => JointLaw::Tresca { threshold },
+            (None, friction, 0.0) if friction > 0.0 => JointLaw::Coulomb { friction },
+            (None, 0.0, 0.0) => JointLaw::Frictionless,
+            (None, friction, cohesion) => JointLaw::MohrCoulomb { friction, cohesion },
+        }
+    }
+
+    /// The first friction key out of range, as "key = value must …".
+    fn check_law(&self) -> Result<(), String> {
+        let keys = [("friction", self.friction), ("cohesion", self.cohesion), ("threshold", self.threshold.unwrap_or(0.0))];
+        if let Some((key, value)) = keys.iter().find(|(_, v)| !(v.is_finite() && *v >= 0.0)) {
+            return Err(format!("contact.{key} = {value} must be a non-negative number"));
+        }
+        match self.threshold {
+            Some(_) if self.friction > 0.0 || self.cohesion > 0.0 => Err(format!(
+                "contact.threshold (Tresca) and contact.friction = {} or contact.cohesion = {} are exclusive: \
+                 give a Tresca threshold, or a Coulomb friction coefficient with an optional cohesion",
+                self.friction, self.cohesion
+            )),
+            _ => Ok(()),
+        }
+    }
 }
 
 impl Default for ContactSection {
@@ -158,6 +192,9 @@ impl Default for ContactSection {
             gap: 0.0,
             gap_gradient: [0.0; 2],
             direction: None,
+            friction: 0.0,
+            cohesion: 0.0,
+            threshold: None,
             max_iter: 50,
             rtol: 1e-10,
         }
@@ -273,6 +310,7 @@ impl Scene {
         if let Some(nu) = c.direction.filter(|nu| !(nu[0].hypot(nu[1]) > 0.0 && nu.iter().all(|x| x.is_finite()))) {
             return Err(self.invalid(format!("contact.direction = {nu:?} must be a non-zero vector")));
         }
+        c.check_law().map_err(|message| self.invalid(message))?;
         if c.delta.is_some_and(|d| d.is_nan() || d < 0.0) {
             return Err(self.invalid(format!("contact.delta = {} must be non-negative", c.delta.unwrap_or(0.0))));
         }
@@ -416,7 +454,8 @@ impl Scene {
     /// The contact joint of the curves with role "contact" on `mesh`, if there are any.
     fn joint(&self, mesh: &Mesh) -> Result<Option<ContactJoint>, SceneError> {
         let tags = self.contact_tags(mesh)?;
-        Ok((!tags.is_empty()).then(|| ContactJoint::frictionless(tags, self.nitsche_parameters())))
+        let law = self.contact.law();
+        Ok((!tags.is_empty()).then(|| ContactJoint { tags, law, parameters: self.nitsche_parameters() }))
     }
 
     /// The elasticity problem of this scene on `mesh` and its contact joint (None without

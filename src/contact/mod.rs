@@ -12,6 +12,7 @@
 //! cells that own a contact face. A solve returns a [`ContactSolution`]: the iterate, the
 //! linearisation point and smoothing it was computed with, and the state of every face.
 
+pub mod law;
 pub mod nitsche;
 pub mod projection;
 
@@ -20,16 +21,9 @@ use crate::fem::dofs::FIXED;
 use crate::fem::sparse::{vector_dofs, LinearSystem, SparsePattern};
 use crate::mesh::Mesh;
 use crate::solve::{newton, NewtonError, NewtonOptions, NewtonReport, NonlinearSystem};
+pub use law::JointLaw;
 use nitsche::{Nitsche, NitscheParameters};
 use projection::{negative_part, Smoothing};
-
-/// The law of a joint.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum JointLaw {
-    /// No tangential traction.
-    #[default]
-    Frictionless,
-}
 
 /// A contact boundary: the curves of Γ_C, the joint law and the Nitsche parameters.
 #[derive(Debug, Clone, PartialEq)]
@@ -73,6 +67,27 @@ pub struct FaceState {
     pub contact_length: f64,
     /// max over the quadrature points of |[P_γ(u_h)]_{reg} − [P_γ(u_h)]_{R⁻}|.
     pub regularisation_error: f64,
+    /// Mean tangential traction (1/|F|) ∫_F Π_S(P^t_γ(u_h)) along τ = (−ν_y, ν_x).
+    pub tangential_traction: f64,
+    /// Mean tangential displacement (1/|F|) ∫_F u_h^t: the slip on a rigid foundation.
+    pub slip: f64,
+    /// With friction, the lengths of the closed part where |P^t_γ(u_h)| < S (stick) and
+    /// where |P^t_γ(u_h)| ≥ S (slip), for the plain projection.
+    pub stick_length: f64,
+    pub slip_length: f64,
+}
+
+impl FaceState {
+    /// 0 open, 1 closed (stick, with friction), 2 slip (more of the face slips than sticks).
+    pub fn status(&self) -> f64 {
+        if self.contact_length == 0.0 {
+            0.0
+        } else if self.slip_length > self.stick_length {
+            2.0
+        } else {
+            1.0
+        }
+    }
 }
 
 impl<'a> ContactProblem<'a> {
@@ -128,22 +143,38 @@ fn local(mesh: &Mesh, nitsche: &Nitsche, k: usize, u_full: &[f64], dofs: &mut Ve
     dofs.iter().map(|&g| u_full[g]).collect()
 }
 
-/// The state of face k for the local displacement `u` of its cell.
+/// The state of face k for the local displacement `u` of its cell, integrated on pieces
+/// split at the kinks of the smoothing and of the plain projection.
 fn face_state(nitsche: &Nitsche, smoothing: Smoothing, k: usize, u: &[f64]) -> FaceState {
     let length = nitsche.faces[k].length;
     let mut state = FaceState::default();
-    let mut levels = smoothing.breakpoints();
-    levels.push(0.0);
-    for (s, w) in nitsche.split_rule(k, &nitsche.cuts(k, u, &levels)) {
+    let mut cuts = nitsche.kinks(k, u, smoothing);
+    cuts.extend(nitsche.kinks(k, u, Smoothing::NONE));
+    cuts.sort_by(f64::total_cmp);
+    for (s, w) in nitsche.split_rule(k, &cuts) {
         let pt = nitsche.point(k, s);
         let p = nitsche.p_gamma(k, &pt, u);
-        state.pressure -= negative_part(p) * w / length;
-        state.normal_displacement += pt.u_n.iter().zip(u).map(|(a, b)| a * b).sum::<f64>() * w / length;
+        let mean = w / length;
+        state.pressure -= negative_part(p) * mean;
+        state.normal_displacement += dot(&pt.u_n, u) * mean;
         state.contact_length += if p < 0.0 { w } else { 0.0 };
         let error = (smoothing.value(p) - negative_part(p)).abs();
         state.regularisation_error = state.regularisation_error.max(error);
+        if nitsche.law.has_friction() {
+            state.tangential_traction += nitsche.tangential(k, &pt, u, smoothing).value * mean;
+            state.slip += dot(&pt.u_t, u) * mean;
+            let plain = nitsche.tangential(k, &pt, u, Smoothing::NONE);
+            let sticks = nitsche.p_tangential(k, &pt, u).abs() < plain.threshold;
+            if p < 0.0 {
+                *(if sticks { &mut state.stick_length } else { &mut state.slip_length }) += w;
+            }
+        }
     }
     state
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 impl NonlinearSystem for ContactProblem<'_> {
@@ -258,6 +289,16 @@ impl ContactSolution {
     /// Total length of the contact zone {P_γ(u_h) < 0}.
     pub fn contact_length(&self) -> f64 {
         self.faces.iter().map(|f| f.contact_length).sum()
+    }
+
+    /// With friction, the total length of the closed part that sticks.
+    pub fn stick_length(&self) -> f64 {
+        self.faces.iter().map(|f| f.stick_length).sum()
+    }
+
+    /// With friction, the total length of the closed part that slips.
+    pub fn slip_length(&self) -> f64 {
+        self.faces.iter().map(|f| f.slip_length).sum()
     }
 
     /// What the estimator needs of this iterate.

@@ -15,6 +15,7 @@
 //! is split at the roots of P_γ(u_h) = b for every breakpoint b of the projection, and each
 //! piece is integrated with p + 2 Gauss points, exact for the polynomial integrands.
 
+use super::law::{JointLaw, Tangential};
 use super::projection::Smoothing;
 use super::ContactJoint;
 use crate::elasticity::Material;
@@ -83,12 +84,16 @@ pub struct FacePoint {
     pub sigma_n: Vec<f64>,
     /// (φ_i e_a) · ν = φ_i ν_a at index 2i + a.
     pub u_n: Vec<f64>,
+    /// σ^t(φ_i e_a) = (σ(φ_i e_a)n)·τ and (φ_i e_a)·τ along the tangent τ = (−ν_y, ν_x).
+    pub sigma_t: Vec<f64>,
+    pub u_t: Vec<f64>,
 }
 
 /// All contact faces of a mesh with the Nitsche parameters.
 #[derive(Debug, Clone)]
 pub struct Nitsche {
     pub parameters: NitscheParameters,
+    pub law: JointLaw,
     pub faces: Vec<ContactFace>,
     pub order: usize,
     rule: Rule1d,
@@ -99,7 +104,7 @@ impl Nitsche {
     pub fn new(mesh: &Mesh, topology: &Topology, materials: &[Material], joint: &ContactJoint) -> Self {
         let parameters = joint.parameters;
         let faces = mesh.facets_tagged(&joint.tags).map(|f| face(mesh, topology, materials, f, &parameters)).collect();
-        Nitsche { parameters, faces, order: mesh.order, rule: gauss_segment(mesh.order + 2) }
+        Nitsche { parameters, law: joint.law, faces, order: mesh.order, rule: gauss_segment(mesh.order + 2) }
     }
 
     /// Number of local dofs of the owning cell.
@@ -116,19 +121,25 @@ impl Nitsche {
         let mut grads = [[0.0; 2]; 6];
         lagrange::values(self.order, xi, &mut phi[..nb]);
         lagrange::gradients(self.order, xi, &mut grads[..nb]);
-        let (n, nu) = (face.normal, face.direction);
-        let n_nu = n[0] * nu[0] + n[1] * nu[1];
-        let mut sigma_n = vec![0.0; 2 * nb];
-        let mut u_n = vec![0.0; 2 * nb];
-        for i in 0..nb {
-            let g = face.map.physical_gradient(grads[i]);
-            let (gn, gnu) = (g[0] * n[0] + g[1] * n[1], g[0] * nu[0] + g[1] * nu[1]);
-            for a in 0..2 {
-                sigma_n[2 * i + a] = face.lambda * g[a] * n_nu + face.mu * (gn * nu[a] + gnu * n[a]);
-                u_n[2 * i + a] = phi[i] * nu[a];
+        let n = face.normal;
+        // σ^d(φ e_a) = (σ(φ e_a)n)·d = λ ∂_a φ (n·d) + μ((∇φ·n) d_a + (∇φ·d) n_a) and (φ e_a)·d
+        let along = |d: [f64; 2]| {
+            let n_d = n[0] * d[0] + n[1] * d[1];
+            let (mut sigma, mut value) = (vec![0.0; 2 * nb], vec![0.0; 2 * nb]);
+            for i in 0..nb {
+                let g = face.map.physical_gradient(grads[i]);
+                let (gn, gd) = (g[0] * n[0] + g[1] * n[1], g[0] * d[0] + g[1] * d[1]);
+                for a in 0..2 {
+                    sigma[2 * i + a] = face.lambda * g[a] * n_d + face.mu * (gn * d[a] + gd * n[a]);
+                    value[2 * i + a] = phi[i] * d[a];
+                }
             }
-        }
-        FacePoint { x: face.map.to_physical(xi), sigma_n, u_n }
+            (sigma, value)
+        };
+        let nu = face.direction;
+        let (sigma_n, u_n) = along(nu);
+        let (sigma_t, u_t) = along([-nu[1], nu[0]]);
+        FacePoint { x: face.map.to_physical(xi), sigma_n, u_n, sigma_t, u_t }
     }
 
     /// P_γ(u_h) at a face point, for local nodal displacements `u` (index 2i + a).
@@ -139,9 +150,49 @@ impl Nitsche {
         sigma_n - gamma * (u_n - self.parameters.gap.at(point.x))
     }
 
-    /// Quadrature on face k split at the kinks of `smoothing` ∘ P_γ(u_h): (s, weight·|F|).
+    /// P^t_γ(u_h) = σ^t(u_h) − γ u_h^t at a face point.
+    pub fn p_tangential(&self, k: usize, point: &FacePoint, u: &[f64]) -> f64 {
+        dot(&point.sigma_t, u) - self.faces[k].gamma * dot(&point.u_t, u)
+    }
+
+    /// The joint law's tangential traction Π_S(P^t_γ(u_h)) at a face point.
+    pub fn tangential(&self, k: usize, point: &FacePoint, u: &[f64], smoothing: Smoothing) -> Tangential {
+        self.law.tangential(self.p_gamma(k, point, u), self.p_tangential(k, point, u), smoothing)
+    }
+
+    /// Quadrature on face k split at the kinks of `smoothing` ∘ P_γ(u_h) and, with friction,
+    /// of Π_S(P^t_γ(u_h)): (s, weight·|F|).
     pub fn quadrature(&self, k: usize, u: &[f64], smoothing: Smoothing) -> Vec<(f64, f64)> {
-        self.split_rule(k, &self.cuts(k, u, &smoothing.breakpoints()))
+        self.split_rule(k, &self.kinks(k, u, smoothing))
+    }
+
+    /// The cuts of [`Nitsche::cuts`] at the breakpoints of `smoothing`, and with friction the
+    /// parameters where S − P^t or P^t + S crosses a breakpoint, sorted. Between two normal
+    /// cuts both are polynomials of degree ≤ 4 in s; their crossings are bracketed on eight
+    /// sub-intervals and bisected to round-off.
+    pub fn kinks(&self, k: usize, u: &[f64], smoothing: Smoothing) -> Vec<f64> {
+        let mut cuts = self.cuts(k, u, &smoothing.breakpoints());
+        let levels = self.law.breakpoints(smoothing);
+        if levels.is_empty() {
+            return cuts;
+        }
+        let margins = |s: f64| {
+            let point = self.point(k, s);
+            let t = self.tangential(k, &point, u, smoothing);
+            let p_t = self.p_tangential(k, &point, u);
+            [t.threshold - p_t, p_t + t.threshold]
+        };
+        let mut tangential = Vec::new();
+        for w in cuts.windows(2).filter(|w| w[1] > w[0]) {
+            for side in 0..2 {
+                for &level in &levels {
+                    tangential.extend(sign_changes(|s| margins(s)[side] - level, w[0], w[1]));
+                }
+            }
+        }
+        cuts.extend(tangential);
+        cuts.sort_by(f64::total_cmp);
+        cuts
     }
 
     /// 0, 1 and the parameters s ∈ (0, 1) where P_γ(u_h)(s) equals one of `levels`, sorted.
@@ -206,6 +257,51 @@ impl Nitsche {
                     }
                 }
             }
+            if self.law.has_friction() {
+                self.tangential_terms(k, &pt, u, smoothing, w, &trial, residual, jacobian.as_deref_mut());
+            }
+        }
+    }
+
+    /// The tangential terms of R_F at one point of face k (weight `w`, `normal_trial` the
+    /// σ^n(w) − γ w^n of the basis):
+    ///
+    ///   −(θ/γ) σ^t(u) σ^t(v) + (1/γ) Π_S(P^t_γ(u)) (θ σ^t(v) − γ v^t),
+    ///
+    /// and their derivative (1/γ)(∂_t Π (σ^t(w) − γ w^t) + ∂_n Π (σ^n(w) − γ w^n))(θσ^t(v) − γv^t)
+    /// − (θ/γ) σ^t(w) σ^t(v): Coulomb's threshold couples the normal columns into the
+    /// tangential rows, so the Jacobian is not symmetric.
+    #[allow(clippy::too_many_arguments)]
+    fn tangential_terms(
+        &self,
+        k: usize,
+        pt: &FacePoint,
+        u: &[f64],
+        smoothing: Smoothing,
+        w: f64,
+        normal_trial: &[f64],
+        residual: &mut [f64],
+        jacobian: Option<&mut [f64]>,
+    ) {
+        let n = self.n_local();
+        let (gamma, theta) = (self.faces[k].gamma, self.parameters.theta);
+        let t = self.tangential(k, pt, u, smoothing);
+        let sigma_t_u = dot(&pt.sigma_t, u);
+        let test: Vec<f64> = (0..n).map(|i| theta * pt.sigma_t[i] - gamma * pt.u_t[i]).collect(); // θ σ^t(v) − γ v^t
+        for i in 0..n {
+            residual[i] += (-theta / gamma * sigma_t_u * pt.sigma_t[i] // −(θ/γ) σ^t(u) σ^t(v)
+                + t.value * test[i] / gamma) // (1/γ) Π_S(P^t)(θσ^t(v) − γv^t)
+                * w;
+        }
+        if let Some(j) = jacobian {
+            for c in 0..n {
+                let trial = t.d_tangential * (pt.sigma_t[c] - gamma * pt.u_t[c]) + t.d_normal * normal_trial[c];
+                for r in 0..n {
+                    j[r * n + c] += (-theta / gamma * pt.sigma_t[c] * pt.sigma_t[r] // −(θ/γ) σ^t(w) σ^t(v)
+                        + trial * test[r] / gamma) // (1/γ) dΠ(w) (θσ^t(v) − γv^t)
+                        * w;
+                }
+            }
         }
     }
 }
@@ -249,6 +345,34 @@ pub fn crossings(p: impl Fn(f64) -> f64, levels: &[f64]) -> Vec<f64> {
     let (p0, pm, p1) = (p(0.0), p(0.5), p(1.0));
     let (a, b, c) = (2.0 * p1 + 2.0 * p0 - 4.0 * pm, 4.0 * pm - 3.0 * p0 - p1, p0);
     levels.iter().flat_map(|t| roots_in_unit_interval(a, b, c - t)).collect()
+}
+
+/// The points of (a, b) where the continuous `f` changes sign: brackets on eight equal
+/// sub-intervals, each bisected to round-off.
+fn sign_changes(f: impl Fn(f64) -> f64, a: f64, b: f64) -> Vec<f64> {
+    const SAMPLES: usize = 8;
+    let at = |i: usize| a + (b - a) * i as f64 / SAMPLES as f64;
+    let mut roots = Vec::new();
+    for i in 0..SAMPLES {
+        let (mut lo, mut hi) = (at(i), at(i + 1));
+        let (f_lo, f_hi) = (f(lo), f(hi));
+        if f_lo == 0.0 && i > 0 {
+            roots.push(lo);
+        }
+        if f_lo * f_hi >= 0.0 {
+            continue;
+        }
+        while hi - lo > 4.0 * f64::EPSILON * (b - a).max(hi.abs()) {
+            let mid = 0.5 * (lo + hi);
+            if (f(mid) < 0.0) == (f_lo < 0.0) {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        roots.push(0.5 * (lo + hi));
+    }
+    roots
 }
 
 /// Roots in (0, 1) of a s² + b s + c, by the cancellation-free quadratic formula; a nearly

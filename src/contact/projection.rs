@@ -45,6 +45,17 @@ impl Smoothing {
         }
     }
 
+    /// Its second derivative, −1/(2δ) for |x| < δ and 0 elsewhere (0 for δ = 0: the
+    /// semismooth choice). The closed indicator q'(P^n) of a cohesive joint has it as slope.
+    pub fn second_derivative(&self, x: f64) -> f64 {
+        let d = self.delta;
+        if d > 0.0 && x.abs() < d {
+            -0.5 / d
+        } else {
+            0.0
+        }
+    }
+
     /// The points where \[x\]_{reg,δ} is not a polynomial; quadrature splits faces there.
     pub fn breakpoints(&self) -> Vec<f64> {
         if self.delta == 0.0 {

@@ -1,0 +1,142 @@
+//! Joint laws on Γ_C: the tangential traction t^t = Π_S(P^t_γ) of docs/method.md §1.6.
+//!
+//! With the smoothing q = [·]_{reg,δ} of min(x, 0) and the threshold S ≥ 0, the clamp of x to
+//! [−S, S] is
+//!
+//!   Π_S(x) = x + q(S − x) − q(x + S),
+//!
+//! exact for δ = 0 and C¹ for δ > 0 (the same smoothing as the normal part), so that η_reg
+//! keeps meaning "the error that δ causes". The threshold S depends on the normal argument
+//! P^n_γ through the contact pressure p_c = −q(P^n) and the closed indicator q'(P^n):
+//!
+//! | law | S |
+//! |---|---|
+//! | frictionless | 0 |
+//! | Tresca | s |
+//! | Coulomb | F p_c = −F q(P^n) |
+//! | Mohr–Coulomb | c q'(P^n) − F q(P^n): cohesion on the closed part only |
+
+use super::projection::Smoothing;
+
+/// The law of a joint.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum JointLaw {
+    /// No tangential traction.
+    #[default]
+    Frictionless,
+    /// |σ^t| ≤ s with a given threshold s [Pa].
+    Tresca { threshold: f64 },
+    /// |σ^t| ≤ F p_c, F = tan φ.
+    Coulomb { friction: f64 },
+    /// |σ^t| ≤ c + F p_c where the joint is closed, 0 where it is open.
+    MohrCoulomb { friction: f64, cohesion: f64 },
+}
+
+/// The tangential traction Π_S(P^t) at one point and its derivatives in P^t and P^n.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Tangential {
+    pub value: f64,
+    pub d_tangential: f64,
+    pub d_normal: f64,
+    /// The threshold S at the point.
+    pub threshold: f64,
+}
+
+impl JointLaw {
+    /// Whether the law has a tangential traction.
+    pub fn has_friction(&self) -> bool {
+        *self != JointLaw::Frictionless
+    }
+
+    /// S and dS/dP^n at the normal argument `p_n`.
+    fn threshold(&self, p_n: f64, q: Smoothing) -> (f64, f64) {
+        match *self {
+            JointLaw::Frictionless => (0.0, 0.0),
+            JointLaw::Tresca { threshold } => (threshold, 0.0),
+            JointLaw::Coulomb { friction } => (-friction * q.value(p_n), -friction * q.derivative(p_n)),
+            JointLaw::MohrCoulomb { friction, cohesion } => (
+                cohesion * q.derivative(p_n) - friction * q.value(p_n),
+                cohesion * q.second_derivative(p_n) - friction * q.derivative(p_n),
+            ),
+        }
+    }
+
+    /// Π_S(p_t) with S at `p_n`, and its derivatives: ∂/∂p_t = 1 − q'(S − p_t) − q'(p_t + S),
+    /// ∂/∂p_n = (q'(S − p_t) − q'(p_t + S)) dS/dP^n.
+    pub fn tangential(&self, p_n: f64, p_t: f64, q: Smoothing) -> Tangential {
+        let (s, ds) = self.threshold(p_n, q);
+        let (upper, lower) = (q.derivative(s - p_t), q.derivative(p_t + s));
+        Tangential {
+            value: p_t + q.value(s - p_t) - q.value(p_t + s),
+            d_tangential: 1.0 - upper - lower,
+            d_normal: (upper - lower) * ds,
+            threshold: s,
+        }
+    }
+
+    /// The values of S − P^t and P^t + S at which Π_S(P^t) has a kink (the breakpoints of q).
+    pub fn breakpoints(&self, q: Smoothing) -> Vec<f64> {
+        if self.has_friction() {
+            q.breakpoints()
+        } else {
+            Vec::new()
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const LAWS: [JointLaw; 3] = [
+        JointLaw::Tresca { threshold: 0.7 },
+        JointLaw::Coulomb { friction: 0.6 },
+        JointLaw::MohrCoulomb { friction: 0.6, cohesion: 0.3 },
+    ];
+
+    #[test]
+    fn the_plain_clamp_sticks_inside_and_slips_at_the_threshold() {
+        let q = Smoothing::NONE;
+        let law = JointLaw::Coulomb { friction: 0.5 };
+        // p_n = −2: p_c = 2, S = 1
+        assert_eq!(law.tangential(-2.0, 0.4, q).value, 0.4);
+        assert_eq!(law.tangential(-2.0, 0.4, q).d_tangential, 1.0);
+        let slip = law.tangential(-2.0, 3.0, q);
+        assert_eq!((slip.value, slip.d_tangential, slip.d_normal), (1.0, 0.0, -0.5));
+        let slip = law.tangential(-2.0, -3.0, q);
+        assert_eq!((slip.value, slip.d_tangential, slip.d_normal), (-1.0, 0.0, 0.5));
+        // open joint: no traction
+        assert_eq!(law.tangential(1.0, 3.0, q).value, 0.0);
+        let mc = JointLaw::MohrCoulomb { friction: 0.5, cohesion: 0.25 };
+        assert_eq!(mc.tangential(-2.0, 3.0, q).value, 1.25);
+        assert_eq!(mc.tangential(0.5, 3.0, q).value, 0.0);
+    }
+
+    #[test]
+    fn smoothed_clamp_is_within_delta_and_its_derivatives_match_differences() {
+        for delta in [0.0, 0.05] {
+            let q = Smoothing { delta };
+            for law in LAWS {
+                for i in -40..=40 {
+                    for j in -40..=40 {
+                        let (p_n, p_t) = (0.05 * i as f64 + 0.0071, 0.05 * j as f64 + 0.0123);
+                        let t = law.tangential(p_n, p_t, q);
+                        let exact = law.tangential(p_n, p_t, Smoothing::NONE);
+                        assert!(t.value.abs() <= t.threshold + 1e-15, "{law:?}: |Π_S| ≤ S");
+                        if delta == 0.0 {
+                            continue;
+                        }
+                        // the clamp moves by at most δ/4 per kink (two kinks) plus S's own change
+                        let s_change = (t.threshold - exact.threshold).abs();
+                        assert!((t.value - exact.value).abs() <= delta / 2.0 + s_change + 1e-12, "{law:?}");
+                        let h = 1e-7;
+                        let fd_t = (law.tangential(p_n, p_t + h, q).value - law.tangential(p_n, p_t - h, q).value) / (2.0 * h);
+                        let fd_n = (law.tangential(p_n + h, p_t, q).value - law.tangential(p_n - h, p_t, q).value) / (2.0 * h);
+                        assert!((fd_t - t.d_tangential).abs() < 1e-5, "{law:?} d/dp_t at ({p_n}, {p_t})");
+                        assert!((fd_n - t.d_normal).abs() < 1e-5, "{law:?} d/dp_n at ({p_n}, {p_t})");
+                    }
+                }
+            }
+        }
+    }
+}
