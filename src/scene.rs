@@ -143,9 +143,9 @@ pub struct ContactSection {
     pub direction: Option<[f64; 2]>,
     /// Coulomb friction coefficient F = tan φ (0: frictionless).
     pub friction: f64,
-    /// Cohesion c [Pa] of a Mohr–Coulomb joint, on its closed part.
+    /// Cohesion c \[Pa\] of a Mohr–Coulomb joint, on its closed part.
     pub cohesion: f64,
-    /// Tresca threshold s [Pa] (exclusive with `friction`).
+    /// Tresca threshold s \[Pa\] (exclusive with `friction`).
     pub threshold: Option<f64>,
     /// Maximum number of Newton steps per regularisation stage.
     pub max_iter: usize,
@@ -166,7 +166,8 @@ impl ContactSection {
 
     /// The first friction key out of range, as "key = value must …".
     fn check_law(&self) -> Result<(), String> {
-        let keys = [("friction", self.friction), ("cohesion", self.cohesion), ("threshold", self.threshold.unwrap_or(0.0))];
+        let keys =
+            [("friction", self.friction), ("cohesion", self.cohesion), ("threshold", self.threshold.unwrap_or(0.0))];
         if let Some((key, value)) = keys.iter().find(|(_, v)| !(v.is_finite() && *v >= 0.0)) {
             return Err(format!("contact.{key} = {value} must be a non-negative number"));
         }
@@ -413,7 +414,9 @@ impl Scene {
     }
 
     /// How `damfem solve` reaches δ, from the `[contact]` table: δ defaults to 10⁻⁴ times the
-    /// stress scale of `problem` (0 for the semismooth projection).
+    /// stress scale of `problem` (0 for the semismooth projection); with friction the path
+    /// starts by default at 0.1 times the stress scale, which Newton needs to find the slip
+    /// zone from u = 0.
     pub fn continuation(&self, problem: &Problem, topology: &Topology) -> Continuation {
         let c = &self.contact;
         let scale = problem.stress_scale(topology);
@@ -423,7 +426,7 @@ impl Scene {
         };
         Continuation {
             delta,
-            delta_start: delta.max(c.delta_start.unwrap_or(0.0) * scale),
+            delta_start: delta.max(c.delta_start.unwrap_or(if c.law().has_friction() { 0.1 } else { 0.0 }) * scale),
             newton: self.newton_options(),
         }
     }
@@ -441,6 +444,10 @@ impl Scene {
             Some((key, _)) => Err(self.invalid(format!(
                 "{key} is read by `damfem solve` only; `damfem adapt` chooses the regularisation from \
                  adapt.delta0 and reduces it by adapt.rho_delta, so remove the key or use `damfem solve`"
+            ))),
+            None if c.law().has_friction() => Err(self.invalid(format!(
+                "contact.friction, cohesion and threshold give the joint law {:?}, which the estimator does not                  cover yet, and `damfem adapt` needs it: use `damfem solve` for a frictional joint",
+                c.law()
             ))),
             None => Ok(()),
         }
@@ -491,16 +498,17 @@ impl Scene {
         } else {
             "give a physical curve role = \"dirichlet\""
         };
-        if dirichlet.is_empty() {
-            return Err(self.invalid(format!(
-                "no Dirichlet boundary: the body could move as a rigid body; {how} (curves: {})",
-                list(&mesh.group_names(1))
-            )));
-        }
         let materials = self.cell_materials(&mesh)?;
         let body_force = if g == 0.0 { BodyForce::None } else { BodyForce::Gravity(g) };
         let problem = Problem { mesh, materials, dirichlet, neumann, body_force };
         let joint = self.joint(&problem.mesh)?;
+        let friction = joint.as_ref().is_some_and(|j| j.law.has_friction());
+        if problem.dirichlet.is_empty() && !friction {
+            return Err(self.invalid(format!(
+                "no Dirichlet boundary and no frictional joint: the body could move as a rigid body; {how} (curves: {})",
+                list(&problem.mesh.group_names(1))
+            )));
+        }
         let facets = joint.as_ref().map_or_else(Vec::new, |j| contact_facets(&problem.mesh, &j.tags));
         let direction = self.nitsche_parameters().direction;
         if let Some(tag) = facing_away(&problem.mesh, &facets, direction) {
@@ -510,7 +518,7 @@ impl Scene {
                 self.contact.direction.unwrap_or_default()
             )));
         }
-        let supports = contact_supports(&problem.mesh, &facets, direction);
+        let supports = contact_supports(&problem.mesh, &facets, direction, friction);
         if let Some(motion) = problem.free_rigid_motion(&supports) {
             return Err(self.invalid(format!(
                 "the Dirichlet and contact conditions leave a rigid motion free ({motion}); {how} that blocks it"
@@ -530,16 +538,22 @@ impl Model for Scene {
     }
 }
 
-/// Nodes of the contact `facets` with their contact direction: `direction`, or the outward
-/// normal.
+/// Nodes of the contact `facets` with their contact direction ν (`direction`, or the outward
+/// normal), and with friction also the tangent (−ν_y, ν_x): a closed frictional joint holds
+/// both.
 fn contact_supports(
     mesh: &Mesh,
     facets: &[(usize, [f64; 2])],
     direction: Option<[f64; 2]>,
+    friction: bool,
 ) -> Vec<([f64; 2], [f64; 2])> {
     facets
         .iter()
-        .flat_map(|&(f, normal)| mesh.facet(f).iter().map(move |&n| (mesh.points[n], direction.unwrap_or(normal))))
+        .flat_map(|&(f, normal)| {
+            let nu = direction.unwrap_or(normal);
+            let directions = if friction { vec![nu, [-nu[1], nu[0]]] } else { vec![nu] };
+            mesh.facet(f).iter().flat_map(move |&n| directions.clone().into_iter().map(move |d| (mesh.points[n], d)))
+        })
         .collect()
 }
 

@@ -569,16 +569,19 @@ fn adapt_refuses_the_keys_of_solve() {
     let text = std::fs::read_to_string(repo("geo/scene_a.toml")).unwrap();
     let geometry = format!("geometry = {:?}", repo("geo/scene_a.geo").display().to_string());
     let text = text.replace("geometry = \"scene_a.geo\"", &geometry);
-    for (key, line) in [
-        ("contact.delta", "delta = 1.0"),
-        ("contact.delta_start", "delta_start = 0.1"),
-        ("contact.projection", "projection = \"semismooth\""),
+    for (line, expected) in [
+        ("delta = 1.0", ["contact.delta", "damfem solve", "adapt.delta0"]),
+        ("delta_start = 0.1", ["contact.delta_start", "damfem solve", "adapt.delta0"]),
+        ("projection = \"semismooth\"", ["contact.projection", "damfem solve", "adapt.delta0"]),
+        ("friction = 0.84", ["contact.friction", "damfem solve", "estimator"]),
+        ("threshold = 1e5", ["Tresca", "damfem solve", "estimator"]),
     ] {
+        let key = expected[0];
         let scene = tmp.join("scene.toml");
         std::fs::write(&scene, text.replace("[contact]", &format!("[contact]\n{line}"))).unwrap();
         let out = tmp.join("out");
         let result = damfem(&[OsStr::new("adapt"), scene.as_os_str(), OsStr::new("-o"), out.as_os_str()]);
-        assert_error(&result, &[key, "damfem solve", "adapt.delta0"]);
+        assert_error(&result, &expected);
         assert!(!out.join("history.json").exists(), "{key}: no output");
     }
 }

@@ -92,17 +92,33 @@ fn estimate_fields(e: &Estimate, output: &OutputSection) -> Vec<Field> {
     fields
 }
 
-/// Facet fields of Γ_C: mean pressure, mean normal displacement, status (1 contact,
-/// 0 separation, −1 not a contact facet) and the regularisation error.
+/// Facet fields of Γ_C: mean pressure, mean normal displacement, status (−1 not a contact
+/// facet, 0 open, 1 closed: stick with friction, 2 slip), the regularisation error, and with
+/// friction the mean tangential traction and slip.
 fn contact_fields(n_facets: usize, contact: &ContactSolution) -> Vec<Field> {
-    let mut fields = [vec![0.0; n_facets], vec![0.0; n_facets], vec![-1.0; n_facets], vec![0.0; n_facets]];
+    let friction = contact.nitsche.law.has_friction();
+    let names = [
+        "contact_pressure",
+        "normal_displacement",
+        "contact_status",
+        "regularisation_error",
+        "tangential_traction",
+        "slip",
+    ];
+    let n_fields = if friction { 6 } else { 4 };
+    let mut fields: Vec<Vec<f64>> = (0..n_fields).map(|i| vec![if i == 2 { -1.0 } else { 0.0 }; n_facets]).collect();
     for (face, state) in contact.nitsche.faces.iter().zip(&contact.faces) {
-        let f = face.facet;
-        fields[0][f] = state.pressure;
-        fields[1][f] = state.normal_displacement;
-        fields[2][f] = if state.contact_length > 0.0 { 1.0 } else { 0.0 };
-        fields[3][f] = state.regularisation_error;
+        let values = [
+            state.pressure,
+            state.normal_displacement,
+            state.status(),
+            state.regularisation_error,
+            state.tangential_traction,
+            state.slip,
+        ];
+        for (field, value) in fields.iter_mut().zip(values) {
+            field[face.facet] = value;
+        }
     }
-    let names = ["contact_pressure", "normal_displacement", "contact_status", "regularisation_error"];
     names.into_iter().zip(fields).map(|(n, v)| Field::scalar(n, v)).collect()
 }

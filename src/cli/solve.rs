@@ -3,7 +3,7 @@
 
 use super::common::{stem, Input, Output};
 use super::output::{write_results, EstimateSummary, Results};
-use crate::contact::{solve_by_continuation, ContactJoint, ContactSolution, Continuation, Solution, Stage};
+use crate::contact::{solve_by_continuation, ContactJoint, ContactSolution, Continuation, JointLaw, Solution, Stage};
 use crate::elasticity::kernels::{principal, von_mises};
 use crate::elasticity::stress::cell_mean_stress;
 use crate::elasticity::{Discretisation, Problem};
@@ -29,6 +29,15 @@ pub struct Args {
     /// Regularisation δ [Pa]; overrides contact.delta (default 1e-4 × the stress scale)
     #[arg(long)]
     delta: Option<f64>,
+    /// Coulomb friction coefficient F = tan φ on Γ_C; overrides contact.friction (default 0)
+    #[arg(long)]
+    friction: Option<f64>,
+    /// Cohesion c [Pa] of a Mohr–Coulomb joint (with --friction); overrides contact.cohesion
+    #[arg(long)]
+    cohesion: Option<f64>,
+    /// Tresca threshold s [Pa]; overrides contact.threshold
+    #[arg(long)]
+    threshold: Option<f64>,
     /// Use the plain projection min(x, 0) with its semismooth derivative (δ = 0)
     #[arg(long)]
     semismooth: bool,
@@ -83,6 +92,14 @@ struct ContactSummary {
     stages: Vec<(f64, usize)>,
     max_pressure: f64,
     max_regularisation_error: f64,
+    /// The joint law and its parameters.
+    joint: JointLaw,
+    /// With friction, the lengths of the closed part that sticks and that slips \[m\].
+    stick_length: f64,
+    slip_length: f64,
+    /// ∫_{Γ_C} p_c ds and ∫_{Γ_C} t^t ds along τ = (−ν_y, ν_x) \[N/m\].
+    normal_force: f64,
+    tangential_force: f64,
 }
 
 #[derive(Serialize, Default)]
@@ -206,6 +223,9 @@ fn override_contact(args: &Args, scene: &mut Scene) -> Result<()> {
     c.gamma0 = args.gamma0.unwrap_or(c.gamma0);
     c.theta = args.theta.unwrap_or(c.theta);
     c.delta = args.delta.or(c.delta);
+    c.friction = args.friction.unwrap_or(c.friction);
+    c.cohesion = args.cohesion.unwrap_or(c.cohesion);
+    c.threshold = args.threshold.or(c.threshold);
     if args.semismooth {
         c.projection = ProjectionKind::Semismooth;
     }
@@ -268,5 +288,10 @@ fn contact_summary(
         stages: c.stages.iter().map(|st| (st.delta, st.report.iterations.len())).collect(),
         max_pressure: c.faces.iter().map(|f| f.pressure).fold(0.0, f64::max),
         max_regularisation_error: c.faces.iter().map(|f| f.regularisation_error).fold(0.0, f64::max),
+        joint: c.nitsche.law,
+        stick_length: c.stick_length(),
+        slip_length: c.slip_length(),
+        normal_force: c.normal_force(),
+        tangential_force: c.tangential_force(),
     }
 }

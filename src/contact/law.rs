@@ -18,8 +18,9 @@
 
 use super::projection::Smoothing;
 
-/// The law of a joint.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+/// The law of a joint (in `summary.json`: `{"law": "coulomb", "friction": 0.84}`).
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
+#[serde(tag = "law", rename_all = "snake_case")]
 pub enum JointLaw {
     /// No tangential traction.
     #[default]
@@ -130,8 +131,10 @@ mod tests {
                         let s_change = (t.threshold - exact.threshold).abs();
                         assert!((t.value - exact.value).abs() <= delta / 2.0 + s_change + 1e-12, "{law:?}");
                         let h = 1e-7;
-                        let fd_t = (law.tangential(p_n, p_t + h, q).value - law.tangential(p_n, p_t - h, q).value) / (2.0 * h);
-                        let fd_n = (law.tangential(p_n + h, p_t, q).value - law.tangential(p_n - h, p_t, q).value) / (2.0 * h);
+                        let fd_t =
+                            (law.tangential(p_n, p_t + h, q).value - law.tangential(p_n, p_t - h, q).value) / (2.0 * h);
+                        let fd_n =
+                            (law.tangential(p_n + h, p_t, q).value - law.tangential(p_n - h, p_t, q).value) / (2.0 * h);
                         assert!((fd_t - t.d_tangential).abs() < 1e-5, "{law:?} d/dp_t at ({p_n}, {p_t})");
                         assert!((fd_n - t.d_normal).abs() < 1e-5, "{law:?} d/dp_n at ({p_n}, {p_t})");
                     }

@@ -59,6 +59,8 @@ pub struct ContactProblem<'a> {
 /// Contact quantities of one face, for output.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct FaceState {
+    /// |F|.
+    pub length: f64,
     /// Mean contact pressure −(1/|F|) ∫_F [P_γ(u_h)]_{R⁻} ≥ 0.
     pub pressure: f64,
     /// Mean normal displacement (1/|F|) ∫_F u_h^n.
@@ -147,7 +149,7 @@ fn local(mesh: &Mesh, nitsche: &Nitsche, k: usize, u_full: &[f64], dofs: &mut Ve
 /// split at the kinks of the smoothing and of the plain projection.
 fn face_state(nitsche: &Nitsche, smoothing: Smoothing, k: usize, u: &[f64]) -> FaceState {
     let length = nitsche.faces[k].length;
-    let mut state = FaceState::default();
+    let mut state = FaceState { length, ..Default::default() };
     let mut cuts = nitsche.kinks(k, u, smoothing);
     cuts.extend(nitsche.kinks(k, u, Smoothing::NONE));
     cuts.sort_by(f64::total_cmp);
@@ -289,6 +291,16 @@ impl ContactSolution {
     /// Total length of the contact zone {P_γ(u_h) < 0}.
     pub fn contact_length(&self) -> f64 {
         self.faces.iter().map(|f| f.contact_length).sum()
+    }
+
+    /// The normal force the joint carries, N = ∫_{Γ_C} p_c ds \[N/m\] (compression positive).
+    pub fn normal_force(&self) -> f64 {
+        self.faces.iter().map(|f| f.pressure * f.length).sum()
+    }
+
+    /// The tangential force T = ∫_{Γ_C} t^t ds \[N/m\] along τ = (−ν_y, ν_x).
+    pub fn tangential_force(&self) -> f64 {
+        self.faces.iter().map(|f| f.tangential_traction * f.length).sum()
     }
 
     /// With friction, the total length of the closed part that sticks.

@@ -16,7 +16,7 @@ use super::afw::{self, cell_integrals, face_moments, CellIntegrals, COMPONENTS};
 use super::patch::{self, FaceKind, PatchFace, PatchInput};
 use crate::contact::nitsche::Nitsche;
 use crate::contact::projection::negative_part;
-use crate::contact::Linearisation;
+use crate::contact::{JointLaw, Linearisation};
 use crate::elasticity::kernels::{displacement_gradient, stress};
 use crate::elasticity::problem::{load_degree, traction_rule};
 use crate::elasticity::{Problem, Traction};
@@ -32,6 +32,8 @@ use rayon::prelude::*;
 pub enum EstimateError {
     #[error("the estimator covers the Nitsche variant theta = 0 only (this run uses theta = {0})")]
     Theta(f64),
+    #[error("the estimator covers frictionless contact only (this run's joint law is {0:?}); run without --estimate")]
+    Friction(JointLaw),
     #[error("patch of the vertex at ({x}, {y}): {message}")]
     Patch { x: f64, y: f64, message: String },
 }
@@ -130,6 +132,9 @@ pub fn reconstruct(
     if let Some(c) = contact {
         if c.nitsche.parameters.theta != 0.0 {
             return Err(EstimateError::Theta(c.nitsche.parameters.theta));
+        }
+        if c.nitsche.law.has_friction() {
+            return Err(EstimateError::Friction(c.nitsche.law));
         }
     }
     let mesh = &problem.mesh;

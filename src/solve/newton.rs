@@ -1,9 +1,10 @@
 //! Newton's method with backtracking for F(x) = 0 on a fixed sparsity pattern.
 //!
 //! Step k solves J(x_k) Δ = −F(x_k) by sparse LU (symbolic factorisation reused), then takes
-//! the largest t ∈ {1, ½, ¼, …} with ‖F(x_k + tΔ)‖ ≤ κ ‖F(x_k)‖ (damping only the steps that
-//! blow the residual up, κ = `max_growth`). Each linear solve gets one step of iterative
-//! refinement. It stops when ‖F(x_k)‖ ≤ rtol · scale, where `scale` is the system's load
+//! the largest t ∈ {1, ½, ¼, …} with ‖F(x_k + tΔ)‖ < ‖F(x_k)‖ (a monotone residual breaks
+//! the cycles Newton falls into on Coulomb friction), or, when none lowers it (a kink), the
+//! largest with ‖F(x_k + tΔ)‖ ≤ κ ‖F(x_k)‖, κ = `max_growth`. Each linear solve gets one step
+//! of iterative refinement. It stops when ‖F(x_k)‖ ≤ rtol · scale, where `scale` is the system's load
 //! norm, or when it stagnates at round-off: ‖Δ‖ ≤ 10⁻¹⁰ ‖x‖ with no halving of ‖F‖. Running out of iterations
 //! is an error that carries the whole history: never a silent wrong answer.
 
@@ -36,9 +37,8 @@ pub struct NewtonOptions {
     pub min_steps: usize,
     /// Maximum number of step halvings in the line search.
     pub max_halvings: usize,
-    /// A step is halved while it multiplies the residual norm by more than this factor.
-    /// Semismooth steps that change the active set may raise the residual for a while, so
-    /// only steps that blow it up are damped.
+    /// A step that raises the residual norm is taken only when no halving lowers it, and only
+    /// if it multiplies the norm by at most this factor.
     pub max_growth: f64,
 }
 
@@ -191,7 +191,9 @@ pub fn newton_until(
     Err(NewtonError::NotConverged { history, scale })
 }
 
-/// Largest t = 2^−j with ‖F(x + tΔ)‖ ≤ κ‖F(x)‖; the last halving if none is.
+/// The step length: the largest t = 2^−j with ‖F(x + tΔ)‖ < ‖F(x)‖; if none lowers the
+/// residual (a kink of a semismooth F, where Δ need not descend), the largest with
+/// ‖F(x + tΔ)‖ ≤ κ‖F(x)‖, which leaves the kink; else the last halving.
 fn line_search(
     system: &impl NonlinearSystem,
     x: &[f64],
@@ -201,16 +203,20 @@ fn line_search(
     trial: &mut [f64],
     trial_residual: &mut [f64],
 ) -> f64 {
-    let mut t = 1.0;
+    let (mut t, mut bounded) = (1.0, None);
     for _ in 0..options.max_halvings {
         for ((y, xi), di) in trial.iter_mut().zip(x).zip(delta) {
             *y = xi + t * di;
         }
         system.evaluate(trial, trial_residual, None);
-        if norm(trial_residual) <= options.max_growth * r {
+        let r_trial = norm(trial_residual);
+        if r_trial < r {
             return t;
+        }
+        if bounded.is_none() && r_trial <= options.max_growth * r {
+            bounded = Some(t);
         }
         t *= 0.5;
     }
-    t
+    bounded.unwrap_or(2.0 * t)
 }
