@@ -509,7 +509,8 @@ impl Scene {
                 list(&problem.mesh.group_names(1))
             )));
         }
-        let facets = joint.as_ref().map_or_else(Vec::new, |j| contact_facets(&problem.mesh, &j.tags));
+        let topology = Topology::new(&problem.mesh);
+        let facets = joint.as_ref().map_or_else(Vec::new, |j| contact_facets(&problem.mesh, &topology, &j.tags));
         let direction = self.nitsche_parameters().direction;
         if let Some(tag) = facing_away(&problem.mesh, &facets, direction) {
             let name = problem.mesh.groups.iter().find(|g| g.dim == 1 && g.tag == tag).map_or("?", |g| &g.name);
@@ -524,6 +525,9 @@ impl Scene {
                 "the Dirichlet and contact conditions leave a rigid motion free ({motion}); {how} that blocks it"
             )));
         }
+        if let Some(j) = joint.as_ref().filter(|_| problem.dirichlet.is_empty()) {
+            self.check_sliding(&problem, &topology, j, &facets)?;
+        }
         Ok((problem, joint))
     }
 }
@@ -535,6 +539,39 @@ impl Model for Scene {
 
     fn newton(&self) -> NewtonOptions {
         self.newton_options()
+    }
+}
+
+impl Scene {
+    /// Without a Dirichlet condition the joint alone holds the body. On a straight joint of
+    /// normal ν and tangent τ, equilibrium needs the load resultant R to press on it,
+    /// N = R·ν ≥ 0, and the joint to carry its shear, |R·τ| ≤ the law's capacity at N.
+    fn check_sliding(
+        &self,
+        problem: &Problem,
+        topology: &Topology,
+        joint: &ContactJoint,
+        facets: &[(usize, [f64; 2])],
+    ) -> Result<(), SceneError> {
+        let nu = self.nitsche_parameters().direction.unwrap_or(facets[0].1);
+        if facets.iter().any(|(_, n)| (n[0] - nu[0]).hypot(n[1] - nu[1]) > 1e-9) {
+            return Ok(());
+        }
+        let r = problem.load_resultant(topology);
+        let (normal, shear) = (r[0] * nu[0] + r[1] * nu[1], r[1] * nu[0] - r[0] * nu[1]);
+        let length: f64 = facets.iter().map(|&(f, _)| problem.mesh.facet_length(f)).sum();
+        let capacity = joint.law.capacity(normal.max(0.0), length);
+        if normal <= 0.0 || shear.abs() > capacity {
+            return Err(self.invalid(format!(
+                "no equilibrium: nothing but the joint holds the body, and the loads push along it with \
+                 |T| = {:.4e} N/m against a normal force N = {normal:.4e} N/m, more than the joint law {:?} \
+                 can carry ({capacity:.4e} N/m); raise contact.friction, contact.cohesion or \
+                 contact.threshold, or support the body with a Dirichlet curve",
+                shear.abs(),
+                joint.law
+            )));
+        }
+        Ok(())
     }
 }
 
@@ -564,8 +601,7 @@ fn facing_away(mesh: &Mesh, facets: &[(usize, [f64; 2])], direction: Option<[f64
 }
 
 /// The facets of the contact curves (tags) with their outward normals.
-fn contact_facets(mesh: &Mesh, tags: &[i32]) -> Vec<(usize, [f64; 2])> {
-    let topology = Topology::new(mesh);
+fn contact_facets(mesh: &Mesh, topology: &Topology, tags: &[i32]) -> Vec<(usize, [f64; 2])> {
     mesh.facets_tagged(tags).map(|f| (f, topology.outward_normal(mesh, f))).collect()
 }
 

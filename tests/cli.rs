@@ -585,3 +585,64 @@ fn adapt_refuses_the_keys_of_solve() {
         assert!(!out.join("history.json").exists(), "{key}: no output");
     }
 }
+
+/// Writes geo/scene_a_friction.toml with `edit` applied into `tmp`, the geometry by absolute path.
+fn frictional_scene(tmp: &TempDir, edit: impl Fn(String) -> String) -> PathBuf {
+    let text = std::fs::read_to_string(repo("geo/scene_a_friction.toml")).unwrap();
+    let geometry = format!("geometry = {:?}", repo("geo/scene_a_friction.geo").display().to_string());
+    let scene = tmp.join("scene.toml");
+    std::fs::write(&scene, edit(text.replace("geometry = \"scene_a_friction.geo\"", &geometry))).unwrap();
+    scene
+}
+
+// Friction keys out of range are refused, naming the key; a flag gets the same check.
+#[test]
+fn friction_keys_out_of_range() {
+    let tmp = TempDir::new("friction-keys");
+    for (line, expected) in [
+        ("friction = -0.5", vec!["contact.friction = -0.5", "non-negative"]),
+        ("friction = nan", vec!["contact.friction = NaN", "non-negative"]),
+        ("cohesion = -1e5", vec!["contact.cohesion = -100000", "non-negative"]),
+        ("threshold = 1e5", vec!["contact.threshold", "exclusive"]),
+    ] {
+        let scene = frictional_scene(&tmp, |t| t.replace("friction = 0.8391", line));
+        let scene = if line.starts_with("threshold") {
+            frictional_scene(&tmp, |t| t.replace("[contact]", &format!("[contact]\n{line}")))
+        } else {
+            scene
+        };
+        assert_solve_fails("friction-key", &scene, &expected);
+    }
+    let scene = frictional_scene(&tmp, |t| t);
+    let out_dir = tmp.join("out");
+    let out =
+        damfem(&["solve".as_ref(), scene.as_os_str(), "--friction=-1".as_ref(), "-o".as_ref(), out_dir.as_os_str()]);
+    assert_error(&out, &["friction = -1", "non-negative"]);
+    assert_nothing_written(&out_dir);
+}
+
+// A joint that cannot hold the loads is refused before Newton, with the forces that say why.
+#[test]
+fn a_joint_too_weak_for_the_loads_has_no_equilibrium() {
+    let tmp = TempDir::new("friction-weak");
+    let scene = frictional_scene(&tmp, |t| t.replace("friction = 0.8391", "friction = 0.5"));
+    assert_solve_fails("friction-weak-solve", &scene, &["no equilibrium", "N/m", "contact.friction"]);
+}
+
+// The estimator does not cover friction yet: `--estimate` says so instead of reporting a number.
+#[test]
+fn the_estimator_refuses_a_frictional_joint() {
+    let tmp = TempDir::new("friction-estimate");
+    let scene = frictional_scene(&tmp, |t| t);
+    let out_dir = tmp.join("out");
+    let out = damfem(&[
+        "solve".as_ref(),
+        "-q".as_ref(),
+        scene.as_os_str(),
+        "--estimate".as_ref(),
+        "-o".as_ref(),
+        out_dir.as_os_str(),
+    ]);
+    assert_error(&out, &["frictionless contact only", "Coulomb"]);
+    assert_nothing_written(&out_dir);
+}

@@ -49,6 +49,17 @@ impl JointLaw {
         *self != JointLaw::Frictionless
     }
 
+    /// The largest shear force \[N/m\] a closed joint of `length` carries under the normal
+    /// force N: s L (Tresca), F N (Coulomb), F N + c L (Mohr–Coulomb).
+    pub fn capacity(&self, normal_force: f64, length: f64) -> f64 {
+        match *self {
+            JointLaw::Frictionless => 0.0,
+            JointLaw::Tresca { threshold } => threshold * length,
+            JointLaw::Coulomb { friction } => friction * normal_force,
+            JointLaw::MohrCoulomb { friction, cohesion } => friction * normal_force + cohesion * length,
+        }
+    }
+
     /// S and dS/dP^n at the normal argument `p_n`.
     fn threshold(&self, p_n: f64, q: Smoothing) -> (f64, f64) {
         match *self {

@@ -184,21 +184,47 @@ impl Problem {
     }
 
     fn add_tractions(&self, disc: &Discretisation, system: &mut LinearSystem) {
+        let mut local = Vec::new();
+        self.traction_loads(&disc.topology, |nodes, f| {
+            vector_dofs(nodes, &mut local);
+            system.add_load(&disc.dofs, &local, f);
+        });
+    }
+
+    /// Visits each Neumann facet with its nodes and load vector ∫_F g_N·φ_i (x, y interleaved).
+    fn traction_loads(&self, topology: &Topology, mut visit: impl FnMut(&[usize], &[f64])) {
         let p = self.mesh.order;
         let mut phi = vec![0.0; p + 1];
         let mut f = vec![0.0; 2 * (p + 1)];
-        let mut local = Vec::new();
         for bc in &self.neumann {
             for facet in (0..self.mesh.n_facets()).filter(|&k| self.mesh.facet_tags[k] == bc.tag) {
                 let nodes = self.mesh.facet(facet);
-                let n = disc.topology.outward_normal(&self.mesh, facet);
+                let n = topology.outward_normal(&self.mesh, facet);
                 let ends = [self.mesh.points[nodes[0]], self.mesh.points[nodes[1]]];
                 let rule = traction_rule(&bc.traction, ends, p);
                 kernels::traction_load(ends, p, &rule, |x| bc.traction.at(x, n), &mut phi, &mut f);
-                vector_dofs(nodes, &mut local);
-                system.add_load(&disc.dofs, &local, &f);
+                visit(nodes, &f);
             }
         }
+    }
+
+    /// The resultant of the loads, ∫_Ω f + ∫_{Γ_N} g_N \[N/m\]: the sum of the load vector's
+    /// components (the basis is a partition of unity).
+    pub fn load_resultant(&self, topology: &Topology) -> [f64; 2] {
+        let mut resultant = [0.0; 2];
+        let mut add = |load: &[f64]| load.iter().enumerate().for_each(|(i, v)| resultant[i % 2] += v);
+        if !matches!(self.body_force, BodyForce::None) {
+            let p = self.mesh.order;
+            let tab = Tabulation::new(p, load_degree(p));
+            let mut load = vec![0.0; 2 * tab.n_basis];
+            for c in 0..self.mesh.n_cells() {
+                let map = AffineMap::new(self.mesh.cell_vertices(c));
+                kernels::body_load(&map, &tab, |x| self.body_force_at(c, x), &mut load);
+                add(&load);
+            }
+        }
+        self.traction_loads(topology, |_, f| add(f));
+        resultant
     }
 
     /// A stress scale S \[Pa\] of the loads: the largest of max|g_N|, max|f| · diam(Ω) and
