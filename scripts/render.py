@@ -6,7 +6,8 @@ Usage: python scripts/render.py RESULT.vtu|RESULT.pvd OUT.png [--field von_mises
 For a .pvd collection (the steps of `damfem adapt`) the last step is drawn. The deformed mesh (displacement magnified so that the largest displacement is 5% of the
 domain size, unless --warp gives the factor) is coloured by a cell field. If
 RESULT_boundary.vtu exists beside it, the contact boundary is drawn on top: red where
-the body is in contact, blue where it has separated. --edges draws the cell edges, --log
+the body is in contact (sticks, on a frictional joint), orange where it slips, blue where
+it has separated, with a legend. --edges draws the cell edges, --log
 a logarithmic colour scale (for estimators); --box draws only the cells inside a box (a
 close-up, e.g. of the refined zone).
 """
@@ -28,13 +29,15 @@ def warp_factor(grid, requested):
 
 
 def contact_lines(boundary_path, factor):
-    """The Γ_C facets of the boundary file, warped, split by contact status."""
+    """The Γ_C facets of the boundary file, warped, split by contact status: (lines, colour, label)."""
     boundary = pv.read(boundary_path)
     if "contact_status" not in boundary.cell_data:
         return []
     warped = boundary.warp_by_vector("displacement", factor=factor)
     status = boundary.cell_data["contact_status"]
-    return [(warped.extract_cells(np.where(status == s)[0]), colour) for s, colour in ((1, "red"), (0, "blue"))]
+    closed = "stick" if "tangential_traction" in boundary.cell_data else "contact"
+    zones = ((1, "red", closed), (2, "orange", "slip"), (0, "blue", "open"))
+    return [(warped.extract_cells(np.where(status == s)[0]), colour, label) for s, colour, label in zones]
 
 
 def inside(grid, box):
@@ -75,10 +78,14 @@ def main():
                                       "position_x": 0.82, "position_y": 0.25, "height": 0.5})
     boundary_path = result.with_name(result.stem + "_boundary.vtu")
     if boundary_path.exists():
-        for lines, colour in contact_lines(boundary_path, factor):
+        legend = []
+        for lines, colour, label in contact_lines(boundary_path, factor):
             lines = inside(lines, args.box) if args.box and lines.n_cells else lines
             if lines.n_cells:
                 plotter.add_mesh(lines, color=colour, line_width=6)
+                legend.append([label, colour])
+        if legend:
+            plotter.add_legend(legend, bcolor="white", face="line", size=(0.16, 0.045 * len(legend)), loc="upper right")
     plotter.view_xy()
     plotter.camera.zoom(1.1)
     plotter.screenshot(args.png)

@@ -1,4 +1,4 @@
-//! Verification of frictional Nitsche contact (docs/method.md §1.6).
+//! Verification of frictional Nitsche contact (docs/method.md §1.7).
 
 use damfem::contact::nitsche::NitscheParameters;
 use damfem::contact::{solve_by_continuation, ContactJoint, Continuation, JointLaw};
@@ -171,7 +171,7 @@ fn block_on_an_incline_sticks_below_the_friction_angle_and_slides_above() {
     }
 }
 
-/// The generalised Jacobian. Source: docs/method.md §1.6 (the derivative of Π_S(P^t) in P^t and,
+/// The generalised Jacobian. Source: docs/method.md §1.7 (the derivative of Π_S(P^t) in P^t and,
 /// through Coulomb's threshold, in P^n). Goal: away from kinks the Jacobian of the contact
 /// problem equals central differences of its residual, for every law, θ = 1, 0, −1, P1 and
 /// P2, with the smoothing δ > 0. Parameters: the stick–slip problem (slip data), a seeded

@@ -1,4 +1,4 @@
-//! Joint laws on Γ_C: the tangential traction t^t = Π_S(P^t_γ) of docs/method.md §1.6.
+//! Joint laws on Γ_C: the tangential traction t^t = Π_S(P^t_γ) of docs/method.md §1.7.
 //!
 //! With the smoothing q = [·]_{reg,δ} of min(x, 0) and the threshold S ≥ 0, the clamp of x to
 //! [−S, S] is
