@@ -1,7 +1,7 @@
 //! # damfem
 //!
-//! Plane-strain elasticity for concrete dams on their foundations, with frictionless
-//! unilateral contact by Nitsche's method and guaranteed a posteriori error estimates by
+//! Plane-strain elasticity for concrete dams on their foundations, with unilateral contact
+//! and friction (Tresca, Coulomb, Mohr–Coulomb) on the joint by Nitsche's method and guaranteed a posteriori error estimates by
 //! equilibrated stress reconstruction, from a gmsh `.geo` file to ParaView files.
 //!
 //! ## Pipeline
@@ -14,7 +14,7 @@
 //!  Mesh + tags          mesh: topology, vertex patches, structured test meshes
 //!    │  fem             quadrature, Lagrange P1/P2, affine maps, sparse assembly, transfer
 //!    │  elasticity      plane-strain Hooke law, element kernels, loads, the linear solve
-//!    │  contact         Nitsche terms on Γ_C, the smoothing of min(x, 0) at δ
+//!    │  contact         Nitsche terms on Γ_C, joint laws, the smoothing of min(x, 0) at δ
 //!    ▼
 //!  solve                sparse Cholesky / LU (faer), symbolic factorisation reused; Newton
 //!    ▼
@@ -33,8 +33,8 @@
 //!
 //! ## Status and limits
 //!
-//! The joint is frictionless and the foundation rigid; a curve of role `contact` is a contact
-//! with a rigid obstacle. The estimator covers the Nitsche variant θ = 0 and triangles of
+//! The foundation is rigid: a curve of role `contact` is a joint with a rigid obstacle,
+//! frictionless or frictional; there is no uplift yet. The estimator covers the Nitsche variant θ = 0 and triangles of
 //! moderate aspect ratio (docs/method.md §4.1); its bound holds for iterates that solve the
 //! linearised problem of their last Newton step (every converged or full-step iterate).
 

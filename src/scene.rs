@@ -445,10 +445,6 @@ impl Scene {
                 "{key} is read by `damfem solve` only; `damfem adapt` chooses the regularisation from \
                  adapt.delta0 and reduces it by adapt.rho_delta, so remove the key or use `damfem solve`"
             ))),
-            None if c.law().has_friction() => Err(self.invalid(format!(
-                "contact.friction, cohesion and threshold give the joint law {:?}, which the estimator does not                  cover yet, and `damfem adapt` needs it: use `damfem solve` for a frictional joint",
-                c.law()
-            ))),
             None => Ok(()),
         }
     }

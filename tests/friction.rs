@@ -225,3 +225,316 @@ fn the_jacobian_is_the_derivative_of_the_residual() {
         }
     }
 }
+
+/// What the estimator says of the contact iterate `x` (with the linearisation point of `state`),
+/// and the dual-norm reference of its residual (`levels` refinements, P2).
+fn estimate_and_reference(
+    problem: &Problem,
+    disc: &damfem::elasticity::Discretisation,
+    joint: &ContactJoint,
+    x: &[f64],
+    state: &damfem::contact::Linearisation,
+    levels: Option<usize>,
+) -> (damfem::estimate::Estimate, Option<f64>) {
+    let e = damfem::estimate::estimate_iterate(problem, disc, x, Some(state), true).unwrap_or_else(|e| panic!("{e}"));
+    let u = problem.displacement(disc, x);
+    let reference = levels.map(|l| {
+        damfem::estimate::dual_norm::residual_dual_norm(problem, &u, Some(joint), l).unwrap_or_else(|e| panic!("{e}"))
+    });
+    (e, reference)
+}
+
+/// The estimator at the exact stick and slip solutions. Source: docs/method.md §1.7 and §4
+/// (the Γ_C traction of the patch problems is the whole vector t^n ν + t^t τ). Goal: with θ = 0
+/// and u_h = u, the reconstruction is equilibrated to round-off (every check, the tangential
+/// traces included) and η_osc, η_flux, η_Neu and η_disc vanish to round-off, for Tresca,
+/// Coulomb and Mohr–Coulomb, P1 and P2. Parameters: as `stick_and_slip_are_exact`, θ = 0,
+/// δ = 0, the stress scale μa = 10⁻²; round-off asserted as 10⁻¹² of it.
+#[test]
+fn the_estimator_vanishes_at_the_exact_stick_and_slip_solutions() {
+    let laws = [
+        JointLaw::Tresca { threshold: 0.02 },
+        JointLaw::Coulomb { friction: 0.5 },
+        JointLaw::MohrCoulomb { friction: 0.3, cohesion: 0.005 },
+    ];
+    let b = 0.01;
+    for law in laws {
+        for (case, a) in [("stick", 0.01), ("slip", 0.05)] {
+            let (_, shear) = exact(law, a, b);
+            for order in [1, 2] {
+                let problem = problem(4, order, a, b, shear);
+                let disc = problem.discretise();
+                let joint = ContactJoint { tags: vec![BOTTOM], law, parameters: NitscheParameters::default() };
+                let settings = Continuation { delta: 0.0, delta_start: 1e-2, newton: NewtonOptions::default() };
+                let solution = solve_by_continuation(&problem, &disc, &joint, &settings).expect("Newton converges");
+                let state = solution.linearisation(&problem, &disc);
+                let (e, _) = estimate_and_reference(&problem, &disc, &joint, &solution.x, &state, None);
+                let g = e.estimators.global();
+                let worst = e.equilibration.expect("checks").worst(order);
+                println!(
+                    "{law:?} {case} P{order}: osc {:.1e} flux {:.1e} Neu {:.1e} disc {:.1e} reg {:.1e} lin {:.1e}; worst check {worst:.1e}",
+                    g.osc, g.flux, g.neu, g.disc, g.reg, g.lin
+                );
+                assert!(worst < 1e-10, "{law:?} {case} P{order}: {:?}", e.equilibration);
+                for (name, eta) in [("osc", g.osc), ("flux", g.flux), ("Neu", g.neu), ("disc", g.disc)] {
+                    assert!(eta <= 1e-12 * MU * 0.01, "{law:?} {case} P{order}: eta_{name} = {eta:e}");
+                }
+            }
+        }
+    }
+}
+
+/// The bound with friction. Source: docs/method.md §5.2 with the Γ_C traction of §1.7. Goal:
+/// on the block on the incline (it holds at α = 25°, with open, stick and slip zones), at every
+/// full Newton step of the solve and at convergence, the reconstruction is equilibrated to
+/// round-off and η_tot ≥ the dual norm of the residual, computed independently as the Riesz
+/// representative on the mesh refined twice (P2), which is a lower bound of that norm.
+/// Parameters: as the block test, Coulomb F = tan 30°, θ = 0, Newton from u = 0 at δ = 10⁻¹ ×
+/// the stress scale, then at 10⁻⁴ × it; 4 × 4 grid, P1 and P2.
+#[test]
+fn eta_tot_bounds_the_residual_with_friction() {
+    use damfem::contact::projection::Smoothing;
+    use damfem::contact::{ContactProblem, Linearisation};
+    use damfem::solve::newton_until;
+    let friction = 30f64.to_radians().tan();
+    let alpha = 25f64.to_radians();
+    for order in [1, 2] {
+        let weight = 1e4;
+        let mesh = unit_square(4, order);
+        let problem = Problem {
+            materials: vec![Material { young: 1e6, poisson: 0.2, density: 1.0 }; mesh.n_cells()],
+            dirichlet: vec![],
+            neumann: vec![],
+            body_force: BodyForce::Field(Arc::new(move |_| [weight * alpha.sin(), -weight * alpha.cos()])),
+            mesh,
+        };
+        let disc = problem.discretise();
+        let joint =
+            ContactJoint { tags: vec![BOTTOM], law: JointLaw::Coulomb { friction }, parameters: Default::default() };
+        let scale = problem.stress_scale(&disc.topology);
+        let mut contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 0.1 * scale });
+        let options = NewtonOptions::default();
+        let (mut x, mut rows) = (vec![0.0; disc.dofs.n_free], Vec::new());
+        for delta in [0.1 * scale, 1e-4 * scale] {
+            contact.set_delta(delta);
+            let report = newton_until(&contact, x, &options, |it| {
+                if it.last.step == 1.0 {
+                    let state = Linearisation::new(&problem, &disc, &contact.nitsche, contact.smoothing, it.x_prev);
+                    let (e, reference) = estimate_and_reference(&problem, &disc, &joint, it.x, &state, Some(2));
+                    rows.push((
+                        it.residual,
+                        e.estimators.global(),
+                        reference.unwrap(),
+                        e.equilibration.unwrap().worst(order),
+                    ));
+                }
+                false
+            })
+            .expect("Newton converges");
+            x = report.x;
+        }
+        assert!(!rows.is_empty(), "P{order}: no full step");
+        for (residual, g, reference, worst) in rows {
+            println!(
+                "P{order} |F| {residual:.2e}: eta_tot {:.4e} (disc {:.2e} reg {:.2e} lin {:.2e}) reference {reference:.4e} I_eff {:.3}; worst check {worst:.1e}",
+                g.tot,
+                g.disc,
+                g.reg,
+                g.lin,
+                g.tot / reference
+            );
+            assert!(worst < 1e-10, "P{order}: equilibration {worst:e}");
+            assert!(g.tot >= reference, "P{order}: eta_tot {} below the reference {reference}", g.tot);
+        }
+    }
+}
+
+/// A tampered tangential traction fails the checks. Source: docs/method.md §4 (the Γ_C trace of
+/// σ_h is the projected traction). Goal: a reconstruction made for Coulomb F = tan 30° and
+/// checked against the traction of F × 1.1 (the tangential traction changed, the normal one
+/// not) shows a contact-trace violation far above round-off, while the matching check passes.
+/// Parameters: the block on the incline at α = 25°, P2, 4 × 4 grid, δ = 0.
+#[test]
+fn a_tampered_tangential_traction_fails_the_checks() {
+    use damfem::contact::nitsche::Nitsche;
+    use damfem::contact::Linearisation;
+    use damfem::estimate::checks::check;
+    use damfem::estimate::reconstruction::reconstruct;
+    let friction = 30f64.to_radians().tan();
+    let alpha = 25f64.to_radians();
+    let weight = 1e4;
+    let mesh = unit_square(4, 2);
+    let problem = Problem {
+        materials: vec![Material { young: 1e6, poisson: 0.2, density: 1.0 }; mesh.n_cells()],
+        dirichlet: vec![],
+        neumann: vec![],
+        body_force: BodyForce::Field(Arc::new(move |_| [weight * alpha.sin(), -weight * alpha.cos()])),
+        mesh,
+    };
+    let disc = problem.discretise();
+    let joint =
+        ContactJoint { tags: vec![BOTTOM], law: JointLaw::Coulomb { friction }, parameters: Default::default() };
+    let settings = Continuation {
+        delta: 0.0,
+        delta_start: 0.1 * problem.stress_scale(&disc.topology),
+        newton: NewtonOptions::default(),
+    };
+    let solution = solve_by_continuation(&problem, &disc, &joint, &settings).expect("Newton converges");
+    let u = problem.displacement(&disc, &solution.x);
+    let state = solution.linearisation(&problem, &disc);
+    let rec = reconstruct(&problem, &disc.topology, &u, Some(&state)).expect("reconstruction");
+    let honest = check(&problem, &disc.topology, &u, &rec, Some(&state)).contact;
+    let tampered_joint = ContactJoint { law: JointLaw::Coulomb { friction: 1.1 * friction }, ..joint.clone() };
+    let tampered_nitsche = Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, &tampered_joint);
+    let tampered = Linearisation { nitsche: &tampered_nitsche, ..state };
+    let violated = check(&problem, &disc.topology, &u, &rec, Some(&tampered)).contact;
+    println!("contact trace check: {honest:.1e} honest, {violated:.1e} with F × 1.1");
+    assert!(honest < 1e-10, "{honest:e}");
+    assert!(violated > 1e-3, "{violated:e}");
+}
+
+/// The bound on the frictional dam. Source: geo/scene_a_friction.toml (Scene A held by Coulomb
+/// friction alone, F = tan 40°), solved as `damfem solve` does (its δ-continuation from 0.1 × the
+/// stress scale to 10⁻⁴ × it). Goal: the reconstruction is equilibrated to round-off and
+/// η_tot ≥ the dual-norm reference (the mesh refined once, P2) at the solution. Parameters: P1
+/// and P2, the file's mesh sizes × 2.
+#[test]
+fn eta_tot_bounds_the_residual_on_the_frictional_dam() {
+    use damfem::io::gmsh::{mesh_geo, MeshOptions};
+    use damfem::scene::Scene;
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("geo/scene_a_friction.toml");
+    let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    for order in [1, 2] {
+        let m = &scene.mesh;
+        let options = MeshOptions {
+            order,
+            size_factor: 2.0 * m.size_factor,
+            size_min: m.size_min,
+            size_max: m.size_max,
+            algorithm: m.algorithm,
+        };
+        let mesh = mesh_geo(&scene.geometry, &options, false, false).unwrap_or_else(|e| panic!("{e}"));
+        let (problem, joint) = scene.problem(mesh).unwrap_or_else(|e| panic!("{e}"));
+        let joint = joint.expect("a joint");
+        let disc = problem.discretise();
+        let settings = scene.continuation(&problem, &disc.topology);
+        let solution = solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("{e}"));
+        let state = solution.linearisation(&problem, &disc);
+        let (e, reference) = estimate_and_reference(&problem, &disc, &joint, &solution.x, &state, Some(1));
+        let (g, reference, worst) = (e.estimators.global(), reference.unwrap(), e.equilibration.unwrap().worst(order));
+        println!(
+            "P{order}: {} cells, stick {:.2} m, slip {:.2} m; eta_tot {:.4e} (osc {:.2e} flux {:.2e} Neu {:.2e} disc {:.2e} reg {:.2e} lin {:.2e}), reference {reference:.4e}, I_eff {:.3}; worst check {worst:.1e}",
+            problem.mesh.n_cells(), solution.stick_length(), solution.slip_length(), g.tot, g.osc, g.flux, g.neu, g.disc, g.reg, g.lin, g.tot / reference
+        );
+        assert!(worst < 1e-10, "P{order}: equilibration {worst:e}");
+        assert!(g.tot >= reference, "P{order}: eta_tot {} below the reference {reference}", g.tot);
+    }
+}
+
+/// A manufactured Coulomb problem with a stick–slip transition inside Γ_C (docs/method.md
+/// §1.7): on Ω = (0,1)², u = (φ(x) + y h(x), −b y) with φ = c (x − ½)₊³ and h = (F/μ) p_c ρ,
+/// p_c = (λ + 2μ) b − λ φ' the contact pressure on y = 0 and ρ = 1 − κ (½ − x)₊³. The base
+/// is closed (u^n = 0, p_c > 0); it sticks on x < ½ (u^t = φ = 0, |σ^t| = F p_c ρ < F p_c) and
+/// slips on x > ½ (u^t = φ > 0, σ^t = −μ h = −F p_c). u is C² across x = ½.
+mod manufactured {
+    use super::{LAMBDA, MU};
+    pub const B: f64 = 0.1;
+    pub const C: f64 = 0.1;
+    pub const KAPPA: f64 = 4.0;
+    pub const F: f64 = 0.5;
+
+    /// φ and its first three derivatives.
+    fn phi(x: f64) -> [f64; 4] {
+        let s = (x - 0.5).max(0.0);
+        let step = if x > 0.5 { 1.0 } else { 0.0 };
+        [C * s.powi(3), 3.0 * C * s * s, 6.0 * C * s, 6.0 * C * step]
+    }
+
+    /// h and its first two derivatives.
+    fn h(x: f64) -> [f64; 3] {
+        let [_, d1, d2, d3] = phi(x);
+        let p = [(LAMBDA + 2.0 * MU) * B - LAMBDA * d1, -LAMBDA * d2, -LAMBDA * d3];
+        let s = (0.5 - x).max(0.0);
+        let rho = [1.0 - KAPPA * s.powi(3), 3.0 * KAPPA * s * s, -6.0 * KAPPA * s];
+        let k = F / MU;
+        [
+            k * p[0] * rho[0],
+            k * (p[1] * rho[0] + p[0] * rho[1]),
+            k * (p[2] * rho[0] + 2.0 * p[1] * rho[1] + p[0] * rho[2]),
+        ]
+    }
+
+    pub fn u(x: [f64; 2]) -> [f64; 2] {
+        [phi(x[0])[0] + x[1] * h(x[0])[0], -B * x[1]]
+    }
+
+    pub fn grad_u(x: [f64; 2]) -> [[f64; 2]; 2] {
+        let (p, hh) = (phi(x[0]), h(x[0]));
+        [[p[1] + x[1] * hh[1], hh[0]], [0.0, -B]]
+    }
+
+    /// (σ_xx, σ_yy, σ_xy).
+    pub fn sigma(x: [f64; 2]) -> [f64; 3] {
+        let g = grad_u(x);
+        let div = g[0][0] + g[1][1];
+        [LAMBDA * div + 2.0 * MU * g[0][0], LAMBDA * div + 2.0 * MU * g[1][1], MU * (g[0][1] + g[1][0])]
+    }
+
+    /// f = −∇·σ = (−(λ + 2μ)(φ'' + y h''), −(λ + μ) h').
+    pub fn f(x: [f64; 2]) -> [f64; 2] {
+        let (p, hh) = (phi(x[0]), h(x[0]));
+        [-(LAMBDA + 2.0 * MU) * (p[2] + x[1] * hh[2]), -(LAMBDA + MU) * hh[1]]
+    }
+}
+
+/// (h, H¹ error, stick length, slip length) of the manufactured problem on an n × n grid.
+fn solve_manufactured(n: usize, order: usize) -> (f64, f64, f64, f64) {
+    use damfem::fem::norms::errors;
+    use manufactured as m;
+    let mesh = unit_square(n, order);
+    let side = |sign: f64| {
+        Traction::Field(Arc::new(move |x| {
+            let s = m::sigma(x);
+            [sign * s[0], sign * s[2]]
+        }))
+    };
+    let problem = Problem {
+        materials: vec![Material::from_lame(LAMBDA, MU); mesh.n_cells()],
+        dirichlet: vec![Dirichlet { tag: TOP, fix: [true; 2], value: Arc::new(m::u) }],
+        neumann: vec![Neumann { tag: LEFT, traction: side(-1.0) }, Neumann { tag: RIGHT, traction: side(1.0) }],
+        body_force: BodyForce::Field(Arc::new(m::f)),
+        mesh,
+    };
+    let disc = problem.discretise();
+    let joint =
+        ContactJoint { tags: vec![BOTTOM], law: JointLaw::Coulomb { friction: m::F }, parameters: Default::default() };
+    let settings = Continuation { delta: 0.0, delta_start: 0.1, newton: NewtonOptions::default() };
+    let solution =
+        solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("n = {n} P{order}: {e}"));
+    let u = problem.displacement(&disc, &solution.x);
+    let (_, h1) = errors(&problem.mesh, &u, m::u, m::grad_u);
+    (1.0 / n as f64, h1, solution.stick_length(), solution.slip_length())
+}
+
+/// Rates with a stick–slip transition. Source: the manufactured solution above. Goal: the H¹
+/// error of u_h converges at the optimal rates h^p (measured 0.998 and 1.984), and the stick
+/// and slip zones converge to [0, ½] and [½, 1]. Parameters: λ = μ = 1, b = 0.1, c = 0.1, κ = 4, F = 0.5, θ = 0, γ₀ = 100,
+/// δ = 0 reached from 0.1; P1 on n = 8 … 64, P2 on n = 4 … 32; rates fitted over the four meshes.
+#[test]
+fn h1_rates_with_a_stick_slip_transition() {
+    for (order, sizes, min_rate) in [(1, [8, 16, 32, 64], 0.95), (2, [4, 8, 16, 32], 1.9)] {
+        let runs: Vec<_> = sizes.iter().map(|&n| solve_manufactured(n, order)).collect();
+        for r in &runs {
+            println!("P{order} h = {:.4}: |e|_H1 = {:.3e}, stick {:.4}, slip {:.4}", r.0, r.1, r.2, r.3);
+        }
+        // the stick margin F p_c κ (½ − x)³ is cubic at the transition, so the zones converge
+        // more slowly than u_h; measured errors 0.29 … 0.004 (P1) and 0.18 … 0.025 (P2)
+        let zone: Vec<f64> = runs.iter().map(|r| (r.2 - 0.5).abs().max((r.3 - 0.5).abs())).collect();
+        assert!(zone.windows(2).all(|w| w[1] <= 0.6 * w[0]) && zone[3] <= 0.03, "P{order}: zone errors {zone:?}");
+        let h: Vec<f64> = runs.iter().map(|r| r.0).collect();
+        let e: Vec<f64> = runs.iter().map(|r| r.1).collect();
+        let rate = damfem::adapt::history::loglog_slope(&h.iter().copied().zip(e.iter().copied()).collect::<Vec<_>>());
+        println!("P{order}: fitted H1 rate {rate:.3}");
+        assert!(rate >= min_rate, "P{order}: H1 rate {rate} < {min_rate}");
+    }
+}

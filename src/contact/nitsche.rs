@@ -160,6 +160,42 @@ impl Nitsche {
         self.law.tangential(self.p_gamma(k, point, u), self.p_tangential(k, point, u), smoothing)
     }
 
+    /// The Γ_C traction t = q(P_γ(u_h)) ν + Π_S(P^t_γ(u_h)) τ at a face point, with q the
+    /// smoothing (`Smoothing::NONE`: the exact traction).
+    pub fn traction(&self, k: usize, point: &FacePoint, u: &[f64], smoothing: Smoothing) -> [f64; 2] {
+        let normal = smoothing.value(self.p_gamma(k, point, u));
+        let tangential = if self.law.has_friction() { self.tangential(k, point, u, smoothing).value } else { 0.0 };
+        self.along(k, normal, tangential)
+    }
+
+    /// The traction linearised at `u_prev`, evaluated at `u`: t(u_prev) + t'(u_prev)(u − u_prev),
+    /// the Γ_C traction of the Newton step from `u_prev`.
+    pub fn linearised_traction(
+        &self,
+        k: usize,
+        point: &FacePoint,
+        u: &[f64],
+        u_prev: &[f64],
+        smoothing: Smoothing,
+    ) -> [f64; 2] {
+        let (p, p_prev) = (self.p_gamma(k, point, u), self.p_gamma(k, point, u_prev));
+        let normal = smoothing.value(p_prev) + smoothing.derivative(p_prev) * (p - p_prev);
+        let tangential = if self.law.has_friction() {
+            let t = self.tangential(k, point, u_prev, smoothing);
+            let dt = self.p_tangential(k, point, u) - self.p_tangential(k, point, u_prev);
+            t.value + t.d_tangential * dt + t.d_normal * (p - p_prev)
+        } else {
+            0.0
+        };
+        self.along(k, normal, tangential)
+    }
+
+    /// t_n ν + t_t τ on face k, τ = (−ν_y, ν_x).
+    fn along(&self, k: usize, normal: f64, tangential: f64) -> [f64; 2] {
+        let nu = self.faces[k].direction;
+        [normal * nu[0] - tangential * nu[1], normal * nu[1] + tangential * nu[0]]
+    }
+
     /// Quadrature on face k split at the kinks of `smoothing` ∘ P_γ(u_h) and, with friction,
     /// of Π_S(P^t_γ(u_h)): (s, weight·|F|).
     pub fn quadrature(&self, k: usize, u: &[f64], smoothing: Smoothing) -> Vec<(f64, f64)> {

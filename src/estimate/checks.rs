@@ -24,7 +24,8 @@ pub struct Equilibration {
     pub normal_continuity: f64,
     /// max_F ‖σ_h n − Π_F^p g_N‖_F / max_F ‖σ_h n‖_F over Neumann faces.
     pub neumann: f64,
-    /// max_F ‖σ_hi n − Π_F^p t_i n‖_F / max_F ‖σ_h n‖_F over contact faces, i = 1, 2, 3.
+    /// max_F ‖σ_hi n − Π_F^p t_i‖_F / max_F ‖σ_h n‖_F over contact faces, i = 1, 2, 3, with
+    /// t_i the Γ_C traction vectors (normal and tangential).
     pub contact: f64,
     /// max_T |(σ_h, ψ J)_T| / (‖σ_h‖_T ‖ψ‖_T), ψ ∈ P_{p−1}; only meaningful for p ≥ 2.
     pub weak_symmetry: f64,
@@ -249,7 +250,7 @@ fn contact_traces(problem: &Problem, u: &[[f64; 2]], rec: &Reconstruction, state
         let (uk, u_prev) = (local(u), local(&state.u_prev));
         let rule = contact_rule(state, k, &uk, &u_prev);
         let projection = FaceProjection::new(mesh.order, &rule);
-        let t: Vec<[f64; 3]> = rule.iter().map(|&(s, _)| tractions(state, k, s, &uk, &u_prev)).collect();
+        let t: Vec<[[f64; 2]; 3]> = rule.iter().map(|&(s, _)| tractions(state, k, s, &uk, &u_prev)).collect();
         for i in 0..3 {
             let mut defect = 0.0;
             for j in 0..2 {
@@ -264,7 +265,7 @@ fn contact_traces(problem: &Problem, u: &[[f64; 2]], rec: &Reconstruction, state
                         tau[2 * j] * face.normal[0] + tau[2 * j + 1] * face.normal[1]
                     })
                     .collect();
-                let g: Vec<f64> = t.iter().map(|ti| ti[i] * face.direction[j]).collect();
+                let g: Vec<f64> = t.iter().map(|ti| ti[i][j]).collect();
                 defect += projection.trace_defect(&w, &g).powi(2);
             }
             worst = worst.max(defect.sqrt());

@@ -36,7 +36,8 @@
 //! by sparse Cholesky; when both components have the same Dirichlet nodes, one factorisation
 //! serves both. ‖r‖²_{C,h} = Σ_a r_aᵀ A_a r_a.
 
-use crate::contact::nitsche::{crossings, Nitsche};
+use crate::contact::nitsche::Nitsche;
+use crate::contact::projection::Smoothing;
 use crate::contact::ContactJoint;
 use crate::elasticity::{kernels, Problem};
 use crate::fem::affine::AffineMap;
@@ -268,28 +269,25 @@ impl ContactFaces {
         Some((k, [s(fine.mesh.points[nodes[0]]), s(fine.mesh.points[nodes[1]])]))
     }
 
-    /// Adds ([P_γ(u_h)]_{R⁻}, (φ_i e_a) · n)_{Γ_C} on the fine contact facets.
+    /// Adds (t(u_h), φ_i e_a)_{Γ_C} on the fine contact facets, t(u_h) = [P_γ(u_h)]_{R⁻} ν +
+    /// Π_S(P^t_γ(u_h)) τ the exact traction, integrated on pieces between its kinks.
     fn add_residual(&self, fine: &Refinement, u_h: &[[f64; 2]], load: &mut [[f64; 2]]) {
         let mut dofs = Vec::with_capacity(12);
         let mut phi = [0.0; 3];
         for f in 0..fine.mesh.n_facets() {
             let Some((k, [s0, s1])) = self.parent_face(fine, f) else { continue };
-            let face = &self.nitsche.faces[k];
             vector_dofs(&self.cell_nodes[k], &mut dofs);
             let u: Vec<f64> = dofs.iter().map(|&g| u_h[g / 2][g % 2]).collect();
-            let p = |t: f64| {
-                let s = s0 + t * (s1 - s0);
-                self.nitsche.p_gamma(k, &self.nitsche.point(k, s), &u)
-            };
-            let roots = crossings(p, &[0.0]);
+            let coarse = |t: f64| s0 + t * (s1 - s0);
+            let kinks = self.nitsche.kinks(k, &u, Smoothing::NONE).into_iter().map(|s| (s - s0) / (s1 - s0));
             let nodes = fine.mesh.facet(f);
             let length = fine.mesh.facet_length(f);
-            for (t, w) in split_rule(&self.rule, roots) {
-                let value = p(t).min(0.0);
+            for (t, w) in split_rule(&self.rule, kinks.filter(|t| *t > 0.0 && *t < 1.0).collect()) {
+                let value = self.nitsche.traction(k, &self.nitsche.point(k, coarse(t)), &u, Smoothing::NONE);
                 lagrange::segment_values(2, t, &mut phi);
                 for (&n, &ph) in nodes.iter().zip(&phi) {
-                    for (l, nu) in load[n].iter_mut().zip(face.direction) {
-                        *l += w * length * value * ph * nu;
+                    for (l, v) in load[n].iter_mut().zip(value) {
+                        *l += w * length * v * ph;
                     }
                 }
             }

@@ -229,9 +229,11 @@ fn contact_faces(problem: &Problem, u: &[[f64; 2]], rec: &Reconstruction, state:
         let (uk, u_prev) = (local(u), local(&state.u_prev));
         let rule = super::reconstruction::contact_rule(state, k, &uk, &u_prev);
         let projection = FaceProjection::new(mesh.order, &rule);
-        let t1: Vec<f64> = rule.iter().map(|&(s, _)| tractions(state, k, s, &uk, &u_prev)[0]).collect();
+        let t1: Vec<[f64; 2]> = rule.iter().map(|&(s, _)| tractions(state, k, s, &uk, &u_prev)[0]).collect();
         let root_h = face.length.sqrt();
-        e.disc[face.cell] += root_h * projection.oscillation(&t1);
+        let component = |j: usize| t1.iter().map(|t| t[j]).collect::<Vec<_>>();
+        e.disc[face.cell] +=
+            root_h * projection.oscillation(&component(0)).hypot(projection.oscillation(&component(1)));
         for (i, eta) in [(1, &mut e.reg), (2, &mut e.lin)] {
             let traction: Vec<[f64; 2]> = rule
                 .iter()

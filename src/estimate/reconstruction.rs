@@ -15,8 +15,8 @@
 use super::afw::{self, cell_integrals, face_moments, CellIntegrals, COMPONENTS};
 use super::patch::{self, FaceKind, PatchFace, PatchInput};
 use crate::contact::nitsche::Nitsche;
-use crate::contact::projection::negative_part;
-use crate::contact::{JointLaw, Linearisation};
+use crate::contact::projection::Smoothing;
+use crate::contact::Linearisation;
 use crate::elasticity::kernels::{displacement_gradient, stress};
 use crate::elasticity::problem::{load_degree, traction_rule};
 use crate::elasticity::{Problem, Traction};
@@ -32,8 +32,6 @@ use rayon::prelude::*;
 pub enum EstimateError {
     #[error("the estimator covers the Nitsche variant theta = 0 only (this run uses theta = {0})")]
     Theta(f64),
-    #[error("the estimator covers frictionless contact only (this run's joint law is {0:?}); run without --estimate")]
-    Friction(JointLaw),
     #[error("patch of the vertex at ({x}, {y}): {message}")]
     Patch { x: f64, y: f64, message: String },
 }
@@ -132,9 +130,6 @@ pub fn reconstruct(
     if let Some(c) = contact {
         if c.nitsche.parameters.theta != 0.0 {
             return Err(EstimateError::Theta(c.nitsche.parameters.theta));
-        }
-        if c.nitsche.law.has_friction() {
-            return Err(EstimateError::Friction(c.nitsche.law));
         }
     }
     let mesh = &problem.mesh;
@@ -403,22 +398,22 @@ fn traction_moments(ctx: &Context, traction: &Traction, a: usize, ends: [usize; 
 }
 
 /// The Γ_C tractions (t₁, t₂, t₃) at parameter `s` of contact face k, for the local
-/// displacements `u` and `u_prev` of its cell.
-pub(crate) fn tractions(c: &Linearisation, k: usize, s: f64, u: &[f64], u_prev: &[f64]) -> [f64; 3] {
+/// displacements `u` and `u_prev` of its cell: the exact traction, the smoothing's part and
+/// the linearisation's part, t₁ + t₂ + t₃ the traction of the Newton step (docs/method.md §4.3).
+pub(crate) fn tractions(c: &Linearisation, k: usize, s: f64, u: &[f64], u_prev: &[f64]) -> [[f64; 2]; 3] {
     let point = c.nitsche.point(k, s);
-    let (p, p_prev) = (c.nitsche.p_gamma(k, &point, u), c.nitsche.p_gamma(k, &point, u_prev));
-    let smoothing = c.smoothing;
-    let (exact, regularised) = (negative_part(p), smoothing.value(p));
-    let linearised = smoothing.value(p_prev) + smoothing.derivative(p_prev) * (p - p_prev);
-    [exact, regularised - exact, linearised - regularised]
+    let exact = c.nitsche.traction(k, &point, u, Smoothing::NONE);
+    let regularised = c.nitsche.traction(k, &point, u, c.smoothing);
+    let linearised = c.nitsche.linearised_traction(k, &point, u, u_prev, c.smoothing);
+    let minus = |a: [f64; 2], b: [f64; 2]| [a[0] - b[0], a[1] - b[1]];
+    [exact, minus(regularised, exact), minus(linearised, regularised)]
 }
 
 /// The rule on contact face k split at every kink of t₁, t₂ and t₃: (s, weight · |F|).
 pub(crate) fn contact_rule(c: &Linearisation, k: usize, u: &[f64], u_prev: &[f64]) -> Vec<(f64, f64)> {
-    let mut levels = c.smoothing.breakpoints();
-    levels.push(0.0);
-    let mut cuts = c.nitsche.cuts(k, u, &levels);
-    cuts.extend(c.nitsche.cuts(k, u_prev, &c.smoothing.breakpoints()));
+    let mut cuts = c.nitsche.kinks(k, u, Smoothing::NONE);
+    cuts.extend(c.nitsche.kinks(k, u, c.smoothing));
+    cuts.extend(c.nitsche.kinks(k, u_prev, c.smoothing));
     cuts.sort_by(f64::total_cmp);
     c.nitsche.split_rule(k, &cuts)
 }
@@ -438,12 +433,12 @@ fn contact_moments(ctx: &Context, k: usize, a: usize, ends: [usize; 2], data: &m
         let s = if reversed { 1.0 - s_face } else { s_face };
         let psi = if ends[0] == a { 1.0 - s } else { s };
         let [t1, t2, t3] = tractions(c, k, s_face, &u, &u_prev);
-        let t = [t1 + t2 + t3, t2, t3];
+        let t = [[t1[0] + t2[0] + t3[0], t1[1] + t2[1] + t3[1]], t2, t3];
         lagrange::segment_values(mesh.order, s, &mut q);
         for (case, out) in data.iter_mut().enumerate() {
             for m in 0..=mesh.order {
                 for i in 0..2 {
-                    out[m * 2 + i] += psi * t[case] * face.direction[i] * q[m] * w;
+                    out[m * 2 + i] += psi * t[case][i] * q[m] * w;
                 }
             }
         }
