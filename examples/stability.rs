@@ -6,7 +6,8 @@
 //! decades (S·10⁻¹ … S·10⁻⁸, S the stress scale of the loads), Poisson's ratio up to 0.499,
 //! the mesh size over three levels, a randomly distorted mesh (the manufactured Signorini
 //! problem V3 on the unit square, interior nodes moved by up to 35 % of h, fixed seed) and
-//! SI against dimensionless units. Scene B (dam bonded to a deformable rock) measures the
+//! SI against dimensionless units, and Coulomb friction over a decade of F and Mohr–Coulomb
+//! cohesion on the frictional dam (Scene A held by its joint alone). Scene B (dam bonded to a deformable rock) measures the
 //! material contrast up to 10³ through the sparse Cholesky solve, checked by its residual and
 //! by an independent LU solve. Every combination reports its Newton steps, final relative
 //! residual, status (or the solver's own error text), a Hager–Higham estimate of the 1-norm
@@ -21,6 +22,7 @@
 //! their reference, printed on the last line ("N combinations: …").
 
 use anyhow::{Context, Result};
+use damfem::contact::JointLaw;
 use damfem::elasticity::Problem;
 use damfem::fem::norms::errors;
 use damfem::io::atomic::write_output;
@@ -80,6 +82,9 @@ pub struct Plan {
     pub v3_n: usize,
     pub v3_orders: Vec<usize>,
     pub distortions: Vec<f64>,
+    /// Coulomb coefficients F, and cohesions c [Pa] at the smallest F, on the frictional dam.
+    pub friction: Vec<f64>,
+    pub cohesion: Vec<f64>,
     /// Scene B: the rock's E is divided by these factors.
     pub rock_divisors: Vec<f64>,
     pub scene_b: (usize, f64),
@@ -107,6 +112,8 @@ impl Plan {
                 v3_n: 8,
                 v3_orders: vec![1],
                 distortions: vec![0.0, 0.35],
+                friction: vec![0.8391, 8.391],
+                cohesion: vec![1e5],
                 rock_divisors: vec![1.0, 1e3],
                 scene_b: (1, 2.0),
             }
@@ -129,6 +136,8 @@ impl Plan {
                 v3_n: 16,
                 v3_orders: vec![1, 2],
                 distortions: vec![0.0, 0.2, 0.35],
+                friction: vec![0.8391, 1.2, 2.5, 8.391],
+                cohesion: vec![1e5, 1e6],
                 rock_divisors: vec![1.0, 1e1, 1e2, 1e3],
                 scene_b: (2, 1.0),
             }
@@ -176,6 +185,14 @@ fn scene_a(meshes: &mut Meshes, order: usize, size: f64, nu: Option<f64>) -> Res
     if let Some(nu) = nu {
         scene.materials.values_mut().for_each(|m| m.poisson = nu);
     }
+    let mesh = meshes.get(&scene, order, size)?;
+    let (problem, joint) = scene.problem(mesh)?;
+    Ok((problem, joint.map(|j| j.tags).unwrap_or_default()))
+}
+
+/// The frictional dam (geo/scene_a_friction.toml), its joint law set by the knobs.
+fn frictional_dam(meshes: &mut Meshes, order: usize, size: f64) -> Result<(Problem, Vec<i32>)> {
+    let scene = Scene::load(&repo("geo/scene_a_friction.toml"))?;
     let mesh = meshes.get(&scene, order, size)?;
     let (problem, joint) = scene.problem(mesh)?;
     Ok((problem, joint.map(|j| j.tags).unwrap_or_default()))
@@ -276,7 +293,7 @@ fn contact_rows(
 }
 
 /// Runs every combination of `plan`, in order: base, γ₀, θ, δ, ν, mesh size, distortion,
-/// units, material contrast.
+/// units, friction, material contrast.
 pub fn run(plan: &Plan) -> Vec<Row> {
     let mut meshes = Meshes::default();
     let mut rows = Vec::new();
@@ -420,7 +437,21 @@ pub fn run(plan: &Plan) -> Vec<Row> {
         }
     }
 
-    // 8. Material contrast: Scene B (bonded interface) with a softer rock, Cholesky vs LU
+    // 8. Friction: the frictional dam over a decade of F, then cohesion at the smallest F
+    let friction_build = |m: &mut Meshes| frictional_dam(m, p, size);
+    let smallest = plan.friction.iter().copied().fold(f64::INFINITY, f64::min);
+    let laws = plan
+        .friction
+        .iter()
+        .map(|&friction| JointLaw::Coulomb { friction })
+        .chain(plan.cohesion.iter().map(|&cohesion| JointLaw::MohrCoulomb { friction: smallest, cohesion }));
+    for law in laws {
+        let knobs = Knobs { law, start: Some(0.1), max_iter: 100, ..Knobs::default() };
+        let case = format!("frictional dam P{p} size {size}, {law:?}, δ from 1e-1·S to 1e-4·S");
+        rows.extend(contact_rows(&mut meshes, "friction", &case, p, knobs, 1.0, &PROBES_A, &friction_build));
+    }
+
+    // 9. Material contrast: Scene B (bonded interface) with a softer rock, Cholesky vs LU
     let (b_order, b_size) = plan.scene_b;
     for &divisor in &plan.rock_divisors {
         let mut lu_reference = None;

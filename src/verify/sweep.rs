@@ -4,7 +4,7 @@
 
 use crate::contact::nitsche::NitscheParameters;
 use crate::contact::projection::Smoothing;
-use crate::contact::{continuation, ContactJoint, ContactProblem};
+use crate::contact::{continuation, ContactJoint, ContactProblem, JointLaw};
 use crate::elasticity::stress::cell_mean_stress;
 use crate::elasticity::Problem;
 use crate::fem::transfer::interpolate;
@@ -184,13 +184,23 @@ pub struct Knobs {
     /// Newton's relative residual tolerance and step limit.
     pub rtol: f64,
     pub max_iter: usize,
+    /// The joint law of Γ_C.
+    pub law: JointLaw,
 }
 
 impl Default for Knobs {
     /// The CLI's defaults: γ₀ = 100, θ = 0, δ = 10⁻⁴ S, no continuation, rtol 10⁻¹⁰,
-    /// 50 Newton steps.
+    /// 50 Newton steps, frictionless.
     fn default() -> Self {
-        Knobs { gamma0: 100.0, theta: 0.0, delta: 1e-4, start: None, rtol: 1e-10, max_iter: 50 }
+        Knobs {
+            gamma0: 100.0,
+            theta: 0.0,
+            delta: 1e-4,
+            start: None,
+            rtol: 1e-10,
+            max_iter: 50,
+            law: JointLaw::Frictionless,
+        }
     }
 }
 
@@ -222,7 +232,7 @@ pub fn contact_row(row: &mut Row, problem: &Problem, tags: &[i32], knobs: Knobs,
     let delta = knobs.delta * scale;
     let start = knobs.start.map_or(delta, |s| (s * scale).max(delta));
     let parameters = NitscheParameters { gamma0: knobs.gamma0, theta: knobs.theta, ..Default::default() };
-    let joint = ContactJoint::frictionless(tags.to_vec(), parameters);
+    let joint = ContactJoint { tags: tags.to_vec(), law: knobs.law, parameters };
     let mut contact = ContactProblem::new(problem, &disc, &joint, Smoothing { delta });
     let contact_face = contact.nitsche.faces.iter().map(|f| f.length).fold(0.0, f64::max) * length;
     let options = NewtonOptions { rtol: knobs.rtol, max_iter: knobs.max_iter, ..NewtonOptions::default() };
