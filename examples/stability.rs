@@ -36,6 +36,7 @@ use damfem::verify::sweep::{
     Tolerance,
 };
 use damfem::verify::units::rescale;
+use damfem::verify::v3;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -206,10 +207,6 @@ fn scene_b(meshes: &mut Meshes, order: usize, size: f64, divisor: f64) -> Result
     let mesh = meshes.get(&scene, order, size)?;
     Ok(scene.problem(mesh)?.0)
 }
-
-/// V3: manufactured Signorini solution (docs/method.md §7), shared with the tests.
-#[path = "../tests/common/v3.rs"]
-mod v3;
 
 /// V3 on an n × n grid of degree `order`, interior vertices moved by up to `fraction · h`.
 fn v3_problem(n: usize, order: usize, fraction: f64) -> Problem {

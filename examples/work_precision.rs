@@ -16,9 +16,6 @@
 //! per case a figure of η against unknowns (with the fitted rates in the legend) and one of η
 //! against wall time (SVG and PNG). `--quick` runs fewer steps.
 
-#[path = "../tests/common/v3.rs"]
-mod v3;
-
 use damfem::adapt::geo::GeoMesher;
 use damfem::adapt::history::{adaptive_uniform_figure, comparison_figure, eta_rate, to_csv, RATE_STEPS};
 use damfem::adapt::{self, AdaptError, AdaptSettings, Model, Refinement, StepRecord};
@@ -32,6 +29,7 @@ use damfem::mesh::structured::BOTTOM;
 use damfem::mesh::Mesh;
 use damfem::scene::Scene;
 use damfem::solve::NewtonOptions;
+use damfem::verify::v3;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 

@@ -184,6 +184,11 @@ impl NonlinearSystem for ContactProblem<'_> {
         &self.disc.pattern
     }
 
+    /// Friction couples the normal traction into the tangential rows (docs/method.md §1.5).
+    fn monotone(&self) -> bool {
+        self.nitsche.law.has_friction()
+    }
+
     fn evaluate(&self, x: &[f64], residual: &mut [f64], mut jacobian: Option<&mut [f64]>) {
         // bulk: F = K x − b, J = K
         self.disc.pattern.multiply(&self.bulk.values, x, residual);

@@ -1,10 +1,10 @@
 //! Newton's method with backtracking for F(x) = 0 on a fixed sparsity pattern.
 //!
 //! Step k solves J(x_k) Δ = −F(x_k) by sparse LU (symbolic factorisation reused), then takes
-//! the largest t ∈ {1, ½, ¼, …} with ‖F(x_k + tΔ)‖ < ‖F(x_k)‖ (a monotone residual breaks
-//! the cycles Newton falls into on Coulomb friction), or, when none lowers it (a kink), the
-//! largest with ‖F(x_k + tΔ)‖ ≤ κ ‖F(x_k)‖, κ = `max_growth`. Each linear solve gets one step
-//! of iterative refinement. It stops when ‖F(x_k)‖ ≤ rtol · scale, where `scale` is the system's load
+//! the largest t ∈ {1, ½, ¼, …} with ‖F(x_k + tΔ)‖ ≤ κ ‖F(x_k)‖, κ = `max_growth`. A system
+//! that asks for a monotone residual (Coulomb friction, whose full steps can cycle) gets the
+//! largest t that lowers ‖F‖ instead, and the rule above only where none does (a kink). Each
+//! linear solve gets one step of iterative refinement. It stops when ‖F(x_k)‖ ≤ rtol · scale, where `scale` is the system's load
 //! norm, or when it stagnates at round-off: ‖Δ‖ ≤ 10⁻¹⁰ ‖x‖ with no halving of ‖F‖. Running out of iterations
 //! is an error that carries the whole history: never a silent wrong answer.
 
@@ -22,6 +22,13 @@ pub trait NonlinearSystem {
     fn evaluate(&self, x: &[f64], residual: &mut [f64], jacobian: Option<&mut [f64]>);
     /// Norm of the load vector: the residual scale for the relative tolerance.
     fn scale(&self) -> f64;
+    /// Whether a step must lower ‖F‖ when some halving of it does. Semismooth steps that
+    /// change an active set may raise ‖F‖ for a while and still converge, so by default a
+    /// step is only kept from blowing ‖F‖ up; a Jacobian with non-symmetric couplings
+    /// (Coulomb friction) lets full steps cycle, which a monotone ‖F‖ breaks.
+    fn monotone(&self) -> bool {
+        false
+    }
 }
 
 /// Stopping and damping parameters.
@@ -37,8 +44,7 @@ pub struct NewtonOptions {
     pub min_steps: usize,
     /// Maximum number of step halvings in the line search.
     pub max_halvings: usize,
-    /// A step that raises the residual norm is taken only when no halving lowers it, and only
-    /// if it multiplies the norm by at most this factor.
+    /// A step is halved while it multiplies the residual norm by more than this factor.
     pub max_growth: f64,
 }
 
@@ -191,9 +197,8 @@ pub fn newton_until(
     Err(NewtonError::NotConverged { history, scale })
 }
 
-/// The step length: the largest t = 2^−j with ‖F(x + tΔ)‖ < ‖F(x)‖; if none lowers the
-/// residual (a kink of a semismooth F, where Δ need not descend), the largest with
-/// ‖F(x + tΔ)‖ ≤ κ‖F(x)‖, which leaves the kink; else the last halving.
+/// The step length: the largest t = 2^−j with ‖F(x + tΔ)‖ ≤ κ‖F(x)‖ (for a monotone system,
+/// the largest with ‖F(x + tΔ)‖ < ‖F(x)‖ first); the last halving if none qualifies.
 fn line_search(
     system: &impl NonlinearSystem,
     x: &[f64],
@@ -210,10 +215,11 @@ fn line_search(
         }
         system.evaluate(trial, trial_residual, None);
         let r_trial = norm(trial_residual);
-        if r_trial < r {
+        let within = r_trial <= options.max_growth * r;
+        if (within && !system.monotone()) || r_trial < r {
             return t;
         }
-        if bounded.is_none() && r_trial <= options.max_growth * r {
+        if within && bounded.is_none() {
             bounded = Some(t);
         }
         t *= 0.5;

@@ -16,7 +16,7 @@ impl Rng {
         let mut z = self.0;
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
         z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        (z ^ (z >> 31)) as f64 / 2f64.powi(64)
+        ((z ^ (z >> 31)) >> 11) as f64 / 2f64.powi(53)
     }
 
     /// Uniform in [−1, 1).

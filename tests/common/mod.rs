@@ -5,5 +5,3 @@
 pub fn fitted_rate(h: &[f64], e: &[f64]) -> f64 {
     damfem::adapt::history::loglog_slope(&h.iter().copied().zip(e.iter().copied()).collect::<Vec<_>>())
 }
-pub mod v1;
-pub mod v3;

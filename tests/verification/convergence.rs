@@ -6,12 +6,12 @@
 //! Boundary conditions: u = exact on all of ∂Ω (nodal interpolation).
 //! Goal: fitted rates |u − u_h|_{H¹} ~ h^p and ‖u − u_h‖_{L²} ~ h^{p+1} within ±0.1.
 
-mod common;
+use crate::common;
 
-use common::v1;
 use damfem::fem::norms::errors;
 use damfem::mesh::structured::unit_square;
 use damfem::solve::Cholesky;
+use damfem::verify::v1;
 
 /// (h, L² error, H¹ error) of V1 on an n × n mesh of degree p.
 fn solve_v1(n: usize, p: usize) -> (f64, f64, f64) {

@@ -355,7 +355,7 @@ fn adaptive_p2_reaches_the_optimal_rate_on_hertz() {
 /// to 61 278 unknowns: the dual norm falls at −1.05 … −1.02 over the last four steps, like η
 /// (−1.10 … −1.04), and I_eff sinks from 2.36 on the first mesh to 1.33.
 #[test]
-#[ignore = "study for the notes: cargo test --release --test adapt -- --ignored --nocapture"]
+#[ignore = "study for the notes: cargo test --release --test end_to_end adapt -- --ignored --nocapture"]
 fn scene_a_p2_estimate_against_the_dual_norm() {
     let scene = scene("scene_a", 2);
     let mut previous: Option<(f64, f64, f64)> = None;

@@ -3,9 +3,9 @@
 //! Γ_D = {x = 0} with u = (0, −y/8), Γ_N = {x = 1} ∪ {y = 1} with g_N = σ(u)n;
 //! ψ = (x − ½)₊⁴, φ = (½ − x)₊³, u = (−y ψ', ψ − y φ).
 
-use damfem::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};
-use damfem::mesh::structured::{LEFT, RIGHT, TOP};
-use damfem::mesh::Mesh;
+use crate::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};
+use crate::mesh::structured::{LEFT, RIGHT, TOP};
+use crate::mesh::Mesh;
 use std::sync::Arc;
 
 const MU: f64 = 1.0;

@@ -3,6 +3,7 @@
 use damfem::fem::affine::AffineMap;
 use damfem::fem::lagrange::{gradients, n_basis, reference_nodes, values};
 use damfem::fem::quadrature::{gauss_segment, triangle, triangle_cached};
+use damfem::verify::rng::Rng;
 
 const VERTICES: [[f64; 2]; 3] = [[0.1, 0.2], [1.3, 0.4], [0.35, 1.1]];
 
@@ -17,13 +18,10 @@ fn to_reference(m: &AffineMap, x: [f64; 2]) -> [f64; 2] {
     [t[0][0] * d[0] + t[1][0] * d[1], t[0][1] * d[0] + t[1][1] * d[1]]
 }
 
-/// Deterministic points strictly inside the reference triangle (linear congruential generator).
+/// Deterministic points inside the reference triangle (the seeded generator, folded).
 fn random_points(count: usize) -> Vec<[f64; 2]> {
-    let mut state: u64 = 0x2545_f491_4f6c_dd1d;
-    let mut next = move || {
-        state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = Rng::new(0x2545_f491_4f6c_dd1d);
+    let mut next = move || rng.uniform();
     (0..count)
         .map(|_| {
             let (u, v) = (next(), next());

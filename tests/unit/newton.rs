@@ -2,7 +2,7 @@
 //! convergence of the regularised problem, convergence of the regularised solution as δ → 0,
 //! and failure reported as an error.
 
-mod common;
+use crate::common;
 
 use damfem::contact::nitsche::NitscheParameters;
 use damfem::contact::projection::Smoothing;

@@ -4,9 +4,9 @@
 //! solutions, Galerkin orthogonality of the project's solvers, and two-sided bounds by
 //! independently integrated norms of known errors.
 
-mod common;
+use crate::common;
 
-use common::v3;
+use damfem::verify::v3;
 
 use damfem::contact::nitsche::NitscheParameters;
 use damfem::contact::projection::Smoothing;
@@ -126,15 +126,15 @@ fn pseudo_random(seed: u64) -> impl FnMut() -> f64 {
 }
 
 // ---------------------------------------------------------------------------------------
-// V1: manufactured elasticity solution (docs/method.md §7, tests/common/v1.rs)
+// V1: manufactured elasticity solution (docs/method.md §7, src/verify/v1.rs)
 
 mod v1 {
-    pub use super::common::v1::{exact as u, exact_gradient as grad_u};
     use super::*;
+    pub use damfem::verify::v1::{exact as u, exact_gradient as grad_u};
 
     /// V1 on the n × n unit square of degree p, clamped to the exact u on all of ∂Ω.
     pub fn problem(n: usize, p: usize) -> Problem {
-        super::common::v1::problem(unit_square(n, p), &[BOTTOM, RIGHT, TOP, LEFT])
+        damfem::verify::v1::problem(unit_square(n, p), &[BOTTOM, RIGHT, TOP, LEFT])
     }
 
     /// Nodal interpolant of the exact u.

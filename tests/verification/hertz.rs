@@ -276,7 +276,7 @@ fn v4_hertz_with_face_normals() {
 
 /// The same on a sequence of meshes, for the notes (about a minute in release).
 #[test]
-#[ignore = "mesh study for the notes: cargo test --release --test hertz -- --ignored --nocapture"]
+#[ignore = "mesh study for the notes: cargo test --release --test verification hertz -- --ignored --nocapture"]
 fn v4_hertz_mesh_study() {
     for direction in [FOUNDATION_NORMAL, None] {
         println!("contact direction {direction:?}");

@@ -1,8 +1,7 @@
 //! Verification of the equilibrated-stress estimator (docs/method.md §4–§5).
 
-mod common;
+use crate::common;
 
-use common::{v1, v3};
 use damfem::contact::nitsche::NitscheParameters;
 use damfem::contact::{solve_by_continuation, ContactJoint, ContactSolution, Continuation, Linearisation};
 use damfem::elasticity::Problem;
@@ -14,6 +13,7 @@ use damfem::mesh::structured::unit_square;
 use damfem::mesh::structured::BOTTOM;
 use damfem::solve::Cholesky;
 use damfem::solve::NewtonOptions;
+use damfem::verify::{v1, v3};
 
 /// Solves a linear problem and returns the nodal displacement.
 fn solve(problem: &Problem) -> Vec<[f64; 2]> {

@@ -3,7 +3,7 @@
 //! u, the stresses or the contact states, and the tables are written.
 
 #[allow(dead_code)]
-#[path = "../examples/stability.rs"]
+#[path = "../../examples/stability.rs"]
 mod stability;
 
 use damfem::verify::sweep::{broken, Status};

@@ -6,24 +6,16 @@ use damfem::fem::transfer::{interpolate, Locator};
 use damfem::mesh::refine::elevate_to_p2;
 use damfem::mesh::structured::{rectangle, unit_square};
 use damfem::mesh::Mesh;
-
-/// Uniform numbers in [0, 1) from a linear congruential generator with a fixed seed.
-fn lcg(seed: u64) -> impl FnMut() -> f64 {
-    let mut state = seed;
-    move || {
-        state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
+use damfem::verify::rng::Rng;
 
 /// A P1 mesh of the unit square with n × n squares whose interior vertices are moved by up to
 /// `amplitude / n` in each direction: not nested in any structured mesh.
 fn perturbed_square(n: usize, amplitude: f64, seed: u64) -> Mesh {
     let mut mesh = unit_square(n, 1);
-    let mut next = lcg(seed);
+    let mut rng = Rng::new(seed);
     let on_boundary = |x: f64| x == 0.0 || x == 1.0;
     for p in mesh.points.iter_mut().filter(|p| !on_boundary(p[0]) && !on_boundary(p[1])) {
-        *p = p.map(|x| x + amplitude * (2.0 * next() - 1.0) / n as f64);
+        *p = p.map(|x| x + amplitude * (2.0 * rng.uniform() - 1.0) / n as f64);
     }
     assert!((0..mesh.n_cells()).all(|c| mesh.cell_area(c) > 0.0), "perturbation folded a cell");
     mesh
@@ -151,12 +143,13 @@ fn graded(map: impl Fn([f64; 2]) -> [f64; 2], seed: u64) -> (Mesh, Vec<[f64; 2]>
     let mut mesh = rectangle(-1.0, 1.0, -1.0, 1.0, 40, 40, 1);
     mesh.points.iter_mut().for_each(|p| *p = map(*p));
     assert!((0..mesh.n_cells()).all(|c| mesh.cell_area(c) > 0.0));
-    let mut next = lcg(seed);
-    let mut points: Vec<[f64; 2]> = (0..700).map(|_| map([2.2 * next() - 1.1, 2.2 * next() - 1.1])).collect();
+    let mut rng = Rng::new(seed);
+    let mut points: Vec<[f64; 2]> =
+        (0..700).map(|_| map([2.2 * rng.uniform() - 1.1, 2.2 * rng.uniform() - 1.1])).collect();
     let (lo, hi) = mesh.points.iter().fold(([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]), |(lo, hi), p| {
         ([lo[0].min(p[0]), lo[1].min(p[1])], [hi[0].max(p[0]), hi[1].max(p[1])])
     });
-    points.extend((0..300).map(|_| [0, 1].map(|k| lo[k] + (1.2 * next() - 0.1) * (hi[k] - lo[k]))));
+    points.extend((0..300).map(|_| [0, 1].map(|k| lo[k] + (1.2 * rng.uniform() - 0.1) * (hi[k] - lo[k]))));
     (mesh, points)
 }
 
@@ -177,8 +170,8 @@ fn strongly_graded_meshes_locate_like_brute_force() {
 fn hundred_thousand_points_in_a_hundred_thousand_cells() {
     let source = perturbed_square(224, 0.2, 6);
     assert!(source.n_cells() > 100_000);
-    let mut next = lcg(7);
-    let points: Vec<[f64; 2]> = (0..100_000).map(|_| [next(), next()]).collect();
+    let mut rng = Rng::new(7);
+    let points: Vec<[f64; 2]> = (0..100_000).map(|_| [rng.uniform(), rng.uniform()]).collect();
     let u = interpolate(&source, &nodal(&source, linear), &points);
     assert!(max_error(&u, &points, linear) < 1e-12);
 }

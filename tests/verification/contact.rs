@@ -1,6 +1,6 @@
 //! Verification of Nitsche contact (docs/method.md §7, V2).
 
-mod common;
+use crate::common;
 
 use damfem::contact::nitsche::NitscheParameters;
 use damfem::contact::projection::Smoothing;
@@ -58,8 +58,8 @@ fn v2_lift_off_is_a_rigid_translation() {
 
 /// (h, H¹ error, contact length, Newton steps) of V3 on an n × n mesh of degree p.
 fn solve_v3(n: usize, order: usize) -> (f64, f64, f64, usize) {
-    use common::v3;
     use damfem::fem::norms::errors;
+    use damfem::verify::v3;
     let problem = v3::problem(unit_square(n, order));
     let disc = problem.discretise();
     let joint = ContactJoint::frictionless(vec![BOTTOM], NitscheParameters::default());

@@ -2,8 +2,8 @@
 //! μ = λ = 1, u = (sin πx cos πy + x²/(2λ), −cos πx sin πy + y²/(2λ)), f = −∇·σ(u),
 //! Dirichlet data u on the four sides of the structured square (tags 1–4).
 
-use damfem::elasticity::{BodyForce, Dirichlet, Material, Problem};
-use damfem::mesh::Mesh;
+use crate::elasticity::{BodyForce, Dirichlet, Material, Problem};
+use crate::mesh::Mesh;
 use std::f64::consts::PI;
 use std::sync::Arc;
 

@@ -2,7 +2,7 @@
 //! equilibrated estimate.
 
 #[allow(dead_code)]
-#[path = "../examples/tutorial.rs"]
+#[path = "../../examples/tutorial.rs"]
 mod tutorial;
 
 #[test]

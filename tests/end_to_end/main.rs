@@ -1,0 +1,6 @@
+//! End to end: the `damfem` commands on real scenes and real gmsh, the adaptive loop with
+//! remeshing, and the tutorial example.
+
+mod adapt;
+mod cli;
+mod tutorial;

@@ -1,0 +1,13 @@
+//! Unit tests: the library's pieces one at a time (elements, quadrature and transfer, the gmsh
+//! interface and remeshing, Newton's method, the VTU/PVD writers and the figures).
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod elements;
+mod gmsh_io;
+mod newton;
+mod plot;
+mod remesh;
+mod transfer;
+mod vtu_output;

@@ -1,0 +1,15 @@
+//! Verification: the method against exact solutions, fitted rates and independent references
+//! (manufactured solutions, Hertz, the dual norm of the residual, the estimator's bound and
+//! equilibration, friction, the stability sweep).
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod contact;
+mod convergence;
+mod dual_norm;
+mod estimator;
+mod estimator_components;
+mod friction;
+mod hertz;
+mod stability;
