@@ -3,13 +3,13 @@
 
 #[allow(dead_code)]
 #[path = "../../examples/tutorial.rs"]
-mod tutorial;
+mod example;
 
 #[test]
 fn the_tutorial_runs_scene_a_end_to_end() {
     let dir = std::env::temp_dir().join(format!("damfem-tutorial-{}", std::process::id()));
     let output = dir.join("tutorial.vtu");
-    let summary = tutorial::run(&output).unwrap_or_else(|e| panic!("{e:#}"));
+    let summary = example::run(&output).unwrap_or_else(|e| panic!("{e:#}"));
     let vtu = std::fs::read_to_string(&output).expect("the VTU file");
     std::fs::remove_dir_all(&dir).ok();
     for name in ["displacement", "von_mises", "eta_tot"] {

@@ -4,16 +4,16 @@
 
 #[allow(dead_code)]
 #[path = "../../examples/stability.rs"]
-mod stability;
+mod driver;
 
 use damfem::verify::sweep::{broken, Status};
-use stability::Plan;
+use driver::Plan;
 
 #[test]
 fn quick_sweep_converges_or_explains_and_stays_finite() {
     let plan = Plan::new(true);
-    let rows = stability::run(&plan);
-    println!("{}", stability::markdown(&plan, &rows));
+    let rows = driver::run(&plan);
+    println!("{}", driver::markdown(&plan, &rows));
     assert!(rows.len() >= 20, "the quick sweep has {} rows", rows.len());
     for row in &rows {
         let name = format!("{} / {}", row.group, row.case);
@@ -45,7 +45,7 @@ fn quick_sweep_converges_or_explains_and_stays_finite() {
     // the tables: one markdown line and one CSV line per row
     let dir = std::env::temp_dir().join(format!("damfem-stability-{}", std::process::id()));
     let md = dir.join("stability.md");
-    let csv = stability::write_tables(&plan, &rows, &md).expect("tables written");
+    let csv = driver::write_tables(&plan, &rows, &md).expect("tables written");
     let table_lines = std::fs::read_to_string(&md).unwrap().lines().filter(|l| l.starts_with("| ")).count();
     assert_eq!(table_lines, rows.len() + 1, "markdown rows + header");
     let text = std::fs::read_to_string(&csv).unwrap();
