@@ -25,7 +25,7 @@ pub enum JointLaw {
     /// No tangential traction.
     #[default]
     Frictionless,
-    /// |σ^t| ≤ s with a given threshold s [Pa].
+    /// |σ^t| ≤ s with a given threshold s \[Pa\].
     Tresca { threshold: f64 },
     /// |σ^t| ≤ F p_c, F = tan φ.
     Coulomb { friction: f64 },
