@@ -7,6 +7,14 @@ use damfem::mesh::structured::{unit_square, BOTTOM, LEFT, RIGHT, TOP};
 use damfem::solve::{NewtonError, NewtonOptions};
 use std::sync::Arc;
 
+/// The laws of the exact cases: S = 0.02 (Tresca), F = 0.5 (Coulomb), F = 0.3 and c = 0.005
+/// (Mohr–Coulomb).
+const LAWS: [JointLaw; 3] = [
+    JointLaw::Tresca { threshold: 0.02 },
+    JointLaw::Coulomb { friction: 0.5 },
+    JointLaw::MohrCoulomb { friction: 0.3, cohesion: 0.005 },
+];
+
 /// Lamé coefficients of the exact cases.
 const LAMBDA: f64 = 1.0;
 const MU: f64 = 1.0;
@@ -53,13 +61,8 @@ fn problem(n: usize, order: usize, a: f64, b: f64, shear: f64) -> Problem {
 /// F = 0.5 (S = 0.015), F = 0.3 with c = 0.005 (S = 0.014); γ₀ = 100, 4 × 4 grid.
 #[test]
 fn stick_and_slip_are_exact() {
-    let laws = [
-        JointLaw::Tresca { threshold: 0.02 },
-        JointLaw::Coulomb { friction: 0.5 },
-        JointLaw::MohrCoulomb { friction: 0.3, cohesion: 0.005 },
-    ];
     let b = 0.01;
-    for law in laws {
+    for law in LAWS {
         for (case, a) in [("stick", 0.01), ("slip", 0.05)] {
             let (u_exact, shear) = exact(law, a, b);
             assert_eq!(case == "stick", shear == MU * a, "{law:?}: the data make it {case}");
@@ -102,6 +105,22 @@ fn stick_and_slip_are_exact() {
     }
 }
 
+/// The weight of the block on the incline [N/m³].
+const WEIGHT: f64 = 1e4;
+
+/// A unit square block (E = 10⁶ Pa, ν = 0.2) on an n × n grid of degree `order` under its own
+/// weight tilted by α: f = ρg (sin α, −cos α), no Dirichlet condition.
+fn incline(alpha: f64, n: usize, order: usize) -> Problem {
+    let mesh = unit_square(n, order);
+    Problem {
+        materials: vec![Material { young: 1e6, poisson: 0.2, density: 1.0 }; mesh.n_cells()],
+        dirichlet: vec![],
+        neumann: vec![],
+        body_force: BodyForce::Field(Arc::new(move |_| [WEIGHT * alpha.sin(), -WEIGHT * alpha.cos()])),
+        mesh,
+    }
+}
+
 /// Block on an incline. Source: Coulomb's law. A unit square block rests with its base on a
 /// rigid plane and carries only its own weight, tilted by α against the plane's normal,
 /// f = ρg (sin α, −cos α): the plane inclined at α. Goal: with F = tan 30° it sticks at
@@ -116,15 +135,7 @@ fn block_on_an_incline_sticks_below_the_friction_angle_and_slides_above() {
     for order in [1, 2] {
         for (degrees, sticks) in [(25.0, true), (35.0, false)] {
             let alpha = f64::to_radians(degrees);
-            let weight = 1e4;
-            let mesh = unit_square(8, order);
-            let problem = Problem {
-                materials: vec![Material { young: 1e6, poisson: 0.2, density: 1.0 }; mesh.n_cells()],
-                dirichlet: vec![],
-                neumann: vec![],
-                body_force: BodyForce::Field(Arc::new(move |_| [weight * alpha.sin(), -weight * alpha.cos()])),
-                mesh,
-            };
+            let problem = incline(alpha, 8, order);
             let disc = problem.discretise();
             let joint = ContactJoint {
                 tags: vec![BOTTOM],
@@ -144,8 +155,8 @@ fn block_on_an_incline_sticks_below_the_friction_angle_and_slides_above() {
                         solution.slip_length()
                     );
                     // ∫_Γ_C t + ∫_Ω f = 0 for the weight W = ρg |Ω|: N = W cos α, T = −W sin α
-                    assert!((n - weight * alpha.cos()).abs() <= 1e-8 * weight, "P{order} α = {degrees}°: N = {n}");
-                    assert!((t + weight * alpha.sin()).abs() <= 1e-8 * weight, "P{order} α = {degrees}°: T = {t}");
+                    assert!((n - WEIGHT * alpha.cos()).abs() <= 1e-8 * WEIGHT, "P{order} α = {degrees}°: N = {n}");
+                    assert!((t + WEIGHT * alpha.sin()).abs() <= 1e-8 * WEIGHT, "P{order} α = {degrees}°: T = {t}");
                     assert!(solution.stick_length() > 0.0, "P{order} α = {degrees}°: no point sticks");
                 }
                 (false, Err(error)) => {
@@ -182,12 +193,7 @@ fn the_jacobian_is_the_derivative_of_the_residual() {
     use damfem::contact::ContactProblem;
     use damfem::solve::NonlinearSystem;
     use damfem::verify::rng::Rng;
-    let laws = [
-        JointLaw::Tresca { threshold: 0.02 },
-        JointLaw::Coulomb { friction: 0.5 },
-        JointLaw::MohrCoulomb { friction: 0.3, cohesion: 0.005 },
-    ];
-    for law in laws {
+    for law in LAWS {
         for order in [1, 2] {
             for theta in [1.0, 0.0, -1.0] {
                 let problem = problem(2, order, 0.05, 0.01, 0.015);
@@ -252,13 +258,8 @@ fn estimate_and_reference(
 /// δ = 0, the stress scale μa = 10⁻²; round-off asserted as 10⁻¹² of it.
 #[test]
 fn the_estimator_vanishes_at_the_exact_stick_and_slip_solutions() {
-    let laws = [
-        JointLaw::Tresca { threshold: 0.02 },
-        JointLaw::Coulomb { friction: 0.5 },
-        JointLaw::MohrCoulomb { friction: 0.3, cohesion: 0.005 },
-    ];
     let b = 0.01;
-    for law in laws {
+    for law in LAWS {
         for (case, a) in [("stick", 0.01), ("slip", 0.05)] {
             let (_, shear) = exact(law, a, b);
             for order in [1, 2] {
@@ -299,15 +300,7 @@ fn eta_tot_bounds_the_residual_with_friction() {
     let friction = 30f64.to_radians().tan();
     let alpha = 25f64.to_radians();
     for order in [1, 2] {
-        let weight = 1e4;
-        let mesh = unit_square(4, order);
-        let problem = Problem {
-            materials: vec![Material { young: 1e6, poisson: 0.2, density: 1.0 }; mesh.n_cells()],
-            dirichlet: vec![],
-            neumann: vec![],
-            body_force: BodyForce::Field(Arc::new(move |_| [weight * alpha.sin(), -weight * alpha.cos()])),
-            mesh,
-        };
+        let problem = incline(alpha, 4, order);
         let disc = problem.discretise();
         let joint =
             ContactJoint { tags: vec![BOTTOM], law: JointLaw::Coulomb { friction }, parameters: Default::default() };
@@ -362,15 +355,7 @@ fn a_tampered_tangential_traction_fails_the_checks() {
     use damfem::estimate::reconstruction::reconstruct;
     let friction = 30f64.to_radians().tan();
     let alpha = 25f64.to_radians();
-    let weight = 1e4;
-    let mesh = unit_square(4, 2);
-    let problem = Problem {
-        materials: vec![Material { young: 1e6, poisson: 0.2, density: 1.0 }; mesh.n_cells()],
-        dirichlet: vec![],
-        neumann: vec![],
-        body_force: BodyForce::Field(Arc::new(move |_| [weight * alpha.sin(), -weight * alpha.cos()])),
-        mesh,
-    };
+    let problem = incline(alpha, 4, 2);
     let disc = problem.discretise();
     let joint =
         ContactJoint { tags: vec![BOTTOM], law: JointLaw::Coulomb { friction }, parameters: Default::default() };
