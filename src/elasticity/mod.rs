@@ -4,6 +4,7 @@
 pub mod kernels;
 pub mod material;
 pub mod problem;
+pub mod rigid;
 pub mod stress;
 
 pub use material::Material;

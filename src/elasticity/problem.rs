@@ -9,6 +9,7 @@
 
 use super::kernels;
 use super::material::Material;
+use super::rigid;
 use crate::fem::affine::AffineMap;
 use crate::fem::dofs::DofMap;
 use crate::fem::quadrature::{gauss_segment_cached, split_rule};
@@ -266,40 +267,14 @@ impl Problem {
         let n = mesh.n_points() as f64;
         let centre = mesh.points.iter().fold([0.0; 2], |c, p| [c[0] + p[0] / n, c[1] + p[1] / n]);
         let size = mesh.points.iter().map(|p| crate::mesh::distance(*p, centre)).fold(f64::MIN_POSITIVE, f64::max);
-        // (a_x, a_y, b) ↦ r(x)·d at the scaled point x
-        let functional = |x: [f64; 2], d: [f64; 2]| {
-            let (px, py) = ((x[0] - centre[0]) / size, (x[1] - centre[1]) / size);
-            nalgebra::Vector3::new(d[0], d[1], -py * d[0] + px * d[1])
-        };
-        let mut gram = nalgebra::Matrix3::zeros();
-        for bc in &self.dirichlet {
-            for f in (0..mesh.n_facets()).filter(|&f| mesh.facet_tags[f] == bc.tag) {
-                for &node in mesh.facet(f) {
-                    for d in
-                        [[1.0, 0.0], [0.0, 1.0]].into_iter().zip(bc.fix).filter(|(_, fixed)| *fixed).map(|(d, _)| d)
-                    {
-                        let v = functional(mesh.points[node], d);
-                        gram += v * v.transpose();
-                    }
-                }
-            }
-        }
-        for &(x, normal) in supports {
-            let v = functional(x, normal);
-            gram += v * v.transpose();
-        }
-        let eigen = nalgebra::SymmetricEigen::new(gram);
-        let (k, smallest) =
-            eigen
-                .eigenvalues
-                .iter()
-                .enumerate()
-                .fold((0, f64::INFINITY), |m, (i, &e)| if e < m.1 { (i, e) } else { m });
-        let largest = eigen.eigenvalues.max();
-        if largest > 0.0 && smallest > 1e-10 * largest {
-            return None;
-        }
-        let v = eigen.eigenvectors.column(k);
+        let fixed = self.dirichlet.iter().flat_map(|bc| {
+            let facets = (0..mesh.n_facets()).filter(move |&f| mesh.facet_tags[f] == bc.tag);
+            facets.flat_map(|f| mesh.facet(f).iter()).flat_map(move |&node| {
+                let directions = [[1.0, 0.0], [0.0, 1.0]].into_iter().zip(bc.fix).filter(|(_, fixed)| *fixed);
+                directions.map(move |(d, _)| (mesh.points[node], d))
+            })
+        });
+        let v = *rigid::free_motions(fixed.chain(supports.iter().copied()), centre, size).first()?;
         let parts: Vec<&str> = [(v[0], "a translation along x"), (v[1], "a translation along y"), (v[2], "a rotation")]
             .into_iter()
             .filter(|(c, _)| c.abs() > 0.1)

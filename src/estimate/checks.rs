@@ -12,6 +12,7 @@ use crate::fem::affine::AffineMap;
 use crate::fem::lagrange;
 use crate::fem::quadrature::{gauss_segment_cached, triangle_cached};
 use crate::mesh::topology::NONE;
+use crate::mesh::Segment;
 use crate::mesh::Topology;
 use serde::Serialize;
 
@@ -257,10 +258,7 @@ fn contact_traces(problem: &Problem, u: &[[f64; 2]], rec: &Reconstruction, state
                 let w: Vec<f64> = rule
                     .iter()
                     .map(|&(s, _)| {
-                        let xi = [
-                            face.ends[0][0] + s * (face.ends[1][0] - face.ends[0][0]),
-                            face.ends[0][1] + s * (face.ends[1][1] - face.ends[0][1]),
-                        ];
+                        let xi = Segment::new(face.ends[0], face.ends[1]).point(s);
                         let tau = afw::evaluate(mesh.order, rec.cell(i, face.cell), xi);
                         tau[2 * j] * face.normal[0] + tau[2 * j + 1] * face.normal[1]
                     })

@@ -23,6 +23,7 @@ use crate::elasticity::{BodyForce, Problem, Traction};
 use crate::fem::affine::AffineMap;
 use crate::fem::lagrange;
 use crate::fem::quadrature::{gauss_segment_cached, split_rule, triangle_cached};
+use crate::mesh::Segment;
 use crate::mesh::Topology;
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -205,7 +206,8 @@ fn neumann(problem: &Problem, topology: &Topology) -> Vec<f64> {
             let points: Vec<(f64, f64)> =
                 split_rule(rule, bc.traction.kinks(ends)).into_iter().map(|(s, w)| (s, w * h_f)).collect();
             let projection = FaceProjection::new(mesh.order, &points);
-            let g: Vec<[f64; 2]> = points.iter().map(|&(s, _)| bc.traction.at(lerp(ends, s), normal)).collect();
+            let g: Vec<[f64; 2]> =
+                points.iter().map(|&(s, _)| bc.traction.at(Segment::new(ends[0], ends[1]).point(s), normal)).collect();
             let error = (0..2)
                 .map(|i| projection.oscillation(&g.iter().map(|v| v[i]).collect::<Vec<_>>()).powi(2))
                 .sum::<f64>()
@@ -214,10 +216,6 @@ fn neumann(problem: &Problem, topology: &Topology) -> Vec<f64> {
         }
     }
     eta
-}
-
-fn lerp(ends: [[f64; 2]; 2], s: f64) -> [f64; 2] {
-    [ends[0][0] + s * (ends[1][0] - ends[0][0]), ends[0][1] + s * (ends[1][1] - ends[0][1])]
 }
 
 /// Contact-face parts of η_disc, η_reg and η_lin.
@@ -238,7 +236,7 @@ fn contact_faces(problem: &Problem, u: &[[f64; 2]], rec: &Reconstruction, state:
             let traction: Vec<[f64; 2]> = rule
                 .iter()
                 .map(|&(s, _)| {
-                    let xi = lerp(face.ends, s);
+                    let xi = Segment::new(face.ends[0], face.ends[1]).point(s);
                     let t = afw::evaluate(mesh.order, rec.cell(i, face.cell), xi);
                     [t[0] * face.normal[0] + t[1] * face.normal[1], t[2] * face.normal[0] + t[3] * face.normal[1]]
                 })

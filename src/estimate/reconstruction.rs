@@ -19,6 +19,7 @@ use crate::contact::projection::Smoothing;
 use crate::contact::Linearisation;
 use crate::elasticity::kernels::{displacement_gradient, stress};
 use crate::elasticity::problem::{load_degree, traction_rule};
+use crate::elasticity::rigid;
 use crate::elasticity::{Problem, Traction};
 use crate::fem::affine::AffineMap;
 use crate::fem::lagrange;
@@ -446,26 +447,11 @@ fn contact_moments(ctx: &Context, k: usize, a: usize, ends: [usize; 2], data: &m
 }
 
 /// Rigid motions z(x) = (a_x − b y, a_y + b x) (x relative to `origin`) that vanish in the
-/// fixed components of the given Dirichlet faces: the kernel of a 3 × 3 Gram matrix.
+/// fixed components of the given Dirichlet faces.
 fn free_rigid_motions(fixed: &[FixedFace], origin: [f64; 2], size: f64) -> Vec<[f64; 3]> {
-    let mut gram = nalgebra::Matrix3::<f64>::zeros();
-    for (ends, fix) in fixed {
-        for x in ends {
-            let (px, py) = ((x[0] - origin[0]) / size, (x[1] - origin[1]) / size);
-            for (i, _) in fix.iter().enumerate().filter(|(_, &f)| f) {
-                let row =
-                    if i == 0 { nalgebra::Vector3::new(1.0, 0.0, -py) } else { nalgebra::Vector3::new(0.0, 1.0, px) };
-                gram += row * row.transpose();
-            }
-        }
-    }
-    let eigen = gram.symmetric_eigen();
-    let tolerance = 1e-10 * (1.0 + eigen.eigenvalues.amax());
-    (0..3)
-        .filter(|&j| eigen.eigenvalues[j] <= tolerance)
-        .map(|j| {
-            let v = eigen.eigenvectors.column(j);
-            [v[0], v[1], v[2] / size]
-        })
-        .collect()
+    let constraints = fixed.iter().flat_map(|(ends, fix)| {
+        let directions = [[1.0, 0.0], [0.0, 1.0]].into_iter().zip(*fix).filter(|(_, f)| *f);
+        ends.iter().flat_map(move |&x| directions.clone().map(move |(d, _)| (x, d)))
+    });
+    rigid::free_motions(constraints, origin, size).into_iter().map(|[ax, ay, b]| [ax, ay, b / size]).collect()
 }

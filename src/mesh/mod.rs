@@ -7,7 +7,6 @@
 //!
 //! The mesh knows nothing of finite elements: it only describes the domain.
 
-pub mod refine;
 pub mod segment;
 pub mod structured;
 pub mod topology;

@@ -9,11 +9,11 @@ use damfem::adapt::{self, AdaptError, AdaptSettings, Mesher, Model, Refinement, 
 use damfem::contact::projection::Smoothing;
 use damfem::contact::{ContactJoint, ContactProblem, Linearisation};
 use damfem::elasticity::Problem;
-use damfem::estimate::dual_norm::residual_dual_norm;
 use damfem::estimate::estimate_iterate;
 use damfem::mesh::Mesh;
 use damfem::scene::Scene;
 use damfem::solve::{newton_until, NewtonOptions, NonlinearSystem};
+use damfem::verify::dual_norm::residual_dual_norm;
 use std::path::Path;
 
 fn scene(name: &str, order: usize) -> Scene {

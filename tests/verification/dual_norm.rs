@@ -1,5 +1,5 @@
 //! Verification of the dual norm of the residual (docs/method.md §2) computed by
-//! `damfem::estimate::dual_norm`: the reference "true error" of the a posteriori estimator
+//! `damfem::verify::dual_norm`: the reference "true error" of the a posteriori estimator
 //! tests. Every test checks the tool against something it does not compute itself: exact
 //! solutions, Galerkin orthogonality of the project's solvers, and two-sided bounds by
 //! independently integrated norms of known errors.
@@ -13,15 +13,15 @@ use damfem::contact::projection::Smoothing;
 use damfem::contact::{continuation, ContactJoint, ContactProblem};
 use damfem::elasticity::kernels::{displacement_gradient, stress};
 use damfem::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction, VectorFn};
-use damfem::estimate::dual_norm::{residual_dual_norm, residual_riesz};
 use damfem::fem::affine::AffineMap;
 use damfem::fem::norms::errors;
 use damfem::fem::quadrature::gauss_segment;
 use damfem::fem::tabulate::Tabulation;
-use damfem::mesh::refine::elevate_to_p2;
 use damfem::mesh::structured::{rectangle, unit_square, BOTTOM, LEFT, RIGHT, TOP};
 use damfem::mesh::{Mesh, Topology};
 use damfem::solve::{newton, Cholesky, NewtonOptions};
+use damfem::verify::dual_norm::{residual_dual_norm, residual_riesz};
+use damfem::verify::refine::elevate_to_p2;
 use std::sync::Arc;
 
 // ---------------------------------------------------------------------------------------

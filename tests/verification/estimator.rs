@@ -6,13 +6,13 @@ use damfem::contact::nitsche::NitscheParameters;
 use damfem::contact::{solve_by_continuation, ContactJoint, ContactSolution, Continuation, Linearisation};
 use damfem::elasticity::Problem;
 use damfem::estimate::checks::check;
-use damfem::estimate::dual_norm::residual_dual_norm;
 use damfem::estimate::estimators::estimate;
 use damfem::estimate::reconstruction::reconstruct;
 use damfem::mesh::structured::unit_square;
 use damfem::mesh::structured::BOTTOM;
 use damfem::solve::Cholesky;
 use damfem::solve::NewtonOptions;
+use damfem::verify::dual_norm::residual_dual_norm;
 use damfem::verify::{v1, v3};
 
 /// Solves a linear problem and returns the nodal displacement.

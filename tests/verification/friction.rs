@@ -245,7 +245,7 @@ fn estimate_and_reference(
     let e = damfem::estimate::estimate_iterate(problem, disc, x, Some(state), true).unwrap_or_else(|e| panic!("{e}"));
     let u = problem.displacement(disc, x);
     let reference = levels.map(|l| {
-        damfem::estimate::dual_norm::residual_dual_norm(problem, &u, Some(joint), l).unwrap_or_else(|e| panic!("{e}"))
+        damfem::verify::dual_norm::residual_dual_norm(problem, &u, Some(joint), l).unwrap_or_else(|e| panic!("{e}"))
     });
     (e, reference)
 }

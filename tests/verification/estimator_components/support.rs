@@ -5,13 +5,13 @@ use damfem::contact::projection::Smoothing;
 use damfem::contact::{solve_by_continuation, ContactJoint, ContactProblem, Continuation, Linearisation};
 use damfem::elasticity::{Discretisation, Problem};
 use damfem::estimate::checks::{check, Equilibration};
-use damfem::estimate::dual_norm::residual_dual_norm;
 use damfem::estimate::estimators::{estimate, GlobalEstimators};
 use damfem::estimate::reconstruction::reconstruct;
 use damfem::io::gmsh::{mesh_geo, MeshOptions};
 use damfem::mesh::{Mesh, Topology};
 use damfem::scene::Scene;
 use damfem::solve::{Cholesky, NonlinearSystem, SparseLu};
+use damfem::verify::dual_norm::residual_dual_norm;
 use std::path::{Path, PathBuf};
 
 pub(super) fn manifest(relative: &str) -> PathBuf {

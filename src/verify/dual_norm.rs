@@ -46,9 +46,9 @@ use crate::fem::lagrange;
 use crate::fem::quadrature::{gauss_segment, split_rule, Rule1d};
 use crate::fem::sparse::{vector_dofs, LinearSystem, Local, SparsePattern};
 use crate::fem::tabulate::Tabulation;
-use crate::mesh::refine::{elevate_to_p2, refine_levels, Refinement};
 use crate::mesh::{Mesh, Topology};
 use crate::solve::{Cholesky, SolveError};
+use crate::verify::refine::{elevate_to_p2, refine_levels, Refinement};
 use faer::Mat;
 use rayon::prelude::*;
 

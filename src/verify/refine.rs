@@ -16,7 +16,7 @@
 //! The fine mesh is nested in the coarse one: each fine cell lies in its parent coarse cell
 //! and each fine boundary facet in its parent facet, which [`Refinement`] records.
 
-use super::Mesh;
+use crate::mesh::Mesh;
 use std::collections::HashMap;
 
 /// A refined mesh and where its cells and facets come from.
