@@ -34,7 +34,7 @@
 //! ## Status and limits
 //!
 //! The foundation is rigid: a curve of role `contact` is a joint with a rigid obstacle,
-//! frictionless or frictional; there is no uplift yet. The estimator covers the Nitsche variant θ = 0 and triangles of
+//! frictionless or frictional, with uplift in the joint. The estimator covers the Nitsche variant θ = 0 and triangles of
 //! moderate aspect ratio (docs/method.md §4.1); its bound holds for iterates that solve the
 //! linearised problem of their last Newton step (every converged or full-step iterate).
 

@@ -8,10 +8,11 @@
 
 use crate::adapt::{AdaptError, AdaptSettings, Model};
 use crate::contact::nitsche::{Gap, NitscheParameters};
+use crate::contact::uplift::{Drains, Uplift};
 use crate::contact::{ContactJoint, Continuation, JointLaw};
 use crate::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};
 use crate::io::gmsh::MeshOptions;
-use crate::mesh::{Mesh, Topology};
+use crate::mesh::{distance, Mesh, Topology};
 use crate::solve::NewtonOptions;
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -103,6 +104,42 @@ pub struct BoundarySection {
     pub traction: Option<[f64; 2]>,
     /// Neumann: hydrostatic water pressure.
     pub hydrostatic: Option<Hydrostatic>,
+}
+
+/// `[uplift]`: the pore-water pressure in the joint (docs/method.md §1.8).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct UpliftSection {
+    /// Reservoir level upstream \[m\] (a y coordinate).
+    pub headwater: f64,
+    /// Level downstream \[m\]; none: no water at the toe.
+    pub tailwater: Option<f64>,
+    #[serde(default = "water_density")]
+    pub density: f64,
+    pub drains: Option<DrainsSection>,
+    /// `full` (the default): the reservoir pressure fills the crack open at the heel; `ignore`.
+    #[serde(default)]
+    pub crack: CrackKind,
+    /// A point at the heel (the upstream end of the joint); none: the end nearest a curve with
+    /// a hydrostatic load.
+    pub heel: Option<[f64; 2]>,
+}
+
+/// Drains: distance from the heel \[m\] and efficiency in [0, 1].
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DrainsSection {
+    pub x: f64,
+    pub efficiency: f64,
+}
+
+/// Whether the open crack at the heel carries the reservoir pressure.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum CrackKind {
+    #[default]
+    Full,
+    Ignore,
 }
 
 /// `[loads]`.
@@ -248,6 +285,7 @@ pub struct Scene {
     pub loads: LoadSection,
     #[serde(default)]
     pub contact: ContactSection,
+    pub uplift: Option<UpliftSection>,
     #[serde(default)]
     pub adapt: AdaptSettings,
     #[serde(default)]
@@ -283,6 +321,7 @@ impl Scene {
             boundary: BTreeMap::new(),
             loads: LoadSection::default(),
             contact: ContactSection::default(),
+            uplift: None,
             adapt: AdaptSettings::default(),
             output: OutputSection::default(),
             source: path.into(),
@@ -291,6 +330,30 @@ impl Scene {
 
     fn invalid(&self, message: String) -> SceneError {
         SceneError::Invalid { path: self.source.clone(), message }
+    }
+
+    /// The `[uplift]` values that need no mesh.
+    fn check_uplift(&self, up: &UpliftSection) -> Result<(), SceneError> {
+        let numbers = [("headwater", Some(up.headwater)), ("tailwater", up.tailwater), ("density", Some(up.density))];
+        if let Some((key, value)) = numbers.iter().find_map(|(k, v)| v.filter(|x| !x.is_finite()).map(|x| (k, x))) {
+            return Err(self.invalid(format!("uplift.{key} = {value} must be a finite number")));
+        }
+        if up.density <= 0.0 {
+            return Err(self.invalid(format!("uplift.density = {} must be positive", up.density)));
+        }
+        if let Some(t) = up.tailwater.filter(|&t| t > up.headwater) {
+            return Err(self.invalid(format!(
+                "uplift.tailwater = {t} lies above uplift.headwater = {}: the reservoir is upstream",
+                up.headwater
+            )));
+        }
+        match up.drains {
+            Some(d) if !(d.x.is_finite() && (0.0..=1.0).contains(&d.efficiency)) => Err(self.invalid(format!(
+                "uplift.drains = {{ x = {}, efficiency = {} }}: x must be finite and the efficiency within [0, 1]",
+                d.x, d.efficiency
+            ))),
+            _ => Ok(()),
+        }
     }
 
     /// Checks the values that need no mesh (done by [`Scene::load`]; again after changes).
@@ -312,6 +375,9 @@ impl Scene {
             return Err(self.invalid(format!("contact.direction = {nu:?} must be a non-zero vector")));
         }
         c.check_law().map_err(|message| self.invalid(message))?;
+        if let Some(up) = &self.uplift {
+            self.check_uplift(up)?;
+        }
         if c.delta.is_some_and(|d| d.is_nan() || d < 0.0) {
             return Err(self.invalid(format!("contact.delta = {} must be non-negative", c.delta.unwrap_or(0.0))));
         }
@@ -440,6 +506,13 @@ impl Scene {
             ("contact.delta_start", c.delta_start.is_some()),
             ("contact.projection = \"semismooth\"", c.projection == ProjectionKind::Semismooth),
         ];
+        if self.uplift.as_ref().is_some_and(|up| up.crack == CrackKind::Full) {
+            return Err(self.invalid(
+                "[uplift] crack = \"full\" couples the crack and its pressure, which `damfem solve` iterates but \
+                 `damfem adapt` does not yet: use `damfem solve`, or crack = \"ignore\""
+                    .into(),
+            ));
+        }
         match set.iter().find(|(_, given)| *given) {
             Some((key, _)) => Err(self.invalid(format!(
                 "{key} is read by `damfem solve` only; `damfem adapt` chooses the regularisation from \
@@ -458,7 +531,7 @@ impl Scene {
     fn joint(&self, mesh: &Mesh) -> Result<Option<ContactJoint>, SceneError> {
         let tags = self.contact_tags(mesh)?;
         let law = self.contact.law();
-        Ok((!tags.is_empty()).then(|| ContactJoint { tags, law, parameters: self.nitsche_parameters() }))
+        Ok((!tags.is_empty()).then(|| ContactJoint { tags, law, parameters: self.nitsche_parameters(), uplift: None }))
     }
 
     /// The elasticity problem of this scene on `mesh` and its contact joint (None without
@@ -497,7 +570,7 @@ impl Scene {
         let materials = self.cell_materials(&mesh)?;
         let body_force = if g == 0.0 { BodyForce::None } else { BodyForce::Gravity(g) };
         let problem = Problem { mesh, materials, dirichlet, neumann, body_force };
-        let joint = self.joint(&problem.mesh)?;
+        let mut joint = self.joint(&problem.mesh)?;
         let friction = joint.as_ref().is_some_and(|j| j.law.has_friction());
         if problem.dirichlet.is_empty() && !friction {
             return Err(self.invalid(format!(
@@ -514,6 +587,9 @@ impl Scene {
                 "contact.direction = {:?} points into the body on the contact curve '{name}' (ν·n ≤ 0 on one of its faces)",
                 self.contact.direction.unwrap_or_default()
             )));
+        }
+        if let (Some(j), Some(section)) = (joint.as_mut(), &self.uplift) {
+            j.uplift = Some(self.uplift_diagram(&problem, &facets, section)?);
         }
         let supports = contact_supports(&problem.mesh, &facets, direction, friction);
         if let Some(motion) = problem.free_rigid_motion(&supports) {
@@ -539,9 +615,69 @@ impl Model for Scene {
 }
 
 impl Scene {
+    /// The uplift diagram of `[uplift]` on the straight joint of `facets`.
+    fn uplift_diagram(
+        &self,
+        problem: &Problem,
+        facets: &[(usize, [f64; 2])],
+        up: &UpliftSection,
+    ) -> Result<Uplift, SceneError> {
+        let mesh = &problem.mesh;
+        if facets.iter().any(|(_, n)| (n[0] - facets[0].1[0]).hypot(n[1] - facets[0].1[1]) > 1e-9) {
+            return Err(self.invalid("[uplift] needs a straight joint: the contact curves are not on one line".into()));
+        }
+        let nu = facets[0].1;
+        let along = [-nu[1], nu[0]];
+        let ends = facets.iter().flat_map(|&(f, _)| mesh.facet(f)[..2].iter().map(|&n| mesh.points[n]));
+        let at = |x: [f64; 2]| x[0] * along[0] + x[1] * along[1];
+        let (first, last) = ends.fold(([0.0; 2], [0.0; 2]), |(lo, hi), x| {
+            let (lo, hi) = if lo == [0.0; 2] && hi == [0.0; 2] { (x, x) } else { (lo, hi) };
+            (if at(x) < at(lo) { x } else { lo }, if at(x) > at(hi) { x } else { hi })
+        });
+        let water: Vec<[f64; 2]> = problem
+            .neumann
+            .iter()
+            .filter(|bc| matches!(bc.traction, Traction::Hydrostatic { .. }))
+            .flat_map(|bc| mesh.facets_tagged(&[bc.tag]).flat_map(|f| mesh.facet(f).to_vec()).collect::<Vec<_>>())
+            .map(|n| mesh.points[n])
+            .collect();
+        let near = |end: [f64; 2], to: &[[f64; 2]]| to.iter().map(|&x| distance(x, end)).fold(f64::INFINITY, f64::min);
+        let heel_first = match up.heel {
+            Some(h) => distance(first, h) <= distance(last, h),
+            None if water.is_empty() => {
+                return Err(self.invalid(
+                    "uplift.heel is needed: no curve has a hydrostatic load to show the upstream end of the joint"
+                        .into(),
+                ))
+            }
+            None => near(first, &water) <= near(last, &water),
+        };
+        let (heel, toe) = if heel_first { (first, last) } else { (last, first) };
+        let length = distance(heel, toe);
+        let g = self.loads.gravity;
+        let head = |level: f64, y: f64| up.density * g * (level - y).max(0.0);
+        let drains = up.drains.map(|d| Drains { distance: d.x, efficiency: d.efficiency });
+        if let Some(d) = drains.filter(|d| !(d.distance > 0.0 && d.distance < length)) {
+            return Err(self.invalid(format!(
+                "uplift.drains.x = {} lies outside the joint: give the drains' distance from the heel, between 0 and {length:.3} m",
+                d.distance
+            )));
+        }
+        Ok(Uplift {
+            heel,
+            along: [(toe[0] - heel[0]) / length, (toe[1] - heel[1]) / length],
+            length,
+            upstream: head(up.headwater, heel[1]),
+            downstream: up.tailwater.map_or(0.0, |t| head(t, toe[1])),
+            drains,
+            crack_filled: up.crack == CrackKind::Full,
+        })
+    }
+
     /// Without a Dirichlet condition the joint alone holds the body. On a straight joint of
-    /// normal ν and tangent τ, equilibrium needs the load resultant R to press on it,
-    /// N = R·ν ≥ 0, and the joint to carry its shear, |R·τ| ≤ the law's capacity at N.
+    /// normal ν and tangent τ, equilibrium needs the load resultant R to press on it against
+    /// the uplift force U, N = R·ν − U ≥ 0, and the joint to carry its shear, |R·τ| ≤ the
+    /// law's capacity at N.
     fn check_sliding(
         &self,
         problem: &Problem,
@@ -554,7 +690,9 @@ impl Scene {
             return Ok(());
         }
         let r = problem.load_resultant(topology);
-        let (normal, shear) = (r[0] * nu[0] + r[1] * nu[1], r[1] * nu[0] - r[0] * nu[1]);
+        // the uplift without a crack: a crack only adds to it
+        let uplift = joint.uplift.as_ref().map_or(0.0, |up| up.force(0.0));
+        let (normal, shear) = (r[0] * nu[0] + r[1] * nu[1] - uplift, r[1] * nu[0] - r[0] * nu[1]);
         let length: f64 = facets.iter().map(|&(f, _)| problem.mesh.facet_length(f)).sum();
         let capacity = joint.law.capacity(normal.max(0.0), length);
         if normal <= 0.0 || shear.abs() > capacity {

@@ -208,7 +208,7 @@ pub fn contact_level(
         if regularisation_small(&global, settings.gamma_reg) {
             let n_lin = stages.iter().map(|s| s.report.iterations.len()).sum();
             return Ok(Level {
-                solution: Solution::Contact(Box::new(contact.solution(x, stages))),
+                solution: Solution::Contact(Box::new(contact.solution(x, stages, None))),
                 estimate,
                 n_reg,
                 n_lin,

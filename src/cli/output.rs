@@ -1,6 +1,6 @@
 //! ParaView files and summaries of one solution, shared by `solve` and `adapt`.
 
-use crate::contact::ContactSolution;
+use crate::contact::{ContactSolution, FaceState};
 use crate::elasticity::kernels::{principal, von_mises};
 use crate::elasticity::Problem;
 use crate::estimate::checks::Equilibration;
@@ -93,32 +93,37 @@ fn estimate_fields(e: &Estimate, output: &OutputSection) -> Vec<Field> {
 }
 
 /// Facet fields of Γ_C: mean pressure, mean normal displacement, status (−1 not a contact
-/// facet, 0 open, 1 closed: stick with friction, 2 slip), the regularisation error, and with
-/// friction the mean tangential traction and slip.
+/// facet, 0 open, 1 closed: stick with friction, 2 slip), the regularisation error; with
+/// friction the mean tangential traction and slip; with uplift the mean pore pressure and the
+/// mean effective normal stress σ'^n = −p_c.
 fn contact_fields(n_facets: usize, contact: &ContactSolution) -> Vec<Field> {
-    let friction = contact.nitsche.law.has_friction();
-    let names = [
-        "contact_pressure",
-        "normal_displacement",
-        "contact_status",
-        "regularisation_error",
-        "tangential_traction",
-        "slip",
+    type Column = (&'static str, fn(&FaceState) -> f64);
+    let mut columns: Vec<Column> = vec![
+        ("contact_pressure", |f| f.pressure),
+        ("normal_displacement", |f| f.normal_displacement),
+        ("contact_status", FaceState::status),
+        ("regularisation_error", |f| f.regularisation_error),
     ];
-    let n_fields = if friction { 6 } else { 4 };
-    let mut fields: Vec<Vec<f64>> = (0..n_fields).map(|i| vec![if i == 2 { -1.0 } else { 0.0 }; n_facets]).collect();
-    for (face, state) in contact.nitsche.faces.iter().zip(&contact.faces) {
-        let values = [
-            state.pressure,
-            state.normal_displacement,
-            state.status(),
-            state.regularisation_error,
-            state.tangential_traction,
-            state.slip,
-        ];
-        for (field, value) in fields.iter_mut().zip(values) {
-            field[face.facet] = value;
-        }
+    if contact.nitsche.law.has_friction() {
+        columns.extend([
+            ("tangential_traction", (|f| f.tangential_traction) as fn(&FaceState) -> f64),
+            ("slip", |f| f.slip),
+        ]);
     }
-    names.into_iter().zip(fields).map(|(n, v)| Field::scalar(n, v)).collect()
+    if contact.nitsche.uplift.is_some() {
+        columns.extend([
+            ("uplift_pressure", (|f| f.uplift) as fn(&FaceState) -> f64),
+            ("effective_normal_stress", |f| -f.pressure),
+        ]);
+    }
+    columns
+        .into_iter()
+        .map(|(name, value)| {
+            let mut field = vec![if name == "contact_status" { -1.0 } else { 0.0 }; n_facets];
+            for (face, state) in contact.nitsche.faces.iter().zip(&contact.faces) {
+                field[face.facet] = value(state);
+            }
+            Field::scalar(name, field)
+        })
+        .collect()
 }

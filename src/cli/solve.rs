@@ -3,7 +3,9 @@
 
 use super::common::{stem, Input, Output};
 use super::output::{write_results, EstimateSummary, Results};
-use crate::contact::{solve_by_continuation, ContactJoint, ContactSolution, Continuation, JointLaw, Solution, Stage};
+use crate::contact::{
+    solve_by_continuation, ContactJoint, ContactSolution, Continuation, Crack, JointLaw, Solution, Stage,
+};
 use crate::elasticity::kernels::{principal, von_mises};
 use crate::elasticity::stress::cell_mean_stress;
 use crate::elasticity::{Discretisation, Problem};
@@ -100,6 +102,9 @@ struct ContactSummary {
     /// ∫_{Γ_C} p_c ds and ∫_{Γ_C} t^t ds along τ = (−ν_y, ν_x) \[N/m\].
     normal_force: f64,
     tangential_force: f64,
+    /// With uplift: U = ∫_{Γ_C} p_u ds \[N/m\], and the crack at the heel that it fills.
+    uplift_force: Option<f64>,
+    crack: Option<Crack>,
 }
 
 #[derive(Serialize, Default)]
@@ -293,5 +298,7 @@ fn contact_summary(
         slip_length: c.slip_length(),
         normal_force: c.normal_force(),
         tangential_force: c.tangential_force(),
+        uplift_force: c.nitsche.uplift.as_ref().map(|_| c.uplift_force()),
+        crack: c.crack,
     }
 }

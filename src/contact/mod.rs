@@ -15,6 +15,7 @@
 pub mod law;
 pub mod nitsche;
 pub mod projection;
+pub mod uplift;
 
 use crate::elasticity::{Discretisation, Problem};
 use crate::fem::dofs::FIXED;
@@ -24,6 +25,7 @@ use crate::solve::{newton, NewtonError, NewtonOptions, NewtonReport, NonlinearSy
 pub use law::JointLaw;
 use nitsche::{Nitsche, NitscheParameters};
 use projection::{negative_part, Smoothing};
+pub use uplift::Uplift;
 
 /// A contact boundary: the curves of Γ_C, the joint law and the Nitsche parameters.
 #[derive(Debug, Clone, PartialEq)]
@@ -32,12 +34,14 @@ pub struct ContactJoint {
     pub tags: Vec<i32>,
     pub law: JointLaw,
     pub parameters: NitscheParameters,
+    /// The pore-water pressure in the joint, if any.
+    pub uplift: Option<Uplift>,
 }
 
 impl ContactJoint {
     /// A frictionless joint on the curves `tags`.
     pub fn frictionless(tags: Vec<i32>, parameters: NitscheParameters) -> Self {
-        ContactJoint { tags, law: JointLaw::Frictionless, parameters }
+        ContactJoint { tags, law: JointLaw::Frictionless, parameters, uplift: None }
     }
 
     /// The contact faces of the joint on the mesh of `problem`.
@@ -77,6 +81,10 @@ pub struct FaceState {
     /// where |P^t_γ(u_h)| ≥ S (slip), for the plain projection.
     pub stick_length: f64,
     pub slip_length: f64,
+    /// With uplift, the mean pore pressure (1/|F|) ∫_F p_u and the distance from the heel of
+    /// the nearest closed point of F, if F has one.
+    pub uplift: f64,
+    pub closed_from: Option<f64>,
 }
 
 impl FaceState {
@@ -132,10 +140,17 @@ impl<'a> ContactProblem<'a> {
     }
 
     /// The solution `x` reached by `stages`, with the state of every face.
-    pub fn solution(self, x: Vec<f64>, stages: Vec<Stage>) -> ContactSolution {
+    pub fn solution(self, x: Vec<f64>, stages: Vec<Stage>, crack: Option<Crack>) -> ContactSolution {
         let faces = self.face_states(&x);
         let x_prev = stages.last().map_or_else(|| x.clone(), |s| s.report.x_prev.clone());
-        ContactSolution { x, x_prev, smoothing: self.smoothing, stages, faces, nitsche: self.nitsche }
+        ContactSolution { x, x_prev, smoothing: self.smoothing, stages, faces, nitsche: self.nitsche, crack }
+    }
+
+    /// The length of the crack open at the heel for `x`: the distance from the heel of the
+    /// nearest closed point (the whole joint if none is closed); 0 without uplift.
+    pub fn crack_length(&self, x: &[f64]) -> f64 {
+        let Some(up) = &self.nitsche.uplift else { return 0.0 };
+        self.face_states(x).iter().filter_map(|f| f.closed_from).fold(up.length, f64::min).max(0.0)
     }
 }
 
@@ -162,6 +177,7 @@ fn face_state(nitsche: &Nitsche, smoothing: Smoothing, k: usize, u: &[f64]) -> F
         state.contact_length += if p < 0.0 { w } else { 0.0 };
         let error = (smoothing.value(p) - negative_part(p)).abs();
         state.regularisation_error = state.regularisation_error.max(error);
+        state.uplift += nitsche.uplift_at(pt.x) * mean;
         if nitsche.law.has_friction() {
             state.tangential_traction += nitsche.tangential(k, &pt, u, smoothing).value * mean;
             state.slip += dot(&pt.u_t, u) * mean;
@@ -171,6 +187,14 @@ fn face_state(nitsche: &Nitsche, smoothing: Smoothing, k: usize, u: &[f64]) -> F
                 *(if sticks { &mut state.stick_length } else { &mut state.slip_length }) += w;
             }
         }
+    }
+    if let Some(up) = &nitsche.uplift {
+        // the pieces between the cuts are wholly open or closed
+        let closed = cuts
+            .windows(2)
+            .filter(|w| w[1] > w[0] && nitsche.p_gamma(k, &nitsche.point(k, 0.5 * (w[0] + w[1])), u) < 0.0);
+        let distance = |s: f64| up.distance(nitsche.point(k, s).x);
+        state.closed_from = closed.map(|w| distance(w[0]).min(distance(w[1]))).reduce(f64::min);
     }
     state
 }
@@ -285,6 +309,8 @@ pub struct ContactSolution {
     pub faces: Vec<FaceState>,
     /// The contact faces and parameters.
     pub nitsche: Nitsche,
+    /// With uplift in an open crack, the crack the last solve was made with.
+    pub crack: Option<Crack>,
 }
 
 impl ContactSolution {
@@ -306,6 +332,11 @@ impl ContactSolution {
     /// The tangential force T = ∫_{Γ_C} t^t ds \[N/m\] along τ = (−ν_y, ν_x).
     pub fn tangential_force(&self) -> f64 {
         self.faces.iter().map(|f| f.tangential_traction * f.length).sum()
+    }
+
+    /// The uplift force U = ∫_{Γ_C} p_u ds \[N/m\].
+    pub fn uplift_force(&self) -> f64 {
+        self.faces.iter().map(|f| f.uplift * f.length).sum()
     }
 
     /// With friction, the total length of the closed part that sticks.
@@ -347,18 +378,65 @@ impl<'a> Linearisation<'a> {
     }
 }
 
+/// The crack open at the heel that the uplift fills, found by a fixed point: solve with the
+/// crack s_c, measure the open length at the heel, and solve again until it moves by at most
+/// [`Crack::TOLERANCE`] of the joint length.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Crack {
+    /// s_c \[m\].
+    pub length: f64,
+    /// Solves of the fixed point, the first included.
+    pub iterations: usize,
+    /// |s_c − the open length of the last solve| \[m\].
+    pub change: f64,
+}
+
+impl Crack {
+    pub const TOLERANCE: f64 = 1e-6;
+    pub const MAX_ITERATIONS: usize = 30;
+}
+
+/// Why a contact solve stopped without an answer.
+#[derive(Debug, thiserror::Error)]
+pub enum ContactError {
+    #[error(transparent)]
+    Newton(#[from] NewtonError),
+    #[error(
+        "the crack–uplift iteration did not settle in {iterations} solves: the crack at the heel (now {length:.4} m) \
+         still moved by {change:.3e} m; set [uplift] crack = \"ignore\" to solve without the crack's pressure"
+    )]
+    Crack { iterations: usize, length: f64, change: f64 },
+}
+
 /// Solves the elasticity problem with contact on `joint` from a zero initial guess, along
-/// the δ path of `settings`.
+/// the δ path of `settings`; with uplift in the crack, repeated until the crack settles.
 pub fn solve_by_continuation(
     problem: &Problem,
     disc: &Discretisation,
     joint: &ContactJoint,
     settings: &Continuation,
-) -> Result<ContactSolution, NewtonError> {
+) -> Result<ContactSolution, ContactError> {
     let mut contact = ContactProblem::new(problem, disc, joint, Smoothing { delta: settings.delta });
     let x0 = vec![0.0; disc.dofs.n_free];
-    let (x, stages) = continuation(&mut contact, settings.delta, settings.delta_start, x0, &settings.newton)?;
-    Ok(contact.solution(x, stages))
+    let (mut x, mut stages) = continuation(&mut contact, settings.delta, settings.delta_start, x0, &settings.newton)?;
+    let Some(length) = joint.uplift.as_ref().filter(|up| up.crack_filled).map(|up| up.length) else {
+        return Ok(contact.solution(x, stages, None));
+    };
+    for iterations in 1..=Crack::MAX_ITERATIONS {
+        let open = contact.crack_length(&x);
+        let change = (open - contact.nitsche.crack).abs();
+        if change <= Crack::TOLERANCE * length {
+            let crack = Crack { length: contact.nitsche.crack, iterations, change };
+            return Ok(contact.solution(x, stages, Some(crack)));
+        }
+        if iterations == Crack::MAX_ITERATIONS {
+            return Err(ContactError::Crack { iterations, length: open, change });
+        }
+        contact.nitsche.crack = open;
+        let (next, more) = continuation(&mut contact, settings.delta, settings.delta, x, &settings.newton)?;
+        (x, stages) = (next, [stages, more].concat());
+    }
+    unreachable!("the loop returns by its last iteration")
 }
 
 /// The free unknowns of a solve, with the contact state when the problem has Γ_C.

@@ -1,11 +1,13 @@
-//! Nitsche terms of frictionless unilateral contact with a rigid foundation on Γ_C.
+//! Nitsche terms of unilateral contact with a rigid foundation on Γ_C, with the joint's
+//! tangential law (friction, §1.7) and uplift (§1.8).
 //!
 //! The contact direction ν is the outward normal n of each face unless the foundation's normal
 //! is prescribed (a constant ν, for curved bodies on a flat foundation). With v^n = v·ν,
-//! σ^n(v) = (σ(v)n)·ν, P_γ(v) = σ^n(v) − γ(v^n − g) and a projection [·] (regularised or not), the θ-method
-//! adds to the elasticity residual, for each contact face F (docs/method.md §1.3),
+//! σ^n(v) = (σ(v)n)·ν, the uplift p_u (0 without), P_γ(v) = σ^n(v) + p_u − γ(v^n − g) and a
+//! projection [·] (regularised or not), the θ-method adds to the elasticity residual, for each
+//! contact face F (docs/method.md §1.3, §1.8),
 //!
-//!   R_F(u; v) = −(θ/γ) ∫_F σ^n(u) σ^n(v) + (1/γ) ∫_F [P_γ(u)] (θ σ^n(v) − γ v^n),
+//!   R_F(u; v) = −(θ/γ) ∫_F (σ^n(u) + p_u) σ^n(v) + (1/γ) ∫_F [P_γ(u)] (θ σ^n(v) − γ v^n) + ∫_F p_u v^n,
 //!
 //! and its derivative in the direction w,
 //!
@@ -17,6 +19,7 @@
 
 use super::law::{JointLaw, Tangential};
 use super::projection::Smoothing;
+use super::uplift::Uplift;
 use super::ContactJoint;
 use crate::elasticity::Material;
 use crate::fem::affine::AffineMap;
@@ -94,6 +97,9 @@ pub struct FacePoint {
 pub struct Nitsche {
     pub parameters: NitscheParameters,
     pub law: JointLaw,
+    pub uplift: Option<Uplift>,
+    /// The crack open from the heel, s_c \[m\], that the uplift fills.
+    pub crack: f64,
     pub faces: Vec<ContactFace>,
     pub order: usize,
     rule: Rule1d,
@@ -104,7 +110,15 @@ impl Nitsche {
     pub fn new(mesh: &Mesh, topology: &Topology, materials: &[Material], joint: &ContactJoint) -> Self {
         let parameters = joint.parameters;
         let faces = mesh.facets_tagged(&joint.tags).map(|f| face(mesh, topology, materials, f, &parameters)).collect();
-        Nitsche { parameters, law: joint.law, faces, order: mesh.order, rule: gauss_segment(mesh.order + 2) }
+        Nitsche {
+            parameters,
+            law: joint.law,
+            uplift: joint.uplift.clone(),
+            crack: 0.0,
+            faces,
+            order: mesh.order,
+            rule: gauss_segment(mesh.order + 2),
+        }
     }
 
     /// Number of local dofs of the owning cell.
@@ -142,12 +156,18 @@ impl Nitsche {
         FacePoint { x: face.map.to_physical(xi), sigma_n, u_n, sigma_t, u_t }
     }
 
-    /// P_γ(u_h) at a face point, for local nodal displacements `u` (index 2i + a).
+    /// P_γ(u_h) = σ^n(u_h) + p_u − γ(u_h^n − g) at a face point, for local nodal displacements
+    /// `u` (index 2i + a).
     pub fn p_gamma(&self, k: usize, point: &FacePoint, u: &[f64]) -> f64 {
         let gamma = self.faces[k].gamma;
         let sigma_n = dot(&point.sigma_n, u);
         let u_n = dot(&point.u_n, u);
-        sigma_n - gamma * (u_n - self.parameters.gap.at(point.x))
+        sigma_n + self.uplift_at(point.x) - gamma * (u_n - self.parameters.gap.at(point.x))
+    }
+
+    /// The uplift p_u at a point of the joint (0 without uplift).
+    pub fn uplift_at(&self, x: [f64; 2]) -> f64 {
+        self.uplift.as_ref().map_or(0.0, |up| up.pressure(up.distance(x), self.crack))
     }
 
     /// P^t_γ(u_h) = σ^t(u_h) − γ u_h^t at a face point.
@@ -160,10 +180,10 @@ impl Nitsche {
         self.law.tangential(self.p_gamma(k, point, u), self.p_tangential(k, point, u), smoothing)
     }
 
-    /// The Γ_C traction t = q(P_γ(u_h)) ν + Π_S(P^t_γ(u_h)) τ at a face point, with q the
-    /// smoothing (`Smoothing::NONE`: the exact traction).
+    /// The Γ_C traction t = (q(P_γ(u_h)) − p_u) ν + Π_S(P^t_γ(u_h)) τ at a face point, with q
+    /// the smoothing (`Smoothing::NONE`: the exact traction).
     pub fn traction(&self, k: usize, point: &FacePoint, u: &[f64], smoothing: Smoothing) -> [f64; 2] {
-        let normal = smoothing.value(self.p_gamma(k, point, u));
+        let normal = smoothing.value(self.p_gamma(k, point, u)) - self.uplift_at(point.x);
         let tangential = if self.law.has_friction() { self.tangential(k, point, u, smoothing).value } else { 0.0 };
         self.along(k, normal, tangential)
     }
@@ -179,7 +199,7 @@ impl Nitsche {
         smoothing: Smoothing,
     ) -> [f64; 2] {
         let (p, p_prev) = (self.p_gamma(k, point, u), self.p_gamma(k, point, u_prev));
-        let normal = smoothing.value(p_prev) + smoothing.derivative(p_prev) * (p - p_prev);
+        let normal = smoothing.value(p_prev) + smoothing.derivative(p_prev) * (p - p_prev) - self.uplift_at(point.x);
         let tangential = if self.law.has_friction() {
             let t = self.tangential(k, point, u_prev, smoothing);
             let dt = self.p_tangential(k, point, u) - self.p_tangential(k, point, u_prev);
@@ -231,12 +251,27 @@ impl Nitsche {
         cuts
     }
 
-    /// 0, 1 and the parameters s ∈ (0, 1) where P_γ(u_h)(s) equals one of `levels`, sorted.
+    /// 0, 1, the kinks of the uplift and the parameters s ∈ (0, 1) where P_γ(u_h)(s) equals one
+    /// of `levels`, sorted. Between the uplift's kinks P_γ is a polynomial of degree ≤ p.
     pub fn cuts(&self, k: usize, u: &[f64], levels: &[f64]) -> Vec<f64> {
         let mut cuts = vec![0.0, 1.0];
-        cuts.extend(crossings(|s| self.p_gamma(k, &self.point(k, s), u), levels));
+        cuts.extend(self.uplift_kinks(k));
+        cuts.sort_by(f64::total_cmp);
+        let pieces: Vec<[f64; 2]> = cuts.windows(2).map(|w| [w[0], w[1]]).collect();
+        for [a, b] in pieces {
+            let p = |t: f64| self.p_gamma(k, &self.point(k, a + t * (b - a)), u);
+            cuts.extend(crossings(p, levels).into_iter().map(|t| a + t * (b - a)));
+        }
         cuts.sort_by(f64::total_cmp);
         cuts
+    }
+
+    /// The parameters s ∈ (0, 1) of face k where the uplift has a kink (crack tip, drains).
+    fn uplift_kinks(&self, k: usize) -> Vec<f64> {
+        let Some(up) = &self.uplift else { return Vec::new() };
+        let face = &self.faces[k];
+        let [d0, d1] = face.ends.map(|xi| up.distance(face.map.to_physical(xi)));
+        up.kinks(self.crack).into_iter().map(|s| (s - d0) / (d1 - d0)).filter(|t| *t > 0.0 && *t < 1.0).collect()
     }
 
     /// The Gauss rule of p + 2 points on each piece between consecutive `cuts`: (s, weight·|F|).
@@ -275,13 +310,15 @@ impl Nitsche {
         for (s, w) in self.quadrature(k, u, smoothing) {
             let pt = self.point(k, s);
             let p = self.p_gamma(k, &pt, u);
-            let sigma_n_u = dot(&pt.sigma_n, u);
+            let p_u = self.uplift_at(pt.x);
+            let sigma_n_u = dot(&pt.sigma_n, u) + p_u; // σ'^n(u) = σ^n(u) + p_u
             let (value, slope) = (smoothing.value(p), smoothing.derivative(p));
             for i in 0..n {
                 test[i] = theta * pt.sigma_n[i] - gamma * pt.u_n[i]; // θ σ^n(v) − γ v^n
                 trial[i] = pt.sigma_n[i] - gamma * pt.u_n[i]; // σ^n(w) − γ w^n
-                residual[i] += (-theta / gamma * sigma_n_u * pt.sigma_n[i] // −(θ/γ) σ^n(u) σ^n(v)
-                    + value * test[i] / gamma) // (1/γ)[P_γ(u)](θσ^n(v) − γv^n)
+                residual[i] += (-theta / gamma * sigma_n_u * pt.sigma_n[i] // −(θ/γ) σ'^n(u) σ^n(v)
+                    + value * test[i] / gamma // (1/γ)[P_γ(u)](θσ^n(v) − γv^n)
+                    + p_u * pt.u_n[i]) // p_u v^n
                     * w;
             }
             if let Some(j) = jacobian.as_deref_mut() {

@@ -650,3 +650,27 @@ fn the_estimator_covers_a_frictional_joint() {
     let worst = estimate["equilibration"]["contact"].as_f64().unwrap();
     assert!(worst < 1e-10, "contact traces equilibrated to {worst}");
 }
+
+// Bad [uplift] values are refused, naming the key: a non-finite level, a tailwater above the
+// headwater, drains outside the joint; `adapt` refuses the crack coupling it does not iterate.
+#[test]
+fn uplift_keys_out_of_range() {
+    let tmp = TempDir::new("uplift-keys");
+    for (section, expected) in [
+        ("headwater = nan", vec!["uplift.headwater = NaN", "finite"]),
+        ("headwater = 40.0\ntailwater = 45.0", vec!["uplift.tailwater = 45", "above uplift.headwater = 40"]),
+        (
+            "headwater = 45.0\ndrains = { x = 55.0, efficiency = 0.5 }",
+            vec!["uplift.drains.x = 55", "outside the joint"],
+        ),
+        ("headwater = 45.0\ndrains = { x = 5.0, efficiency = 1.5 }", vec!["uplift.drains", "efficiency within [0, 1]"]),
+    ] {
+        let scene = frictional_scene(&tmp, |t| format!("{t}\n[uplift]\n{section}\n"));
+        assert_solve_fails("uplift-key", &scene, &expected);
+    }
+    let scene = frictional_scene(&tmp, |t| format!("{t}\n[uplift]\nheadwater = 45.0\n"));
+    let out = tmp.join("adapt-out");
+    let result = damfem(&[OsStr::new("adapt"), scene.as_os_str(), OsStr::new("-o"), out.as_os_str()]);
+    assert_error(&result, &["crack = \"full\"", "damfem solve", "ignore"]);
+    assert_nothing_written(&out);
+}

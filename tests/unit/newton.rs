@@ -6,7 +6,7 @@ use crate::common;
 
 use damfem::contact::nitsche::NitscheParameters;
 use damfem::contact::projection::Smoothing;
-use damfem::contact::{solve_by_continuation, ContactJoint, ContactProblem, Continuation};
+use damfem::contact::{solve_by_continuation, ContactError, ContactJoint, ContactProblem, Continuation};
 use damfem::elasticity::{BodyForce, Dirichlet, Discretisation, Material, Problem};
 use damfem::fem::dofs::FIXED;
 use damfem::io::gmsh::{mesh_geo, MeshOptions};
@@ -225,7 +225,14 @@ fn newton_failure_is_a_clear_error() {
         delta_start: 0.0,
         newton: NewtonOptions { max_iter: 1, ..Default::default() },
     };
-    expect_not_converged(solve_by_continuation(&problem, &disc, &joint, &settings).map(|s| s.x), 1);
+    let result = solve_by_continuation(&problem, &disc, &joint, &settings).map(|s| s.x);
+    expect_not_converged(
+        result.map_err(|e| match e {
+            ContactError::Newton(newton) => newton,
+            other => panic!("{other}"),
+        }),
+        1,
+    );
     settings.newton.max_iter = 3;
     let contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: settings.delta });
     expect_not_converged(newton(&contact, vec![0.0; disc.dofs.n_free], &settings.newton).map(|r| r.x), 3);

@@ -1,7 +1,7 @@
 //! Verification of frictional Nitsche contact (docs/method.md §1.7).
 
 use damfem::contact::nitsche::NitscheParameters;
-use damfem::contact::{solve_by_continuation, ContactJoint, Continuation, JointLaw};
+use damfem::contact::{solve_by_continuation, ContactError, ContactJoint, Continuation, JointLaw};
 use damfem::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};
 use damfem::mesh::structured::{unit_square, BOTTOM, LEFT, RIGHT, TOP};
 use damfem::solve::{NewtonError, NewtonOptions};
@@ -72,7 +72,7 @@ fn stick_and_slip_are_exact() {
                         let problem = problem(4, order, a, b, shear);
                         let disc = problem.discretise();
                         let parameters = NitscheParameters { theta, ..Default::default() };
-                        let joint = ContactJoint { tags: vec![BOTTOM], law, parameters };
+                        let joint = ContactJoint { tags: vec![BOTTOM], law, parameters, uplift: None };
                         let settings = Continuation { delta, delta_start: 1e-2, newton: NewtonOptions::default() };
                         let solution = solve_by_continuation(&problem, &disc, &joint, &settings)
                             .unwrap_or_else(|e| panic!("{law:?} {case} P{order} θ = {theta} δ = {delta}: {e}"));
@@ -141,6 +141,7 @@ fn block_on_an_incline_sticks_below_the_friction_angle_and_slides_above() {
                 tags: vec![BOTTOM],
                 law: JointLaw::Coulomb { friction },
                 parameters: Default::default(),
+                uplift: None,
             };
             let delta_start = 0.1 * problem.stress_scale(&disc.topology);
             let settings = Continuation { delta: 0.0, delta_start, newton: NewtonOptions::default() };
@@ -164,9 +165,11 @@ fn block_on_an_incline_sticks_below_the_friction_angle_and_slides_above() {
                     assert!(
                         matches!(
                             error,
-                            NewtonError::NotConverged { .. }
-                                | NewtonError::NonFinite { .. }
-                                | NewtonError::Solve { .. }
+                            ContactError::Newton(
+                                NewtonError::NotConverged { .. }
+                                    | NewtonError::NonFinite { .. }
+                                    | NewtonError::Solve { .. }
+                            )
                         ),
                         "{error}"
                     );
@@ -199,7 +202,7 @@ fn the_jacobian_is_the_derivative_of_the_residual() {
                 let problem = problem(2, order, 0.05, 0.01, 0.015);
                 let disc = problem.discretise();
                 let parameters = NitscheParameters { theta, gamma0: 1.0, ..Default::default() };
-                let joint = ContactJoint { tags: vec![BOTTOM], law, parameters };
+                let joint = ContactJoint { tags: vec![BOTTOM], law, parameters, uplift: None };
                 let contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 1e-3 });
                 let n = disc.dofs.n_free;
                 let mut rng = Rng::new(17);
@@ -265,7 +268,8 @@ fn the_estimator_vanishes_at_the_exact_stick_and_slip_solutions() {
             for order in [1, 2] {
                 let problem = problem(4, order, a, b, shear);
                 let disc = problem.discretise();
-                let joint = ContactJoint { tags: vec![BOTTOM], law, parameters: NitscheParameters::default() };
+                let joint =
+                    ContactJoint { tags: vec![BOTTOM], law, parameters: NitscheParameters::default(), uplift: None };
                 let settings = Continuation { delta: 0.0, delta_start: 1e-2, newton: NewtonOptions::default() };
                 let solution = solve_by_continuation(&problem, &disc, &joint, &settings).expect("Newton converges");
                 let state = solution.linearisation(&problem, &disc);
@@ -302,8 +306,12 @@ fn eta_tot_bounds_the_residual_with_friction() {
     for order in [1, 2] {
         let problem = incline(alpha, 4, order);
         let disc = problem.discretise();
-        let joint =
-            ContactJoint { tags: vec![BOTTOM], law: JointLaw::Coulomb { friction }, parameters: Default::default() };
+        let joint = ContactJoint {
+            tags: vec![BOTTOM],
+            law: JointLaw::Coulomb { friction },
+            parameters: Default::default(),
+            uplift: None,
+        };
         let scale = problem.stress_scale(&disc.topology);
         let mut contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 0.1 * scale });
         let options = NewtonOptions::default();
@@ -357,8 +365,12 @@ fn a_tampered_tangential_traction_fails_the_checks() {
     let alpha = 25f64.to_radians();
     let problem = incline(alpha, 4, 2);
     let disc = problem.discretise();
-    let joint =
-        ContactJoint { tags: vec![BOTTOM], law: JointLaw::Coulomb { friction }, parameters: Default::default() };
+    let joint = ContactJoint {
+        tags: vec![BOTTOM],
+        law: JointLaw::Coulomb { friction },
+        parameters: Default::default(),
+        uplift: None,
+    };
     let settings = Continuation {
         delta: 0.0,
         delta_start: 0.1 * problem.stress_scale(&disc.topology),
@@ -491,8 +503,12 @@ fn solve_manufactured(n: usize, order: usize) -> (f64, f64, f64, f64) {
         mesh,
     };
     let disc = problem.discretise();
-    let joint =
-        ContactJoint { tags: vec![BOTTOM], law: JointLaw::Coulomb { friction: m::F }, parameters: Default::default() };
+    let joint = ContactJoint {
+        tags: vec![BOTTOM],
+        law: JointLaw::Coulomb { friction: m::F },
+        parameters: Default::default(),
+        uplift: None,
+    };
     let settings = Continuation { delta: 0.0, delta_start: 0.1, newton: NewtonOptions::default() };
     let solution =
         solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("n = {n} P{order}: {e}"));

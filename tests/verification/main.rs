@@ -13,3 +13,4 @@ mod estimator_components;
 mod friction;
 mod hertz;
 mod stability;
+mod uplift;

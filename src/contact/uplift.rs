@@ -1,0 +1,122 @@
+//! Uplift: the pore-water pressure p_u in the joint (docs/method.md §1.8).
+//!
+//! Along a straight joint, with s the distance from the heel (upstream end) and L the joint
+//! length, H_u = ρ_w g (headwater − y_heel)₊ and H_d = ρ_w g (tailwater − y_toe)₊, the
+//! diagrams follow the US Army Corps of Engineers' guidance for gravity dams (EM 1110-2-2100,
+//! Stability Analysis of Concrete Structures, 2005; EM 1110-2-2200, Gravity Dam Design, 1995),
+//! which CADAM also implements. They are written here from that guidance's description and have
+//! not yet been compared value by value with either document:
+//!
+//! - no drains: linear from H_u at the heel to H_d at the toe;
+//! - drains at s_d with efficiency E: linear from H_u to H_d + (1 − E)(H_u − H_d)(L − s_d)/L at
+//!   s_d, then linear to H_d;
+//! - a crack open from the heel to s_c (`crack = "full"`): H_u on [0, s_c], then the diagram
+//!   above on the uncracked ligament [s_c, L] (L − s_c in place of L); a crack that reaches
+//!   the drains makes them ineffective, linear from H_u at s_c to H_d.
+//!
+//! The pressure acts on the effective normal stress σ'^n = σ^n + p_u, which obeys the contact
+//! conditions; the joint carries the total traction (σ'^n − p_u) ν + σ^t τ.
+
+/// Drains in the joint: the distance s_d from the heel \[m\] and their efficiency E ∈ [0, 1].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Drains {
+    pub distance: f64,
+    pub efficiency: f64,
+}
+
+/// The uplift diagram of a straight joint.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Uplift {
+    /// The heel and the unit direction from the heel to the toe.
+    pub heel: [f64; 2],
+    pub along: [f64; 2],
+    /// The joint length L \[m\].
+    pub length: f64,
+    /// H_u and H_d \[Pa\].
+    pub upstream: f64,
+    pub downstream: f64,
+    pub drains: Option<Drains>,
+    /// Whether the reservoir pressure fills the open crack at the heel.
+    pub crack_filled: bool,
+}
+
+impl Uplift {
+    /// The distance s from the heel of the point x of the joint.
+    pub fn distance(&self, x: [f64; 2]) -> f64 {
+        (x[0] - self.heel[0]) * self.along[0] + (x[1] - self.heel[1]) * self.along[1]
+    }
+
+    /// p_u at the distance s from the heel, with the crack open to `crack` (0: none).
+    pub fn pressure(&self, s: f64, crack: f64) -> f64 {
+        let (h_u, h_d, l) = (self.upstream, self.downstream, self.length);
+        let crack = if self.crack_filled { crack.clamp(0.0, l) } else { 0.0 };
+        if s <= crack {
+            return h_u;
+        }
+        let line = |s0: f64, p0: f64, s1: f64, p1: f64| p0 + (p1 - p0) * ((s - s0) / (s1 - s0)).clamp(0.0, 1.0);
+        match self.drains.filter(|d| d.distance > crack) {
+            Some(d) => {
+                let at_drains = h_d + (1.0 - d.efficiency) * (h_u - h_d) * (l - d.distance) / (l - crack);
+                if s <= d.distance {
+                    line(crack, h_u, d.distance, at_drains)
+                } else {
+                    line(d.distance, at_drains, l, h_d)
+                }
+            }
+            None => line(crack, h_u, l, h_d),
+        }
+    }
+
+    /// The distances from the heel where p_u has a kink: the crack tip and the drains.
+    pub fn kinks(&self, crack: f64) -> Vec<f64> {
+        let crack = if self.crack_filled { crack } else { 0.0 };
+        let mut kinks = vec![crack];
+        kinks.extend(self.drains.map(|d| d.distance).filter(|&s| s > crack));
+        kinks.retain(|&s| s > 0.0 && s < self.length);
+        kinks
+    }
+
+    /// The uplift force U = ∫ p_u ds \[N/m\] (exact: p_u is piecewise linear).
+    pub fn force(&self, crack: f64) -> f64 {
+        let mut points = vec![0.0, self.length];
+        points.extend(self.kinks(crack));
+        points.sort_by(f64::total_cmp);
+        points.windows(2).map(|w| 0.5 * (w[1] - w[0]) * (self.pressure(w[0], crack) + self.pressure(w[1], crack))).sum()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn joint(drains: Option<Drains>) -> Uplift {
+        Uplift {
+            heel: [0.0, 0.0],
+            along: [1.0, 0.0],
+            length: 40.0,
+            upstream: 700.0,
+            downstream: 100.0,
+            drains,
+            crack_filled: true,
+        }
+    }
+
+    #[test]
+    fn the_diagrams_join_their_corner_values() {
+        let plain = joint(None);
+        assert_eq!((plain.pressure(0.0, 0.0), plain.pressure(40.0, 0.0)), (700.0, 100.0));
+        assert!((plain.pressure(10.0, 0.0) - 550.0).abs() < 1e-12);
+        assert!((plain.force(0.0) - 0.5 * 40.0 * 800.0).abs() < 1e-9);
+        // drains at 5 m, 2/3 effective: 100 + (1/3)(600)(35/40) = 275 at the drains
+        let drained = joint(Some(Drains { distance: 5.0, efficiency: 2.0 / 3.0 }));
+        assert!((drained.pressure(5.0, 0.0) - 275.0).abs() < 1e-12);
+        assert!((drained.pressure(2.5, 0.0) - 487.5).abs() < 1e-12);
+        // a crack to 10 m past the drains: full pressure on the crack, then linear to the toe
+        assert_eq!(drained.pressure(9.0, 10.0), 700.0);
+        assert!((drained.pressure(25.0, 10.0) - 400.0).abs() < 1e-12);
+        assert_eq!(drained.kinks(10.0), vec![10.0]);
+        assert_eq!(drained.kinks(2.0), vec![2.0, 5.0]);
+        // a crack short of the drains keeps them: 100 + (1/3)(600)(35/38) at 5 m
+        assert!((drained.pressure(5.0, 2.0) - (100.0 + 200.0 * 35.0 / 38.0)).abs() < 1e-12);
+    }
+}
