@@ -12,7 +12,7 @@ use damfem::elasticity::Problem;
 use damfem::estimate::estimate_iterate;
 use damfem::mesh::Mesh;
 use damfem::scene::Scene;
-use damfem::solve::{newton_until, NewtonOptions, NonlinearSystem};
+use damfem::solve::{newton_until, NewtonOptions};
 use damfem::verify::dual_norm::residual_dual_norm;
 use std::path::Path;
 
@@ -218,8 +218,7 @@ fn warm_starts_need_few_newton_steps_and_delta_moves_mostly_on_the_first_mesh() 
 /// iterate is proportional to its residual ‖F(u^k)‖, so that κ = η_lin/‖F‖ of one estimate
 /// predicts η_lin of the next iterates; the loop skips the estimates whose prediction fails
 /// (S_lin). Parameters: Scene A, P2, the file's mesh, Newton from u = 0 at δ = 0.1 × the
-/// stress scale, every full step that halves the residual estimated until Newton's tolerance
-/// (at round-off η_lin measures round-off, not the linearisation). Measured: κ stays
+/// stress scale, every full step that halves the residual estimated. Measured: κ stays
 /// within 2.25 … 3.72 while ‖F‖ falls from 7·10⁵ to 3·10⁻⁵; asserted within a factor 2.
 #[test]
 fn eta_lin_follows_the_newton_residual() {
@@ -233,8 +232,7 @@ fn eta_lin_follows_the_newton_residual() {
     let contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta });
     let mut kappa = Vec::new();
     newton_until(&contact, vec![0.0; disc.dofs.n_free], &newton, |it| {
-        let converged = it.residual <= newton.rtol * contact.scale();
-        if it.last.step == 1.0 && it.residual <= 0.5 * it.last.residual && !converged {
+        if it.last.step == 1.0 && it.residual <= 0.5 * it.last.residual {
             let state = Linearisation::new(&problem, &disc, &contact.nitsche, contact.smoothing, it.x_prev);
             let e = estimate_iterate(&problem, &disc, it.x, Some(&state), false).expect("estimate");
             kappa.push((e.estimators.global().lin / it.residual, it.residual));
