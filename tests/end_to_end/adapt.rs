@@ -374,7 +374,7 @@ fn scene_a_p2_estimate_against_the_dual_norm() {
     .expect("adaptive run");
 }
 
-/// Source: docs/method.md §1.7 and §5.3–§5.5, issue scene geo/scene_a_friction.toml.
+/// Source: docs/method.md §1.7 and §5.3–§5.5, geo/scene_a_friction.toml.
 /// Goal: with a Coulomb joint (the dam held by friction alone, its heel open, nearly the whole
 /// closed base slipping) the estimator-driven loop still reaches the optimal rates: N^{−1/2} at P1
 /// and N^{−1} at P2, refining where the joint opens and where stick turns to slip.
