@@ -102,6 +102,8 @@ struct ContactSummary {
     /// ∫_{Γ_C} p_c ds and ∫_{Γ_C} t^t ds along τ = (−ν_y, ν_x) \[N/m\].
     normal_force: f64,
     tangential_force: f64,
+    /// With friction, FS_LE = ∫ (c 1_closed + F p_c) / |∫ t^t| (docs/method.md §1.7).
+    sliding_safety_factor: Option<f64>,
     /// With uplift: U = ∫_{Γ_C} p_u ds \[N/m\], and the crack at the heel that it fills.
     uplift_force: Option<f64>,
     crack: Option<Crack>,
@@ -298,6 +300,7 @@ fn contact_summary(
         slip_length: c.slip_length(),
         normal_force: c.normal_force(),
         tangential_force: c.tangential_force(),
+        sliding_safety_factor: c.sliding_safety_factor(),
         uplift_force: c.nitsche.uplift.as_ref().map(|_| c.uplift_force()),
         crack: c.crack,
     }

@@ -334,6 +334,15 @@ impl ContactSolution {
         self.faces.iter().map(|f| f.tangential_traction * f.length).sum()
     }
 
+    /// The sliding safety factor by limit equilibrium along the joint, from the computed
+    /// tractions: FS_LE = ∫_{Γ_C} (c 1_closed + F p_c) ds / |∫_{Γ_C} t^t ds| (s 1_closed for
+    /// Tresca); None without friction or shear.
+    pub fn sliding_safety_factor(&self) -> Option<f64> {
+        let shear = self.tangential_force().abs();
+        let law = self.nitsche.law;
+        (law.has_friction() && shear > 0.0).then(|| law.capacity(self.normal_force(), self.contact_length()) / shear)
+    }
+
     /// The uplift force U = ∫_{Γ_C} p_u ds \[N/m\].
     pub fn uplift_force(&self) -> f64 {
         self.faces.iter().map(|f| f.uplift * f.length).sum()

@@ -75,7 +75,7 @@ fn uniform_uplift_lowers_the_contact_pressure_by_exactly_p_u() {
 /// The dam with uplift. Source: geo/scene_a_uplift.toml (Scene A held by Coulomb friction,
 /// reservoir at 45 m, drains 5 m from the heel, the crack filled with reservoir pressure).
 /// Goal: global equilibrium with the uplift, N + U = W (the weight) and T = −the thrust
-/// ρ_w g H_w²/2, to 10⁻⁸; the crack–uplift fixed point settles with a crack at the heel; the
+/// ρ_w g H_w²/2, to 10⁻⁸, so that FS_LE = F (W − U)/T; the crack–uplift fixed point settles with a crack at the heel; the
 /// estimator with uplift is equilibrated to round-off and bounds the dual-norm reference
 /// (the uplift enters both as the Γ_C traction −p_u ν). Parameters: P1 and P2, the file's mesh
 /// sizes × 2; the reference on the mesh refined once.
@@ -112,6 +112,10 @@ fn the_dam_with_uplift_balances_weight_thrust_and_uplift() {
         );
         assert!((n + u - weight).abs() <= 1e-8 * weight, "P{order}: N + U = {} against W = {weight}", n + u);
         assert!((t + thrust).abs() <= 1e-8 * thrust, "P{order}: T = {t} against the thrust {thrust}");
+        // c = 0 on a horizontal joint: FS_LE = F N / T with N = W − U
+        let fs = solution.sliding_safety_factor().expect("a frictional joint");
+        let expected = 0.8391 * (weight - u) / thrust;
+        assert!((fs - expected).abs() <= 1e-8 * expected, "P{order}: FS_LE {fs} against {expected}");
         assert!(crack.length > 0.0 && crack.change <= 1e-6 * 40.0, "P{order}: {crack:?}");
         assert!(worst < 1e-10, "P{order}: equilibration {worst:e}");
         assert!(eta >= reference, "P{order}: eta_tot {eta} below the reference {reference}");
