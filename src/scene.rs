@@ -628,12 +628,11 @@ impl Scene {
         }
         let nu = facets[0].1;
         let along = [-nu[1], nu[0]];
-        let ends = facets.iter().flat_map(|&(f, _)| mesh.facet(f)[..2].iter().map(|&n| mesh.points[n]));
-        let at = |x: [f64; 2]| x[0] * along[0] + x[1] * along[1];
-        let (first, last) = ends.fold(([0.0; 2], [0.0; 2]), |(lo, hi), x| {
-            let (lo, hi) = if lo == [0.0; 2] && hi == [0.0; 2] { (x, x) } else { (lo, hi) };
-            (if at(x) < at(lo) { x } else { lo }, if at(x) > at(hi) { x } else { hi })
-        });
+        let ends: Vec<[f64; 2]> =
+            facets.iter().flat_map(|&(f, _)| mesh.facet(f)[..2].iter().map(|&n| mesh.points[n])).collect();
+        let at = |x: &[f64; 2]| x[0] * along[0] + x[1] * along[1];
+        let first = *ends.iter().min_by(|a, b| at(a).total_cmp(&at(b))).expect("a joint has faces");
+        let last = *ends.iter().max_by(|a, b| at(a).total_cmp(&at(b))).expect("a joint has faces");
         let water: Vec<[f64; 2]> = problem
             .neumann
             .iter()

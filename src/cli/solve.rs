@@ -4,7 +4,8 @@
 use super::common::{stem, Input, Output};
 use super::output::{write_results, EstimateSummary, Results};
 use crate::contact::{
-    solve_by_continuation, ContactJoint, ContactSolution, Continuation, Crack, JointLaw, Solution, Stage,
+    solve_by_continuation, strength_reduction, ContactJoint, ContactSolution, Continuation, Crack, JointLaw, Solution,
+    Stage, StrengthReduction,
 };
 use crate::elasticity::kernels::{principal, von_mises};
 use crate::elasticity::stress::cell_mean_stress;
@@ -15,6 +16,9 @@ use crate::scene::{ProjectionKind, Scene};
 use anyhow::Result;
 use serde::Serialize;
 use std::path::PathBuf;
+
+/// The relative width of the FS_SR bracket that `--strength-reduction` stops at.
+const STRENGTH_TOLERANCE: f64 = 2e-3;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -43,6 +47,9 @@ pub struct Args {
     /// Use the plain projection min(x, 0) with its semismooth derivative (δ = 0)
     #[arg(long)]
     semismooth: bool,
+    /// Also find the sliding safety factor by strength reduction (F, c, s divided by k) to 0.2 %
+    #[arg(long)]
+    strength_reduction: bool,
     /// Estimate the error: equilibrated stress reconstruction and the six estimators
     #[arg(long)]
     estimate: bool,
@@ -66,6 +73,8 @@ struct Summary {
     min_principal_stress: f64,
     max_principal_stress: f64,
     contact: Option<ContactSummary>,
+    /// With --strength-reduction: the largest k that held and the smallest that did not.
+    strength_reduction: Option<StrengthReduction>,
     estimate: Option<EstimateSummary>,
     seconds: Timings,
     files: Vec<PathBuf>,
@@ -125,6 +134,9 @@ pub fn run(args: Args) -> Result<()> {
     // 1. Scene and mesh
     let mut scene = input.scene()?;
     override_contact(&args, &mut scene)?;
+    if args.strength_reduction && !scene.contact.law().has_friction() {
+        anyhow::bail!("--strength-reduction needs a frictional joint: give --friction, --cohesion or --threshold");
+    }
     let dir = args.output.dir(&scene)?;
     let (mesh, t) = progress.stage(
         "mesh",
@@ -145,6 +157,14 @@ pub fn run(args: Args) -> Result<()> {
     let (solution, t) =
         progress.stage("solve", || solve(&problem, &disc, joint.as_ref(), &continuation), describe_solution)?;
     seconds.solve = t;
+    let strength = match joint.as_ref().filter(|_| args.strength_reduction) {
+        Some(joint) => Some(progress.stage(
+            "strength",
+            || Ok(strength_reduction(&problem, &disc, joint, &continuation, STRENGTH_TOLERANCE)?),
+            |s: &StrengthReduction| format!("FS_SR in [{:.4}, {:.4}] after {} solves", s.held, s.failed, s.solves),
+        )?),
+        None => None,
+    };
     // 4. Estimate
     let estimate = if args.estimate || args.check_equilibration {
         let (e, t) = progress.stage(
@@ -171,6 +191,7 @@ pub fn run(args: Args) -> Result<()> {
     seconds.output = t;
     let mut summary = summary(&scene, &disc, &results, &continuation, seconds, files);
     summary.estimate = estimate.as_ref().map(EstimateSummary::new);
+    summary.strength_reduction = strength.map(|(s, _)| s);
     write_output(&dir.join("summary.json"), serde_json::to_string_pretty(&summary)?.as_bytes())?;
     if solution.contact().is_some() || summary.estimate.is_some() {
         let history = History {
@@ -262,6 +283,7 @@ fn summary(
         min_principal_stress: principal_stresses.iter().map(|p| p[1]).fold(f64::INFINITY, f64::min),
         max_principal_stress: principal_stresses.iter().map(|p| p[0]).fold(f64::NEG_INFINITY, f64::max),
         contact: contact.map(|c| contact_summary(problem, disc, c, continuation)),
+        strength_reduction: None,
         estimate: None,
         seconds,
         files,

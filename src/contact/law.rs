@@ -60,6 +60,18 @@ impl JointLaw {
         }
     }
 
+    /// The law with its strength divided by k: F/k, c/k, s/k (strength reduction).
+    pub fn reduced(&self, k: f64) -> JointLaw {
+        match *self {
+            JointLaw::Frictionless => JointLaw::Frictionless,
+            JointLaw::Tresca { threshold } => JointLaw::Tresca { threshold: threshold / k },
+            JointLaw::Coulomb { friction } => JointLaw::Coulomb { friction: friction / k },
+            JointLaw::MohrCoulomb { friction, cohesion } => {
+                JointLaw::MohrCoulomb { friction: friction / k, cohesion: cohesion / k }
+            }
+        }
+    }
+
     /// S and dS/dP^n at the normal argument `p_n`.
     fn threshold(&self, p_n: f64, q: Smoothing) -> (f64, f64) {
         match *self {

@@ -448,6 +448,51 @@ pub fn solve_by_continuation(
     unreachable!("the loop returns by its last iteration")
 }
 
+/// The sliding safety factor by strength reduction: the largest k for which the joint with
+/// its strength divided by k (F/k, c/k, s/k) still holds the body.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct StrengthReduction {
+    /// The largest k that held, and the smallest that did not: FS_SR lies between.
+    pub held: f64,
+    pub failed: f64,
+    /// Contact solves made, the first at k = 1 included.
+    pub solves: usize,
+}
+
+/// FS_SR to the relative `tolerance`: from the solution at k = 1, k grows by a quarter while the
+/// joint holds, then the bracket is bisected; every solve starts from the last solution that
+/// held, at the final δ of `settings`. Loss of equilibrium is a Newton failure (near the limit
+/// the tangential stiffness of the slipping joint vanishes); so a solve that fails only for
+/// want of steps counts as a loss, and `held` is a lower bound. The crack that uplift fills is
+/// kept at its length for k = 1 (use `crack = "ignore"` for the exact comparison).
+pub fn strength_reduction(
+    problem: &Problem,
+    disc: &Discretisation,
+    joint: &ContactJoint,
+    settings: &Continuation,
+    tolerance: f64,
+) -> Result<StrengthReduction, ContactError> {
+    let start = solve_by_continuation(problem, disc, joint, settings)?;
+    let crack = start.crack.map_or(0.0, |c| c.length);
+    let (mut held, mut x, mut solves) = (1.0, start.x, 1);
+    let mut failed = f64::INFINITY;
+    while failed - held > tolerance * held {
+        let k = if failed.is_finite() { 0.5 * (held + failed) } else { 1.25 * held };
+        let reduced = ContactJoint { law: joint.law.reduced(k), ..joint.clone() };
+        let mut contact = ContactProblem::new(problem, disc, &reduced, Smoothing { delta: settings.delta });
+        contact.nitsche.crack = crack;
+        solves += 1;
+        match newton(&contact, x.clone(), &settings.newton) {
+            Ok(report) => (held, x) = (k, report.x),
+            Err(_) => failed = k,
+        }
+        if held > 1e3 {
+            break;
+        }
+    }
+    Ok(StrengthReduction { held, failed, solves })
+}
+
 /// The free unknowns of a solve, with the contact state when the problem has Γ_C.
 pub enum Solution {
     /// Without Γ_C: one linear solve.

@@ -674,3 +674,16 @@ fn uplift_keys_out_of_range() {
     assert_error(&result, &["crack = \"full\"", "damfem solve", "ignore"]);
     assert_nothing_written(&out);
 }
+
+// --strength-reduction needs a frictional joint, and says so before writing anything.
+#[test]
+fn strength_reduction_needs_friction() {
+    let tmp = TempDir::new("strength-frictionless");
+    let out = tmp.join("out");
+    let scene = repo("geo/scene_a.toml");
+    let args =
+        [OsStr::new("solve"), scene.as_os_str(), OsStr::new("--strength-reduction"), OsStr::new("-o"), out.as_os_str()];
+    let result = damfem(&args);
+    assert_error(&result, &["--strength-reduction", "frictional joint"]);
+    assert!(!out.exists(), "no output directory");
+}
