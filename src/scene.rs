@@ -670,6 +670,7 @@ impl Scene {
             downstream: up.tailwater.map_or(0.0, |t| head(t, toe[1])),
             drains,
             crack_filled: up.crack == CrackKind::Full,
+            crack: 0.0,
         })
     }
 

@@ -309,7 +309,8 @@ pub struct ContactSolution {
     pub faces: Vec<FaceState>,
     /// The contact faces and parameters.
     pub nitsche: Nitsche,
-    /// With uplift in an open crack, the crack the last solve was made with.
+    /// With uplift in an open crack, the fixed point that found it (the crack itself is in
+    /// `nitsche.uplift`).
     pub crack: Option<Crack>,
 }
 
@@ -433,15 +434,16 @@ pub fn solve_by_continuation(
     };
     for iterations in 1..=Crack::MAX_ITERATIONS {
         let open = contact.crack_length(&x);
-        let change = (open - contact.nitsche.crack).abs();
+        let uplift = contact.nitsche.uplift.as_mut().expect("the joint has uplift");
+        let change = (open - uplift.crack).abs();
         if change <= Crack::TOLERANCE * length {
-            let crack = Crack { length: contact.nitsche.crack, iterations, change };
+            let crack = Crack { length: uplift.crack, iterations, change };
             return Ok(contact.solution(x, stages, Some(crack)));
         }
         if iterations == Crack::MAX_ITERATIONS {
             return Err(ContactError::Crack { iterations, length: open, change });
         }
-        contact.nitsche.crack = open;
+        uplift.crack = open;
         let (next, more) = continuation(&mut contact, settings.delta, settings.delta, x, &settings.newton)?;
         (x, stages) = (next, [stages, more].concat());
     }
@@ -473,14 +475,13 @@ pub fn strength_reduction(
     tolerance: f64,
 ) -> Result<StrengthReduction, ContactError> {
     let start = solve_by_continuation(problem, disc, joint, settings)?;
-    let crack = start.crack.map_or(0.0, |c| c.length);
-    let (mut held, mut x, mut solves) = (1.0, start.x, 1);
+    let (mut held, mut x, mut solves) = (1.0, start.x.clone(), 1);
     let mut failed = f64::INFINITY;
     while failed - held > tolerance * held {
         let k = if failed.is_finite() { 0.5 * (held + failed) } else { 1.25 * held };
-        let reduced = ContactJoint { law: joint.law.reduced(k), ..joint.clone() };
-        let mut contact = ContactProblem::new(problem, disc, &reduced, Smoothing { delta: settings.delta });
-        contact.nitsche.crack = crack;
+        let (law, uplift) = (joint.law.reduced(k), start.nitsche.uplift.clone());
+        let reduced = ContactJoint { law, uplift, ..joint.clone() };
+        let contact = ContactProblem::new(problem, disc, &reduced, Smoothing { delta: settings.delta });
         solves += 1;
         match newton(&contact, x.clone(), &settings.newton) {
             Ok(report) => (held, x) = (k, report.x),

@@ -98,8 +98,6 @@ pub struct Nitsche {
     pub parameters: NitscheParameters,
     pub law: JointLaw,
     pub uplift: Option<Uplift>,
-    /// The crack open from the heel, s_c \[m\], that the uplift fills.
-    pub crack: f64,
     pub faces: Vec<ContactFace>,
     pub order: usize,
     rule: Rule1d,
@@ -114,7 +112,6 @@ impl Nitsche {
             parameters,
             law: joint.law,
             uplift: joint.uplift.clone(),
-            crack: 0.0,
             faces,
             order: mesh.order,
             rule: gauss_segment(mesh.order + 2),
@@ -167,7 +164,7 @@ impl Nitsche {
 
     /// The uplift p_u at a point of the joint (0 without uplift).
     pub fn uplift_at(&self, x: [f64; 2]) -> f64 {
-        self.uplift.as_ref().map_or(0.0, |up| up.pressure(up.distance(x), self.crack))
+        self.uplift.as_ref().map_or(0.0, |up| up.pressure(up.distance(x), up.crack))
     }
 
     /// P^t_γ(u_h) = σ^t(u_h) − γ u_h^t at a face point.
@@ -271,7 +268,7 @@ impl Nitsche {
         let Some(up) = &self.uplift else { return Vec::new() };
         let face = &self.faces[k];
         let [d0, d1] = face.ends.map(|xi| up.distance(face.map.to_physical(xi)));
-        up.kinks(self.crack).into_iter().map(|s| (s - d0) / (d1 - d0)).filter(|t| *t > 0.0 && *t < 1.0).collect()
+        up.kinks(up.crack).into_iter().map(|s| (s - d0) / (d1 - d0)).filter(|t| *t > 0.0 && *t < 1.0).collect()
     }
 
     /// The Gauss rule of p + 2 points on each piece between consecutive `cuts`: (s, weight·|F|).

@@ -38,6 +38,8 @@ pub struct Uplift {
     pub drains: Option<Drains>,
     /// Whether the reservoir pressure fills the open crack at the heel.
     pub crack_filled: bool,
+    /// The crack s_c \[m\] open from the heel that the pressure fills (found by the solve).
+    pub crack: f64,
 }
 
 impl Uplift {
@@ -98,6 +100,7 @@ mod tests {
             downstream: 100.0,
             drains,
             crack_filled: true,
+            crack: 0.0,
         }
     }
 
