@@ -54,6 +54,7 @@ where
     match result {
         Ok(()) => 0,
         Err(e) => {
+            common::remove_created_dirs();
             eprintln!("error: {e:#}");
             1
         }

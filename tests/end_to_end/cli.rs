@@ -687,3 +687,127 @@ fn strength_reduction_needs_friction() {
     assert_error(&result, &["--strength-reduction", "frictional joint"]);
     assert!(!out.exists(), "no output directory");
 }
+
+/// Runs `damfem <command> -q <input> -o <tmp>/out [extra]` (no `-o` for `check`) and asserts
+/// that it fails with one error line holding `keywords`, and leaves no output directory;
+/// returns the line.
+fn assert_refused(name: &str, command: &str, input: &Path, extra: &[&str], keywords: &[&str]) -> String {
+    let tmp = TempDir::new(name);
+    let out_dir = tmp.join("out");
+    let mut args = vec![OsStr::new(command), OsStr::new("-q"), input.as_os_str()];
+    if command != "check" {
+        args.extend([OsStr::new("-o"), out_dir.as_os_str()]);
+    }
+    args.extend(extra.iter().map(OsStr::new));
+    let message = assert_error(&damfem(&args), keywords);
+    assert!(!out_dir.exists(), "{} was left behind", out_dir.display());
+    message
+}
+
+// Contact on the interface between two meshed surfaces (a dam on a meshed rock block) is
+// refused, saying to remove the role for a bonded interface; with a bare geometry, to rename
+// the curve.
+#[test]
+fn contact_between_two_meshed_bodies() {
+    let scene = fixture("interior_contact.toml");
+    let message = assert_refused("interior-contact", "solve", &scene, &[], &["interior_contact.toml", "'joint'"]);
+    for words in ["'concrete' and 'rock'", "not supported", "remove its role", "bonded"] {
+        assert!(message.contains(words), "{words:?} not in {message}");
+    }
+    let tmp = TempDir::new("interior-contact-bare");
+    let geo = tmp.join("dam_on_rock.geo");
+    let body = std::fs::read_to_string(repo("geo/scene_b.geo")).unwrap();
+    let body = body.replace("\"joint\"", "\"Gamma_C\"").replace("\"rock_bottom\"", "\"Gamma_D\"");
+    std::fs::write(&geo, body).unwrap();
+    assert_refused("interior-contact-bare-out", "check", &geo, &[], &["'Gamma_C'", "rename the physical curve"]);
+}
+
+// Non-finite scene numbers and vectors with three components are refused with their key.
+#[test]
+fn non_finite_numbers_and_long_vectors() {
+    let level = fixture("level_nan.toml");
+    assert_refused(
+        "level-nan",
+        "solve",
+        &level,
+        &[],
+        &["level_nan.toml", "boundary.upstream.hydrostatic.level", "finite"],
+    );
+    let traction = fixture("traction_3d.toml");
+    assert_refused("traction-3d", "solve", &traction, &[], &["boundary.upstream.traction", "3 components"]);
+    let tmp = TempDir::new("gravity-inf");
+    let scene = tmp.join("gravity.toml");
+    let body = std::fs::read_to_string(fixture("level_nan.toml")).unwrap();
+    let geometry = format!("geometry = {:?}", repo("geo/scene_a.geo").display().to_string());
+    let body = body.replace("geometry = \"../../../geo/scene_a.geo\"", &geometry);
+    std::fs::write(&scene, body.replace("level = nan", "level = 70.0") + "\n[loads]\ngravity = inf\n").unwrap();
+    assert_refused("gravity-inf-out", "solve", &scene, &[], &["loads.gravity = inf", "finite"]);
+}
+
+// One curve in two physical groups with different roles is refused, naming both groups.
+#[test]
+fn one_curve_with_two_roles() {
+    let scene = fixture("two_roles.toml");
+    assert_refused("two-roles", "check", &scene, &[], &["'base' (dirichlet)", "'loaded' (neumann)", "share a segment"]);
+}
+
+// mesh.size_min above mesh.size_max is refused, naming both keys.
+#[test]
+fn size_min_above_size_max() {
+    let scene = fixture("size_min_above_max.toml");
+    assert_refused("size-order", "mesh", &scene, &[], &["mesh.size_min = 5", "mesh.size_max = 1"]);
+}
+
+// A folded .msh (a node moved across an edge, so that triangles overlap) and a .msh with a
+// duplicate node tag are refused; the same mesh unfolded is read.
+#[test]
+fn folded_or_duplicate_msh() {
+    assert_ok(&damfem(&["check".as_ref(), "-q".as_ref(), fixture("square.msh").as_os_str()]));
+    assert_refused("folded", "solve", &fixture("folded.msh"), &[], &["folded.msh", "folded", "(1.5, 0.5)"]);
+    assert_refused("duplicate", "solve", &fixture("duplicate_node.msh"), &[], &["duplicate node 5", "own tag"]);
+}
+
+// 3-D inputs are refused with "3-D": a .geo with a volume, a .msh with z != 0; also by `mesh`.
+#[test]
+fn three_dimensional_inputs() {
+    assert_refused("volume", "mesh", &fixture("volume.geo"), &[], &["volume.geo", "3-D"]);
+    let tmp = TempDir::new("tilted");
+    let msh = tmp.join("tilted.msh");
+    let body = std::fs::read_to_string(fixture("square.msh")).unwrap();
+    std::fs::write(&msh, body.replace("\n4 0 1 0\n", "\n4 0 1 0.5\n")).unwrap();
+    assert_refused("tilted-out", "solve", &msh, &[], &["tilted.msh", "3-D"]);
+}
+
+// A directory given as the scene or as the scene's geometry says "is a directory".
+#[test]
+fn directory_as_geometry() {
+    let tmp = TempDir::new("directory");
+    let dir = tmp.join("dam.geo");
+    std::fs::create_dir_all(&dir).unwrap();
+    assert_refused("directory-scene", "check", &dir, &[], &["dam.geo", "is a directory"]);
+    let scene = tmp.join("scene.toml");
+    std::fs::write(&scene, "geometry = \"dam.geo\"\n").unwrap();
+    assert_refused("directory-geometry", "solve", &scene, &[], &["dam.geo", "is a directory"]);
+}
+
+// Absurd sizes are refused before gmsh meshes: the estimated cell count against the limit,
+// which --max-cells raises or lowers; coordinates of 1e300 against the coordinate limit.
+// Each case ends in bounded time.
+#[test]
+fn absurd_sizes_and_coordinates() {
+    let start = std::time::Instant::now();
+    let scene = repo("geo/scene_a.toml");
+    assert_refused("factor", "solve", &scene, &["--size-factor", "1e-9"], &["scene_a.geo", "triangles", "--max-cells"]);
+    assert_refused("limit", "mesh", &scene, &["--max-cells", "100"], &["limit of 100"]);
+    let tmp = TempDir::new("sizes");
+    let tiny = tmp.join("tiny.geo");
+    let body = std::fs::read_to_string(fixture("bare.geo")).unwrap();
+    std::fs::write(&tiny, body.replace("0.25}", "1e-12}")).unwrap();
+    assert_refused("tiny-out", "check", &tiny, &[], &["tiny.geo", "triangles"]);
+    let far = tmp.join("far.geo");
+    std::fs::write(&far, body.replace("{2, 0, 0", "{1e300, 0, 0")).unwrap();
+    assert_refused("far-out", "check", &far, &[], &["far.geo", "beyond the limit"]);
+    assert!(start.elapsed().as_secs() < 60, "took {:?}", start.elapsed());
+    let out = damfem(&["check".as_ref(), "-q".as_ref(), scene.as_os_str(), "--max-cells".as_ref(), "3000000".as_ref()]);
+    assert_ok(&out);
+}

@@ -8,6 +8,13 @@ pub enum GmshError {
     /// The file to open does not exist.
     #[error("cannot open {}: file not found", .path.display())]
     NotFound { path: PathBuf },
+    /// The path given as a file is a directory.
+    #[error("cannot open {}: it is a directory, not a file", .path.display())]
+    Directory { path: PathBuf },
+    /// The model breaks one of the limits checked before meshing (see `limits`), e.g. it is
+    /// 3-D or its mesh would have too many cells.
+    #[error("cannot use {}: {reason}", .path.display())]
+    Limit { path: PathBuf, reason: String },
     /// A file to check for shell commands exists but cannot be read.
     #[error("cannot read {}: {source}", .path.display())]
     Io {
@@ -43,6 +50,13 @@ pub enum GmshError {
     /// A triangle has zero area (gmsh can produce them when sizes approach its tolerance).
     #[error("the mesh of {} has a degenerate triangle at ({x}, {y}); are some mesh sizes too small?", .path.display())]
     Degenerate { path: PathBuf, x: f64, y: f64 },
+    /// Triangles overlap: two lie on the same side of their common edge, or an edge belongs to
+    /// more than two.
+    #[error("the mesh of {} is folded: triangles overlap at the edge from ({}, {}) to ({}, {})", .path.display(), .edge[0][0], .edge[0][1], .edge[1][0], .edge[1][1])]
+    Folded { path: PathBuf, edge: [[f64; 2]; 2] },
+    /// gmsh skipped nodes or elements whose tag was already used.
+    #[error("cannot open {}: {message}; every node and element needs its own tag", .path.display())]
+    DuplicateTag { path: PathBuf, message: String },
     /// A physical curve has nodes that no triangle uses.
     #[error("physical curve \"{group}\" of {} does not lie on the triangles of the mesh", .path.display())]
     DetachedCurve { path: PathBuf, group: String },

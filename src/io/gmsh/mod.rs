@@ -34,11 +34,13 @@ mod api;
 mod error;
 mod ffi;
 mod guard;
+mod limits;
 mod read;
 mod session;
 mod size_field;
 
 pub use error::GmshError;
+pub use limits::{set_cell_limit, DEFAULT_CELL_LIMIT};
 pub use session::Session;
 pub use size_field::SizeField;
 
