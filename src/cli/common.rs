@@ -155,6 +155,13 @@ impl Progress {
         Ok((value, seconds))
     }
 
+    /// Prints each warning as a "warning:" line unless quiet.
+    pub fn warn(&self, warnings: &[String]) {
+        for w in warnings {
+            self.say(&format!("warning: {w}"));
+        }
+    }
+
     /// Prints a line unless quiet.
     pub fn say(&self, line: &str) {
         if !self.quiet {

@@ -146,6 +146,7 @@ pub fn run(args: Args) -> Result<()> {
     seconds.mesh = t;
     // 2. Problem: the elasticity problem, its contact joint, dofs and pattern
     let (problem, joint) = scene.problem(mesh)?;
+    progress.warn(&scene.warnings(&problem.mesh)?);
     let (disc, t) = progress.stage(
         "assemble",
         || Ok(problem.discretise()),

@@ -811,3 +811,56 @@ fn absurd_sizes_and_coordinates() {
     let out = damfem(&["check".as_ref(), "-q".as_ref(), scene.as_os_str(), "--max-cells".as_ref(), "3000000".as_ref()]);
     assert_ok(&out);
 }
+
+/// `damfem check <scene> [extra]`: asserts success and returns the "warning:" lines of stderr.
+fn check_warnings(scene: &Path, extra: &[&str]) -> Vec<String> {
+    let mut args = vec![OsStr::new("check"), scene.as_os_str()];
+    args.extend(extra.iter().map(OsStr::new));
+    let out = damfem(&args);
+    assert_ok(&out);
+    stderr(&out).lines().filter(|l| l.starts_with("warning:")).map(str::to_owned).collect()
+}
+
+/// A copy of geo/<name>.toml in `tmp` with its geometry path made absolute and `edit` applied.
+fn edited_scene(tmp: &TempDir, name: &str, edit: impl Fn(String) -> String) -> PathBuf {
+    let body = std::fs::read_to_string(repo(&format!("geo/{name}.toml"))).unwrap();
+    let geometry = format!("geometry = {:?}", repo(&format!("geo/{name}.geo")).display().to_string());
+    let path = tmp.join(&format!("{name}.toml"));
+    std::fs::write(&path, edit(body.replace(&format!("geometry = \"{name}.geo\""), &geometry))).unwrap();
+    path
+}
+
+// `check` warns about boundary curves without a role and surfaces without a material (with the
+// defaults assumed), not about bonded interior curves; --strict makes them one error.
+#[test]
+fn check_warns_about_defaults_and_strict_refuses() {
+    let scene_b = repo("geo/scene_b.toml");
+    let warnings = check_warnings(&scene_b, &[]);
+    for curve in ["'downstream'", "'crest'", "'ground'"] {
+        assert!(warnings.iter().any(|w| w.contains(curve) && w.contains("traction-free")), "{curve}: {warnings:?}");
+    }
+    assert!(!warnings.iter().any(|w| w.contains("'joint'") || w.contains("'bonded'")), "{warnings:?}");
+    assert_eq!(warnings.len(), 3, "{warnings:?}");
+    assert_refused("strict", "check", &scene_b, &["--strict"], &["scene_b.toml", "--strict", "'crest'", "'ground'"]);
+    let bare = check_warnings(&fixture("bare.geo"), &[]);
+    assert!(bare.iter().any(|w| w.contains("surface 'block' has no material") && w.contains("E = 3e10")), "{bare:?}");
+    assert!(check_warnings(&repo("geo/scene_a.toml"), &[]).is_empty());
+}
+
+// `check` warns when gamma0 is below the range where Nitsche's method is known to be stable
+// for theta = 0 (not for theta = -1), and when P1 meets nu > 0.45 (not P2).
+#[test]
+fn check_warns_about_unstable_parameters() {
+    let tmp = TempDir::new("parameters");
+    let small = edited_scene(&tmp, "scene_a", |s| s.replace("gamma0 = 100.0", "gamma0 = 0.001"));
+    let warnings = check_warnings(&small, &["--order", "1"]);
+    assert!(warnings.len() == 1 && warnings[0].contains("contact.gamma0 = 0.001"), "{warnings:?}");
+    let skew = edited_scene(&tmp, "scene_a", |s| {
+        s.replace("gamma0 = 100.0", "gamma0 = 0.001").replace("theta = 0.0", "theta = -1.0")
+    });
+    assert!(check_warnings(&skew, &["--order", "1"]).is_empty());
+    let locking = edited_scene(&tmp, "unit_square", |s| s.replace("nu = 0.25", "nu = 0.49"));
+    let warnings = check_warnings(&locking, &["--order", "1"]);
+    assert!(warnings.len() == 1 && warnings[0].contains("nu = 0.49") && warnings[0].contains("P1"), "{warnings:?}");
+    assert!(check_warnings(&locking, &["--order", "2"]).is_empty());
+}
