@@ -13,7 +13,7 @@ use std::path::Path;
 const VECTOR_KEYS: [&str; 4] = ["traction", "value", "gap_gradient", "direction"];
 
 /// Smallest γ₀ at which the θ = 1 and θ = 0 variants are known to converge on Scene A
-/// (README, "Numerical stability": θ = 1 with γ₀ = 1 loses coercivity); θ = −1 is stable
+/// (docs/results.md, "Numerical stability": θ = 1 with γ₀ = 1 loses coercivity); θ = −1 is stable
 /// for every γ₀ > 0.
 const GAMMA0_STABLE: f64 = 10.0;
 
