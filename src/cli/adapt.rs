@@ -1,7 +1,7 @@
 //! `damfem adapt`: the adaptive loop on a scene, with ParaView files of every step, the
 //! history (JSON and CSV) and its figures.
 
-use super::common::{output_dir, stem, Input, Output};
+use super::common::{output_dir, stem, validate_overrides, Input, Output};
 use super::output::{write_results, Results};
 use crate::adapt::geo::GeoMesher;
 use crate::adapt::history::{to_csv, write_adaptive_uniform, write_plots};
@@ -25,10 +25,10 @@ pub struct Args {
     #[arg(long)]
     steps: Option<usize>,
     /// Stop when eta_tot <= TOL [Pa m]; overrides adapt.tol
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     tol: Option<f64>,
     /// Stop when eta_tot <= TOL ||sigma_h||; overrides adapt.tol_relative
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     tol_relative: Option<f64>,
     /// Stop after the first mesh with at least N unknowns; overrides adapt.max_unknowns
     #[arg(long)]
@@ -42,13 +42,13 @@ pub struct Args {
     marking: Option<Marking>,
     /// Fraction theta of the marking strategy (equidistribution: the aimed reduction of eta
     /// per step); overrides adapt.bulk (default 0.5)
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     bulk: Option<f64>,
     /// gamma_lin of the Newton stopping rule; overrides adapt.gamma_lin (default 0.1)
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     gamma_lin: Option<f64>,
     /// gamma_reg of the regularisation stopping rule; overrides adapt.gamma_reg (default 0.1)
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     gamma_reg: Option<f64>,
     /// Then refine uniformly from the same first mesh until the unknowns exceed the adaptive
     /// run's (into OUTPUT/uniform) and draw eta_tot of both against the unknowns; sets
@@ -174,7 +174,16 @@ fn override_settings(args: &Args, scene: &mut Scene) -> Result<()> {
     a.gamma_lin = args.gamma_lin.unwrap_or(a.gamma_lin);
     a.gamma_reg = args.gamma_reg.unwrap_or(a.gamma_reg);
     a.compare_uniform |= args.compare_uniform;
-    scene.validate()?;
+    let overrides = [
+        ("--steps", "adapt.steps", args.steps.is_some()),
+        ("--tol", "adapt.tol", args.tol.is_some()),
+        ("--tol-relative", "adapt.tol_relative", args.tol_relative.is_some()),
+        ("--max-unknowns", "adapt.max_unknowns", args.max_unknowns.is_some()),
+        ("--bulk", "adapt.bulk", args.bulk.is_some()),
+        ("--gamma-lin", "adapt.gamma_lin", args.gamma_lin.is_some()),
+        ("--gamma-reg", "adapt.gamma_reg", args.gamma_reg.is_some()),
+    ];
+    validate_overrides(scene, &overrides)?;
     Ok(scene.check_adaptive()?)
 }
 

@@ -2,7 +2,7 @@
 
 use crate::io::gmsh;
 use crate::mesh::Mesh;
-use crate::scene::Scene;
+use crate::scene::{Scene, SceneError};
 use anyhow::{Context, Result};
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, PoisonError};
@@ -83,6 +83,20 @@ impl Input {
     /// Progress reporter honouring `-q`.
     pub fn progress(&self) -> Progress {
         Progress { quiet: self.quiet }
+    }
+}
+
+/// Validates `scene` after the command-line overrides: an error on a key whose value came
+/// from a flag names the flag. `overrides` holds (flag, key, given) for each flag.
+pub fn validate_overrides(scene: &Scene, overrides: &[(&str, &str, bool)]) -> Result<()> {
+    let Err(e) = scene.validate() else { return Ok(()) };
+    let SceneError::Invalid { message, .. } = &e else { return Err(e.into()) };
+    let blamed = overrides.iter().find(|(_, key, given)| *given && message.starts_with(&format!("{key} ")));
+    match blamed {
+        Some((flag, key, _)) => {
+            anyhow::bail!("{flag}{} (given on the command line, where it overrides {key})", &message[key.len()..])
+        }
+        None => Err(e.into()),
     }
 }
 

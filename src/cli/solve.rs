@@ -1,7 +1,7 @@
 //! `damfem solve`: mesh, assemble, solve (with Nitsche contact when the scene has Γ_C),
 //! write ParaView files, `summary.json` and `history.json`.
 
-use super::common::{stem, Input, Output};
+use super::common::{stem, validate_overrides, Input, Output};
 use super::output::{write_results, EstimateSummary, Results};
 use crate::contact::{
     solve_by_continuation, strength_reduction, ContactJoint, ContactSolution, Continuation, Crack, JointLaw, Solution,
@@ -27,22 +27,22 @@ pub struct Args {
     #[command(flatten)]
     output: Output,
     /// Nitsche parameter γ₀ (γ = γ₀ E / h_F); overrides contact.gamma0 (default 100)
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     gamma0: Option<f64>,
     /// Nitsche variant θ: 1 symmetric, 0 incomplete, -1 skew-symmetric; overrides contact.theta
     #[arg(long, allow_hyphen_values = true)]
     theta: Option<f64>,
     /// Regularisation δ [Pa]; overrides contact.delta (default 1e-4 × the stress scale)
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     delta: Option<f64>,
     /// Coulomb friction coefficient F = tan φ on Γ_C; overrides contact.friction (default 0)
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     friction: Option<f64>,
     /// Cohesion c [Pa] of a Mohr–Coulomb joint (with --friction); overrides contact.cohesion
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     cohesion: Option<f64>,
     /// Tresca threshold s [Pa]; overrides contact.threshold
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     threshold: Option<f64>,
     /// Use the plain projection min(x, 0) with its semismooth derivative (δ = 0)
     #[arg(long)]
@@ -258,7 +258,15 @@ fn override_contact(args: &Args, scene: &mut Scene) -> Result<()> {
     if args.semismooth {
         c.projection = ProjectionKind::Semismooth;
     }
-    Ok(scene.validate()?)
+    let overrides = [
+        ("--gamma0", "contact.gamma0", args.gamma0.is_some()),
+        ("--theta", "contact.theta", args.theta.is_some()),
+        ("--delta", "contact.delta", args.delta.is_some()),
+        ("--friction", "contact.friction", args.friction.is_some()),
+        ("--cohesion", "contact.cohesion", args.cohesion.is_some()),
+        ("--threshold", "contact.threshold", args.threshold.is_some()),
+    ];
+    validate_overrides(scene, &overrides)
 }
 
 fn summary(

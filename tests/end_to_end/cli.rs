@@ -864,3 +864,19 @@ fn check_warns_about_unstable_parameters() {
     assert!(warnings.len() == 1 && warnings[0].contains("nu = 0.49") && warnings[0].contains("P1"), "{warnings:?}");
     assert!(check_warnings(&locking, &["--order", "2"]).is_empty());
 }
+
+// A value given on the command line is blamed as the flag, not as the scene key it overrides;
+// negative numbers are parsed as values and then checked.
+#[test]
+fn command_line_values_are_blamed_as_flags() {
+    let scene = repo("geo/scene_a.toml");
+    for (name, command, extra, flag, key) in [
+        ("flag-gamma0", "solve", ["--gamma0", "-1"], "--gamma0 = -1", "contact.gamma0"),
+        ("flag-theta", "solve", ["--theta", "2"], "--theta = 2", "contact.theta"),
+        ("flag-delta", "solve", ["--delta", "-1e3"], "--delta = -1000", "contact.delta"),
+        ("flag-bulk", "adapt", ["--bulk", "-0.5"], "--bulk = -0.5", "adapt.bulk"),
+    ] {
+        let message = assert_refused(name, command, &scene, &extra, &[flag, "command line", key]);
+        assert!(!message.contains("scene_a.toml"), "the scene is not at fault: {message}");
+    }
+}
