@@ -13,9 +13,10 @@ use crate::elasticity::{Discretisation, Problem};
 use crate::estimate::{estimate_iterate, Estimate};
 use crate::io::atomic::write_output;
 use crate::scene::{ProjectionKind, Scene};
+use crate::solve::NewtonError;
 use anyhow::Result;
 use serde::Serialize;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// The relative width of the FS_SR bracket that `--strength-reduction` stops at.
 const STRENGTH_TOLERANCE: f64 = 2e-3;
@@ -155,8 +156,12 @@ pub fn run(args: Args) -> Result<()> {
     seconds.assemble = t;
     // 3. Solve: one Cholesky solve, or Newton along the δ path with contact
     let continuation = scene.continuation(&problem, &disc.topology);
-    let (solution, t) =
-        progress.stage("solve", || solve(&problem, &disc, joint.as_ref(), &continuation), describe_solution)?;
+    let (solution, t) = progress
+        .stage("solve", || solve(&problem, &disc, joint.as_ref(), &continuation), describe_solution)
+        .map_err(|e| match e.downcast_ref::<NewtonError>() {
+            Some(newton) => newton_failure(&scene, &continuation, newton, &dir),
+            None => e,
+        })?;
     seconds.solve = t;
     let strength = match joint.as_ref().filter(|_| args.strength_reduction) {
         Some(joint) => Some(progress.stage(
@@ -208,6 +213,55 @@ pub fn run(args: Args) -> Result<()> {
         dir.display()
     ));
     Ok(())
+}
+
+/// What `history.json` records of a Newton run that did not converge: the error and the
+/// relative residuals of the failing stage.
+#[derive(Serialize)]
+struct FailedHistory {
+    error: String,
+    /// The target δ \[Pa\] of the continuation path.
+    delta_target: f64,
+    relative_residuals: Vec<f64>,
+}
+
+/// The error of a Newton run that did not converge: names the scene and the parameters that
+/// most often cause it, and writes what was done to `history.json`.
+fn newton_failure(scene: &Scene, continuation: &Continuation, error: &NewtonError, dir: &Path) -> anyhow::Error {
+    let c = &scene.contact;
+    let residuals = match error {
+        NewtonError::NotConverged { history, scale } => history.iter().map(|it| it.residual / scale).collect(),
+        _ => Vec::new(),
+    };
+    let mut causes = Vec::new();
+    if residuals.len() >= c.max_iter {
+        causes.push(format!("contact.max_iter = {} may be too small", c.max_iter));
+    }
+    if c.theta != -1.0 && c.gamma0 < 10.0 {
+        causes.push(format!(
+            "contact.gamma0 = {} is small for theta = {} (use at least 10, or theta = -1)",
+            c.gamma0, c.theta
+        ));
+    }
+    if continuation.delta == 0.0 && continuation.delta_start == 0.0 {
+        causes.push("delta = 0 without a continuation path (set contact.delta_start)".to_string());
+    }
+    if causes.is_empty() {
+        causes.push("the Nitsche parameters or the regularisation (contact.gamma0, theta, delta)".to_string());
+    }
+    let used = format!("gamma0 = {}, theta = {}, delta = {:.3e} Pa", c.gamma0, c.theta, continuation.delta);
+    let history =
+        FailedHistory { error: error.to_string(), delta_target: continuation.delta, relative_residuals: residuals };
+    let kept = serde_json::to_string_pretty(&history).map_err(anyhow::Error::from).and_then(|text| {
+        write_output(&dir.join("history.json"), text.as_bytes())?;
+        Ok(format!("; the residuals are in {}", dir.join("history.json").display()))
+    });
+    anyhow::anyhow!(
+        "{}: {error}; likely causes: {} (with {used}){}",
+        scene.source.display(),
+        causes.join("; "),
+        kept.unwrap_or_default()
+    )
 }
 
 /// One Cholesky solve without a joint; the δ path of `continuation` with one.

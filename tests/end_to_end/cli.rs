@@ -880,3 +880,24 @@ fn command_line_values_are_blamed_as_flags() {
         assert!(!message.contains("scene_a.toml"), "the scene is not at fault: {message}");
     }
 }
+
+// A Newton run that does not converge names the scene and the likely cause, lists a few
+// residuals rather than all of them, and keeps them in history.json.
+#[test]
+fn solve_reports_a_newton_failure_and_keeps_the_residuals() {
+    let tmp = TempDir::new("solve-newton");
+    let scene = tmp.join("limited.toml");
+    let text = std::fs::read_to_string(repo("geo/scene_a.toml")).unwrap();
+    let geometry = format!("geometry = {:?}", repo("geo/scene_a.geo").display().to_string());
+    let text = text.replace("geometry = \"scene_a.geo\"", &geometry);
+    std::fs::write(&scene, text.replace("[contact]", "[contact]\nmax_iter = 12\nrtol = 1e-30")).unwrap();
+    let out = tmp.join("out");
+    let result = damfem(&[OsStr::new("solve"), OsStr::new("-q"), scene.as_os_str(), OsStr::new("-o"), out.as_os_str()]);
+    let message = assert_error(&result, &["limited.toml", "12 step(s)", "contact.max_iter = 12", "history.json"]);
+    assert!(message.contains("(6 more)"), "twelve residuals are shortened: {message}");
+    let history: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("history.json")).unwrap()).unwrap();
+    assert_eq!(history["relative_residuals"].as_array().unwrap().len(), 12);
+    assert!(history["error"].as_str().unwrap().contains("Newton"));
+    assert!(!out.join("summary.json").exists());
+}
