@@ -306,7 +306,7 @@ impl Scene {
         let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read { path: path.into(), source })?;
         let syntax = |e: toml::de::Error| SceneError::Syntax {
             path: path.into(),
-            message: e.to_string().trim_end().replace('\n', " "),
+            message: e.to_string().trim_end().to_string(),
         };
         checks::check_values(path, &toml::from_str(&text).map_err(syntax)?)?;
         let mut scene: Scene = toml::from_str(&text).map_err(syntax)?;

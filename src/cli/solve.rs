@@ -254,10 +254,10 @@ fn newton_failure(scene: &Scene, continuation: &Continuation, error: &NewtonErro
         FailedHistory { error: error.to_string(), delta_target: continuation.delta, relative_residuals: residuals };
     let kept = serde_json::to_string_pretty(&history).map_err(anyhow::Error::from).and_then(|text| {
         write_output(&dir.join("history.json"), text.as_bytes())?;
-        Ok(format!("; the residuals are in {}", dir.join("history.json").display()))
+        Ok(format!("\nthe residuals are in {}", dir.join("history.json").display()))
     });
     anyhow::anyhow!(
-        "{}: {error}; likely causes: {} (with {used}){}",
+        "{}: {error}\nlikely causes: {} (with {used}){}",
         scene.source.display(),
         causes.join("; "),
         kept.unwrap_or_default()

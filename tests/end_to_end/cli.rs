@@ -51,16 +51,17 @@ fn assert_ok(out: &Output) {
     assert!(out.status.success(), "{:?}: {}", out.status, stderr(out));
 }
 
-/// Asserts a failed run whose stderr is one "error:" line containing every keyword; returns it.
+/// Asserts a failed run whose stderr is one "error:" line, continued only by indented lines
+/// (a TOML error's excerpt), containing every keyword; returns it.
 fn assert_error(out: &Output, keywords: &[&str]) -> String {
     let text = stderr(out);
     assert!(!out.status.success(), "expected a failure, stderr: {text}");
     assert!(!text.contains("panicked"), "panic: {text}");
     let lines: Vec<&str> = text.lines().collect();
-    assert_eq!(lines.len(), 1, "expected one line on stderr, got: {text}");
     assert!(lines[0].starts_with("error:"), "{text}");
+    assert!(lines[1..].iter().all(|l| l.starts_with("  ")), "expected one error on stderr, got: {text}");
     for k in keywords {
-        assert!(lines[0].contains(k), "{k:?} not in: {text}");
+        assert!(text.contains(k), "{k:?} not in: {text}");
     }
     text
 }
@@ -316,7 +317,8 @@ fn system_calls_need_permission() {
     let call = format!("SystemCall \"touch {}\";\n", marker.display());
     std::fs::write(&geo, call + &body).unwrap();
 
-    let message = assert_solve_fails("system-call-refused", &geo, &["system_call.geo", "line 1"]);
+    let message =
+        assert_solve_fails("system-call-refused", &geo, &["system_call.geo", "line 1", "--allow-system-calls"]);
     assert!(message.contains("SystemCall"), "{message}");
     assert!(!marker.exists(), "the SystemCall ran without permission");
 
@@ -521,7 +523,7 @@ fn adapt_needs_a_geo_file() {
 fn adapt_rejects_a_bad_marking_fraction() {
     let out =
         damfem(&[OsStr::new("adapt"), repo("geo/scene_a.toml").as_os_str(), OsStr::new("--bulk"), OsStr::new("1.5")]);
-    assert_error(&out, &["adapt.bulk = 1.5", "(0, 1]"]);
+    assert_error(&out, &["--bulk = 1.5", "(0, 1]", "adapt.bulk"]);
 }
 
 #[test]
@@ -900,4 +902,35 @@ fn solve_reports_a_newton_failure_and_keeps_the_residuals() {
     assert_eq!(history["relative_residuals"].as_array().unwrap().len(), 12);
     assert!(history["error"].as_str().unwrap().contains("Newton"));
     assert!(!out.join("summary.json").exists());
+}
+
+// An Include that reads a file being read already is named as a recursion, with the file and line.
+#[test]
+fn include_recursion_is_named() {
+    let tmp = TempDir::new("include-recursion");
+    std::fs::write(tmp.join("a.geo"), "Include \"b.geo\";\n").unwrap();
+    std::fs::write(tmp.join("b.geo"), "Point(1) = {0, 0, 0};\nInclude \"a.geo\";\n").unwrap();
+    assert_refused(
+        "include-recursion-out",
+        "mesh",
+        &tmp.join("a.geo"),
+        &[],
+        &["b.geo: line 2", "\"a.geo\"", "recursion"],
+    );
+}
+
+// A TOML error keeps its excerpt lines (indented under the error line); every line of an error
+// is capped at a few hundred characters.
+#[test]
+fn toml_errors_keep_their_lines_and_long_lines_are_capped() {
+    let tmp = TempDir::new("toml-lines");
+    let scene = tmp.join("unclosed.toml");
+    std::fs::write(&scene, "[mesh]\norder = 1\nsize_factor = [\n1,\n").unwrap();
+    let message = assert_refused("toml-lines-out", "check", &scene, &[], &["unclosed.toml", "line 4"]);
+    assert!(message.lines().count() > 2, "the excerpt is kept: {message}");
+    assert!(message.lines().any(|l| l.trim_start().starts_with("4 | 1,")), "{message}");
+    let scene = tmp.join("long.toml");
+    std::fs::write(&scene, format!("[mesh]\norder = \"{}\"\n", "x".repeat(5000))).unwrap();
+    let message = assert_refused("toml-long-out", "check", &scene, &[], &["long.toml", "more characters"]);
+    assert!(message.lines().all(|l| l.chars().count() < 400), "{message}");
 }

@@ -24,8 +24,11 @@ pub enum GmshError {
     },
     /// `path` (the opened file or one it includes) could make gmsh run a shell command;
     /// `reason` completes the sentence, e.g. "uses SystemCall, which runs shell commands".
-    #[error("refusing to open {}: line {line} {reason} (allow system calls to open it anyway)", .path.display())]
+    #[error("refusing to open {}: line {line} {reason} (--allow-system-calls opens it anyway)", .path.display())]
     SystemCall { path: PathBuf, line: usize, reason: String },
+    /// `path` reads `target`, which is being read already: gmsh would recurse without end.
+    #[error("refusing to open {}: line {line} reads \"{target}\", which is already being read (Include recursion)", .path.display())]
+    Recursion { path: PathBuf, line: usize, target: String },
     /// A file opened as a mesh does not start like a gmsh `.msh` file.
     #[error("cannot open {}: not a gmsh .msh file (it does not start with $MeshFormat)", .path.display())]
     NotMsh { path: PathBuf },
