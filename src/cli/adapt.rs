@@ -116,11 +116,13 @@ fn run_sequence(scene: &Scene, input: &Input, dir: &Path, name: &str, prefix: &s
             Refinement::Adaptive => "adaptive",
             Refinement::Uniform => "uniform",
         };
+        let hint = result.as_ref().err().and_then(|e| remesh_hint(e, writer.history.len(), scene.adapt.refinement));
         anyhow::bail!(
-            "{}: {kind} step {}: {e}; the steps before it are in {}",
+            "{}: {kind} step {}: {e}; the steps before it are in {}{}",
             scene.source.display(),
             writer.history.len(),
-            dir.display()
+            dir.display(),
+            hint.map_or(String::new(), |h| format!("\n{h}"))
         );
     }
     Ok(writer.history)
@@ -157,6 +159,16 @@ fn uniform_settings(adaptive: &AdaptSettings, unknowns: usize) -> AdaptSettings 
         compare_uniform: false,
         ..adaptive.clone()
     }
+}
+
+/// What to try when gmsh fails to remesh with the sizes of an adaptive step: the sizes it
+/// was given shrink fastest at corners, where gmsh can produce a degenerate triangle.
+fn remesh_hint(error: &AdaptError, step: usize, refinement: Refinement) -> Option<&'static str> {
+    let remesh = matches!(error, AdaptError::Mesh(_)) && step > 0 && refinement == Refinement::Adaptive;
+    remesh.then_some(
+        "the adaptive sizes were too small for gmsh near a corner: set [mesh] size_min to bound them, \
+         or use --marking dorfler, which refines fewer cells per step",
+    )
 }
 
 /// The scene's `[adapt]` table with the command-line overrides.
@@ -284,5 +296,21 @@ fn print_table(history: &[StepRecord]) {
             r.n_lin,
             r.seconds.total()
         );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{remesh_hint, AdaptError, Refinement};
+
+    #[test]
+    fn a_failed_remesh_suggests_size_min_or_dorfler() {
+        let mesh = || AdaptError::Mesh("degenerate triangle".into());
+        let hint = remesh_hint(&mesh(), 5, Refinement::Adaptive).unwrap();
+        assert!(hint.contains("[mesh] size_min") && hint.contains("--marking dorfler"), "{hint}");
+        assert!(remesh_hint(&mesh(), 0, Refinement::Adaptive).is_none(), "the first mesh is not a remesh");
+        assert!(remesh_hint(&mesh(), 5, Refinement::Uniform).is_none());
+        let regularisation = AdaptError::Regularisation { delta: 1.0, reductions: 3, eta_reg: 1.0 };
+        assert!(remesh_hint(&regularisation, 5, Refinement::Adaptive).is_none());
     }
 }
