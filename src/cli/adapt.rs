@@ -93,6 +93,10 @@ pub fn run(args: Args) -> Result<()> {
 /// the steps before it are.
 fn run_sequence(scene: &Scene, input: &Input, dir: &Path, name: &str, prefix: &str) -> Result<Vec<StepRecord>> {
     let progress = input.progress();
+    let removed = remove_earlier_steps(dir, name)?;
+    if removed > 0 {
+        progress.say(&format!("{prefix}removed {removed} step files of an earlier run from {}", dir.display()));
+    }
     let mut mesher = GeoMesher {
         geometry: scene.geometry.clone(),
         options: scene.mesh_options(),
@@ -223,14 +227,9 @@ impl StepWriter<'_> {
         self.write_lists(None)
     }
 
-    /// One `.pvd` per kind of VTU file (time = step), `history.json` and `history.csv`.
+    /// `history.json` and `history.csv`, then one `.pvd` per kind of VTU file (time = step):
+    /// a collection never lists a step the history does not have.
     fn write_lists(&self, error: Option<String>) -> Result<()> {
-        let kinds = self.vtu.first().map_or(0, Vec::len);
-        for k in 0..kinds {
-            let entries: Vec<(f64, PathBuf)> =
-                self.vtu.iter().enumerate().map(|(step, files)| (step as f64, files[k].clone())).collect();
-            write_pvd(&self.dir.join(pvd_name(self.name, &entries[0].1)), &entries)?;
-        }
         let history = History {
             scene: &self.scene.source,
             order: self.scene.mesh.order,
@@ -240,6 +239,12 @@ impl StepWriter<'_> {
         };
         write_output(&self.dir.join("history.json"), serde_json::to_string_pretty(&history)?.as_bytes())?;
         write_output(&self.dir.join("history.csv"), to_csv(&self.history).as_bytes())?;
+        let kinds = self.vtu.first().map_or(0, Vec::len);
+        for k in 0..kinds {
+            let entries: Vec<(f64, PathBuf)> =
+                self.vtu.iter().enumerate().map(|(step, files)| (step as f64, files[k].clone())).collect();
+            write_pvd(&self.dir.join(pvd_name(self.name, &entries[0].1)), &entries)?;
+        }
         Ok(())
     }
 
@@ -251,6 +256,26 @@ impl StepWriter<'_> {
         }
         Ok(())
     }
+}
+
+/// Removes the step files `<name>_NN*.vtu` an earlier run left in `dir`, so that a rerun with
+/// fewer steps shows none of them; returns how many there were.
+fn remove_earlier_steps(dir: &Path, name: &str) -> Result<usize> {
+    let prefix = format!("{name}_");
+    let is_step = |file: &str| {
+        file.strip_prefix(&prefix).is_some_and(|rest| {
+            rest.len() > 2 && rest.as_bytes()[..2].iter().all(u8::is_ascii_digit) && rest.ends_with(".vtu")
+        })
+    };
+    let mut removed = 0;
+    for entry in std::fs::read_dir(dir).with_context(|| format!("cannot list {}", dir.display()))? {
+        let path = entry?.path();
+        if path.file_name().and_then(|f| f.to_str()).is_some_and(is_step) {
+            std::fs::remove_file(&path).with_context(|| format!("cannot remove {}", path.display()))?;
+            removed += 1;
+        }
+    }
+    Ok(removed)
 }
 
 /// `<name><kind>.pvd` for the step file `<name>_NN<kind>.vtu`.

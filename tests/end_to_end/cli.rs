@@ -934,3 +934,26 @@ fn toml_errors_keep_their_lines_and_long_lines_are_capped() {
     let message = assert_refused("toml-long-out", "check", &scene, &[], &["long.toml", "more characters"]);
     assert!(message.lines().all(|l| l.chars().count() < 400), "{message}");
 }
+
+// A rerun into the same directory removes the step files of the earlier run (here a step 07
+// the new run does not reach), and the history is written before the collections: when a
+// collection cannot be written, history.json already has the step.
+#[test]
+fn adapt_rerun_removes_earlier_steps_and_writes_the_history_first() {
+    let tmp = TempDir::new("adapt-rerun");
+    std::fs::create_dir_all(&tmp.0).unwrap();
+    let stale = tmp.join("scene_a_07_boundary.vtu");
+    let kept = tmp.join("scene_a_notes.vtu");
+    std::fs::write(&stale, "earlier run").unwrap();
+    std::fs::write(&kept, "not a step file").unwrap();
+    std::fs::create_dir(tmp.join("scene_a.pvd")).unwrap();
+    let scene = repo("geo/scene_a.toml");
+    let args = ["adapt".as_ref(), scene.as_os_str(), "--order".as_ref(), "1".as_ref(), "--steps".as_ref()];
+    let out = damfem(&[&args[..], &["1".as_ref(), "-q".as_ref(), "-o".as_ref(), tmp.0.as_os_str()]].concat());
+    assert_error(&out, &["scene_a.pvd"]);
+    assert!(!stale.exists(), "the earlier run's step file is left");
+    assert!(kept.exists(), "a file that is not a step file was removed");
+    let history: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(tmp.join("history.json")).unwrap()).unwrap();
+    assert_eq!(history["steps"].as_array().unwrap().len(), 1, "{history}");
+}
