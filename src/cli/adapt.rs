@@ -2,6 +2,7 @@
 //! history (JSON and CSV) and its figures.
 
 use super::common::{output_dir, stem, validate_overrides, Input, Output};
+use super::interrupt;
 use super::output::{write_results, Results};
 use crate::adapt::geo::GeoMesher;
 use crate::adapt::history::{to_csv, write_adaptive_uniform, write_plots};
@@ -94,6 +95,7 @@ pub fn run(args: Args) -> Result<()> {
 fn run_sequence(scene: &Scene, input: &Input, dir: &Path, name: &str, prefix: &str) -> Result<Vec<StepRecord>> {
     let progress = input.progress();
     let removed = remove_earlier_steps(dir, name)?;
+    interrupt::record_in(&dir.join("history.json"));
     if removed > 0 {
         progress.say(&format!("{prefix}removed {removed} step files of an earlier run from {}", dir.display()));
     }

@@ -6,6 +6,7 @@
 mod adapt;
 mod check;
 mod common;
+pub mod interrupt;
 mod mesh;
 mod output;
 mod solve;

@@ -957,3 +957,32 @@ fn adapt_rerun_removes_earlier_steps_and_writes_the_history_first() {
         serde_json::from_str(&std::fs::read_to_string(tmp.join("history.json")).unwrap()).unwrap();
     assert_eq!(history["steps"].as_array().unwrap().len(), 1, "{history}");
 }
+
+// SIGINT during an adaptive run: the process ends with 130, no hidden temporary file is left,
+// and history.json keeps the completed steps and records "interrupted".
+#[test]
+fn adapt_interrupted_keeps_its_steps_and_says_so() {
+    let tmp = TempDir::new("adapt-sigint");
+    let scene = repo("geo/scene_a.toml");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_damfem"))
+        .args([OsStr::new("adapt"), scene.as_os_str(), OsStr::new("--order"), OsStr::new("1")])
+        .args([OsStr::new("--steps"), OsStr::new("40"), OsStr::new("-q"), OsStr::new("-o"), tmp.0.as_os_str()])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    while !tmp.join("scene_a_01_dg.vtu").exists() {
+        assert!(start.elapsed().as_secs() < 60, "no step 1 after a minute");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let kill = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
+    assert!(kill.success());
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(130), "{}", stderr(&out));
+    assert!(stderr(&out).contains("interrupted by SIGINT"), "{}", stderr(&out));
+    assert!(hidden_files(&tmp.0).is_empty(), "{:?}", hidden_files(&tmp.0));
+    let history: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(tmp.join("history.json")).unwrap()).unwrap();
+    assert_eq!(history["error"], "interrupted");
+    assert!(!history["steps"].as_array().unwrap().is_empty());
+}
