@@ -48,7 +48,9 @@ fn interrupted(signal: i32) -> ! {
         Some(path) => eprintln!("error: interrupted by {name}; the completed steps are in {}", path.display()),
         None => eprintln!("error: interrupted by {name}"),
     }
-    std::process::exit(128 + signal)
+    // _exit, not exit: the C++ destructors of gmsh must not run while another thread uses it
+    // SAFETY: _exit ends the process at once; nothing after it runs.
+    unsafe { libc::_exit(128 + signal) }
 }
 
 /// Sets `"error": "interrupted"` in the history at `path` (written whole, then renamed);
