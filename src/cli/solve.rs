@@ -196,7 +196,7 @@ pub fn run(args: Args) -> Result<()> {
     )?;
     seconds.output = t;
     let mut summary = summary(&scene, &disc, &results, &continuation, seconds, files);
-    summary.estimate = estimate.as_ref().map(EstimateSummary::new);
+    summary.estimate = estimate.as_ref().map(|e| EstimateSummary::new(e, problem.mesh.order));
     summary.strength_reduction = strength.map(|(s, _)| s);
     write_output(&dir.join("summary.json"), serde_json::to_string_pretty(&summary)?.as_bytes())?;
     if solution.contact().is_some() || summary.estimate.is_some() {
