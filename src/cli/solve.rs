@@ -206,13 +206,23 @@ pub fn run(args: Args) -> Result<()> {
         };
         write_output(&dir.join("history.json"), serde_json::to_string_pretty(&history)?.as_bytes())?;
     }
-    progress.say(&format!(
-        "max |u| = {:.4e} m, max von Mises = {:.4e} Pa; results in {}",
-        summary.max_displacement,
-        summary.max_von_mises,
-        dir.display()
-    ));
+    progress.say(&format!("{}; results in {}", headline(&summary), dir.display()));
     Ok(())
+}
+
+/// The numbers that converge under refinement: the largest displacement and, with contact,
+/// the contact length and the joint forces. The largest stress sits at a singular point
+/// (a re-entrant corner, the end of the contact zone) and grows with refinement, so it is
+/// left to `summary.json`.
+fn headline(summary: &Summary) -> String {
+    let u = format!("max |u| = {:.4e} m", summary.max_displacement);
+    match &summary.contact {
+        None => u,
+        Some(c) => format!(
+            "{u}, contact length {:.4} m, joint forces N = {:.4e} N/m, T = {:.4e} N/m",
+            c.contact_length, c.normal_force, c.tangential_force
+        ),
+    }
 }
 
 /// What `history.json` records of a Newton run that did not converge: the error and the

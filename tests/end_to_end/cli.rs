@@ -986,3 +986,19 @@ fn adapt_interrupted_keeps_its_steps_and_says_so() {
     assert_eq!(history["error"], "interrupted");
     assert!(!history["steps"].as_array().unwrap().is_empty());
 }
+
+// The closing line of `solve` headlines what converges (displacement, contact length, joint
+// forces), not the maximum of the singular stress field.
+#[test]
+fn solve_headlines_converging_numbers() {
+    let tmp = TempDir::new("headline");
+    let scene = repo("geo/scene_a.toml");
+    let out = damfem(&[OsStr::new("solve"), scene.as_os_str(), OsStr::new("-o"), tmp.0.as_os_str()]);
+    assert_ok(&out);
+    let text = stderr(&out);
+    let last = text.lines().last().unwrap();
+    assert!(last.contains("contact length") && last.contains("joint forces"), "{last}");
+    assert!(!last.contains("von Mises"), "{last}");
+    let summary = check_summary(&tmp.0);
+    assert!(last.contains(&format!("{:.4} m", summary["contact"]["contact_length"].as_f64().unwrap())), "{last}");
+}
