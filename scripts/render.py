@@ -11,7 +11,8 @@ it has separated, with a legend. --edges draws the cell edges, --log
 a logarithmic colour scale (for estimators); --box draws only the cells inside a box (a
 close-up, e.g. of the refined zone).
 
-The colour range is robust by default: the 1st to 99th percentile of the cell values, so
+The colour range is robust by default: the 1st to 99th percentile of the cell values
+weighted by area, so
 that the few cells at a singular point (a re-entrant corner, the end of the contact zone)
 do not turn the rest into one colour; --range LOW HIGH sets it (in the unit of the colour
 bar). Stresses are shown in MPa, displacements in mm; the axes are in metres.
@@ -71,10 +72,15 @@ def field_values(grid, field):
     return values / UNITS.get(field, (1.0, ""))[0]
 
 
-def colour_range(values, log=False):
-    """The 1st to 99th percentile of the finite (for log, positive) values."""
-    values = values[np.isfinite(values) & ((values > 0) if log else True)]
-    low, high = np.percentile(values, PERCENTILES)
+def colour_range(values, areas, log=False):
+    """The 1st to 99th percentile of the finite (for log, positive) cell values, weighted by
+    the cell areas: an adapted mesh puts many small cells at a singular point, which a count
+    of cells would take for a large part of the domain."""
+    keep = np.isfinite(values) & ((values > 0) if log else True)
+    values, areas = values[keep], areas[keep]
+    order = np.argsort(values)
+    share = np.cumsum(areas[order]) / areas.sum()
+    low, high = (values[order][np.searchsorted(share, p / 100.0)] for p in PERCENTILES)
     return (float(low), float(high)) if high > low else (float(values.min()), float(values.max()))
 
 
@@ -119,7 +125,8 @@ def main():
         warped.cell_data[label] = values
     else:
         warped.point_data[label] = values
-    clim = tuple(args.range) if args.range else colour_range(values, args.log)
+    areas = grid.compute_cell_sizes(length=False, volume=False).cell_data["Area"]
+    clim = tuple(args.range) if args.range else colour_range(values, np.asarray(areas), args.log)
     title = label + (f"\n(displacement x{factor:.3g})" if factor else "")
     plotter.add_mesh(warped, scalars=label, cmap="viridis", clim=clim, show_edges=args.edges, log_scale=args.log,
                      scalar_bar_args={"title": title, "vertical": True,
@@ -136,7 +143,7 @@ def main():
             plotter.add_legend(legend, bcolor="white", face="line", size=(0.16, 0.045 * len(legend)), loc="upper right")
     plotter.show_bounds(grid=False, location="outer", xtitle="x [m]", ytitle="y [m]", ztitle="", show_zaxis=False)
     plotter.view_xy()
-    plotter.camera.zoom(1.1)
+    plotter.camera.zoom(1.0)
     plotter.screenshot(args.png)
     print(args.png)
 
