@@ -964,7 +964,7 @@ fn adapt_rerun_removes_earlier_steps_and_writes_the_history_first() {
 fn adapt_interrupted_keeps_its_steps_and_says_so() {
     let tmp = TempDir::new("adapt-sigint");
     let scene = repo("geo/scene_a.toml");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_damfem"))
+    let child = Command::new(env!("CARGO_BIN_EXE_damfem"))
         .args([OsStr::new("adapt"), scene.as_os_str(), OsStr::new("--order"), OsStr::new("1")])
         .args([OsStr::new("--steps"), OsStr::new("40"), OsStr::new("-q"), OsStr::new("-o"), tmp.0.as_os_str()])
         .stderr(std::process::Stdio::piped())
