@@ -4,8 +4,8 @@
 use super::common::{stem, validate_overrides, Input, Output};
 use super::output::{write_results, EstimateSummary, Results};
 use crate::contact::{
-    solve_by_continuation, strength_reduction, ContactJoint, ContactSolution, Continuation, Crack, JointLaw, Solution,
-    Stage, StrengthReduction,
+    solve_by_continuation, strength_reduction, ContactError, ContactJoint, ContactSolution, Continuation, Crack,
+    JointLaw, Solution, Stage, StrengthReduction,
 };
 use crate::elasticity::kernels::{principal, von_mises};
 use crate::elasticity::stress::cell_mean_stress;
@@ -158,9 +158,9 @@ pub fn run(args: Args) -> Result<()> {
     let continuation = scene.continuation(&problem, &disc.topology);
     let (solution, t) = progress
         .stage("solve", || solve(&problem, &disc, joint.as_ref(), &continuation), describe_solution)
-        .map_err(|e| match e.downcast_ref::<NewtonError>() {
-            Some(newton) => newton_failure(&scene, &continuation, newton, &dir),
-            None => e,
+        .map_err(|e| match e.downcast_ref::<ContactError>() {
+            Some(ContactError::Newton(newton)) => newton_failure(&scene, &continuation, newton, &dir),
+            _ => e,
         })?;
     seconds.solve = t;
     let strength = match joint.as_ref().filter(|_| args.strength_reduction) {

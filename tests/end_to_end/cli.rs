@@ -601,7 +601,7 @@ fn friction_keys_out_of_range() {
     let tmp = TempDir::new("friction-keys");
     for (line, expected) in [
         ("friction = -0.5", vec!["contact.friction = -0.5", "non-negative"]),
-        ("friction = nan", vec!["contact.friction = NaN", "non-negative"]),
+        ("friction = nan", vec!["contact.friction = NaN", "finite number"]),
         ("cohesion = -1e5", vec!["contact.cohesion = -100000", "non-negative"]),
         ("threshold = 1e5", vec!["contact.threshold", "exclusive"]),
     ] {
