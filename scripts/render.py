@@ -140,7 +140,7 @@ def main():
                 plotter.add_mesh(lines, color=colour, line_width=6)
                 legend.append([label, colour])
         if legend:
-            plotter.add_legend(legend, bcolor="white", face="line", size=(0.16, 0.045 * len(legend)), loc="upper right")
+            plotter.add_legend(legend, bcolor="white", face="line", size=(0.22, 0.045 * len(legend)), loc="upper left")
     plotter.show_bounds(grid=False, location="outer", xtitle="x [m]", ytitle="y [m]", ztitle="", show_zaxis=False)
     plotter.view_xy()
     plotter.camera.zoom(1.0)
