@@ -391,10 +391,14 @@ mod tests {
     fn included_files_are_checked_recursively() {
         let dir = temp_dir("include");
         let write = |name: &str, text: &str| std::fs::write(dir.join(name), text).unwrap();
-        write("main.geo", "Include \"sub/a.geo\";\nInclude \"main.geo\";\n");
+        write("main.geo", "Include \"sub/a.geo\";\nInclude \"sub/a.geo\";\n");
         write("sub/a.geo", "Merge \"b.geo\"; // relative to sub/\n");
         write("sub/b.geo", "Point(1) = {0, 0, 0};\n");
         assert!(check(&dir.join("main.geo")).is_ok());
+        write("sub/b.geo", "Include \"../main.geo\";\n");
+        let err = check(&dir.join("main.geo")).unwrap_err();
+        assert!(matches!(&err, GmshError::Recursion { path, line: 1, .. } if path.ends_with("sub/b.geo")), "{err}");
+        write("sub/b.geo", "Point(1) = {0, 0, 0};\n");
         write("sub/b.geo.opt", "\n\nSystem \"ls\";\n");
         let err = check(&dir.join("main.geo")).unwrap_err();
         assert!(
