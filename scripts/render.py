@@ -1,7 +1,7 @@
 """Render a damfem result to a PNG, off-screen, with pyvista.
 
 Usage: python scripts/render.py RESULT.vtu|RESULT.pvd OUT.png [--field von_mises] [--warp auto|FACTOR]
-                                [--edges] [--log] [--box XMIN XMAX YMIN YMAX]
+                                [--edges] [--log] [--box XMIN XMAX YMIN YMAX] [--range LOW HIGH]
 
 For a .pvd collection (the steps of `damfem adapt`) the last step is drawn. The deformed mesh (displacement magnified so that the largest displacement is 5% of the
 domain size, unless --warp gives the factor) is coloured by a cell field. If
@@ -10,6 +10,12 @@ the body is in contact (sticks, on a frictional joint), orange where it slips, b
 it has separated, with a legend. --edges draws the cell edges, --log
 a logarithmic colour scale (for estimators); --box draws only the cells inside a box (a
 close-up, e.g. of the refined zone).
+
+The colour range is robust by default: the 1st to 99th percentile of the cell values
+weighted by area, so
+that the few cells at a singular point (a re-entrant corner, the end of the contact zone)
+do not turn the rest into one colour; --range LOW HIGH sets it (in the unit of the colour
+bar). Stresses are shown in MPa, displacements in mm; the axes are in metres.
 """
 
 import argparse
@@ -40,6 +46,44 @@ def contact_lines(boundary_path, factor):
     return [(warped.extract_cells(np.where(status == s)[0]), colour, label) for s, colour, label in zones]
 
 
+PERCENTILES = (1.0, 99.0)
+
+# Fields shown in another unit: (divisor, unit); the others are drawn as written.
+UNITS = {name: (1e6, "MPa") for name in
+         ["von_mises", "sigma_xx", "sigma_yy", "sigma_xy", "sigma_zz", "sigma_1", "sigma_2"]}
+UNITS["displacement"] = (1e-3, "mm")
+ESTIMATOR_UNIT = "Pa m"
+
+
+def field_label(field):
+    """The colour-bar title of `field` with its unit."""
+    if field in UNITS:
+        return f"{field} [{UNITS[field][1]}]"
+    if field.startswith("eta"):
+        return f"{field} [{ESTIMATOR_UNIT}]"
+    return field
+
+
+def field_values(grid, field):
+    """The cell values of `field` in the unit of its colour bar (a vector field by its norm)."""
+    values = np.asarray(grid.cell_data[field] if field in grid.cell_data else grid.point_data[field], dtype=float)
+    if values.ndim > 1:
+        values = np.linalg.norm(values, axis=1)
+    return values / UNITS.get(field, (1.0, ""))[0]
+
+
+def colour_range(values, areas, log=False):
+    """The 1st to 99th percentile of the finite (for log, positive) cell values, weighted by
+    the cell areas: an adapted mesh puts many small cells at a singular point, which a count
+    of cells would take for a large part of the domain."""
+    keep = np.isfinite(values) & ((values > 0) if log else True)
+    values, areas = values[keep], areas[keep]
+    order = np.argsort(values)
+    share = np.cumsum(areas[order]) / areas.sum()
+    low, high = (values[order][np.searchsorted(share, p / 100.0)] for p in PERCENTILES)
+    return (float(low), float(high)) if high > low else (float(values.min()), float(values.max()))
+
+
 def inside(grid, box):
     """The cells of `grid` whose centres lie in box = (xmin, xmax, ymin, ymax)."""
     centres = grid.cell_centers().points
@@ -64,6 +108,8 @@ def main():
     parser.add_argument("--edges", action="store_true")
     parser.add_argument("--log", action="store_true")
     parser.add_argument("--box", type=float, nargs=4, metavar=("XMIN", "XMAX", "YMIN", "YMAX"))
+    parser.add_argument("--range", type=float, nargs=2, metavar=("LOW", "HIGH"),
+                        help="colour range in the unit of the colour bar (default: 1st-99th percentile)")
     args = parser.parse_args()
     result = last_step(args.result)
     grid = pv.read(result)
@@ -72,9 +118,18 @@ def main():
     factor = warp_factor(grid, args.warp)
     plotter = pv.Plotter(off_screen=True, window_size=(900, 800))
     plotter.add_mesh(grid, style="wireframe", color="lightgrey", opacity=0.4)
-    plotter.add_mesh(grid.warp_by_vector("displacement", factor=factor), scalars=args.field, cmap="viridis",
-                     show_edges=args.edges, log_scale=args.log,
-                     scalar_bar_args={"title": args.field + (f"\n(displacement x{factor:.3g})" if factor else ""), "vertical": True,
+    label = field_label(args.field)
+    warped = grid.warp_by_vector("displacement", factor=factor)
+    values = field_values(grid, args.field)
+    if values.shape[0] == warped.n_cells:
+        warped.cell_data[label] = values
+    else:
+        warped.point_data[label] = values
+    areas = grid.compute_cell_sizes(length=False, volume=False).cell_data["Area"]
+    clim = tuple(args.range) if args.range else colour_range(values, np.asarray(areas), args.log)
+    title = label + (f"\n(displacement x{factor:.3g})" if factor else "")
+    plotter.add_mesh(warped, scalars=label, cmap="viridis", clim=clim, show_edges=args.edges, log_scale=args.log,
+                     scalar_bar_args={"title": title, "vertical": True,
                                       "position_x": 0.82, "position_y": 0.25, "height": 0.5})
     boundary_path = result.with_name(result.stem + "_boundary.vtu")
     if boundary_path.exists():
@@ -85,9 +140,10 @@ def main():
                 plotter.add_mesh(lines, color=colour, line_width=6)
                 legend.append([label, colour])
         if legend:
-            plotter.add_legend(legend, bcolor="white", face="line", size=(0.16, 0.045 * len(legend)), loc="upper right")
+            plotter.add_legend(legend, bcolor="white", face="line", size=(0.22, 0.045 * len(legend)), loc="upper left")
+    plotter.show_bounds(grid=False, location="outer", xtitle="x [m]", ytitle="y [m]", ztitle="", show_zaxis=False)
     plotter.view_xy()
-    plotter.camera.zoom(1.1)
+    plotter.camera.zoom(1.0)
     plotter.screenshot(args.png)
     print(args.png)
 

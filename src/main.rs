@@ -1,3 +1,4 @@
 fn main() {
+    damfem::cli::interrupt::install();
     std::process::exit(damfem::cli::run(std::env::args_os()));
 }

@@ -19,6 +19,8 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+mod checks;
+
 /// A scene that cannot be read or does not fit its mesh.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
@@ -302,10 +304,12 @@ impl Scene {
     /// Reads a scene file; the geometry path becomes relative to the working directory.
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
         let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read { path: path.into(), source })?;
-        let mut scene: Scene = toml::from_str(&text).map_err(|e| SceneError::Syntax {
+        let syntax = |e: toml::de::Error| SceneError::Syntax {
             path: path.into(),
-            message: e.to_string().trim_end().replace('\n', " "),
-        })?;
+            message: e.to_string().trim_end().to_string(),
+        };
+        checks::check_values(path, &toml::from_str(&text).map_err(syntax)?)?;
+        let mut scene: Scene = toml::from_str(&text).map_err(syntax)?;
         scene.geometry = path.parent().unwrap_or(Path::new("")).join(&scene.geometry);
         scene.source = path.into();
         scene.validate()?;
@@ -381,6 +385,7 @@ impl Scene {
         if c.delta.is_some_and(|d| d.is_nan() || d < 0.0) {
             return Err(self.invalid(format!("contact.delta = {} must be non-negative", c.delta.unwrap_or(0.0))));
         }
+        self.check_sizes()?;
         self.adapt.validate().map_err(|message| self.invalid(message))?;
         for (name, m) in &self.materials {
             m.validate().map_err(|message| SceneError::Material {
@@ -537,6 +542,7 @@ impl Scene {
     /// The elasticity problem of this scene on `mesh` and its contact joint (None without
     /// curves of role "contact").
     pub fn problem(&self, mesh: Mesh) -> Result<(Problem, Option<ContactJoint>), SceneError> {
+        self.check_boundaries(&mesh)?;
         let roles = self.roles(&mesh)?;
         let g = self.loads.gravity;
         let mut dirichlet = Vec::new();

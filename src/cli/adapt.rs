@@ -1,7 +1,8 @@
 //! `damfem adapt`: the adaptive loop on a scene, with ParaView files of every step, the
 //! history (JSON and CSV) and its figures.
 
-use super::common::{output_dir, stem, Input, Output};
+use super::common::{output_dir, stem, validate_overrides, Input, Output};
+use super::interrupt;
 use super::output::{write_results, Results};
 use crate::adapt::geo::GeoMesher;
 use crate::adapt::history::{to_csv, write_adaptive_uniform, write_plots};
@@ -25,10 +26,10 @@ pub struct Args {
     #[arg(long)]
     steps: Option<usize>,
     /// Stop when eta_tot <= TOL [Pa m]; overrides adapt.tol
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     tol: Option<f64>,
     /// Stop when eta_tot <= TOL ||sigma_h||; overrides adapt.tol_relative
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     tol_relative: Option<f64>,
     /// Stop after the first mesh with at least N unknowns; overrides adapt.max_unknowns
     #[arg(long)]
@@ -42,13 +43,13 @@ pub struct Args {
     marking: Option<Marking>,
     /// Fraction theta of the marking strategy (equidistribution: the aimed reduction of eta
     /// per step); overrides adapt.bulk (default 0.5)
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     bulk: Option<f64>,
     /// gamma_lin of the Newton stopping rule; overrides adapt.gamma_lin (default 0.1)
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     gamma_lin: Option<f64>,
     /// gamma_reg of the regularisation stopping rule; overrides adapt.gamma_reg (default 0.1)
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     gamma_reg: Option<f64>,
     /// Then refine uniformly from the same first mesh until the unknowns exceed the adaptive
     /// run's (into OUTPUT/uniform) and draw eta_tot of both against the unknowns; sets
@@ -93,6 +94,11 @@ pub fn run(args: Args) -> Result<()> {
 /// the steps before it are.
 fn run_sequence(scene: &Scene, input: &Input, dir: &Path, name: &str, prefix: &str) -> Result<Vec<StepRecord>> {
     let progress = input.progress();
+    let removed = remove_earlier_steps(dir, name)?;
+    interrupt::record_in(&dir.join("history.json"));
+    if removed > 0 {
+        progress.say(&format!("{prefix}removed {removed} step files of an earlier run from {}", dir.display()));
+    }
     let mut mesher = GeoMesher {
         geometry: scene.geometry.clone(),
         options: scene.mesh_options(),
@@ -116,11 +122,13 @@ fn run_sequence(scene: &Scene, input: &Input, dir: &Path, name: &str, prefix: &s
             Refinement::Adaptive => "adaptive",
             Refinement::Uniform => "uniform",
         };
+        let hint = result.as_ref().err().and_then(|e| remesh_hint(e, writer.history.len(), scene.adapt.refinement));
         anyhow::bail!(
-            "{}: {kind} step {}: {e}; the steps before it are in {}",
+            "{}: {kind} step {}: {e}; the steps before it are in {}{}",
             scene.source.display(),
             writer.history.len(),
-            dir.display()
+            dir.display(),
+            hint.map_or(String::new(), |h| format!("\n{h}"))
         );
     }
     Ok(writer.history)
@@ -159,6 +167,16 @@ fn uniform_settings(adaptive: &AdaptSettings, unknowns: usize) -> AdaptSettings 
     }
 }
 
+/// What to try when gmsh fails to remesh with the sizes of an adaptive step: the sizes it
+/// was given shrink fastest at corners, where gmsh can produce a degenerate triangle.
+fn remesh_hint(error: &AdaptError, step: usize, refinement: Refinement) -> Option<&'static str> {
+    let remesh = matches!(error, AdaptError::Mesh(_)) && step > 0 && refinement == Refinement::Adaptive;
+    remesh.then_some(
+        "the adaptive sizes were too small for gmsh near a corner: set [mesh] size_min to bound them, \
+         or use --marking dorfler, which refines fewer cells per step",
+    )
+}
+
 /// The scene's `[adapt]` table with the command-line overrides.
 fn override_settings(args: &Args, scene: &mut Scene) -> Result<()> {
     let a = &mut scene.adapt;
@@ -174,7 +192,16 @@ fn override_settings(args: &Args, scene: &mut Scene) -> Result<()> {
     a.gamma_lin = args.gamma_lin.unwrap_or(a.gamma_lin);
     a.gamma_reg = args.gamma_reg.unwrap_or(a.gamma_reg);
     a.compare_uniform |= args.compare_uniform;
-    scene.validate()?;
+    let overrides = [
+        ("--steps", "adapt.steps", args.steps.is_some()),
+        ("--tol", "adapt.tol", args.tol.is_some()),
+        ("--tol-relative", "adapt.tol_relative", args.tol_relative.is_some()),
+        ("--max-unknowns", "adapt.max_unknowns", args.max_unknowns.is_some()),
+        ("--bulk", "adapt.bulk", args.bulk.is_some()),
+        ("--gamma-lin", "adapt.gamma_lin", args.gamma_lin.is_some()),
+        ("--gamma-reg", "adapt.gamma_reg", args.gamma_reg.is_some()),
+    ];
+    validate_overrides(scene, &overrides)?;
     Ok(scene.check_adaptive()?)
 }
 
@@ -202,14 +229,9 @@ impl StepWriter<'_> {
         self.write_lists(None)
     }
 
-    /// One `.pvd` per kind of VTU file (time = step), `history.json` and `history.csv`.
+    /// `history.json` and `history.csv`, then one `.pvd` per kind of VTU file (time = step):
+    /// a collection never lists a step the history does not have.
     fn write_lists(&self, error: Option<String>) -> Result<()> {
-        let kinds = self.vtu.first().map_or(0, Vec::len);
-        for k in 0..kinds {
-            let entries: Vec<(f64, PathBuf)> =
-                self.vtu.iter().enumerate().map(|(step, files)| (step as f64, files[k].clone())).collect();
-            write_pvd(&self.dir.join(pvd_name(self.name, &entries[0].1)), &entries)?;
-        }
         let history = History {
             scene: &self.scene.source,
             order: self.scene.mesh.order,
@@ -219,6 +241,12 @@ impl StepWriter<'_> {
         };
         write_output(&self.dir.join("history.json"), serde_json::to_string_pretty(&history)?.as_bytes())?;
         write_output(&self.dir.join("history.csv"), to_csv(&self.history).as_bytes())?;
+        let kinds = self.vtu.first().map_or(0, Vec::len);
+        for k in 0..kinds {
+            let entries: Vec<(f64, PathBuf)> =
+                self.vtu.iter().enumerate().map(|(step, files)| (step as f64, files[k].clone())).collect();
+            write_pvd(&self.dir.join(pvd_name(self.name, &entries[0].1)), &entries)?;
+        }
         Ok(())
     }
 
@@ -230,6 +258,26 @@ impl StepWriter<'_> {
         }
         Ok(())
     }
+}
+
+/// Removes the step files `<name>_NN*.vtu` an earlier run left in `dir`, so that a rerun with
+/// fewer steps shows none of them; returns how many there were.
+fn remove_earlier_steps(dir: &Path, name: &str) -> Result<usize> {
+    let prefix = format!("{name}_");
+    let is_step = |file: &str| {
+        file.strip_prefix(&prefix).is_some_and(|rest| {
+            rest.len() > 2 && rest.as_bytes()[..2].iter().all(u8::is_ascii_digit) && rest.ends_with(".vtu")
+        })
+    };
+    let mut removed = 0;
+    for entry in std::fs::read_dir(dir).with_context(|| format!("cannot list {}", dir.display()))? {
+        let path = entry?.path();
+        if path.file_name().and_then(|f| f.to_str()).is_some_and(is_step) {
+            std::fs::remove_file(&path).with_context(|| format!("cannot remove {}", path.display()))?;
+            removed += 1;
+        }
+    }
+    Ok(removed)
 }
 
 /// `<name><kind>.pvd` for the step file `<name>_NN<kind>.vtu`.
@@ -275,5 +323,21 @@ fn print_table(history: &[StepRecord]) {
             r.n_lin,
             r.seconds.total()
         );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{remesh_hint, AdaptError, Refinement};
+
+    #[test]
+    fn a_failed_remesh_suggests_size_min_or_dorfler() {
+        let mesh = || AdaptError::Mesh("degenerate triangle".into());
+        let hint = remesh_hint(&mesh(), 5, Refinement::Adaptive).unwrap();
+        assert!(hint.contains("[mesh] size_min") && hint.contains("--marking dorfler"), "{hint}");
+        assert!(remesh_hint(&mesh(), 0, Refinement::Adaptive).is_none(), "the first mesh is not a remesh");
+        assert!(remesh_hint(&mesh(), 5, Refinement::Uniform).is_none());
+        let regularisation = AdaptError::Regularisation { delta: 1.0, reductions: 3, eta_reg: 1.0 };
+        assert!(remesh_hint(&regularisation, 5, Refinement::Adaptive).is_none());
     }
 }

@@ -7,6 +7,10 @@ use anyhow::Result;
 pub struct Args {
     #[command(flatten)]
     input: Input,
+    /// Treat the warnings (curves without a role, surfaces without a material, parameters
+    /// outside their known range) as errors
+    #[arg(long)]
+    strict: bool,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -18,6 +22,11 @@ pub fn run(args: Args) -> Result<()> {
         || input.mesh(&scene),
         |m| format!("{} nodes, {} cells, P{}", m.n_points(), m.n_cells(), m.order),
     )?;
+    let warnings = scene.warnings(&mesh)?;
+    progress.warn(&warnings);
+    if args.strict && !warnings.is_empty() {
+        anyhow::bail!("{}: --strict: {}", scene.source.display(), warnings.join("; "));
+    }
     let roles = scene.roles(&mesh)?;
     let (problem, _) = scene.problem(mesh)?;
     let mesh = &problem.mesh;

@@ -2,9 +2,10 @@
 
 use crate::io::gmsh;
 use crate::mesh::Mesh;
-use crate::scene::Scene;
+use crate::scene::{Scene, SceneError};
 use anyhow::{Context, Result};
 use std::path::{Path, PathBuf};
+use std::sync::{Mutex, PoisonError};
 use std::time::Instant;
 
 /// Input and verbosity options of every subcommand.
@@ -22,6 +23,10 @@ pub struct Input {
     /// Let the .geo file run shell commands (SystemCall, System); refused by default
     #[arg(long)]
     pub allow_system_calls: bool,
+    /// Refuse to mesh when gmsh's mesh would have more than about N triangles, estimated
+    /// before meshing (default 2000000)
+    #[arg(long, value_name = "N")]
+    pub max_cells: Option<usize>,
     /// Print nothing but errors
     #[arg(short, long, conflicts_with = "verbose")]
     pub quiet: bool,
@@ -37,6 +42,10 @@ impl Input {
         if !path.exists() {
             anyhow::bail!("cannot open {}: file not found", path.display());
         }
+        if path.is_dir() {
+            anyhow::bail!("cannot open {}: it is a directory, not a scene or geometry file", path.display());
+        }
+        gmsh::set_cell_limit(self.max_cells.unwrap_or(gmsh::DEFAULT_CELL_LIMIT));
         let mut scene = match path.extension().and_then(|e| e.to_str()) {
             Some("toml") => Scene::load(path)?,
             Some("geo") | Some("msh") => Scene::for_geometry(path),
@@ -77,6 +86,20 @@ impl Input {
     }
 }
 
+/// Validates `scene` after the command-line overrides: an error on a key whose value came
+/// from a flag names the flag. `overrides` holds (flag, key, given) for each flag.
+pub fn validate_overrides(scene: &Scene, overrides: &[(&str, &str, bool)]) -> Result<()> {
+    let Err(e) = scene.validate() else { return Ok(()) };
+    let SceneError::Invalid { message, .. } = &e else { return Err(e.into()) };
+    let blamed = overrides.iter().find(|(_, key, given)| *given && message.starts_with(&format!("{key} ")));
+    match blamed {
+        Some((flag, key, _)) => {
+            anyhow::bail!("{flag}{} (given on the command line, where it overrides {key})", &message[key.len()..])
+        }
+        None => Err(e.into()),
+    }
+}
+
 /// The output option of the subcommands that write files.
 #[derive(clap::Args, Debug, Clone)]
 pub struct Output {
@@ -93,13 +116,30 @@ impl Output {
     }
 }
 
-/// Creates `dir` if missing and checks that it is writable.
+/// Directories that [`output_dir`] created, deepest last.
+static CREATED: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// Creates `dir` if missing and checks that it is writable; [`remove_created_dirs`] removes
+/// what was created if the run fails before writing to it.
 pub fn output_dir(dir: PathBuf) -> Result<PathBuf> {
+    let missing = dir.ancestors().take_while(|d| !d.as_os_str().is_empty() && !d.exists());
+    let mut missing: Vec<PathBuf> = missing.map(Path::to_path_buf).collect();
+    missing.reverse();
+    CREATED.lock().unwrap_or_else(PoisonError::into_inner).extend(missing);
     std::fs::create_dir_all(&dir).with_context(|| format!("cannot create output directory {}", dir.display()))?;
     let probe = dir.join(".damfem-write-test");
     std::fs::write(&probe, b"").with_context(|| format!("cannot write to output directory {}", dir.display()))?;
     std::fs::remove_file(&probe).ok();
     Ok(dir)
+}
+
+/// Removes the directories [`output_dir`] created that are still empty (after a failure).
+pub fn remove_created_dirs() {
+    let created = std::mem::take(&mut *CREATED.lock().unwrap_or_else(PoisonError::into_inner));
+    for dir in created.iter().rev() {
+        // only empty directories are removed; a failure leaves the directory as it is
+        let _ = std::fs::remove_dir(dir);
+    }
 }
 
 /// File stem of the scene, used to name outputs.
@@ -127,6 +167,13 @@ impl Progress {
             eprintln!("{name:<10} {:<52} {seconds:>8.3} s", describe(&value));
         }
         Ok((value, seconds))
+    }
+
+    /// Prints each warning as a "warning:" line unless quiet.
+    pub fn warn(&self, warnings: &[String]) {
+        for w in warnings {
+            self.say(&format!("warning: {w}"));
+        }
     }
 
     /// Prints a line unless quiet.

@@ -6,6 +6,7 @@
 mod adapt;
 mod check;
 mod common;
+pub mod interrupt;
 mod mesh;
 mod output;
 mod solve;
@@ -54,16 +55,40 @@ where
     match result {
         Ok(()) => 0,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            common::remove_created_dirs();
+            eprintln!("error: {}", message(&format!("{e:#}")));
             1
         }
     }
+}
+
+/// Longest line of an error message, in characters.
+const MAX_LINE: usize = 300;
+
+/// An error message as printed: each line capped at [`MAX_LINE`] characters, the lines after
+/// the first indented.
+fn message(text: &str) -> String {
+    let cap = |line: &str| match line.char_indices().nth(MAX_LINE) {
+        Some((end, _)) => format!("{}… ({} more characters)", &line[..end], line[end..].chars().count()),
+        None => line.to_string(),
+    };
+    text.trim_end().lines().map(cap).collect::<Vec<_>>().join("\n  ")
 }
 
 #[cfg(test)]
 mod tests {
     use super::Cli;
     use clap::CommandFactory;
+
+    #[test]
+    fn error_lines_are_capped_and_indented() {
+        let long = "x".repeat(1000);
+        let text = super::message(&format!("first\n{long}\nlast\n"));
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines[0], "first");
+        assert_eq!(lines[1], format!("  {}… (700 more characters)", "x".repeat(300)));
+        assert_eq!(lines[2], "  last");
+    }
 
     #[test]
     fn the_command_line_is_consistent() {

@@ -3,7 +3,6 @@
 use crate::contact::{ContactSolution, FaceState};
 use crate::elasticity::kernels::{principal, von_mises};
 use crate::elasticity::Problem;
-use crate::estimate::checks::Equilibration;
 use crate::estimate::estimators::{GlobalEstimators, NAMES};
 use crate::estimate::Estimate;
 use crate::io::vtu::{write_boundary_vtu, write_mesh_vtu, Field};
@@ -30,14 +29,26 @@ pub struct Results<'a> {
 #[derive(Serialize)]
 pub struct EstimateSummary {
     pub global: GlobalEstimators,
-    pub equilibration: Option<Equilibration>,
+    pub equilibration: Option<serde_json::Value>,
 }
 
 impl EstimateSummary {
-    pub fn new(e: &Estimate) -> Self {
-        EstimateSummary { global: e.estimators.global(), equilibration: e.equilibration }
+    /// The global estimators and checks of `e` on a mesh of degree `order`; the weak symmetry
+    /// is tested against P_{p−1} rotations, so for P1 it is "not applicable".
+    pub fn new(e: &Estimate, order: usize) -> Self {
+        let equilibration = e.equilibration.as_ref().map(|q| {
+            let mut checks = serde_json::json!(q);
+            if order < 2 {
+                checks["weak_symmetry"] = NOT_APPLICABLE.into();
+            }
+            checks
+        });
+        EstimateSummary { global: e.estimators.global(), equilibration }
     }
 }
+
+/// What `summary.json` says of the weak-symmetry check on P1 meshes.
+const NOT_APPLICABLE: &str = "not applicable (P1)";
 
 /// Writes `<name>.vtu`, and as the scene asks `<name>_boundary.vtu` and `<name>_dg.vtu`;
 /// returns their paths.

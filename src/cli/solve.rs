@@ -1,11 +1,11 @@
 //! `damfem solve`: mesh, assemble, solve (with Nitsche contact when the scene has Γ_C),
 //! write ParaView files, `summary.json` and `history.json`.
 
-use super::common::{stem, Input, Output};
+use super::common::{stem, validate_overrides, Input, Output};
 use super::output::{write_results, EstimateSummary, Results};
 use crate::contact::{
-    solve_by_continuation, strength_reduction, ContactJoint, ContactSolution, Continuation, Crack, JointLaw, Solution,
-    Stage, StrengthReduction,
+    solve_by_continuation, strength_reduction, ContactError, ContactJoint, ContactSolution, Continuation, Crack,
+    JointLaw, Solution, Stage, StrengthReduction,
 };
 use crate::elasticity::kernels::{principal, von_mises};
 use crate::elasticity::stress::cell_mean_stress;
@@ -13,9 +13,10 @@ use crate::elasticity::{Discretisation, Problem};
 use crate::estimate::{estimate_iterate, Estimate};
 use crate::io::atomic::write_output;
 use crate::scene::{ProjectionKind, Scene};
+use crate::solve::NewtonError;
 use anyhow::Result;
 use serde::Serialize;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// The relative width of the FS_SR bracket that `--strength-reduction` stops at.
 const STRENGTH_TOLERANCE: f64 = 2e-3;
@@ -27,22 +28,22 @@ pub struct Args {
     #[command(flatten)]
     output: Output,
     /// Nitsche parameter γ₀ (γ = γ₀ E / h_F); overrides contact.gamma0 (default 100)
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     gamma0: Option<f64>,
     /// Nitsche variant θ: 1 symmetric, 0 incomplete, -1 skew-symmetric; overrides contact.theta
     #[arg(long, allow_hyphen_values = true)]
     theta: Option<f64>,
     /// Regularisation δ [Pa]; overrides contact.delta (default 1e-4 × the stress scale)
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     delta: Option<f64>,
     /// Coulomb friction coefficient F = tan φ on Γ_C; overrides contact.friction (default 0)
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     friction: Option<f64>,
     /// Cohesion c [Pa] of a Mohr–Coulomb joint (with --friction); overrides contact.cohesion
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     cohesion: Option<f64>,
     /// Tresca threshold s [Pa]; overrides contact.threshold
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     threshold: Option<f64>,
     /// Use the plain projection min(x, 0) with its semismooth derivative (δ = 0)
     #[arg(long)]
@@ -146,6 +147,7 @@ pub fn run(args: Args) -> Result<()> {
     seconds.mesh = t;
     // 2. Problem: the elasticity problem, its contact joint, dofs and pattern
     let (problem, joint) = scene.problem(mesh)?;
+    progress.warn(&scene.warnings(&problem.mesh)?);
     let (disc, t) = progress.stage(
         "assemble",
         || Ok(problem.discretise()),
@@ -154,8 +156,12 @@ pub fn run(args: Args) -> Result<()> {
     seconds.assemble = t;
     // 3. Solve: one Cholesky solve, or Newton along the δ path with contact
     let continuation = scene.continuation(&problem, &disc.topology);
-    let (solution, t) =
-        progress.stage("solve", || solve(&problem, &disc, joint.as_ref(), &continuation), describe_solution)?;
+    let (solution, t) = progress
+        .stage("solve", || solve(&problem, &disc, joint.as_ref(), &continuation), describe_solution)
+        .map_err(|e| match e.downcast_ref::<ContactError>() {
+            Some(ContactError::Newton(newton)) => newton_failure(&scene, &continuation, newton, &dir),
+            _ => e,
+        })?;
     seconds.solve = t;
     let strength = match joint.as_ref().filter(|_| args.strength_reduction) {
         Some(joint) => Some(progress.stage(
@@ -190,7 +196,7 @@ pub fn run(args: Args) -> Result<()> {
     )?;
     seconds.output = t;
     let mut summary = summary(&scene, &disc, &results, &continuation, seconds, files);
-    summary.estimate = estimate.as_ref().map(EstimateSummary::new);
+    summary.estimate = estimate.as_ref().map(|e| EstimateSummary::new(e, problem.mesh.order));
     summary.strength_reduction = strength.map(|(s, _)| s);
     write_output(&dir.join("summary.json"), serde_json::to_string_pretty(&summary)?.as_bytes())?;
     if solution.contact().is_some() || summary.estimate.is_some() {
@@ -200,13 +206,72 @@ pub fn run(args: Args) -> Result<()> {
         };
         write_output(&dir.join("history.json"), serde_json::to_string_pretty(&history)?.as_bytes())?;
     }
-    progress.say(&format!(
-        "max |u| = {:.4e} m, max von Mises = {:.4e} Pa; results in {}",
-        summary.max_displacement,
-        summary.max_von_mises,
-        dir.display()
-    ));
+    progress.say(&format!("{}; results in {}", headline(&summary), dir.display()));
     Ok(())
+}
+
+/// The numbers that converge under refinement: the largest displacement and, with contact,
+/// the contact length and the joint forces. The largest stress sits at a singular point
+/// (a re-entrant corner, the end of the contact zone) and grows with refinement, so it is
+/// left to `summary.json`.
+fn headline(summary: &Summary) -> String {
+    let u = format!("max |u| = {:.4e} m", summary.max_displacement);
+    match &summary.contact {
+        None => u,
+        Some(c) => format!(
+            "{u}, contact length {:.4} m, joint forces N = {:.4e} N/m, T = {:.4e} N/m",
+            c.contact_length, c.normal_force, c.tangential_force
+        ),
+    }
+}
+
+/// What `history.json` records of a Newton run that did not converge: the error and the
+/// relative residuals of the failing stage.
+#[derive(Serialize)]
+struct FailedHistory {
+    error: String,
+    /// The target δ \[Pa\] of the continuation path.
+    delta_target: f64,
+    relative_residuals: Vec<f64>,
+}
+
+/// The error of a Newton run that did not converge: names the scene and the parameters that
+/// most often cause it, and writes what was done to `history.json`.
+fn newton_failure(scene: &Scene, continuation: &Continuation, error: &NewtonError, dir: &Path) -> anyhow::Error {
+    let c = &scene.contact;
+    let residuals = match error {
+        NewtonError::NotConverged { history, scale } => history.iter().map(|it| it.residual / scale).collect(),
+        _ => Vec::new(),
+    };
+    let mut causes = Vec::new();
+    if residuals.len() >= c.max_iter {
+        causes.push(format!("contact.max_iter = {} may be too small", c.max_iter));
+    }
+    if c.theta != -1.0 && c.gamma0 < 10.0 {
+        causes.push(format!(
+            "contact.gamma0 = {} is small for theta = {} (use at least 10, or theta = -1)",
+            c.gamma0, c.theta
+        ));
+    }
+    if continuation.delta == 0.0 && continuation.delta_start == 0.0 {
+        causes.push("delta = 0 without a continuation path (set contact.delta_start)".to_string());
+    }
+    if causes.is_empty() {
+        causes.push("the Nitsche parameters or the regularisation (contact.gamma0, theta, delta)".to_string());
+    }
+    let used = format!("gamma0 = {}, theta = {}, delta = {:.3e} Pa", c.gamma0, c.theta, continuation.delta);
+    let history =
+        FailedHistory { error: error.to_string(), delta_target: continuation.delta, relative_residuals: residuals };
+    let kept = serde_json::to_string_pretty(&history).map_err(anyhow::Error::from).and_then(|text| {
+        write_output(&dir.join("history.json"), text.as_bytes())?;
+        Ok(format!("\nthe residuals are in {}", dir.join("history.json").display()))
+    });
+    anyhow::anyhow!(
+        "{}: {error}\nlikely causes: {} (with {used}){}",
+        scene.source.display(),
+        causes.join("; "),
+        kept.unwrap_or_default()
+    )
 }
 
 /// One Cholesky solve without a joint; the δ path of `continuation` with one.
@@ -257,7 +322,15 @@ fn override_contact(args: &Args, scene: &mut Scene) -> Result<()> {
     if args.semismooth {
         c.projection = ProjectionKind::Semismooth;
     }
-    Ok(scene.validate()?)
+    let overrides = [
+        ("--gamma0", "contact.gamma0", args.gamma0.is_some()),
+        ("--theta", "contact.theta", args.theta.is_some()),
+        ("--delta", "contact.delta", args.delta.is_some()),
+        ("--friction", "contact.friction", args.friction.is_some()),
+        ("--cohesion", "contact.cohesion", args.cohesion.is_some()),
+        ("--threshold", "contact.threshold", args.threshold.is_some()),
+    ];
+    validate_overrides(scene, &overrides)
 }
 
 fn summary(

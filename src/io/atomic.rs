@@ -10,6 +10,7 @@ use std::fs::{self, File, OpenOptions};
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Mutex, MutexGuard, PoisonError};
 
 /// Failure to write an output file; every variant names the file.
 #[derive(Debug, thiserror::Error)]
@@ -44,13 +45,37 @@ pub fn write_output(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
 /// On any error the temporary file is removed and `path` is left untouched.
 pub fn write_atomic(path: &Path, write: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> io::Result<()> {
     let tmp = temp_path(path)?;
-    let file = OpenOptions::new().write(true).create_new(true).open(&tmp)?;
+    let file = {
+        let mut in_flight = in_flight();
+        let file = OpenOptions::new().write(true).create_new(true).open(&tmp)?;
+        in_flight.push(tmp.clone());
+        file
+    };
     let result = fill(file, write).and_then(|()| fs::rename(&tmp, path));
     if result.is_err() {
         // The write already failed; a failure to clean up adds nothing useful to report.
         let _ = fs::remove_file(&tmp);
     }
+    in_flight().retain(|p| *p != tmp);
     result
+}
+
+/// Temporary files being written.
+static IN_FLIGHT: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+fn in_flight() -> MutexGuard<'static, Vec<PathBuf>> {
+    IN_FLIGHT.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// Removes the temporary files being written (on an interrupt); no other write can start or
+/// finish while the returned guard lives.
+pub fn stop_writing() -> MutexGuard<'static, Vec<PathBuf>> {
+    let mut in_flight = in_flight();
+    for tmp in in_flight.drain(..) {
+        // the process is ending; a file that cannot be removed is left as it is
+        let _ = fs::remove_file(tmp);
+    }
+    in_flight
 }
 
 /// Writes, flushes and syncs `file`.

@@ -118,7 +118,19 @@ fn encode(path: &Path, piece: UnstructuredGridPiece) -> Result<Vec<u8>, OutputEr
     };
     let mut bytes = Vec::new();
     vtk.write_xml(&mut bytes).map_err(|e| OutputError::Encode { path: path.to_path_buf(), message: e.to_string() })?;
-    Ok(bytes)
+    signed_indices(path, bytes)
+}
+
+/// Declares the connectivity and offsets Int64, as VTK's own writers do (readers such as
+/// meshio turn UInt64 indices into floats). `vtkio` writes them UInt64; the bytes of indices
+/// below 2⁶³ are the same in both types, so only the declared type changes.
+fn signed_indices(path: &Path, bytes: Vec<u8>) -> Result<Vec<u8>, OutputError> {
+    let text = String::from_utf8(bytes)
+        .map_err(|e| OutputError::Encode { path: path.to_path_buf(), message: format!("not UTF-8 XML: {e}") })?;
+    let text = ["connectivity", "offsets"].iter().fold(text, |text, name| {
+        text.replacen(&format!("type=\"UInt64\" Name=\"{name}\""), &format!("type=\"Int64\" Name=\"{name}\""), 1)
+    });
+    Ok(text.into_bytes())
 }
 
 fn cells(grid: &Grid) -> Cells {

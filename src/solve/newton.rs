@@ -105,9 +105,25 @@ pub enum NewtonError {
     Solve { step: usize, source: SolveError },
 }
 
+/// The relative residuals of `history`: all of them up to [`SHOWN_RESIDUALS`], else the first
+/// and last few around the count of those left out.
 fn format_history(history: &[Iteration], scale: f64) -> String {
-    history.iter().map(|it| format!("{:.2e}", it.residual / scale)).collect::<Vec<_>>().join(", ")
+    let show = |its: &[Iteration]| its.iter().map(|it| format!("{:.2e}", it.residual / scale)).collect::<Vec<_>>();
+    let n = history.len();
+    if n <= SHOWN_RESIDUALS {
+        return show(history).join(", ");
+    }
+    let half = SHOWN_RESIDUALS / 2;
+    format!(
+        "{}, … ({} more), {}",
+        show(&history[..half]).join(", "),
+        n - 2 * half,
+        show(&history[n - half..]).join(", ")
+    )
 }
+
+/// How many residuals an error message lists.
+const SHOWN_RESIDUALS: usize = 6;
 
 fn norm(v: &[f64]) -> f64 {
     v.iter().map(|a| a * a).sum::<f64>().sqrt()

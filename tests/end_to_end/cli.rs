@@ -51,16 +51,17 @@ fn assert_ok(out: &Output) {
     assert!(out.status.success(), "{:?}: {}", out.status, stderr(out));
 }
 
-/// Asserts a failed run whose stderr is one "error:" line containing every keyword; returns it.
+/// Asserts a failed run whose stderr is one "error:" line, continued only by indented lines
+/// (a TOML error's excerpt), containing every keyword; returns it.
 fn assert_error(out: &Output, keywords: &[&str]) -> String {
     let text = stderr(out);
     assert!(!out.status.success(), "expected a failure, stderr: {text}");
     assert!(!text.contains("panicked"), "panic: {text}");
     let lines: Vec<&str> = text.lines().collect();
-    assert_eq!(lines.len(), 1, "expected one line on stderr, got: {text}");
     assert!(lines[0].starts_with("error:"), "{text}");
+    assert!(lines[1..].iter().all(|l| l.starts_with("  ")), "expected one error on stderr, got: {text}");
     for k in keywords {
-        assert!(lines[0].contains(k), "{k:?} not in: {text}");
+        assert!(text.contains(k), "{k:?} not in: {text}");
     }
     text
 }
@@ -316,7 +317,8 @@ fn system_calls_need_permission() {
     let call = format!("SystemCall \"touch {}\";\n", marker.display());
     std::fs::write(&geo, call + &body).unwrap();
 
-    let message = assert_solve_fails("system-call-refused", &geo, &["system_call.geo", "line 1"]);
+    let message =
+        assert_solve_fails("system-call-refused", &geo, &["system_call.geo", "line 1", "--allow-system-calls"]);
     assert!(message.contains("SystemCall"), "{message}");
     assert!(!marker.exists(), "the SystemCall ran without permission");
 
@@ -521,7 +523,7 @@ fn adapt_needs_a_geo_file() {
 fn adapt_rejects_a_bad_marking_fraction() {
     let out =
         damfem(&[OsStr::new("adapt"), repo("geo/scene_a.toml").as_os_str(), OsStr::new("--bulk"), OsStr::new("1.5")]);
-    assert_error(&out, &["adapt.bulk = 1.5", "(0, 1]"]);
+    assert_error(&out, &["--bulk = 1.5", "(0, 1]", "adapt.bulk"]);
 }
 
 #[test]
@@ -599,7 +601,7 @@ fn friction_keys_out_of_range() {
     let tmp = TempDir::new("friction-keys");
     for (line, expected) in [
         ("friction = -0.5", vec!["contact.friction = -0.5", "non-negative"]),
-        ("friction = nan", vec!["contact.friction = NaN", "non-negative"]),
+        ("friction = nan", vec!["contact.friction = NaN", "finite number"]),
         ("cohesion = -1e5", vec!["contact.cohesion = -100000", "non-negative"]),
         ("threshold = 1e5", vec!["contact.threshold", "exclusive"]),
     ] {
@@ -686,4 +688,317 @@ fn strength_reduction_needs_friction() {
     let result = damfem(&args);
     assert_error(&result, &["--strength-reduction", "frictional joint"]);
     assert!(!out.exists(), "no output directory");
+}
+
+/// Runs `damfem <command> -q <input> -o <tmp>/out [extra]` (no `-o` for `check`) and asserts
+/// that it fails with one error line holding `keywords`, and leaves no output directory;
+/// returns the line.
+fn assert_refused(name: &str, command: &str, input: &Path, extra: &[&str], keywords: &[&str]) -> String {
+    let tmp = TempDir::new(name);
+    let out_dir = tmp.join("out");
+    let mut args = vec![OsStr::new(command), OsStr::new("-q"), input.as_os_str()];
+    if command != "check" {
+        args.extend([OsStr::new("-o"), out_dir.as_os_str()]);
+    }
+    args.extend(extra.iter().map(OsStr::new));
+    let message = assert_error(&damfem(&args), keywords);
+    assert!(!out_dir.exists(), "{} was left behind", out_dir.display());
+    message
+}
+
+// Contact on the interface between two meshed surfaces (a dam on a meshed rock block) is
+// refused, saying to remove the role for a bonded interface; with a bare geometry, to rename
+// the curve.
+#[test]
+fn contact_between_two_meshed_bodies() {
+    let scene = fixture("interior_contact.toml");
+    let message = assert_refused("interior-contact", "solve", &scene, &[], &["interior_contact.toml", "'joint'"]);
+    for words in ["'concrete' and 'rock'", "not supported", "remove its role", "bonded"] {
+        assert!(message.contains(words), "{words:?} not in {message}");
+    }
+    let tmp = TempDir::new("interior-contact-bare");
+    let geo = tmp.join("dam_on_rock.geo");
+    let body = std::fs::read_to_string(repo("geo/scene_b.geo")).unwrap();
+    let body = body.replace("\"joint\"", "\"Gamma_C\"").replace("\"rock_bottom\"", "\"Gamma_D\"");
+    std::fs::write(&geo, body).unwrap();
+    assert_refused("interior-contact-bare-out", "check", &geo, &[], &["'Gamma_C'", "rename the physical curve"]);
+}
+
+// Non-finite scene numbers and vectors with three components are refused with their key.
+#[test]
+fn non_finite_numbers_and_long_vectors() {
+    let level = fixture("level_nan.toml");
+    assert_refused(
+        "level-nan",
+        "solve",
+        &level,
+        &[],
+        &["level_nan.toml", "boundary.upstream.hydrostatic.level", "finite"],
+    );
+    let traction = fixture("traction_3d.toml");
+    assert_refused("traction-3d", "solve", &traction, &[], &["boundary.upstream.traction", "3 components"]);
+    let tmp = TempDir::new("gravity-inf");
+    let scene = tmp.join("gravity.toml");
+    let body = std::fs::read_to_string(fixture("level_nan.toml")).unwrap();
+    let geometry = format!("geometry = {:?}", repo("geo/scene_a.geo").display().to_string());
+    let body = body.replace("geometry = \"../../../geo/scene_a.geo\"", &geometry);
+    std::fs::write(&scene, body.replace("level = nan", "level = 70.0") + "\n[loads]\ngravity = inf\n").unwrap();
+    assert_refused("gravity-inf-out", "solve", &scene, &[], &["loads.gravity = inf", "finite"]);
+}
+
+// One curve in two physical groups with different roles is refused, naming both groups.
+#[test]
+fn one_curve_with_two_roles() {
+    let scene = fixture("two_roles.toml");
+    assert_refused("two-roles", "check", &scene, &[], &["'base' (dirichlet)", "'loaded' (neumann)", "share a segment"]);
+}
+
+// mesh.size_min above mesh.size_max is refused, naming both keys.
+#[test]
+fn size_min_above_size_max() {
+    let scene = fixture("size_min_above_max.toml");
+    assert_refused("size-order", "mesh", &scene, &[], &["mesh.size_min = 5", "mesh.size_max = 1"]);
+}
+
+// A folded .msh (a node moved across an edge, so that triangles overlap) and a .msh with a
+// duplicate node tag are refused; the same mesh unfolded is read.
+#[test]
+fn folded_or_duplicate_msh() {
+    assert_ok(&damfem(&["check".as_ref(), "-q".as_ref(), fixture("square.msh").as_os_str()]));
+    assert_refused("folded", "solve", &fixture("folded.msh"), &[], &["folded.msh", "folded", "(1.5, 0.5)"]);
+    assert_refused("duplicate", "solve", &fixture("duplicate_node.msh"), &[], &["duplicate node 5", "own tag"]);
+}
+
+// 3-D inputs are refused with "3-D": a .geo with a volume, a .msh with z != 0; also by `mesh`.
+#[test]
+fn three_dimensional_inputs() {
+    assert_refused("volume", "mesh", &fixture("volume.geo"), &[], &["volume.geo", "3-D"]);
+    let tmp = TempDir::new("tilted");
+    let msh = tmp.join("tilted.msh");
+    let body = std::fs::read_to_string(fixture("square.msh")).unwrap();
+    std::fs::write(&msh, body.replace("\n4 0 1 0\n", "\n4 0 1 0.5\n")).unwrap();
+    assert_refused("tilted-out", "solve", &msh, &[], &["tilted.msh", "3-D"]);
+}
+
+// A directory given as the scene or as the scene's geometry says "is a directory".
+#[test]
+fn directory_as_geometry() {
+    let tmp = TempDir::new("directory");
+    let dir = tmp.join("dam.geo");
+    std::fs::create_dir_all(&dir).unwrap();
+    assert_refused("directory-scene", "check", &dir, &[], &["dam.geo", "is a directory"]);
+    let scene = tmp.join("scene.toml");
+    std::fs::write(&scene, "geometry = \"dam.geo\"\n").unwrap();
+    assert_refused("directory-geometry", "solve", &scene, &[], &["dam.geo", "is a directory"]);
+}
+
+// Absurd sizes are refused before gmsh meshes: the estimated cell count against the limit,
+// which --max-cells raises or lowers; coordinates of 1e300 against the coordinate limit.
+// Each case ends in bounded time.
+#[test]
+fn absurd_sizes_and_coordinates() {
+    let start = std::time::Instant::now();
+    let scene = repo("geo/scene_a.toml");
+    assert_refused("factor", "solve", &scene, &["--size-factor", "1e-9"], &["scene_a.geo", "triangles", "--max-cells"]);
+    assert_refused("limit", "mesh", &scene, &["--max-cells", "100"], &["limit of 100"]);
+    let tmp = TempDir::new("sizes");
+    let tiny = tmp.join("tiny.geo");
+    let body = std::fs::read_to_string(fixture("bare.geo")).unwrap();
+    std::fs::write(&tiny, body.replace("0.25}", "1e-12}")).unwrap();
+    assert_refused("tiny-out", "check", &tiny, &[], &["tiny.geo", "triangles"]);
+    let far = tmp.join("far.geo");
+    std::fs::write(&far, body.replace("{2, 0, 0", "{1e300, 0, 0")).unwrap();
+    assert_refused("far-out", "check", &far, &[], &["far.geo", "beyond the limit"]);
+    assert!(start.elapsed().as_secs() < 60, "took {:?}", start.elapsed());
+    let out = damfem(&["check".as_ref(), "-q".as_ref(), scene.as_os_str(), "--max-cells".as_ref(), "3000000".as_ref()]);
+    assert_ok(&out);
+}
+
+/// `damfem check <scene> [extra]`: asserts success and returns the "warning:" lines of stderr.
+fn check_warnings(scene: &Path, extra: &[&str]) -> Vec<String> {
+    let mut args = vec![OsStr::new("check"), scene.as_os_str()];
+    args.extend(extra.iter().map(OsStr::new));
+    let out = damfem(&args);
+    assert_ok(&out);
+    stderr(&out).lines().filter(|l| l.starts_with("warning:")).map(str::to_owned).collect()
+}
+
+/// A copy of geo/<name>.toml in `tmp` with its geometry path made absolute and `edit` applied.
+fn edited_scene(tmp: &TempDir, name: &str, edit: impl Fn(String) -> String) -> PathBuf {
+    let body = std::fs::read_to_string(repo(&format!("geo/{name}.toml"))).unwrap();
+    let geometry = format!("geometry = {:?}", repo(&format!("geo/{name}.geo")).display().to_string());
+    let path = tmp.join(&format!("{name}.toml"));
+    std::fs::write(&path, edit(body.replace(&format!("geometry = \"{name}.geo\""), &geometry))).unwrap();
+    path
+}
+
+// `check` warns about boundary curves without a role and surfaces without a material (with the
+// defaults assumed), not about bonded interior curves; --strict makes them one error.
+#[test]
+fn check_warns_about_defaults_and_strict_refuses() {
+    let scene_b = repo("geo/scene_b.toml");
+    let warnings = check_warnings(&scene_b, &[]);
+    for curve in ["'downstream'", "'crest'", "'ground'"] {
+        assert!(warnings.iter().any(|w| w.contains(curve) && w.contains("traction-free")), "{curve}: {warnings:?}");
+    }
+    assert!(!warnings.iter().any(|w| w.contains("'joint'") || w.contains("'bonded'")), "{warnings:?}");
+    assert_eq!(warnings.len(), 3, "{warnings:?}");
+    assert_refused("strict", "check", &scene_b, &["--strict"], &["scene_b.toml", "--strict", "'crest'", "'ground'"]);
+    let bare = check_warnings(&fixture("bare.geo"), &[]);
+    assert!(bare.iter().any(|w| w.contains("surface 'block' has no material") && w.contains("E = 3e10")), "{bare:?}");
+    assert!(check_warnings(&repo("geo/scene_a.toml"), &[]).is_empty());
+}
+
+// `check` warns when gamma0 is below the range where Nitsche's method is known to be stable
+// for theta = 0 (not for theta = -1), and when P1 meets nu > 0.45 (not P2).
+#[test]
+fn check_warns_about_unstable_parameters() {
+    let tmp = TempDir::new("parameters");
+    let small = edited_scene(&tmp, "scene_a", |s| s.replace("gamma0 = 100.0", "gamma0 = 0.001"));
+    let warnings = check_warnings(&small, &["--order", "1"]);
+    assert!(warnings.len() == 1 && warnings[0].contains("contact.gamma0 = 0.001"), "{warnings:?}");
+    let skew = edited_scene(&tmp, "scene_a", |s| {
+        s.replace("gamma0 = 100.0", "gamma0 = 0.001").replace("theta = 0.0", "theta = -1.0")
+    });
+    assert!(check_warnings(&skew, &["--order", "1"]).is_empty());
+    let locking = edited_scene(&tmp, "unit_square", |s| s.replace("nu = 0.25", "nu = 0.49"));
+    let warnings = check_warnings(&locking, &["--order", "1"]);
+    assert!(warnings.len() == 1 && warnings[0].contains("nu = 0.49") && warnings[0].contains("P1"), "{warnings:?}");
+    assert!(check_warnings(&locking, &["--order", "2"]).is_empty());
+}
+
+// A value given on the command line is blamed as the flag, not as the scene key it overrides;
+// negative numbers are parsed as values and then checked.
+#[test]
+fn command_line_values_are_blamed_as_flags() {
+    let scene = repo("geo/scene_a.toml");
+    for (name, command, extra, flag, key) in [
+        ("flag-gamma0", "solve", ["--gamma0", "-1"], "--gamma0 = -1", "contact.gamma0"),
+        ("flag-theta", "solve", ["--theta", "2"], "--theta = 2", "contact.theta"),
+        ("flag-delta", "solve", ["--delta", "-1e3"], "--delta = -1000", "contact.delta"),
+        ("flag-bulk", "adapt", ["--bulk", "-0.5"], "--bulk = -0.5", "adapt.bulk"),
+    ] {
+        let message = assert_refused(name, command, &scene, &extra, &[flag, "command line", key]);
+        assert!(!message.contains("scene_a.toml"), "the scene is not at fault: {message}");
+    }
+}
+
+// A Newton run that does not converge names the scene and the likely cause, lists a few
+// residuals rather than all of them, and keeps them in history.json.
+#[test]
+fn solve_reports_a_newton_failure_and_keeps_the_residuals() {
+    let tmp = TempDir::new("solve-newton");
+    let scene = tmp.join("limited.toml");
+    let text = std::fs::read_to_string(repo("geo/scene_a.toml")).unwrap();
+    let geometry = format!("geometry = {:?}", repo("geo/scene_a.geo").display().to_string());
+    let text = text.replace("geometry = \"scene_a.geo\"", &geometry);
+    std::fs::write(&scene, text.replace("[contact]", "[contact]\nmax_iter = 12\nrtol = 1e-30")).unwrap();
+    let out = tmp.join("out");
+    let result = damfem(&[OsStr::new("solve"), OsStr::new("-q"), scene.as_os_str(), OsStr::new("-o"), out.as_os_str()]);
+    let message = assert_error(&result, &["limited.toml", "12 step(s)", "contact.max_iter = 12", "history.json"]);
+    assert!(message.contains("(6 more)"), "twelve residuals are shortened: {message}");
+    let history: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("history.json")).unwrap()).unwrap();
+    assert_eq!(history["relative_residuals"].as_array().unwrap().len(), 12);
+    assert!(history["error"].as_str().unwrap().contains("Newton"));
+    assert!(!out.join("summary.json").exists());
+}
+
+// An Include that reads a file being read already is named as a recursion, with the file and line.
+#[test]
+fn include_recursion_is_named() {
+    let tmp = TempDir::new("include-recursion");
+    std::fs::write(tmp.join("a.geo"), "Include \"b.geo\";\n").unwrap();
+    std::fs::write(tmp.join("b.geo"), "Point(1) = {0, 0, 0};\nInclude \"a.geo\";\n").unwrap();
+    assert_refused(
+        "include-recursion-out",
+        "mesh",
+        &tmp.join("a.geo"),
+        &[],
+        &["b.geo: line 2", "\"a.geo\"", "recursion"],
+    );
+}
+
+// A TOML error keeps its excerpt lines (indented under the error line); every line of an error
+// is capped at a few hundred characters.
+#[test]
+fn toml_errors_keep_their_lines_and_long_lines_are_capped() {
+    let tmp = TempDir::new("toml-lines");
+    let scene = tmp.join("unclosed.toml");
+    std::fs::write(&scene, "[mesh]\norder = 1\nsize_factor = [\n1,\n").unwrap();
+    let message = assert_refused("toml-lines-out", "check", &scene, &[], &["unclosed.toml", "line 4"]);
+    assert!(message.lines().count() > 2, "the excerpt is kept: {message}");
+    assert!(message.lines().any(|l| l.trim_start().starts_with("4 | 1,")), "{message}");
+    let scene = tmp.join("long.toml");
+    std::fs::write(&scene, format!("[mesh]\norder = \"{}\"\n", "x".repeat(5000))).unwrap();
+    let message = assert_refused("toml-long-out", "check", &scene, &[], &["long.toml", "more characters"]);
+    assert!(message.lines().all(|l| l.chars().count() < 400), "{message}");
+}
+
+// A rerun into the same directory removes the step files of the earlier run (here a step 07
+// the new run does not reach), and the history is written before the collections: when a
+// collection cannot be written, history.json already has the step.
+#[test]
+fn adapt_rerun_removes_earlier_steps_and_writes_the_history_first() {
+    let tmp = TempDir::new("adapt-rerun");
+    std::fs::create_dir_all(&tmp.0).unwrap();
+    let stale = tmp.join("scene_a_07_boundary.vtu");
+    let kept = tmp.join("scene_a_notes.vtu");
+    std::fs::write(&stale, "earlier run").unwrap();
+    std::fs::write(&kept, "not a step file").unwrap();
+    std::fs::create_dir(tmp.join("scene_a.pvd")).unwrap();
+    let scene = repo("geo/scene_a.toml");
+    let args = ["adapt".as_ref(), scene.as_os_str(), "--order".as_ref(), "1".as_ref(), "--steps".as_ref()];
+    let out = damfem(&[&args[..], &["1".as_ref(), "-q".as_ref(), "-o".as_ref(), tmp.0.as_os_str()]].concat());
+    assert_error(&out, &["scene_a.pvd"]);
+    assert!(!stale.exists(), "the earlier run's step file is left");
+    assert!(kept.exists(), "a file that is not a step file was removed");
+    let history: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(tmp.join("history.json")).unwrap()).unwrap();
+    assert_eq!(history["steps"].as_array().unwrap().len(), 1, "{history}");
+}
+
+// SIGINT during an adaptive run: the process ends with 130, no hidden temporary file is left,
+// and history.json keeps the completed steps and records "interrupted".
+#[test]
+fn adapt_interrupted_keeps_its_steps_and_says_so() {
+    let tmp = TempDir::new("adapt-sigint");
+    let scene = repo("geo/scene_a.toml");
+    let child = Command::new(env!("CARGO_BIN_EXE_damfem"))
+        .args([OsStr::new("adapt"), scene.as_os_str(), OsStr::new("--order"), OsStr::new("1")])
+        .args([OsStr::new("--steps"), OsStr::new("40"), OsStr::new("-q"), OsStr::new("-o"), tmp.0.as_os_str()])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    while !tmp.join("scene_a_01_dg.vtu").exists() {
+        assert!(start.elapsed().as_secs() < 60, "no step 1 after a minute");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let kill = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
+    assert!(kill.success());
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(130), "{}", stderr(&out));
+    assert!(stderr(&out).contains("interrupted by SIGINT"), "{}", stderr(&out));
+    assert!(hidden_files(&tmp.0).is_empty(), "{:?}", hidden_files(&tmp.0));
+    let history: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(tmp.join("history.json")).unwrap()).unwrap();
+    assert_eq!(history["error"], "interrupted");
+    assert!(!history["steps"].as_array().unwrap().is_empty());
+}
+
+// The closing line of `solve` headlines what converges (displacement, contact length, joint
+// forces), not the maximum of the singular stress field.
+#[test]
+fn solve_headlines_converging_numbers() {
+    let tmp = TempDir::new("headline");
+    let scene = repo("geo/scene_a.toml");
+    let out = damfem(&[OsStr::new("solve"), scene.as_os_str(), OsStr::new("-o"), tmp.0.as_os_str()]);
+    assert_ok(&out);
+    let text = stderr(&out);
+    let last = text.lines().last().unwrap();
+    assert!(last.contains("contact length") && last.contains("joint forces"), "{last}");
+    assert!(!last.contains("von Mises"), "{last}");
+    let summary = check_summary(&tmp.0);
+    assert!(last.contains(&format!("{:.4} m", summary["contact"]["contact_length"].as_f64().unwrap())), "{last}");
 }

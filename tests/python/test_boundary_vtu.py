@@ -37,17 +37,11 @@ def test_base_is_32_m_long(solved, scene_a_groups, order):
     # the cells of the physical curve 'base' add up to the 32 m contact zone (end points only)
     out, _ = solved("scene_a", order)
     grid, cells, tags = read_boundary(out)
-    base = cells.data[tags == scene_a_groups["base"][1]].astype(np.int64)  # see the xfail below
+    base = cells.data[tags == scene_a_groups["base"][1]]
     lengths = np.linalg.norm(grid.points[base[:, 1]] - grid.points[base[:, 0]], axis=1)
     assert lengths.sum() == pytest.approx(32.0, rel=1e-9)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="src issue: io/vtu.rs (through vtkio) writes connectivity and offsets as UInt64; "
-    "meshio adds its int64 point offset and returns float64 node indices. VTK's own writers "
-    "use Int64. Remove this mark once fixed.",
-)
 def test_meshio_node_indices_are_integers(solved):
     # meshio returns the connectivity as integers, usable to index the points
     out, _ = solved("scene_a", 2)

@@ -79,8 +79,9 @@ def test_estimate_fields(damfem, tmp_path):
     np.testing.assert_allclose(tot, parts, rtol=1e-12)
     assert np.sqrt((tot ** 2).sum()) == pytest.approx(summary["estimate"]["global"]["tot"], rel=1e-9)
     assert summary["estimate"]["global"]["osc"] == 0.0 and summary["estimate"]["global"]["neu"] == 0.0
-    # weak symmetry is imposed up to the rotation correction for p = 1
+    # weak symmetry is tested against P_{p-1} rotations: not applicable for p = 1
     checks = summary["estimate"]["equilibration"]
+    assert checks["weak_symmetry"] == "not applicable (P1)"
     assert max(v for k, v in checks.items() if k != "weak_symmetry") < 1e-10
     dg = pv.read(out / "scene_a_dg.vtu")
     assert dg.n_cells == grid.n_cells and dg.n_points == 3 * grid.n_cells

@@ -296,3 +296,18 @@ pub(super) fn field_set_background(field: c_int) -> Result<(), GmshError> {
     // SAFETY: plain call with a valid `ierr`.
     call("gmshModelMeshFieldSetAsBackgroundMesh", |e| unsafe { ffi::gmshModelMeshFieldSetAsBackgroundMesh(field, e) })
 }
+
+/// Bounding box [xmin, ymin, zmin, xmax, ymax, zmax] of the whole model.
+pub(super) fn bounding_box() -> Result<[f64; 6], GmshError> {
+    let mut b = [0.0; 6];
+    let [x0, y0, z0, x1, y1, z1] = &mut b;
+    // SAFETY: six valid out-pointers.
+    call("gmshModelGetBoundingBox", |e| unsafe { ffi::gmshModelGetBoundingBox(-1, -1, x0, y0, z0, x1, y1, z1, e) })?;
+    Ok(b)
+}
+
+/// Removes the mesh of the whole model, keeping its geometry.
+pub(super) fn clear_mesh() -> Result<(), GmshError> {
+    // SAFETY: an empty dimTags array clears the whole mesh.
+    call("gmshModelMeshClear", |e| unsafe { ffi::gmshModelMeshClear(ptr::null_mut(), 0, e) })
+}

@@ -8,6 +8,13 @@ pub enum GmshError {
     /// The file to open does not exist.
     #[error("cannot open {}: file not found", .path.display())]
     NotFound { path: PathBuf },
+    /// The path given as a file is a directory.
+    #[error("cannot open {}: it is a directory, not a file", .path.display())]
+    Directory { path: PathBuf },
+    /// The model breaks one of the limits checked before meshing (see `limits`), e.g. it is
+    /// 3-D or its mesh would have too many cells.
+    #[error("cannot use {}: {reason}", .path.display())]
+    Limit { path: PathBuf, reason: String },
     /// A file to check for shell commands exists but cannot be read.
     #[error("cannot read {}: {source}", .path.display())]
     Io {
@@ -17,8 +24,11 @@ pub enum GmshError {
     },
     /// `path` (the opened file or one it includes) could make gmsh run a shell command;
     /// `reason` completes the sentence, e.g. "uses SystemCall, which runs shell commands".
-    #[error("refusing to open {}: line {line} {reason} (allow system calls to open it anyway)", .path.display())]
+    #[error("refusing to open {}: line {line} {reason} (--allow-system-calls opens it anyway)", .path.display())]
     SystemCall { path: PathBuf, line: usize, reason: String },
+    /// `path` reads `target`, which is being read already: gmsh would recurse without end.
+    #[error("refusing to open {}: line {line} reads \"{target}\", which is already being read (Include recursion)", .path.display())]
+    Recursion { path: PathBuf, line: usize, target: String },
     /// A file opened as a mesh does not start like a gmsh `.msh` file.
     #[error("cannot open {}: not a gmsh .msh file (it does not start with $MeshFormat)", .path.display())]
     NotMsh { path: PathBuf },
@@ -43,6 +53,13 @@ pub enum GmshError {
     /// A triangle has zero area (gmsh can produce them when sizes approach its tolerance).
     #[error("the mesh of {} has a degenerate triangle at ({x}, {y}); are some mesh sizes too small?", .path.display())]
     Degenerate { path: PathBuf, x: f64, y: f64 },
+    /// Triangles overlap: two lie on the same side of their common edge, or an edge belongs to
+    /// more than two.
+    #[error("the mesh of {} is folded: triangles overlap at the edge from ({}, {}) to ({}, {})", .path.display(), .edge[0][0], .edge[0][1], .edge[1][0], .edge[1][1])]
+    Folded { path: PathBuf, edge: [[f64; 2]; 2] },
+    /// gmsh skipped nodes or elements whose tag was already used.
+    #[error("cannot open {}: {message}; every node and element needs its own tag", .path.display())]
+    DuplicateTag { path: PathBuf, message: String },
     /// A physical curve has nodes that no triangle uses.
     #[error("physical curve \"{group}\" of {} does not lie on the triangles of the mesh", .path.display())]
     DetachedCurve { path: PathBuf, group: String },

@@ -54,31 +54,44 @@ fn with_opt(path: &Path) -> PathBuf {
 
 /// Checks `start`, merged, and what it reads; missing files are skipped (gmsh reports them).
 fn check_tree(start: PathBuf) -> Result<(), GmshError> {
-    let mut todo = vec![(start, How::Merge)];
-    let mut seen = HashSet::new();
-    while let Some((path, how)) = todo.pop() {
-        let canonical = match path.canonicalize() {
-            Ok(canonical) => canonical,
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => continue,
-            Err(source) => return Err(GmshError::Io { path, source }),
-        };
-        if !seen.insert((canonical, how)) {
-            continue;
-        }
-        let src = std::fs::read(&path).map_err(|source| GmshError::Io { path: path.clone(), source })?;
-        let dir = path.parent().unwrap_or(Path::new(""));
-        for finding in scan(&src) {
-            match finding.what {
-                What::Read(target, how) => todo.push((dir.join(target), how)),
-                What::Refuse(reason) => {
-                    let line = 1 + src[..finding.at].iter().filter(|&&c| c == b'\n').count();
-                    return Err(GmshError::SystemCall { path, line, reason });
+    check_file(start, How::Merge, &mut Vec::new(), &mut HashSet::new())
+}
+
+/// Checks `path`, read as `how`, then the files it reads, depth first; `chain` holds the files
+/// being read (canonical), which a file must not read again: gmsh would recurse without end.
+fn check_file(
+    path: PathBuf,
+    how: How,
+    chain: &mut Vec<PathBuf>,
+    seen: &mut HashSet<(PathBuf, How)>,
+) -> Result<(), GmshError> {
+    let canonical = match path.canonicalize() {
+        Ok(canonical) => canonical,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
+        Err(source) => return Err(GmshError::Io { path, source }),
+    };
+    if !seen.insert((canonical.clone(), how)) {
+        return Ok(());
+    }
+    let src = std::fs::read(&path).map_err(|source| GmshError::Io { path: path.clone(), source })?;
+    let dir = path.parent().unwrap_or(Path::new(""));
+    let line = |at: usize| 1 + src[..at].iter().filter(|&&c| c == b'\n').count();
+    chain.push(canonical);
+    for finding in scan(&src) {
+        match finding.what {
+            What::Read(target, how) => {
+                let read = dir.join(&target);
+                if read.canonicalize().is_ok_and(|c| chain.contains(&c)) {
+                    return Err(GmshError::Recursion { path, line: line(finding.at), target });
                 }
+                check_file(read, how, chain, seen)?;
             }
+            What::Refuse(reason) => return Err(GmshError::SystemCall { line: line(finding.at), path, reason }),
         }
-        if how == How::Merge {
-            todo.push((with_opt(&path), How::Merge));
-        }
+    }
+    chain.pop();
+    if how == How::Merge {
+        check_file(with_opt(&path), How::Merge, chain, seen)?;
     }
     Ok(())
 }
@@ -378,10 +391,14 @@ mod tests {
     fn included_files_are_checked_recursively() {
         let dir = temp_dir("include");
         let write = |name: &str, text: &str| std::fs::write(dir.join(name), text).unwrap();
-        write("main.geo", "Include \"sub/a.geo\";\nInclude \"main.geo\";\n");
+        write("main.geo", "Include \"sub/a.geo\";\nInclude \"sub/a.geo\";\n");
         write("sub/a.geo", "Merge \"b.geo\"; // relative to sub/\n");
         write("sub/b.geo", "Point(1) = {0, 0, 0};\n");
         assert!(check(&dir.join("main.geo")).is_ok());
+        write("sub/b.geo", "Include \"../main.geo\";\n");
+        let err = check(&dir.join("main.geo")).unwrap_err();
+        assert!(matches!(&err, GmshError::Recursion { path, line: 1, .. } if path.ends_with("sub/b.geo")), "{err}");
+        write("sub/b.geo", "Point(1) = {0, 0, 0};\n");
         write("sub/b.geo.opt", "\n\nSystem \"ls\";\n");
         let err = check(&dir.join("main.geo")).unwrap_err();
         assert!(

@@ -34,11 +34,13 @@ mod api;
 mod error;
 mod ffi;
 mod guard;
+mod limits;
 mod read;
 mod session;
 mod size_field;
 
 pub use error::GmshError;
+pub use limits::{set_cell_limit, DEFAULT_CELL_LIMIT};
 pub use session::Session;
 pub use size_field::SizeField;
 
@@ -105,13 +107,32 @@ pub fn save_geo_mesh(
     let mesh = session.mesh()?;
     let file = msh.file_name().map_or_else(|| "mesh.msh".into(), |f| f.to_string_lossy().into_owned());
     let partial = msh.with_file_name(format!(".{}.{file}", std::process::id()));
-    let written = session.write(&partial).and_then(|()| {
+    let written = session.write(&partial).and_then(|()| check_written(&partial, msh)).and_then(|()| {
         std::fs::rename(&partial, msh).map_err(|e| GmshError::Write { path: msh.into(), message: e.to_string() })
     });
     if written.is_err() {
         std::fs::remove_file(&partial).ok();
     }
     written.map(|()| mesh)
+}
+
+/// Checks that gmsh wrote all of `partial`, the future `msh`: gmsh does not report a full disk,
+/// so the file is synced and must end with the closing line of a section (`$End…`).
+fn check_written(partial: &Path, msh: &Path) -> Result<(), GmshError> {
+    use std::io::{Read, Seek, SeekFrom};
+    let fail = |message: String| GmshError::Write { path: msh.into(), message };
+    let mut file = std::fs::File::open(partial).map_err(|e| fail(e.to_string()))?;
+    file.sync_all().map_err(|e| fail(e.to_string()))?;
+    let length = file.metadata().map_err(|e| fail(e.to_string()))?.len();
+    let mut tail = Vec::new();
+    file.seek(SeekFrom::Start(length.saturating_sub(64)))
+        .and_then(|_| file.read_to_end(&mut tail))
+        .map_err(|e| fail(e.to_string()))?;
+    let tail = String::from_utf8_lossy(&tail);
+    match tail.trim_end().lines().last() {
+        Some(line) if line.starts_with("$End") => Ok(()),
+        _ => Err(fail(format!("the file was cut short after {length} bytes (is the disk full?)"))),
+    }
 }
 
 /// [`mesh_geo`], with mesh sizes from `field` if given.
@@ -148,4 +169,23 @@ pub fn read_msh(path: &Path, verbose: bool) -> Result<Mesh, GmshError> {
     let mut session = Session::new(verbose)?;
     session.open_msh(path)?;
     session.mesh()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::check_written;
+
+    #[test]
+    fn a_msh_cut_short_is_refused() {
+        let dir = std::env::temp_dir().join(format!("damfem-msh-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let partial = dir.join(".partial.msh");
+        let whole = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 1 1 1\n$EndNodes\n";
+        std::fs::write(&partial, whole).unwrap();
+        check_written(&partial, &dir.join("a.msh")).unwrap();
+        std::fs::write(&partial, &whole[..whole.len() - 12]).unwrap();
+        let message = check_written(&partial, &dir.join("a.msh")).unwrap_err().to_string();
+        assert!(message.contains("a.msh") && message.contains("cut short"), "{message}");
+        std::fs::remove_dir_all(dir).unwrap();
+    }
 }

@@ -32,7 +32,26 @@ pub(super) fn mesh(source: &Path) -> Result<Mesh, GmshError> {
         return Err(GmshError::Degenerate { path: source.into(), x, y });
     }
     mesh.orient_counter_clockwise();
+    if let Some(edge) = folded_edge(&mesh) {
+        return Err(GmshError::Folded { path: source.into(), edge });
+    }
     Ok(mesh)
+}
+
+/// An edge where counter-clockwise cells overlap: shared by more than two cells, or by two
+/// that run along it in the same direction (so lie on the same side of it).
+fn folded_edge(mesh: &Mesh) -> Option<[[f64; 2]; 2]> {
+    let mut directed: Vec<([usize; 2], bool)> = (0..mesh.n_cells())
+        .flat_map(|c| {
+            let v = &mesh.cell(c)[..3];
+            (0..3).map(move |i| (v[i], v[(i + 1) % 3]))
+        })
+        .map(|(a, b)| ([a.min(b), a.max(b)], a < b))
+        .collect();
+    directed.sort_unstable();
+    let folded = directed.chunk_by(|x, y| x.0 == y.0).find(|g| g.len() > 2 || (g.len() == 2 && g[0].1 == g[1].1))?;
+    let [a, b] = folded[0].0;
+    Some([mesh.points[a], mesh.points[b]])
 }
 
 /// Elements of one dimension, with gmsh's node tags.

@@ -1,6 +1,6 @@
 //! [`Session`]: exclusive access to gmsh's global state.
 
-use super::{api, guard, read, GmshError, MeshOptions, SizeField};
+use super::{api, guard, limits, read, GmshError, MeshOptions, SizeField};
 use crate::mesh::Mesh;
 use std::ffi::CString;
 use std::io::Read;
@@ -37,6 +37,8 @@ pub struct Session {
     source: PathBuf,
     /// Number of logger messages already examined.
     log_seen: usize,
+    /// Whether a size field sets the mesh sizes (then the cell count is not estimated).
+    sized_by_field: bool,
 }
 
 impl Session {
@@ -61,7 +63,7 @@ impl Session {
         api::set_number("General.NumThreads", 1.0)?;
         api::clear()?;
         api::restart_logger()?;
-        Ok(Session { _lock: lock, source: PathBuf::from("the empty model"), log_seen: 0 })
+        Ok(Session { _lock: lock, source: PathBuf::from("the empty model"), log_seen: 0, sized_by_field: false })
     }
 
     /// Opens a `.geo` file. Unless `allow_system_calls`, first refuses it if it, or a file it
@@ -71,7 +73,8 @@ impl Session {
         if !allow_system_calls {
             guard::check(path)?;
         }
-        self.open(path)
+        self.open(path)?;
+        limits::check_plane(path)
     }
 
     /// Opens a gmsh `.msh` file (refusing anything else: gmsh would parse it as a `.geo`).
@@ -83,7 +86,19 @@ impl Session {
             return Err(GmshError::NotMsh { path: path.into() });
         }
         guard::check_options(path)?;
-        self.open(path)
+        let logged = self.log_seen;
+        // gmsh reports skipped duplicate tags as warnings, logged from verbosity 2
+        let verbosity = api::get_number("General.Verbosity")?;
+        api::set_number("General.Verbosity", verbosity.max(2.0))?;
+        let opened = self.open(path);
+        api::set_number("General.Verbosity", verbosity)?;
+        opened?;
+        let log = api::logged()?;
+        if let Some(line) = log.get(logged..).unwrap_or_default().iter().find(|l| l.contains("uplicate")) {
+            let message = line.strip_prefix("Warning: ").unwrap_or(line);
+            return Err(GmshError::DuplicateTag { path: path.into(), message: format!("gmsh: {message}") });
+        }
+        limits::check_plane(path)
     }
 
     fn open(&mut self, path: &Path) -> Result<(), GmshError> {
@@ -133,13 +148,25 @@ impl Session {
         }
         let size_min = api::get_number("Mesh.MeshSizeMin")?;
         let size_max = api::get_number("Mesh.MeshSizeMax")?.min(field.max_size().max(size_min));
+        self.sized_by_field = true;
         api::set_number("Mesh.MeshSizeMax", size_max)
     }
 
     /// Meshes the model in 2D; with `Mesh.ElementOrder` 2, gmsh then raises the mesh to order 2.
+    /// Without a size field, the cell count is first estimated and refused above the limit
+    /// (see the `limits` module).
     pub fn generate(&mut self) -> Result<(), GmshError> {
         let path = self.source.clone();
-        self.step(|| api::generate(2), |message| GmshError::Meshing { path, message })
+        let estimate = !self.sized_by_field;
+        self.step(
+            || {
+                if estimate {
+                    limits::check_cell_count(&path)?;
+                }
+                api::generate(2)
+            },
+            |message| GmshError::Meshing { path: path.clone(), message },
+        )
     }
 
     /// Reads the current mesh. Cells are the 3-node or 6-node triangles of every surface,
@@ -194,6 +221,8 @@ impl Session {
 fn exists(path: &Path) -> Result<(), GmshError> {
     if path.is_file() {
         Ok(())
+    } else if path.is_dir() {
+        Err(GmshError::Directory { path: path.into() })
     } else {
         Err(GmshError::NotFound { path: path.into() })
     }

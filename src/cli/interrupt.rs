@@ -1,0 +1,71 @@
+//! SIGINT and SIGTERM: the files being written are removed, the history of the run in
+//! progress records "interrupted", the output directories created for nothing are removed, and
+//! the process exits with 128 + the signal number.
+
+use super::common::remove_created_dirs;
+use crate::io::atomic::stop_writing;
+use std::path::{Path, PathBuf};
+use std::sync::{Mutex, PoisonError};
+
+/// The `history.json` of the run in progress, if it has one.
+static HISTORY: Mutex<Option<PathBuf>> = Mutex::new(None);
+
+/// Makes `path` the history that an interrupt marks.
+pub fn record_in(path: &Path) {
+    *HISTORY.lock().unwrap_or_else(PoisonError::into_inner) = Some(path.to_path_buf());
+}
+
+/// Blocks SIGINT and SIGTERM in this thread and every thread it starts later, and waits for
+/// them on a thread of their own. Call it first in `main`.
+pub fn install() {
+    // SAFETY: the signal set is initialised by sigemptyset before use; the calls only change
+    // this thread's signal mask.
+    let set = unsafe {
+        let mut set: libc::sigset_t = std::mem::zeroed();
+        libc::sigemptyset(&mut set);
+        libc::sigaddset(&mut set, libc::SIGINT);
+        libc::sigaddset(&mut set, libc::SIGTERM);
+        libc::pthread_sigmask(libc::SIG_BLOCK, &set, std::ptr::null_mut());
+        set
+    };
+    std::thread::spawn(move || {
+        let mut signal = 0;
+        // SAFETY: `set` is an initialised signal set and `signal` a valid location.
+        if unsafe { libc::sigwait(&set, &mut signal) } == 0 {
+            interrupted(signal);
+        }
+    });
+}
+
+/// Cleans up after `signal` and ends the process.
+fn interrupted(signal: i32) -> ! {
+    let _writes = stop_writing();
+    let history = HISTORY.lock().unwrap_or_else(PoisonError::into_inner).clone();
+    let marked = history.filter(|p| p.exists() && mark_interrupted(p));
+    remove_created_dirs();
+    let name = if signal == libc::SIGINT { "SIGINT" } else { "SIGTERM" };
+    match marked {
+        Some(path) => eprintln!("error: interrupted by {name}; the completed steps are in {}", path.display()),
+        None => eprintln!("error: interrupted by {name}"),
+    }
+    // _exit, not exit: the C++ destructors of gmsh must not run while another thread uses it
+    // SAFETY: _exit ends the process at once; nothing after it runs.
+    unsafe { libc::_exit(128 + signal) }
+}
+
+/// Sets `"error": "interrupted"` in the history at `path` (written whole, then renamed);
+/// false if the history could not be read or written.
+fn mark_interrupted(path: &Path) -> bool {
+    let Ok(Ok(mut history)) = std::fs::read(path).map(|b| serde_json::from_slice::<serde_json::Value>(&b)) else {
+        return false;
+    };
+    let Some(fields) = history.as_object_mut() else { return false };
+    fields.insert("error".into(), "interrupted".into());
+    let tmp = path.with_extension("json.interrupted");
+    let written = serde_json::to_vec_pretty(&history).map_err(std::io::Error::other);
+    let written = written.and_then(|text| std::fs::write(&tmp, text)).and_then(|()| std::fs::rename(&tmp, path));
+    if written.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    written.is_ok()
+}

@@ -1,0 +1,101 @@
+//! Limits checked before gmsh meshes a surface, so that absurd sizes or coordinates give an
+//! error instead of a run that ends on gmsh's `bad_alloc` or never ends.
+//!
+//! - Coordinates: the model's bounding box must be finite and within ±[`MAX_COORDINATE`] m,
+//!   and flat (z = 0: damfem is plane strain).
+//! - Sizes: `Mesh.MeshSizeMax` must be at least [`SIZE_FLOOR`] × the bounding box diagonal d.
+//! - Cell count: the curves are meshed first, with every size raised to [`SIZE_FLOOR`] d (so
+//!   that this pass has at most a few 10⁵ segments per curve); with h̄ the mean segment length
+//!   times the size factor, the surface mesh is estimated at N ≈ |box| / (√3/4 h̄²) triangles
+//!   and refused when N exceeds the cell limit ([`set_cell_limit`], default
+//!   [`DEFAULT_CELL_LIMIT`]). The curve mesh is then cleared and the model meshed as asked.
+
+use super::{api, GmshError};
+use std::path::Path;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// Largest coordinate accepted [m].
+pub const MAX_COORDINATE: f64 = 1e9;
+/// Smallest mesh size accepted, relative to the diagonal of the model's bounding box.
+pub const SIZE_FLOOR: f64 = 1e-5;
+/// Estimated cell count above which meshing is refused unless the limit is raised.
+pub const DEFAULT_CELL_LIMIT: usize = 2_000_000;
+
+static CELL_LIMIT: AtomicUsize = AtomicUsize::new(DEFAULT_CELL_LIMIT);
+
+/// Sets the estimated cell count above which [`super::Session::generate`] refuses to mesh.
+pub fn set_cell_limit(cells: usize) {
+    CELL_LIMIT.store(cells, Ordering::Relaxed);
+}
+
+/// Checks the coordinates of the opened model: finite, within ±[`MAX_COORDINATE`], and
+/// with z = 0 everywhere (no volume, no tilted plane).
+pub(super) fn check_plane(path: &Path) -> Result<(), GmshError> {
+    let b = api::bounding_box()?;
+    let fail = |reason: String| Err(GmshError::Limit { path: path.into(), reason });
+    if !api::entities(3)?.is_empty() {
+        return fail("it is 3-D (it has volumes), but damfem meshes plane (2-D) surfaces".into());
+    }
+    if let Some(x) = b.iter().find(|x| x.is_nan() || x.abs() > MAX_COORDINATE) {
+        return fail(format!("coordinate {x:e} is beyond the limit of ±{MAX_COORDINATE:e} m"));
+    }
+    if b[2] != 0.0 || b[5] != 0.0 {
+        return fail(format!("it is 3-D: z ranges over [{}, {}], but damfem needs z = 0", b[2], b[5]));
+    }
+    Ok(())
+}
+
+/// Meshes the curves with sizes of at least [`SIZE_FLOOR`] d, estimates the number of
+/// triangles and refuses it above the cell limit; clears the curve mesh.
+pub(super) fn check_cell_count(path: &Path) -> Result<(), GmshError> {
+    let [x0, y0, _, x1, y1, _] = api::bounding_box()?;
+    let (width, height) = (x1 - x0, y1 - y0);
+    let floor = SIZE_FLOOR * width.hypot(height);
+    let fail = |reason: String| Err(GmshError::Limit { path: path.into(), reason });
+    let (size_min, size_max, factor) = (
+        api::get_number("Mesh.MeshSizeMin")?,
+        api::get_number("Mesh.MeshSizeMax")?,
+        api::get_number("Mesh.MeshSizeFactor")?,
+    );
+    if size_max < floor {
+        return fail(format!(
+            "mesh size_max = {size_max:e} m is below {SIZE_FLOOR:e} of the model's extent ({floor:e} m)"
+        ));
+    }
+    api::set_number("Mesh.MeshSizeFactor", 1.0)?;
+    api::set_number("Mesh.MeshSizeMin", size_min.max(floor / factor))?;
+    let mean = api::generate(1).and_then(|()| mean_segment_length());
+    api::set_number("Mesh.MeshSizeFactor", factor)?;
+    api::set_number("Mesh.MeshSizeMin", size_min)?;
+    api::clear_mesh()?;
+    let Some(mean) = mean? else { return Ok(()) };
+    let h = factor * mean;
+    let estimate = width * height / (3f64.sqrt() / 4.0 * h * h);
+    let limit = CELL_LIMIT.load(Ordering::Relaxed);
+    if estimate.is_nan() || estimate > limit as f64 {
+        return fail(format!(
+            "its mesh would have about {estimate:.1e} triangles (mean size {h:.3e} m on the curves), above the \
+             limit of {limit}; coarsen the sizes or raise the limit with --max-cells"
+        ));
+    }
+    Ok(())
+}
+
+/// Mean length of the curve segments of the current mesh, `None` if there is none.
+fn mean_segment_length() -> Result<Option<f64>, GmshError> {
+    let (tags, coords) = api::nodes()?;
+    let xy: std::collections::HashMap<usize, [f64; 2]> =
+        tags.as_slice().iter().zip(coords.as_slice().chunks_exact(3)).map(|(&t, c)| (t, [c[0], c[1]])).collect();
+    let (mut total, mut count) = (0.0, 0usize);
+    for (_, curve) in api::entities(1)? {
+        for &element_type in api::element_types(1, curve)?.as_slice() {
+            let stride = if element_type == 8 { 3 } else { 2 };
+            for segment in api::element_nodes(element_type, curve)?.as_slice().chunks_exact(stride) {
+                let (Some(a), Some(b)) = (xy.get(&segment[0]), xy.get(&segment[1])) else { continue };
+                total += (b[0] - a[0]).hypot(b[1] - a[1]);
+                count += 1;
+            }
+        }
+    }
+    Ok((count > 0).then(|| total / count as f64))
+}

@@ -1,0 +1,191 @@
+//! Checks of a scene that catch inputs which would otherwise give a wrong answer without a
+//! word: non-finite numbers, vectors of the wrong length, inconsistent mesh sizes, contact on
+//! an interface between two meshed bodies, one curve with two roles; and the warnings of
+//! `damfem check` (defaults assumed, parameters outside their known range).
+
+use super::{Role, Scene, SceneError};
+use crate::mesh::topology::NONE;
+use crate::mesh::{Mesh, Topology};
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// Scene keys that hold a plane vector [x, y].
+const VECTOR_KEYS: [&str; 4] = ["traction", "value", "gap_gradient", "direction"];
+
+/// Smallest γ₀ at which the θ = 1 and θ = 0 variants are known to converge on Scene A
+/// (docs/results.md, "Numerical stability": θ = 1 with γ₀ = 1 loses coercivity); θ = −1 is stable
+/// for every γ₀ > 0.
+const GAMMA0_STABLE: f64 = 10.0;
+
+/// Poisson's ratio above which P1 triangles lock (docs/results.md, "Numerical stability").
+const P1_LOCKING_POISSON: f64 = 0.45;
+
+/// Refuses non-finite numbers and vectors that do not have two components, naming the key.
+pub(super) fn check_values(path: &Path, value: &toml::Value) -> Result<(), SceneError> {
+    check_value(value, "").map_err(|message| SceneError::Invalid { path: path.into(), message })
+}
+
+fn check_value(value: &toml::Value, key: &str) -> Result<(), String> {
+    match value {
+        toml::Value::Float(x) if !x.is_finite() => Err(format!("{key} = {x} must be a finite number")),
+        toml::Value::Table(table) => table.iter().try_for_each(|(k, v)| {
+            let key = if key.is_empty() { k.clone() } else { format!("{key}.{k}") };
+            check_vector(v, k, &key)?;
+            check_value(v, &key)
+        }),
+        toml::Value::Array(items) => items.iter().try_for_each(|v| check_value(v, key)),
+        _ => Ok(()),
+    }
+}
+
+/// A plane-vector key `name` (full key `key`) must hold exactly two numbers.
+fn check_vector(value: &toml::Value, name: &str, key: &str) -> Result<(), String> {
+    match value {
+        toml::Value::Array(items) if VECTOR_KEYS.contains(&name) && items.len() != 2 => {
+            Err(format!("{key} has {} components; a plane vector has two, [x, y]", items.len()))
+        }
+        _ => Ok(()),
+    }
+}
+
+impl Scene {
+    /// Mesh sizes: `size_min ≤ size_max`.
+    pub(super) fn check_sizes(&self) -> Result<(), SceneError> {
+        match (self.mesh.size_min, self.mesh.size_max) {
+            (Some(lo), Some(hi)) if lo > hi => {
+                Err(self.invalid(format!("mesh.size_min = {lo} is larger than mesh.size_max = {hi}")))
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// Refuses contact on a curve between two meshed surfaces, and a curve segment in two
+    /// physical groups with different roles.
+    pub(super) fn check_boundaries(&self, mesh: &Mesh) -> Result<(), SceneError> {
+        let roles = self.roles(mesh)?;
+        let role_of: BTreeMap<i32, (&str, Role)> = roles.iter().map(|(t, n, b)| (*t, (n.as_str(), b.role))).collect();
+        let topology = Topology::new(mesh);
+        let mut seen: BTreeMap<usize, (&str, Role)> = BTreeMap::new();
+        for f in 0..mesh.n_facets() {
+            let Some(&(name, role)) = role_of.get(&mesh.facet_tags[f]) else { continue };
+            let edge = topology.facet_edges[f];
+            if role == Role::Contact && topology.edge_cells[edge][1] != NONE {
+                return Err(self.interior_contact(mesh, name, topology.edge_cells[edge]));
+            }
+            match seen.insert(edge, (name, role)) {
+                Some((other, other_role)) if other_role != role => {
+                    return Err(self.invalid(format!(
+                        "physical curves '{other}' ({}) and '{name}' ({}) share a segment but have different roles; \
+                         give each segment one role",
+                        role_name(other_role),
+                        role_name(role)
+                    )))
+                }
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+
+    /// The error of contact on the interface of `cells`.
+    fn interior_contact(&self, mesh: &Mesh, name: &str, cells: [usize; 2]) -> SceneError {
+        let [a, b] = cells.map(|c| surface_name(mesh, mesh.cell_tags[c]));
+        let instead = if self.boundary.is_empty() { "rename the physical curve" } else { "remove its role" };
+        self.invalid(format!(
+            "curve '{name}' has role contact but lies between two meshed surfaces ({a} and {b}); contact between \
+             two bodies is not supported yet: {instead} to keep the interface bonded, or mesh one side only \
+             for a rigid foundation"
+        ))
+    }
+
+    /// What `damfem check` warns about: boundary curves without a role, surfaces without a
+    /// material (with the defaults they get), γ₀ below the known stable range for θ, and P1
+    /// with ν > 0.45.
+    pub fn warnings(&self, mesh: &Mesh) -> Result<Vec<String>, SceneError> {
+        let topology = Topology::new(mesh);
+        let mut warnings = self.unassigned_curves(mesh, &topology)?;
+        warnings.extend(self.unassigned_surfaces(mesh));
+        let c = &self.contact;
+        if !self.contact_tags(mesh)?.is_empty() && c.theta != -1.0 && c.gamma0 < GAMMA0_STABLE {
+            warnings.push(format!(
+                "contact.gamma0 = {} is below {GAMMA0_STABLE}, where Nitsche's method with theta = {} is known to \
+                 be stable; use gamma0 >= {GAMMA0_STABLE} or theta = -1",
+                c.gamma0, c.theta
+            ));
+        }
+        if mesh.order == 1 {
+            for (name, m) in self.materials.iter().filter(|(_, m)| m.poisson > P1_LOCKING_POISSON) {
+                warnings.push(format!(
+                    "material '{name}': nu = {} > {P1_LOCKING_POISSON} with P1 elements, which lock near \
+                     incompressibility; use mesh.order = 2",
+                    m.poisson
+                ));
+            }
+        }
+        Ok(warnings)
+    }
+
+    /// Boundary curves without a role, and boundary segments in no physical curve: both are
+    /// traction-free.
+    fn unassigned_curves(&self, mesh: &Mesh, topology: &Topology) -> Result<Vec<String>, SceneError> {
+        let roled: Vec<i32> = self.roles(mesh)?.iter().map(|(t, _, _)| *t).collect();
+        let on_boundary = |f: usize| topology.is_boundary_edge(topology.facet_edges[f]);
+        let mut warnings: Vec<String> = mesh
+            .groups
+            .iter()
+            .filter(|g| g.dim == 1 && !roled.contains(&g.tag))
+            .filter(|g| (0..mesh.n_facets()).any(|f| mesh.facet_tags[f] == g.tag && on_boundary(f)))
+            .map(|g| format!("boundary curve '{}' has no role: it is taken as free (traction-free)", g.name))
+            .collect();
+        let mut tagged = vec![false; topology.n_edges()];
+        for &e in &topology.facet_edges {
+            tagged[e] = true;
+        }
+        let untagged: f64 = (0..topology.n_edges())
+            .filter(|&e| topology.is_boundary_edge(e) && !tagged[e])
+            .map(|e| crate::mesh::distance(mesh.points[topology.edges[e][0]], mesh.points[topology.edges[e][1]]))
+            .sum();
+        if untagged > 0.0 {
+            warnings.push(format!(
+                "{untagged:.4} m of the boundary lies in no physical curve: it is taken as free (traction-free)"
+            ));
+        }
+        Ok(warnings)
+    }
+
+    /// Surfaces without a material, and cells in no physical surface: both get the default.
+    fn unassigned_surfaces(&self, mesh: &Mesh) -> Vec<String> {
+        let m = Self::DEFAULT_MATERIAL;
+        let default =
+            format!("the default concrete (E = {:e} Pa, nu = {}, rho = {} kg/m3)", m.young, m.poisson, m.density);
+        let named = |name: &str| self.materials.keys().any(|k| k.eq_ignore_ascii_case(name));
+        let mut warnings: Vec<String> = mesh
+            .groups
+            .iter()
+            .filter(|g| g.dim == 2 && !named(&g.name))
+            .map(|g| format!("surface '{}' has no material: it is given {default}", g.name))
+            .collect();
+        let untagged = mesh.cell_tags.iter().filter(|&&t| t == 0).count();
+        if untagged > 0 {
+            warnings.push(format!("{untagged} cells lie in no physical surface: they are given {default}"));
+        }
+        warnings
+    }
+}
+
+fn role_name(role: Role) -> &'static str {
+    match role {
+        Role::Dirichlet => "dirichlet",
+        Role::Neumann => "neumann",
+        Role::Contact => "contact",
+        Role::Free => "free",
+    }
+}
+
+/// Name of the physical surface `tag`, or a description of an untagged region.
+fn surface_name(mesh: &Mesh, tag: i32) -> String {
+    mesh.groups
+        .iter()
+        .find(|g| g.dim == 2 && g.tag == tag)
+        .map_or_else(|| format!("a surface with no physical group (tag {tag})"), |g| format!("'{}'", g.name))
+}
