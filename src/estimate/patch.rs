@@ -22,14 +22,14 @@
 //! The divergence and opposite-side rows act on each row of σ alone, with the same
 //! coefficients in both rows, and only weak symmetry couples the rows, so P is built from
 //! one orthonormal basis per cell for one row of σ and one for the symmetry rows. One
-//! Cholesky factorisation of the condensed matrix serves every right-hand side (total,
-//! regularisation, linearisation).
+//! Householder QR factorisation of the stacked P Z serves every right-hand side (total,
+//! regularisation, linearisation); see [`solve`] for why not the normal equations.
 //!
 //! Rigid motions z that the patch leaves free make the rows dependent: Bᵀλ_z = 0 for the
 //! multipliers λ_z = (z on the faces, −Π^{p−1}z for the divergence, b for the symmetry) of
 //! z = a + b(−y, x). The data are first made compatible, λ_zᵀ b = 0 (condition (C)), and the
-//! condensed matrix is made definite by adding s K Kᵀ, K the face part of the λ_z, which
-//! leaves the solution of compatible systems unchanged.
+//! condensed matrix is made definite by adding s K Kᵀ (rows √s Kᵀ below the stacked P Z),
+//! K the face part of the λ_z, which leaves the solution of compatible systems unchanged.
 
 use super::afw::{CellIntegrals, COMPONENTS};
 use nalgebra::{DMatrix, DVector};
@@ -156,23 +156,32 @@ fn zeroed(m: &mut DMatrix<f64>, rows: usize, cols: usize) -> &mut DMatrix<f64> {
 
 /// Solves the patch problem for every case; fails only if the constraints are dependent
 /// beyond the free rigid motions.
+///
+/// With A = P Z stacked over the cells (and √s Kᵀ below it on patches with free rigid
+/// motions), the correction x = A λ of s = s₀ − x is the least-norm solution of Aᵀ x = r,
+/// r = Σ_T Zᵀ s₀ − b_G. It is taken from A = Q R as x = Q R⁻ᵀ r, never through λ: the
+/// normal equations AᵀA λ = r square the condition of A, which grows like the square of the
+/// aspect ratio of the cells, and their Cholesky factorisation leaves a residual of
+/// ε κ(A) |A| |x| in the constraints (10⁻⁹ at aspect 100), where the QR factorisation
+/// leaves ε |A| |x|.
 pub fn solve(input: &PatchInput, work: &mut Workspace) -> Result<PatchSolution, String> {
     let cases = input.target.len();
     let rows = face_rows(input);
     let data = compatible_data(input, &rows);
+    let width = input.width();
     let Workspace { cells, schur, reduced } = work;
     cells.resize_with(cells.len().max(input.cells.len()), Condensed::default);
     let cells = &mut cells[..input.cells.len()];
-    zeroed(schur, rows.len(), rows.len());
+    let n_cells = cells.len();
+    let kernel = rigid_kernel(input, &rows);
+    let stacked = zeroed(schur, n_cells * width + kernel.ncols(), rows.len());
     zeroed(reduced, rows.len(), cases);
     for (t, cell) in cells.iter_mut().enumerate() {
         cell.condense(input, t, &rows, &data)?;
-        for (a, &ra) in cell.rows.iter().enumerate() {
-            for (b, &rb) in cell.rows.iter().enumerate() {
-                schur[(ra, rb)] += cell.coupling[(a, b)];
-            }
+        for (a, &r) in cell.rows.iter().enumerate() {
+            stacked.view_mut((t * width, r), (width, 1)).copy_from_slice(column(&cell.pz, a));
             for case in 0..cases {
-                reduced[(ra, case)] += cell.trace[(a, case)];
+                reduced[(r, case)] += cell.trace[(a, case)];
             }
         }
     }
@@ -181,25 +190,40 @@ pub fn solve(input: &PatchInput, work: &mut Workspace) -> Result<PatchSolution, 
             reduced[(r, case)] -= row.rhs[case];
         }
     }
-    add_rigid_kernel(input, &rows, schur);
-    let cholesky = std::mem::replace(schur, empty()).cholesky().ok_or("the patch constraints are not independent")?;
-    cholesky.solve_mut(reduced);
-    *schur = cholesky.unpack_dirty();
-    let width = input.width();
-    let mut lambda = Vec::new();
+    if kernel.ncols() > 0 {
+        // s = tr AᵀA / tr KᵀK
+        let s = (stacked.norm_squared() / kernel.norm_squared()).sqrt();
+        stacked.view_mut((n_cells * width, 0), (kernel.ncols(), rows.len())).copy_from(&(kernel.transpose() * s));
+    }
+    let qr = std::mem::replace(stacked, empty()).qr();
+    let r = qr.r();
+    let largest = r.diagonal().amax();
+    if (0..rows.len()).any(|j| !(r[(j, j)].abs() > DEPENDENT * largest)) {
+        return Err("the patch constraints are not independent".into());
+    }
+    if !r.tr_solve_upper_triangular_mut(reduced) {
+        return Err("the patch constraints are not independent".into());
+    }
+    let x = qr.q() * &*reduced;
     let sigma = (0..cases)
         .map(|case| {
-            let mut out = vec![0.0; input.cells.len() * width];
+            let mut out = vec![0.0; n_cells * width];
             for (t, cell) in cells.iter().enumerate() {
-                lambda.clear();
-                lambda.extend(cell.rows.iter().map(|&r| reduced[(r, case)]));
-                cell.stress(input, t, case, &lambda, &mut out[t * width..(t + 1) * width]);
+                let block = &mut out[t * width..(t + 1) * width];
+                block.copy_from_slice(column(&cell.s0, case));
+                block.iter_mut().zip(x.view((t * width, case), (width, 1)).iter()).for_each(|(v, x)| *v -= x);
+                for part in block.chunks_exact_mut(input.n_basis) {
+                    from_orthonormal(&input.cells[t].orthonormal, part);
+                }
             }
             out
         })
         .collect();
     Ok(PatchSolution { sigma, compatibility: data.defect })
 }
+
+/// Below this, a diagonal entry of R relative to the largest marks dependent constraints.
+const DEPENDENT: f64 = 1e-14;
 
 /// The face rows through a (interior faces and boundary traces).
 fn face_rows(input: &PatchInput) -> Vec<FaceRow> {
@@ -267,12 +291,10 @@ struct Condensed {
     qs: DMatrix<f64>,
     rs: DMatrix<f64>,
     skew: DMatrix<f64>,
-    /// The face rows on their row of σ (2 n_basis × rows), Q₁ᵀZ and Q_SᵀZ.
+    /// The face rows on their row of σ (2 n_basis × rows), and P Z (4 n_basis × rows).
     z: DMatrix<f64>,
-    q1_z: DMatrix<f64>,
-    qs_z: DMatrix<f64>,
-    /// Zᵀ P Z, and Zᵀ s₀ with s₀ per case (4 n_basis × cases).
-    coupling: DMatrix<f64>,
+    pz: DMatrix<f64>,
+    /// Zᵀ s₀, with s₀ per case (4 n_basis × cases).
     trace: DMatrix<f64>,
     s0: DMatrix<f64>,
 }
@@ -289,9 +311,7 @@ impl Default for Condensed {
             rs: empty(),
             skew: empty(),
             z: empty(),
-            q1_z: empty(),
-            qs_z: empty(),
-            coupling: empty(),
+            pz: empty(),
             trace: empty(),
             s0: empty(),
         }
@@ -312,25 +332,15 @@ impl Condensed {
         self.face_block(input, t, rows);
         self.local_solution(input, t, data);
         let (h, g) = (self.z.nrows(), self.rows.len());
-        shaped(&mut self.q1_z, self.q1.ncols(), g);
-        self.q1.tr_mul_to(&self.z, &mut self.q1_z);
-        shaped(&mut self.qs_z, self.qs.ncols(), g);
+        let pz = zeroed(&mut self.pz, 2 * h, g);
         for (a, &i) in self.rows_of_sigma.iter().enumerate() {
-            for m in 0..self.qs.ncols() {
-                self.qs_z[(m, a)] = dot(&column(&self.qs, m)[i * h..(i + 1) * h], column(&self.z, a));
-            }
-        }
-        // Zᵀ P Z = [same row of σ] (ZᵀZ − (Q₁ᵀZ)ᵀ Q₁ᵀZ) − (Q_SᵀZ)ᵀ Q_SᵀZ
-        shaped(&mut self.coupling, g, g);
-        for a in 0..g {
-            for b in a..g {
-                let same_row = if self.rows_of_sigma[a] == self.rows_of_sigma[b] {
-                    dot(column(&self.z, a), column(&self.z, b)) - dot(column(&self.q1_z, a), column(&self.q1_z, b))
-                } else {
-                    0.0
-                };
-                self.coupling[(a, b)] = same_row - dot(column(&self.qs_z, a), column(&self.qs_z, b));
-                self.coupling[(b, a)] = self.coupling[(a, b)];
+            let column = column_mut(pz, a);
+            column[i * h..(i + 1) * h].copy_from_slice(&self.z.as_slice()[a * h..(a + 1) * h]);
+            // twice: one projection leaves an error of ε|Z| off the range of P, which ZᵀPZ
+            // multiplies by |λ| ~ |Z|/|PZ|, the aspect ratio of a stretched cell
+            for _ in 0..2 {
+                column.chunks_exact_mut(h).for_each(|part| project_off(&self.q1, part));
+                project_off(&self.qs, column);
             }
         }
         shaped(&mut self.trace, g, self.s0.ncols());
@@ -446,32 +456,6 @@ impl Condensed {
             add_columns(&self.qs, bs, s);
         }
     }
-
-    /// σ = Cᵀ (s₀ − P Z λ) of one case, with `lambda` the multipliers of the cell's face rows.
-    fn stress(&self, input: &PatchInput, t: usize, case: usize, lambda: &[f64], out: &mut [f64]) {
-        let (nb, h) = (input.n_basis, 2 * input.n_basis);
-        out.fill(0.0);
-        for (a, (&i, l)) in self.rows_of_sigma.iter().zip(lambda).enumerate() {
-            for (v, z) in out[i * h..(i + 1) * h].iter_mut().zip(column(&self.z, a)) {
-                *v -= l * z;
-            }
-        }
-        // −P Z λ = −(P₁ ⊕ P₁) Z λ + Q_S (Q_SᵀZ) λ
-        for part in out.chunks_exact_mut(h) {
-            project_off(&self.q1, part);
-        }
-        let mut qs_zl = [0.0; MAX_LOCAL];
-        for (m, c) in qs_zl[..self.qs.ncols()].iter_mut().enumerate() {
-            *c = (0..lambda.len()).map(|a| self.qs_z[(m, a)] * lambda[a]).sum();
-        }
-        add_columns(&self.qs, &qs_zl[..self.qs.ncols()], out);
-        for (o, s) in out.iter_mut().zip(column(&self.s0, case)) {
-            *o += s;
-        }
-        for block in out.chunks_exact_mut(nb) {
-            from_orthonormal(&input.cells[t].orthonormal, block);
-        }
-    }
 }
 
 /// Most columns of Q₁ and Q_S: n_lower + p + 1 ≤ 6 for p ≤ 2.
@@ -527,26 +511,23 @@ fn to_orthonormal_columns(c: &[f64], nb: usize, w: &mut DMatrix<f64>) {
 }
 
 /// W ← Q and `r` ← Rᵀ for W = Q R with orthonormal columns Q and R upper triangular
-/// (Cholesky QR: WᵀW = Rᵀ R, then Q = W R⁻¹ column by column); None if W is rank deficient.
+/// (Householder QR, which keeps Q orthonormal to ε whatever the condition of W; Cholesky
+/// QR through WᵀW loses orthogonality like ε κ(W)², and κ(W) grows with the aspect ratio
+/// of the cell); None if W is rank deficient.
 fn orthonormalise(w: &mut DMatrix<f64>, r: &mut DMatrix<f64>) -> Option<()> {
-    let (rows, n) = w.shape();
-    debug_assert!(n <= MAX_LOCAL);
-    shaped(r, n, n);
-    w.tr_mul_to(w, r);
-    let factor = std::mem::replace(r, empty()).cholesky()?;
-    *r = factor.unpack_dirty();
-    for j in 0..n {
-        let (done, rest) = w.as_mut_slice().split_at_mut(j * rows);
-        let wj = &mut rest[..rows];
-        for (k, qk) in done.chunks_exact(rows).enumerate() {
-            let rjk = r[(j, k)];
-            wj.iter_mut().zip(qk).for_each(|(x, q)| *x -= rjk * q);
-        }
-        let rjj = r[(j, j)];
-        wj.iter_mut().for_each(|x| *x /= rjj);
+    let n = w.ncols();
+    let (q, upper) = std::mem::replace(w, empty()).qr().unpack();
+    let largest = upper.diagonal().amax();
+    if (0..n).any(|j| !(upper[(j, j)].abs() > DEPENDENT_LOCAL * largest)) {
+        return None;
     }
+    *w = q;
+    *r = upper.transpose();
     Some(())
 }
+
+/// Below this, a diagonal entry of R relative to the largest marks dependent local rows.
+const DEPENDENT_LOCAL: f64 = 1e-13;
 
 /// v ← L⁻¹ v for the lower triangle of `l`.
 fn forward_substitute(l: &DMatrix<f64>, v: &mut [f64]) {
@@ -572,17 +553,12 @@ fn project_off(q: &DMatrix<f64>, v: &mut [f64]) {
     add_columns(q, &c[..q.ncols()], v);
 }
 
-/// Adds s K Kᵀ to the condensed matrix, K = the face rows' part of λ_z for the free rigid
-/// motions z (z_i at the face nodes), s = tr S / tr KᵀK.
-fn add_rigid_kernel(input: &PatchInput, rows: &[FaceRow], schur: &mut DMatrix<f64>) {
-    if input.rigid.is_empty() {
-        return;
-    }
-    let kernel = DMatrix::from_fn(rows.len(), input.rigid.len(), |r, j| {
+/// K = the face rows' part of λ_z for the free rigid motions z (z_i at the face nodes), one
+/// column per motion.
+fn rigid_kernel(input: &PatchInput, rows: &[FaceRow]) -> DMatrix<f64> {
+    DMatrix::from_fn(rows.len(), input.rigid.len(), |r, j| {
         input.rigid_motion(&input.rigid[j], input.faces[rows[r].face].nodes[rows[r].m])[rows[r].i]
-    });
-    let s = schur.trace() / kernel.norm_squared();
-    *schur += s * &kernel * kernel.transpose();
+    })
 }
 
 /// Divergence and symmetry right-hand sides per case (layouts of [`PatchInput::divergence`]
