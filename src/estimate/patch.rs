@@ -210,8 +210,9 @@ pub fn solve(input: &PatchInput, work: &mut Workspace) -> Result<PatchSolution, 
             let mut out = vec![0.0; n_cells * width];
             for (t, cell) in cells.iter().enumerate() {
                 let block = &mut out[t * width..(t + 1) * width];
-                block.copy_from_slice(column(&cell.s0, case));
-                block.iter_mut().zip(x.view((t * width, case), (width, 1)).iter()).for_each(|(v, x)| *v -= x);
+                block.iter_mut().zip(x.view((t * width, case), (width, 1)).iter()).for_each(|(v, x)| *v = -x);
+                cell.project(block);
+                block.iter_mut().zip(column(&cell.s0, case)).for_each(|(v, s)| *v += s);
                 for part in block.chunks_exact_mut(input.n_basis) {
                     from_orthonormal(&input.cells[t].orthonormal, part);
                 }
@@ -350,6 +351,17 @@ impl Condensed {
             }
         }
         Ok(())
+    }
+
+    /// v ← P v, P = P₁ ⊕ P₁ − Q_S Q_Sᵀ, applied twice: x = P Z λ leaves the range of P by
+    /// ε |Z| |λ|, and |λ| ~ |x| / σ_min(P Z) grows with the aspect ratio of the cell, while the
+    /// face rows change only by ε |Z| |x| when x is projected.
+    fn project(&self, v: &mut [f64]) {
+        let h = self.q1.nrows();
+        for _ in 0..2 {
+            v.chunks_exact_mut(h).for_each(|part| project_off(&self.q1, part));
+            project_off(&self.qs, v);
+        }
     }
 
     /// Q₁ and R₁ᵀ from W₁: the divergence rows (∂_j τ_ij, ψ_m)_T and the rows ∫_F (τn)_i q_m
