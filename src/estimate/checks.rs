@@ -169,9 +169,7 @@ impl<'a> Traces<'a> {
         let (pa, pb) = (mesh.points[a], mesh.points[b]);
         let length = crate::mesh::distance(pa, pb);
         let n = [(pb[1] - pa[1]) / length, -(pb[0] - pa[0]) / length];
-        let x = [pa[0] + s * (pb[0] - pa[0]), pa[1] + s * (pb[1] - pa[1])];
-        let map = AffineMap::new(mesh.cell_vertices(c));
-        let t = afw::evaluate(mesh.order, &self.rec.total(c), inverse(&map, x));
+        let t = afw::evaluate(mesh.order, &self.rec.total(c), reference_point(mesh.cell(c), a, b, s));
         [t[0] * n[0] + t[1] * n[1], t[2] * n[0] + t[3] * n[1]]
     }
 
@@ -235,11 +233,14 @@ impl<'a> Traces<'a> {
     }
 }
 
-/// Reference coordinates of x in the cell of `map`: ξ = J⁻¹(x − x₀).
-fn inverse(map: &AffineMap, x: [f64; 2]) -> [f64; 2] {
-    let d = [x[0] - map.origin[0], x[1] - map.origin[1]];
-    // (J⁻¹)_{kr} = (J⁻ᵀ)_{rk}
-    [map.inv_t[0][0] * d[0] + map.inv_t[1][0] * d[1], map.inv_t[0][1] * d[0] + map.inv_t[1][1] * d[1]]
+/// Reference coordinates of the point x_a + s (x_b − x_a) of the edge (a, b) of a cell with
+/// the nodes `cell`, from the reference vertices of a and b: exact, where J⁻¹(x − x₀) loses
+/// ε |x| / h_T relative to a cell of size h_T far from the origin.
+fn reference_point(cell: &[usize], a: usize, b: usize, s: f64) -> [f64; 2] {
+    const VERTICES: [[f64; 2]; 3] = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
+    let local = |n: usize| VERTICES[cell[..3].iter().position(|&v| v == n).expect("the edge is the cell's")];
+    let (xa, xb) = (local(a), local(b));
+    [xa[0] + s * (xb[0] - xa[0]), xa[1] + s * (xb[1] - xa[1])]
 }
 
 /// max over contact faces and i = 1, 2, 3 of ‖σ_hi n − Π_F^p t_i n‖_F.
