@@ -198,7 +198,7 @@ pub fn solve(input: &PatchInput, work: &mut Workspace) -> Result<PatchSolution, 
     let qr = std::mem::replace(stacked, empty()).qr();
     let r = qr.r();
     let largest = r.diagonal().amax();
-    if (0..rows.len()).any(|j| !(r[(j, j)].abs() > DEPENDENT * largest)) {
+    if !(0..rows.len()).all(|j| r[(j, j)].abs() > DEPENDENT * largest) {
         return Err("the patch constraints are not independent".into());
     }
     if !r.tr_solve_upper_triangular_mut(reduced) {
@@ -530,7 +530,7 @@ fn orthonormalise(w: &mut DMatrix<f64>, r: &mut DMatrix<f64>) -> Option<()> {
     let n = w.ncols();
     let (q, upper) = std::mem::replace(w, empty()).qr().unpack();
     let largest = upper.diagonal().amax();
-    if (0..n).any(|j| !(upper[(j, j)].abs() > DEPENDENT_LOCAL * largest)) {
+    if !(0..n).all(|j| upper[(j, j)].abs() > DEPENDENT_LOCAL * largest) {
         return None;
     }
     *w = q;
