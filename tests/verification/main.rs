@@ -8,6 +8,7 @@ mod common;
 mod contact;
 mod convergence;
 mod dual_norm;
+mod equilibration;
 mod estimator;
 mod estimator_components;
 mod friction;

@@ -1,8 +1,5 @@
 //! Equilibration of the reconstruction on thin and graded cells.
 
-mod common;
-
-use common::v1;
 use damfem::adapt::geo::GeoMesher;
 use damfem::adapt::{self, AdaptSettings, Refinement};
 use damfem::contact::Linearisation;
@@ -13,6 +10,7 @@ use damfem::mesh::structured::{rectangle, BOTTOM};
 use damfem::mesh::Topology;
 use damfem::scene::Scene;
 use damfem::solve::Cholesky;
+use damfem::verify::v1;
 use std::path::Path;
 
 /// The checks of the reconstruction of the Galerkin solution of `problem`.
