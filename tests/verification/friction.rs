@@ -1,5 +1,6 @@
 //! Verification of frictional Nitsche contact (docs/method.md §1.7).
 
+use crate::common;
 use damfem::contact::nitsche::NitscheParameters;
 use damfem::contact::{solve_by_continuation, ContactError, ContactJoint, Continuation, JointLaw};
 use damfem::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};
@@ -77,16 +78,7 @@ fn stick_and_slip_are_exact() {
                         let solution = solve_by_continuation(&problem, &disc, &joint, &settings)
                             .unwrap_or_else(|e| panic!("{law:?} {case} P{order} θ = {theta} δ = {delta}: {e}"));
                         let u = problem.displacement(&disc, &solution.x);
-                        let error = problem
-                            .mesh
-                            .points
-                            .iter()
-                            .zip(&u)
-                            .map(|(x, v)| {
-                                let e = u_exact(*x);
-                                (v[0] - e[0]).abs().max((v[1] - e[1]).abs())
-                            })
-                            .fold(0.0, f64::max);
+                        let error = common::max_nodal_error(&problem.mesh.points, &u, &u_exact);
                         println!(
                             "{law:?} {case} P{order} θ = {theta:2} δ = {delta:.0e}: {} Newton steps, max nodal error {error:.1e}",
                             solution.newton_steps()
@@ -121,6 +113,16 @@ fn incline(alpha: f64, n: usize, order: usize) -> Problem {
     }
 }
 
+/// The Coulomb joint of the block's base.
+fn incline_joint(friction: f64) -> ContactJoint {
+    ContactJoint {
+        tags: vec![BOTTOM],
+        law: JointLaw::Coulomb { friction },
+        parameters: Default::default(),
+        uplift: None,
+    }
+}
+
 /// Block on an incline. Source: Coulomb's law. A unit square block rests with its base on a
 /// rigid plane and carries only its own weight, tilted by α against the plane's normal,
 /// f = ρg (sin α, −cos α): the plane inclined at α. Goal: with F = tan 30° it sticks at
@@ -137,12 +139,7 @@ fn block_on_an_incline_sticks_below_the_friction_angle_and_slides_above() {
             let alpha = f64::to_radians(degrees);
             let problem = incline(alpha, 8, order);
             let disc = problem.discretise();
-            let joint = ContactJoint {
-                tags: vec![BOTTOM],
-                law: JointLaw::Coulomb { friction },
-                parameters: Default::default(),
-                uplift: None,
-            };
+            let joint = incline_joint(friction);
             let delta_start = 0.1 * problem.stress_scale(&disc.topology);
             let settings = Continuation { delta: 0.0, delta_start, newton: NewtonOptions::default() };
             let result = solve_by_continuation(&problem, &disc, &joint, &settings);
@@ -306,12 +303,7 @@ fn eta_tot_bounds_the_residual_with_friction() {
     for order in [1, 2] {
         let problem = incline(alpha, 4, order);
         let disc = problem.discretise();
-        let joint = ContactJoint {
-            tags: vec![BOTTOM],
-            law: JointLaw::Coulomb { friction },
-            parameters: Default::default(),
-            uplift: None,
-        };
+        let joint = incline_joint(friction);
         let scale = problem.stress_scale(&disc.topology);
         let mut contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 0.1 * scale });
         let options = NewtonOptions::default();
@@ -365,12 +357,7 @@ fn a_tampered_tangential_traction_fails_the_checks() {
     let alpha = 25f64.to_radians();
     let problem = incline(alpha, 4, 2);
     let disc = problem.discretise();
-    let joint = ContactJoint {
-        tags: vec![BOTTOM],
-        law: JointLaw::Coulomb { friction },
-        parameters: Default::default(),
-        uplift: None,
-    };
+    let joint = incline_joint(friction);
     let settings = Continuation {
         delta: 0.0,
         delta_start: 0.1 * problem.stress_scale(&disc.topology),

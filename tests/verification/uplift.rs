@@ -1,6 +1,7 @@
 //! Uplift in the joint (docs/method.md §1.8): the pore pressure acts on the effective normal
 //! stress, and the crack it fills at the heel is found by a fixed point.
 
+use crate::common;
 use damfem::contact::nitsche::NitscheParameters;
 use damfem::contact::uplift::Uplift;
 use damfem::contact::{solve_by_continuation, ContactJoint, Continuation, JointLaw};
@@ -55,13 +56,7 @@ fn uniform_uplift_lowers_the_contact_pressure_by_exactly_p_u() {
                 let solution =
                     solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("{e}"));
                 let u = problem.displacement(&disc, &solution.x);
-                let error = problem
-                    .mesh
-                    .points
-                    .iter()
-                    .zip(&u)
-                    .map(|(x, v)| (v[0] - top[0] * x[1]).abs().max((v[1] - top[1] * x[1]).abs()))
-                    .fold(0.0, f64::max);
+                let error = common::max_nodal_error(&problem.mesh.points, &u, |x| [top[0] * x[1], top[1] * x[1]]);
                 let expected = (lambda + 2.0 * mu) * b - p_u;
                 let pressure = solution.faces.iter().map(|f| (f.pressure - expected).abs()).fold(0.0, f64::max);
                 println!("{law:?} P{order} θ = {theta:2}: max nodal error {error:.1e}, max |p_c − ((λ+2μ)b − p_u)| {pressure:.1e}");
