@@ -594,6 +594,11 @@ impl Scene {
                 self.contact.direction.unwrap_or_default()
             )));
         }
+        if self.uplift.is_some() && joint.is_none() {
+            return Err(self.invalid(
+                "[uplift] needs a joint: give a boundary curve role = \"contact\" for the pressure to act on".into(),
+            ));
+        }
         if let (Some(j), Some(section)) = (joint.as_mut(), &self.uplift) {
             j.uplift = Some(self.uplift_diagram(&problem, &facets, section)?);
         }

@@ -670,6 +670,10 @@ fn uplift_keys_out_of_range() {
         let scene = frictional_scene(&tmp, |t| format!("{t}\n[uplift]\n{section}\n"));
         assert_solve_fails("uplift-key", &scene, &expected);
     }
+    let scene = frictional_scene(&tmp, |t| {
+        format!("{}\n[uplift]\nheadwater = 45.0\n", t.replace("role = \"contact\"", "role = \"dirichlet\""))
+    });
+    assert_solve_fails("uplift-no-joint", &scene, &["[uplift] needs a joint", "contact"]);
     let scene = frictional_scene(&tmp, |t| format!("{t}\n[uplift]\nheadwater = 45.0\n"));
     let out = tmp.join("adapt-out");
     let result = damfem(&[OsStr::new("adapt"), scene.as_os_str(), OsStr::new("-o"), out.as_os_str()]);
