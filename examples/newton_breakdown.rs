@@ -237,7 +237,7 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
         // the error estimate of the converged iterate
         let state = solution.linearisation(&problem, &disc);
         let (estimate, seconds) =
-            timed(|| estimate_iterate(&problem, &disc, &x, Some(&state), false).expect("the estimate of Scene A"));
+            timed(|| estimate_iterate(&problem, &disc, &x, Some(&state)).expect("the estimate of Scene A"));
         s.estimate = seconds;
         assert!(estimate.estimators.global().tot.is_finite());
         eprintln!(

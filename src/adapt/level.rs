@@ -32,7 +32,7 @@ pub fn linear_level(problem: &Problem, disc: &Discretisation) -> Result<Level, A
     let x = problem.solve_linear(disc)?;
     let solve_seconds = clock.elapsed().as_secs_f64();
     let clock = Instant::now();
-    let estimate = estimate_iterate(problem, disc, &x, None, false)?;
+    let estimate = estimate_iterate(problem, disc, &x, None)?;
     Ok(Level {
         solution: Solution::Linear(x),
         estimate,
@@ -61,7 +61,7 @@ fn estimate_timed(
     count: &mut EstimateCount,
 ) -> Result<(Estimate, GlobalEstimators), AdaptError> {
     let clock = Instant::now();
-    let e = estimate_iterate(problem, disc, x, Some(state), false)?;
+    let e = estimate_iterate(problem, disc, x, Some(state))?;
     count.n += 1;
     count.seconds += clock.elapsed().as_secs_f64();
     let global = e.estimators.global();

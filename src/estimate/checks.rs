@@ -1,6 +1,8 @@
 //! Equilibration checks of a reconstruction (docs/method.md §4.5, (E1)–(E3)).
 //!
-//! Each check returns its largest relative violation; all should be at round-off level.
+//! Each check returns its largest relative violation and where it occurs; all should be at
+//! round-off level. They are the hypotheses of the bound (docs/method.md §5): when every one
+//! holds, η_tot ≥ ‖R(u_h)‖ whatever the iterate u_h.
 
 use super::afw::{self, COMPONENTS};
 use super::face::FaceProjection;
@@ -32,15 +34,79 @@ pub struct Equilibration {
     pub weak_symmetry: f64,
     /// Largest relative residual of the compatibility condition on patches.
     pub compatibility: f64,
+    /// Where each condition above is violated most: a cell centroid, an edge midpoint or a
+    /// patch vertex, in the order of the fields.
+    #[serde(skip)]
+    pub at: [[f64; 2]; 6],
+}
+
+/// The condition of each [`Equilibration`] field, in their order.
+const CONDITIONS: [&str; 6] = [
+    "divergence (div sigma_h + f = 0 in a cell)",
+    "normal continuity (sigma_h n continuous across an interior edge)",
+    "Neumann traction (sigma_h n = g_N on a Neumann edge)",
+    "contact traction (sigma_h n = the Nitsche traction on a contact edge)",
+    "weak symmetry (sigma_h symmetric against P_{p-1} rotations in a cell)",
+    "compatibility (the data of a vertex patch balance its rigid motions)",
+];
+
+/// The largest violation of one condition and where it occurs.
+#[derive(Debug, Clone, Copy, Default)]
+struct Worst {
+    value: f64,
+    at: [f64; 2],
+}
+
+impl Worst {
+    fn max(self, value: f64, at: [f64; 2]) -> Worst {
+        if value > self.value {
+            Worst { value, at }
+        } else {
+            self
+        }
+    }
+}
+
+/// The worst violated condition of a reconstruction, as [`Equilibration::violation`] finds it.
+#[derive(Debug, Clone, Copy)]
+pub struct Violation {
+    pub condition: &'static str,
+    /// Relative size of the violation.
+    pub value: f64,
+    pub at: [f64; 2],
 }
 
 impl Equilibration {
     /// The largest of all violations (weak symmetry only for p ≥ 2).
     pub fn worst(&self, order: usize) -> f64 {
+        self.violation(order).value
+    }
+
+    /// One line per condition: its relative violation and where it is largest.
+    pub fn table(&self, order: usize) -> String {
+        let values = [
+            self.divergence,
+            self.normal_continuity,
+            self.neumann,
+            self.contact,
+            self.weak_symmetry,
+            self.compatibility,
+        ];
+        let line = |i: usize| match i {
+            4 if order < 2 => format!("  {:<72} not applicable (P1)", CONDITIONS[i]),
+            _ => format!("  {:<72} {:.1e} at ({:.4}, {:.4})", CONDITIONS[i], values[i], self.at[i][0], self.at[i][1]),
+        };
+        (0..6).map(line).collect::<Vec<_>>().join("\n")
+    }
+
+    /// The condition violated most, with its relative size and place (weak symmetry only for
+    /// p ≥ 2, where the reconstruction is tested against P_{p−1} rotations).
+    pub fn violation(&self, order: usize) -> Violation {
         let symmetry = if order >= 2 { self.weak_symmetry } else { 0.0 };
-        [self.divergence, self.normal_continuity, self.neumann, self.contact, symmetry, self.compatibility]
-            .into_iter()
-            .fold(0.0, f64::max)
+        let values =
+            [self.divergence, self.normal_continuity, self.neumann, self.contact, symmetry, self.compatibility];
+        let i = (0..6).fold(0, |best, i| if values[i] > values[best] { i } else { best });
+        Violation { condition: CONDITIONS[i], value: values[i], at: self.at[i] }
     }
 }
 
@@ -53,23 +119,39 @@ pub fn check(
     contact: Option<&Linearisation>,
 ) -> Equilibration {
     let traces = Traces::new(problem, topology, rec);
+    let contact = contact.map_or(Worst::default(), |c| contact_traces(problem, u, rec, c));
+    let checks = [
+        divergence(problem, rec),
+        traces.relative(traces.continuity()),
+        traces.relative(traces.neumann()),
+        traces.relative(contact),
+        weak_symmetry(problem, rec),
+        Worst { value: rec.compatibility, at: rec.compatibility_at },
+    ];
     Equilibration {
-        divergence: divergence(problem, rec),
-        normal_continuity: traces.continuity() / traces.scale,
-        neumann: traces.neumann() / traces.scale,
-        contact: contact.map_or(0.0, |c| contact_traces(problem, u, rec, c) / traces.scale),
-        weak_symmetry: weak_symmetry(problem, rec),
-        compatibility: rec.compatibility,
+        divergence: checks[0].value,
+        normal_continuity: checks[1].value,
+        neumann: checks[2].value,
+        contact: checks[3].value,
+        weak_symmetry: checks[4].value,
+        compatibility: checks[5].value,
+        at: checks.map(|w| w.at),
     }
 }
 
+/// The centroid of cell c.
+fn centroid(problem: &Problem, c: usize) -> [f64; 2] {
+    let v = problem.mesh.cell_vertices(c);
+    [(v[0][0] + v[1][0] + v[2][0]) / 3.0, (v[0][1] + v[1][1] + v[2][1]) / 3.0]
+}
+
 /// ‖∇·σ_h + Π^{p−1} f‖_T relative to the scale of the terms.
-fn divergence(problem: &Problem, rec: &Reconstruction) -> f64 {
+fn divergence(problem: &Problem, rec: &Reconstruction) -> Worst {
     let mesh = &problem.mesh;
     let order = mesh.order;
     let nl = afw::n_lower(order);
     let rule = triangle_cached(load_degree(order));
-    let (mut worst, mut scale) = (0.0_f64, 0.0_f64);
+    let (mut worst, mut scale) = (Worst::default(), 0.0_f64);
     for c in 0..mesh.n_cells() {
         let map = AffineMap::new(mesh.cell_vertices(c));
         let ints = afw::cell_integrals(order, &map);
@@ -101,18 +183,18 @@ fn divergence(problem: &Problem, rec: &Reconstruction) -> f64 {
             }
             norm_sigma += t.iter().map(|v| v * v).sum::<f64>() * w;
         }
-        worst = worst.max(defect.sqrt());
+        worst = worst.max(defect.sqrt(), centroid(problem, c));
         scale = scale.max(size.sqrt() + norm_sigma.sqrt() / mesh.cell_diameter(c));
     }
-    worst / scale.max(f64::MIN_POSITIVE)
+    Worst { value: worst.value / scale.max(f64::MIN_POSITIVE), at: worst.at }
 }
 
 /// max_T |(σ_h, ψ_m J)_T| / (‖σ_h‖_T ‖ψ_m‖_T).
-fn weak_symmetry(problem: &Problem, rec: &Reconstruction) -> f64 {
+fn weak_symmetry(problem: &Problem, rec: &Reconstruction) -> Worst {
     let mesh = &problem.mesh;
     let order = mesh.order;
     let (nb, nl) = (lagrange::n_basis(order), afw::n_lower(order));
-    let mut worst: f64 = 0.0;
+    let mut worst = Worst::default();
     for c in 0..mesh.n_cells() {
         let ints = afw::cell_integrals(order, &AffineMap::new(mesh.cell_vertices(c)));
         let sigma = rec.total(c);
@@ -128,7 +210,7 @@ fn weak_symmetry(problem: &Problem, rec: &Reconstruction) -> f64 {
         for m in 0..nl {
             let skew: f64 = (0..nb).map(|k| (sigma[nb + k] - sigma[2 * nb + k]) * ints.lower_mass[m * nb + k]).sum();
             let psi_norm = ints.lower_gram[m * nl + m].sqrt();
-            worst = worst.max(skew.abs() / (norm * psi_norm).max(f64::MIN_POSITIVE));
+            worst = worst.max(skew.abs() / (norm * psi_norm).max(f64::MIN_POSITIVE), centroid(problem, c));
         }
     }
     worst
@@ -185,20 +267,31 @@ impl<'a> Traces<'a> {
             .sqrt()
     }
 
-    fn continuity(&self) -> f64 {
-        (0..self.topology.n_edges())
-            .filter(|&e| self.topology.edge_cells[e][1] != NONE)
-            .map(|e| {
+    /// `worst` relative to max_F ‖σ_h n‖_F.
+    fn relative(&self, worst: Worst) -> Worst {
+        Worst { value: worst.value / self.scale, at: worst.at }
+    }
+
+    /// The midpoint of edge e.
+    fn midpoint(&self, e: usize) -> [f64; 2] {
+        let [a, b] = self.topology.edges[e].map(|n| self.problem.mesh.points[n]);
+        Segment::new(a, b).point(0.5)
+    }
+
+    fn continuity(&self) -> Worst {
+        (0..self.topology.n_edges()).filter(|&e| self.topology.edge_cells[e][1] != NONE).fold(
+            Worst::default(),
+            |w, e| {
                 let [c1, c2] = self.topology.edge_cells[e];
-                self.norm(e, c1, |s| self.trace(e, c2, s))
-            })
-            .fold(0.0, f64::max)
+                w.max(self.norm(e, c1, |s| self.trace(e, c2, s)), self.midpoint(e))
+            },
+        )
     }
 
     /// ‖σ_h n − Π_F^p g_N‖_F on Neumann faces.
-    fn neumann(&self) -> f64 {
+    fn neumann(&self) -> Worst {
         let mesh = &self.problem.mesh;
-        let mut worst: f64 = 0.0;
+        let mut worst = Worst::default();
         for f in 0..mesh.n_facets() {
             let tag = mesh.facet_tags[f];
             let fixed = self.problem.dirichlet.iter().any(|bc| bc.tag == tag);
@@ -227,7 +320,7 @@ impl<'a> Traces<'a> {
                     .collect();
                 defect += projection.trace_defect(&w, &g).powi(2);
             }
-            worst = worst.max(defect.sqrt());
+            worst = worst.max(defect.sqrt(), self.midpoint(e));
         }
         worst
     }
@@ -244,9 +337,9 @@ fn reference_point(cell: &[usize], a: usize, b: usize, s: f64) -> [f64; 2] {
 }
 
 /// max over contact faces and i = 1, 2, 3 of ‖σ_hi n − Π_F^p t_i n‖_F.
-fn contact_traces(problem: &Problem, u: &[[f64; 2]], rec: &Reconstruction, state: &Linearisation) -> f64 {
+fn contact_traces(problem: &Problem, u: &[[f64; 2]], rec: &Reconstruction, state: &Linearisation) -> Worst {
     let mesh = &problem.mesh;
-    let mut worst: f64 = 0.0;
+    let mut worst = Worst::default();
     for (k, face) in state.nitsche.faces.iter().enumerate() {
         let local = |field: &[[f64; 2]]| -> Vec<f64> { mesh.cell(face.cell).iter().flat_map(|&n| field[n]).collect() };
         let (uk, u_prev) = (local(u), local(&state.u_prev));
@@ -267,7 +360,7 @@ fn contact_traces(problem: &Problem, u: &[[f64; 2]], rec: &Reconstruction, state
                 let g: Vec<f64> = t.iter().map(|ti| ti[i][j]).collect();
                 defect += projection.trace_defect(&w, &g).powi(2);
             }
-            worst = worst.max(defect.sqrt());
+            worst = worst.max(defect.sqrt(), face.map.to_physical(Segment::new(face.ends[0], face.ends[1]).point(0.5)));
         }
     }
     worst

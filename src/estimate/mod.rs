@@ -10,29 +10,61 @@ pub mod reconstruction;
 
 use crate::contact::Linearisation;
 use crate::elasticity::{Discretisation, Problem};
-use checks::{check, Equilibration};
+use checks::{check, Equilibration, Violation};
 use estimators::{estimate, Estimators};
-use reconstruction::{reconstruct, EstimateError, Reconstruction};
+use reconstruction::{reconstruct, Reconstruction};
 
-/// The reconstruction, the estimators and, if asked, the equilibration checks of one iterate.
+/// Why an iterate has no estimate.
+#[derive(Debug, thiserror::Error)]
+pub enum EstimateError {
+    #[error("the estimator covers the Nitsche variant theta = 0 only (this run uses theta = {0})")]
+    Theta(f64),
+    #[error("patch of the vertex at ({x}, {y}): {message}")]
+    Patch { x: f64, y: f64, message: String },
+    #[error(
+        "the reconstructed stress violates {} by {:.1e} (relative) near ({:.4}, {:.4}), so η would not be a \
+         guaranteed bound: the iterate does not solve its linearised problem (a damped or perturbed iterate), \
+         or the mesh is outside the estimator's range (docs/method.md §4.1)",
+        .0.condition, .0.value, .0.at[0], .0.at[1]
+    )]
+    NotEquilibrated(Violation),
+}
+
+/// The largest relative violation of an equilibration condition that an estimate accepts.
+pub const EQUILIBRATION_TOLERANCE: f64 = 1e-10;
+
+/// The reconstruction, the estimators and the equilibration checks of one iterate.
 pub struct Estimate {
     pub reconstruction: Reconstruction,
     pub estimators: Estimators,
-    pub equilibration: Option<Equilibration>,
+    pub equilibration: Equilibration,
 }
 
 /// Estimates the error of the free unknowns `x` (with the state of its Newton step when Γ_C
 /// exists).
+///
+/// # Guarantee
+///
+/// An `Ok` estimate is a guaranteed bound, η_tot ≥ ‖R(u_h)‖ (docs/method.md §5): every
+/// equilibration condition on which the bound rests (divergence, normal continuity, Neumann
+/// and contact tractions, weak symmetry for p ≥ 2, patch compatibility) holds to
+/// [`EQUILIBRATION_TOLERANCE`] relative. They hold for the discrete solution without Γ_C and
+/// for a contact iterate that solves the linearised problem of its Newton step (a full step,
+/// converged or not); a damped or perturbed iterate, or a mesh outside the estimator's range,
+/// fails them and gets [`EstimateError::NotEquilibrated`] naming the condition and the place.
 pub fn estimate_iterate(
     problem: &Problem,
     disc: &Discretisation,
     x: &[f64],
     contact: Option<&Linearisation>,
-    checks: bool,
 ) -> Result<Estimate, EstimateError> {
     let u = problem.displacement(disc, x);
     let reconstruction = reconstruct(problem, &disc.topology, &u, contact)?;
+    let equilibration = check(problem, &disc.topology, &u, &reconstruction, contact);
+    let violation = equilibration.violation(problem.mesh.order);
+    if !(violation.value <= EQUILIBRATION_TOLERANCE) {
+        return Err(EstimateError::NotEquilibrated(violation));
+    }
     let estimators = estimate(problem, &disc.topology, &u, &reconstruction, contact);
-    let equilibration = checks.then(|| check(problem, &disc.topology, &u, &reconstruction, contact));
     Ok(Estimate { reconstruction, estimators, equilibration })
 }

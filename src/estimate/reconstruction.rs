@@ -14,6 +14,7 @@
 
 use super::afw::{self, cell_integrals, face_moments, CellIntegrals, COMPONENTS};
 use super::patch::{self, FaceKind, PatchFace, PatchInput};
+use super::EstimateError;
 use crate::contact::nitsche::Nitsche;
 use crate::contact::projection::Smoothing;
 use crate::contact::Linearisation;
@@ -28,15 +29,6 @@ use crate::mesh::topology::NONE;
 use crate::mesh::{Mesh, Topology};
 use rayon::prelude::*;
 
-/// Why the reconstruction could not be built.
-#[derive(Debug, thiserror::Error)]
-pub enum EstimateError {
-    #[error("the estimator covers the Nitsche variant theta = 0 only (this run uses theta = {0})")]
-    Theta(f64),
-    #[error("patch of the vertex at ({x}, {y}): {message}")]
-    Patch { x: f64, y: f64, message: String },
-}
-
 /// The reconstructed stresses as cell coefficients (layout of [`afw`]) per cell:
 /// `sigma[i][cell · 4 n_basis + c · n_basis + k]` for σ_h1, σ_h2, σ_h3.
 pub struct Reconstruction {
@@ -46,6 +38,8 @@ pub struct Reconstruction {
     /// Largest residual of the compatibility condition on patches with free rigid motions
     /// (after the p = 1 rotation correction), relative to the largest of its terms.
     pub compatibility: f64,
+    /// The vertex of the patch where that residual is largest.
+    pub compatibility_at: [f64; 2],
 }
 
 impl Reconstruction {
@@ -155,9 +149,11 @@ pub fn reconstruct(
     let nb = lagrange::n_basis(order);
     let n = COMPONENTS * nb;
     let mut sigma = [vec![0.0; mesh.n_cells() * n], vec![0.0; mesh.n_cells() * n], vec![0.0; mesh.n_cells() * n]];
-    let (mut defect, mut scale): (f64, f64) = (0.0, 0.0);
+    let (mut defect, mut scale, mut compatibility_at): (f64, f64, [f64; 2]) = (0.0, 0.0, [0.0; 2]);
     for (k, solution) in results.into_iter().enumerate() {
-        defect = defect.max(solution.compatibility.0);
+        if solution.compatibility.0 > defect {
+            (defect, compatibility_at) = (solution.compatibility.0, mesh.points[topology.vertices[k]]);
+        }
         scale = scale.max(solution.compatibility.1);
         for (t, &cell) in topology.patch(k).iter().enumerate() {
             for (total, part) in sigma.iter_mut().zip(&solution.sigma) {
@@ -172,7 +168,7 @@ pub fn reconstruct(
         sigma[0][j] -= sigma[1][j] + sigma[2][j];
     }
     let compatibility = if scale > 0.0 { defect / scale } else { 0.0 };
-    Ok(Reconstruction { order, n_basis: nb, sigma, compatibility })
+    Ok(Reconstruction { order, n_basis: nb, sigma, compatibility, compatibility_at })
 }
 
 /// Role of every edge.

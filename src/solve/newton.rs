@@ -4,9 +4,12 @@
 //! the largest t ∈ {1, ½, ¼, …} with ‖F(x_k + tΔ)‖ ≤ κ ‖F(x_k)‖, κ = `max_growth`. A system
 //! that asks for a monotone residual (Coulomb friction, whose full steps can cycle) gets the
 //! largest t that lowers ‖F‖ instead, and the rule above only where none does (a kink). Each
-//! linear solve gets one step of iterative refinement. It stops when ‖F(x_k)‖ ≤ rtol · scale, where `scale` is the system's load
-//! norm, or when it stagnates at round-off: ‖Δ‖ ≤ 10⁻¹⁰ ‖x‖ with no halving of ‖F‖. Running out of iterations
-//! is an error that carries the whole history: never a silent wrong answer.
+//! linear solve gets one step of iterative refinement. It stops when ‖F(x_k)‖ ≤ rtol · scale,
+//! where `scale` is the system's load norm, or when it stagnates at round-off: ‖Δ‖ ≤ 10⁻¹⁰ ‖x‖
+//! with no halving of ‖F‖. A run that gets there by a damped step takes one full step more,
+//! so that the iterate it returns solves the linearised problem of its last step (what the
+//! estimator's bound assumes). Running out of iterations is an error that carries the whole
+//! history: never a silent wrong answer.
 
 use super::lu::SparseLu;
 use super::SolveError;
@@ -167,6 +170,7 @@ pub fn newton_until(
     let mut jacobian = vec![0.0; pattern.nnz()];
     let mut history = Vec::new();
     let mut seconds = NewtonTimings::default();
+    let mut polished = false;
     for step in 0..=options.max_iter {
         let clock = Instant::now();
         system.evaluate(&x, &mut residual, Some(&mut jacobian));
@@ -179,9 +183,13 @@ pub fn newton_until(
         let due = step >= options.min_steps;
         let accepted =
             due && history.last().is_some_and(|last| stop(&Iterate { x: &x, x_prev: &x_prev, last, residual: r }));
-        if accepted || (due && converged) {
+        // a converged iterate should solve the linearised problem of its step, which the
+        // estimator's bound assumes: after a damped step, one full step more (once)
+        let polish = !polished && step < options.max_iter && history.last().is_some_and(|it| it.step < 1.0);
+        if accepted || (due && converged && !polish) {
             return Ok(NewtonReport { x, x_prev, iterations: history, residual: r, scale, seconds });
         }
+        polished |= due && converged;
         if step == options.max_iter {
             break;
         }
@@ -202,7 +210,11 @@ pub fn newton_until(
             return Err(NewtonError::NonFinite { step });
         }
         let clock = Instant::now();
-        let t = line_search(system, &x, &delta, r, options, &mut trial, &mut trial_residual);
+        let t = if due && converged {
+            1.0
+        } else {
+            line_search(system, &x, &delta, r, options, &mut trial, &mut trial_residual)
+        };
         seconds.line_search += clock.elapsed().as_secs_f64();
         x_prev.copy_from_slice(&x);
         for (xi, di) in x.iter_mut().zip(&delta) {

@@ -8,6 +8,7 @@
 //! coarse mesh refined once (P2), "worst" the largest relative equilibration violation of
 //! damfem::estimate::checks.
 
+mod guarantee;
 mod newton_iterates;
 mod regularisation;
 mod scenes;
