@@ -36,7 +36,8 @@
 //! The foundation is rigid: a curve of role `contact` is a joint with a rigid obstacle,
 //! frictionless or frictional, with uplift in the joint. The estimator covers the Nitsche variant θ = 0 and triangles of
 //! moderate aspect ratio (docs/method.md §4.1); its bound holds for iterates that solve the
-//! linearised problem of their last Newton step (every converged or full-step iterate).
+//! linearised problem of their last Newton step (every converged or full-step iterate), and
+//! an estimate whose reconstruction fails an equilibration check is refused, never reported.
 
 pub mod adapt;
 pub mod cli;

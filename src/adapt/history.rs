@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 /// Columns of [`to_csv`].
 const HEADER: &str = "step,cells,unknowns,eta_osc,eta_flux,eta_Neu,eta_disc,eta_reg,eta_lin,eta_tot,stress_norm,\
-delta,n_reg,n_lin,n_est,t_mesh,t_transfer,t_assemble,t_solve,t_estimate,t_remesh,elapsed";
+delta,n_reg,n_lin,n_est,equilibration,t_mesh,t_transfer,t_assemble,t_solve,t_estimate,t_remesh,elapsed";
 
 /// One line per step; δ is empty without contact.
 pub fn to_csv(history: &[StepRecord]) -> String {
@@ -16,7 +16,7 @@ pub fn to_csv(history: &[StepRecord]) -> String {
         let (e, t) = (&r.eta, &r.seconds);
         let delta = r.delta.map_or(String::new(), |d| format!("{d:e}"));
         csv += &format!(
-            "{},{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{delta},{},{},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6}\n",
+            "{},{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{delta},{},{},{},{:.1e},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6}\n",
             r.step,
             r.cells,
             r.unknowns,
@@ -31,6 +31,7 @@ pub fn to_csv(history: &[StepRecord]) -> String {
             r.n_reg,
             r.n_lin,
             r.n_est,
+            r.equilibration,
             t.mesh,
             t.transfer,
             t.assemble,

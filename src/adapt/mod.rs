@@ -213,6 +213,8 @@ pub struct StepRecord {
     pub n_lin: usize,
     /// Estimates computed on this mesh (at least the final one).
     pub n_est: usize,
+    /// The largest relative violation of an equilibration condition by the final estimate.
+    pub equilibration: f64,
     /// Set on the last step if the run stopped because of the smallest size.
     pub stall: Option<Stall>,
     pub seconds: PhaseTimes,
@@ -334,6 +336,7 @@ pub fn run(
             n_reg: level.n_reg,
             n_lin: level.n_lin,
             n_est: level.n_est,
+            equilibration: level.estimate.equilibration.worst(problem.mesh.order),
             stall,
             seconds,
             elapsed: start.elapsed().as_secs_f64(),

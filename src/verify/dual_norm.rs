@@ -48,7 +48,7 @@ use crate::fem::sparse::{vector_dofs, LinearSystem, Local, SparsePattern};
 use crate::fem::tabulate::Tabulation;
 use crate::mesh::{Mesh, Topology};
 use crate::solve::{Cholesky, SolveError};
-use crate::verify::refine::{elevate_to_p2, refine_levels, Refinement};
+use crate::verify::refine::{bisect, elevate_to_p2, refine_levels, vertex_mesh, Refinement};
 use faer::Mat;
 use rayon::prelude::*;
 
@@ -74,6 +74,93 @@ pub struct RieszRepresentative {
     pub n_unknowns: usize,
 }
 
+/// A reference of ‖R(u_h)‖ sharp near singularities: ‖r‖_{C,h} on a sequence of reference
+/// meshes, each refined where the last representative concentrates.
+#[derive(Debug, Clone)]
+pub struct SharpReference {
+    /// ‖r‖_{C,h} on each reference mesh: lower bounds of ‖R(u_h)‖, increasing.
+    pub norms: Vec<f64>,
+    /// Unknowns of each Riesz problem.
+    pub unknowns: Vec<usize>,
+    /// Whether the last two norms agree within the asked relative difference.
+    pub converged: bool,
+}
+
+impl SharpReference {
+    /// The last (largest) lower bound.
+    pub fn norm(&self) -> f64 {
+        *self.norms.last().expect("at least one reference")
+    }
+}
+
+/// Share of ‖r‖²_{C,h} carried by the cells refined at each step of [`sharp_reference`].
+const MARKED_SHARE: f64 = 0.8;
+
+/// The lower bound ‖r‖_{C,h} ≤ ‖R(u_h)‖ enriched until two successive values agree within
+/// `agreement` (relative), or until a Riesz problem would exceed `max_unknowns`. The first
+/// space is vector P2 on the coarse mesh refined once (as [`residual_dual_norm`] with one
+/// level); each next one halves the cells that carry [`MARKED_SHARE`] of ‖∇r‖² (the smallest
+/// such set, by two newest-vertex bisections), so it contains the last and the bounds increase.
+pub fn sharp_reference(
+    problem: &Problem,
+    u_h: &[[f64; 2]],
+    contact: Option<&ContactJoint>,
+    agreement: f64,
+    max_unknowns: usize,
+) -> Result<SharpReference, SolveError> {
+    let mut skeleton = refine_levels(&vertex_mesh(&problem.mesh), 1);
+    let mut reference = SharpReference { norms: Vec::new(), unknowns: Vec::new(), converged: false };
+    loop {
+        let fine = Refinement { mesh: elevate_to_p2(&skeleton.mesh), ..skeleton.clone() };
+        let riesz = riesz_on(problem, u_h, contact, fine)?;
+        reference.norms.push(riesz.norm);
+        reference.unknowns.push(riesz.n_unknowns);
+        if let [.., previous, last] = reference.norms[..] {
+            reference.converged = last - previous <= agreement * last;
+        }
+        let marked = largest_share(&gradient_energy(&riesz.fine.mesh, &riesz.r), MARKED_SHARE);
+        let grown = 3 * marked.iter().filter(|&&m| m).count() * riesz.n_unknowns / marked.len();
+        if reference.converged || riesz.n_unknowns + grown > max_unknowns {
+            return Ok(reference);
+        }
+        skeleton = bisect_twice(&skeleton, &marked);
+    }
+}
+
+/// The smallest set of cells whose `values` sum to at least `share` of the total.
+fn largest_share(values: &[f64], share: f64) -> Vec<bool> {
+    let mut order: Vec<usize> = (0..values.len()).collect();
+    order.sort_by(|&a, &b| values[b].total_cmp(&values[a]));
+    let total: f64 = values.iter().sum();
+    let mut marked = vec![false; values.len()];
+    let mut sum = 0.0;
+    for c in order {
+        if sum >= share * total {
+            break;
+        }
+        marked[c] = true;
+        sum += values[c];
+    }
+    marked
+}
+
+/// `refined` with its `marked` cells bisected twice (each into four), parents kept.
+fn bisect_twice(refined: &Refinement, marked: &[bool]) -> Refinement {
+    let local = Refinement {
+        mesh: refined.mesh.clone(),
+        cell_parents: (0..refined.mesh.n_cells()).collect(),
+        facet_parents: (0..refined.mesh.n_facets()).collect(),
+    };
+    let once = bisect(&local, marked);
+    let children: Vec<bool> = once.cell_parents.iter().map(|&c| marked[c]).collect();
+    let twice = bisect(&once, &children);
+    Refinement {
+        cell_parents: twice.cell_parents.iter().map(|&c| refined.cell_parents[c]).collect(),
+        facet_parents: twice.facet_parents.iter().map(|&f| refined.facet_parents[f]).collect(),
+        mesh: twice.mesh,
+    }
+}
+
 /// ‖r‖_{C,h} ≤ ‖R(u_h)‖ on the coarse mesh refined `levels` times (see the module doc).
 /// `u_h` holds the nodal values on `problem.mesh`; `contact` is `None` without Γ_C.
 pub fn residual_dual_norm(
@@ -93,11 +180,21 @@ pub fn residual_riesz(
     contact: Option<&ContactJoint>,
     levels: usize,
 ) -> Result<RieszRepresentative, SolveError> {
+    riesz_on(problem, u_h, contact, refine_levels(&elevate_to_p2(&problem.mesh), levels))
+}
+
+/// The Riesz representative of R(u_h) in the vector P2 space of the degree-2 mesh `fine`,
+/// nested in `problem.mesh`.
+fn riesz_on(
+    problem: &Problem,
+    u_h: &[[f64; 2]],
+    contact: Option<&ContactJoint>,
+    fine: Refinement,
+) -> Result<RieszRepresentative, SolveError> {
     let coarse = &problem.mesh;
     assert_eq!(u_h.len(), coarse.n_points(), "u_h must hold one value per node of the coarse mesh");
     assert_eq!(problem.materials.len(), coarse.n_cells(), "one material per coarse cell");
     let topology = Topology::new(coarse);
-    let fine = refine_levels(&elevate_to_p2(coarse), levels);
     let faces = contact.map(|c| ContactFaces::new(problem, &topology, c));
 
     let mut load = volume_residual(problem, u_h, &fine);
@@ -378,8 +475,31 @@ impl ScalarSystem {
 /// ‖∇r‖²_T + Σ_{F ⊂ ∂T ∩ Γ_C} h_F⁻¹‖r‖²_F for every coarse cell T.
 fn cell_contributions(coarse: &Mesh, fine: &Refinement, r: &[[f64; 2]], faces: Option<&ContactFaces>) -> Vec<f64> {
     let mesh = &fine.mesh;
+    let mut out = vec![0.0; coarse.n_cells()];
+    for (c, v) in gradient_energy(mesh, r).into_iter().enumerate() {
+        out[fine.cell_parents[c]] += v;
+    }
+    if let Some(faces) = faces {
+        for f in 0..mesh.n_facets() {
+            let Some(m) = faces.face_mass(fine, f) else { continue };
+            let k = faces.face_of_facet[fine.facet_parents[f]].expect("face mass only on Γ_C");
+            let nodes = mesh.facet(f);
+            let mut sum = 0.0;
+            for (i, &ni) in nodes.iter().enumerate() {
+                for (j, &nj) in nodes.iter().enumerate() {
+                    sum += m[3 * i + j] * (r[ni][0] * r[nj][0] + r[ni][1] * r[nj][1]);
+                }
+            }
+            out[faces.nitsche.faces[k].cell] += sum;
+        }
+    }
+    out
+}
+
+/// ‖∇r‖²_T for every cell T of the degree-2 `mesh`.
+fn gradient_energy(mesh: &Mesh, r: &[[f64; 2]]) -> Vec<f64> {
     let tab = Tabulation::new(2, 2);
-    let fine_cells: Vec<f64> = (0..mesh.n_cells())
+    (0..mesh.n_cells())
         .into_par_iter()
         .map(|c| {
             let map = AffineMap::new(mesh.cell_vertices(c));
@@ -401,24 +521,5 @@ fn cell_contributions(coarse: &Mesh, fine: &Refinement, r: &[[f64; 2]], faces: O
             }
             sum
         })
-        .collect();
-    let mut out = vec![0.0; coarse.n_cells()];
-    for (c, v) in fine_cells.into_iter().enumerate() {
-        out[fine.cell_parents[c]] += v;
-    }
-    if let Some(faces) = faces {
-        for f in 0..mesh.n_facets() {
-            let Some(m) = faces.face_mass(fine, f) else { continue };
-            let k = faces.face_of_facet[fine.facet_parents[f]].expect("face mass only on Γ_C");
-            let nodes = mesh.facet(f);
-            let mut sum = 0.0;
-            for (i, &ni) in nodes.iter().enumerate() {
-                for (j, &nj) in nodes.iter().enumerate() {
-                    sum += m[3 * i + j] * (r[ni][0] * r[nj][0] + r[ni][1] * r[nj][1]);
-                }
-            }
-            out[faces.nitsche.faces[k].cell] += sum;
-        }
-    }
-    out
+        .collect()
 }

@@ -1,4 +1,5 @@
-//! Uniform red refinement and P1 → P2 elevation of triangle meshes.
+//! Uniform red refinement, local newest-vertex bisection and P1 → P2 elevation of triangle
+//! meshes.
 //!
 //! Red refinement cuts every triangle into four through its edge midpoints m01, m12, m20:
 //!
@@ -12,6 +13,12 @@
 //! midpoints are placed at the middle of the new (straight) edges. Every coarse node keeps
 //! its index in the refined mesh, so a nodal field of the coarse mesh is the restriction to
 //! the first `coarse.n_points()` nodes of a fine one.
+//!
+//! Newest-vertex bisection ([`bisect`]) cuts a cell (a, b, c), whose refinement edge is b–c,
+//! at the midpoint m of b–c into (m, a, b) and (m, c, a), each with the refinement edge
+//! opposite m; the first refinement edge of a cell is its longest edge. A cell with a
+//! midpoint on one of its edges is bisected until no midpoint hangs (Mitchell 1991), so the
+//! result is conforming. Both children keep the parent's orientation.
 //!
 //! The fine mesh is nested in the coarse one: each fine cell lies in its parent coarse cell
 //! and each fine boundary facet in its parent facet, which [`Refinement`] records.
@@ -101,6 +108,100 @@ pub fn refine(mesh: &Mesh) -> Refinement {
         }
     }
     let fine = Mesh { points, order: p, cell_nodes, cell_tags, facet_nodes, facet_tags, groups: mesh.groups.clone() };
+    Refinement { mesh: fine, cell_parents, facet_parents }
+}
+
+/// The degree-1 mesh of the vertices of `mesh`, its nodes renumbered (cells, facets, tags and
+/// groups kept).
+pub fn vertex_mesh(mesh: &Mesh) -> Mesh {
+    if mesh.order == 1 {
+        return mesh.clone();
+    }
+    let mut index = vec![usize::MAX; mesh.n_points()];
+    let mut points = Vec::new();
+    let mut renumber = |n: usize| {
+        if index[n] == usize::MAX {
+            index[n] = points.len();
+            points.push(mesh.points[n]);
+        }
+        index[n]
+    };
+    let cell_nodes: Vec<usize> =
+        (0..mesh.n_cells()).flat_map(|c| mesh.cell(c)[..3].to_vec()).map(&mut renumber).collect();
+    let facet_nodes: Vec<usize> =
+        (0..mesh.n_facets()).flat_map(|f| mesh.facet(f)[..2].to_vec()).map(&mut renumber).collect();
+    Mesh {
+        points,
+        order: 1,
+        cell_nodes,
+        cell_tags: mesh.cell_tags.clone(),
+        facet_nodes,
+        facet_tags: mesh.facet_tags.clone(),
+        groups: mesh.groups.clone(),
+    }
+}
+
+/// Newest-vertex bisection of the degree-1 `refined.mesh`: every cell with `marked[c]` is
+/// bisected once, and as many more as conformity asks. Parents are kept relative to the
+/// mesh `refined` itself refers to.
+pub fn bisect(refined: &Refinement, marked: &[bool]) -> Refinement {
+    let mesh = &refined.mesh;
+    assert_eq!(mesh.order, 1, "bisection works on degree-1 meshes");
+    let mut points = mesh.points.clone();
+    let mut midpoints = Midpoints::new();
+    let longest_first = |c: usize| {
+        let n = mesh.cell(c);
+        let length = |i: usize| crate::mesh::distance(mesh.points[n[(i + 1) % 3]], mesh.points[n[(i + 2) % 3]]);
+        let i = (0..3).fold(0, |best, i| if length(i) > length(best) { i } else { best });
+        [n[i], n[(i + 1) % 3], n[(i + 2) % 3]]
+    };
+    let mut cells: Vec<([usize; 3], usize, bool)> =
+        (0..mesh.n_cells()).map(|c| (longest_first(c), refined.cell_parents[c], marked[c])).collect();
+    let mut tags: Vec<i32> = mesh.cell_tags.clone();
+    loop {
+        let mut next = Vec::with_capacity(cells.len());
+        let mut next_tags = Vec::with_capacity(cells.len());
+        for ((cell @ [a, b, c], parent, split), tag) in cells.into_iter().zip(tags) {
+            if split || midpoints.index.contains_key(&(b.min(c), b.max(c))) {
+                let m = midpoints.get(b, c, &mut points);
+                next.extend([([m, a, b], parent, false), ([m, c, a], parent, false)]);
+                next_tags.extend([tag, tag]);
+            } else {
+                next.push((cell, parent, false));
+                next_tags.push(tag);
+            }
+        }
+        let hanging = |&[a, b, c]: &[usize; 3]| {
+            [(a, b), (b, c), (c, a)].iter().any(|&(p, q)| midpoints.index.contains_key(&(p.min(q), p.max(q))))
+        };
+        let mut any = false;
+        for (cell, _, split) in next.iter_mut() {
+            *split = hanging(cell);
+            any |= *split;
+        }
+        (cells, tags) = (next, next_tags);
+        if !any {
+            break;
+        }
+    }
+    let mut facet_nodes = Vec::new();
+    let (mut facet_tags, mut facet_parents) = (Vec::new(), Vec::new());
+    let mut stack: Vec<(usize, usize, usize)> =
+        (0..mesh.n_facets()).rev().map(|f| (mesh.facet(f)[0], mesh.facet(f)[1], f)).collect();
+    while let Some((a, b, f)) = stack.pop() {
+        match midpoints.index.get(&(a.min(b), a.max(b))) {
+            Some(&m) => stack.extend([(m, b, f), (a, m, f)]),
+            None => {
+                facet_nodes.extend([a, b]);
+                facet_tags.push(mesh.facet_tags[f]);
+                facet_parents.push(refined.facet_parents[f]);
+            }
+        }
+    }
+    let cell_parents = cells.iter().map(|&(_, parent, _)| parent).collect();
+    let cell_nodes = cells.into_iter().flat_map(|(cell, _, _)| cell).collect();
+    let fine =
+        Mesh { points, order: 1, cell_nodes, cell_tags: tags, facet_nodes, facet_tags, groups: mesh.groups.clone() };
     Refinement { mesh: fine, cell_parents, facet_parents }
 }
 
