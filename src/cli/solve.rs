@@ -14,6 +14,7 @@ use crate::estimate::{estimate_iterate, Estimate};
 use crate::io::atomic::write_output;
 use crate::scene::{ProjectionKind, Scene};
 use crate::solve::NewtonError;
+use crate::verify::dual_norm::sharp_reference;
 use anyhow::Result;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -58,7 +59,32 @@ pub struct Args {
     /// run with --estimate, and an estimate that fails one is refused)
     #[arg(long)]
     check_equilibration: bool,
+    /// Also compute a sharp lower bound of the error's dual norm and I_eff = eta_tot / bound,
+    /// an upper bound of the true effectivity index (implies --estimate; costly)
+    #[arg(long)]
+    effectivity: bool,
 }
+
+/// What `summary.json` records of `--effectivity`.
+#[derive(Serialize)]
+struct Effectivity {
+    eta_tot: f64,
+    /// The last (largest) lower bound of ‖R(u_h)‖.
+    reference: f64,
+    /// η_tot / reference ≥ the true effectivity index.
+    i_eff: f64,
+    /// The lower bounds on the successively enriched reference spaces, and their unknowns.
+    references: Vec<f64>,
+    unknowns: Vec<usize>,
+    /// Whether the last two agree within [`REFERENCE_AGREEMENT`].
+    converged: bool,
+}
+
+/// Relative agreement of two successive references that ends the enrichment.
+const REFERENCE_AGREEMENT: f64 = 0.02;
+
+/// Largest Riesz problem of the reference (scalar unknowns, both components).
+const REFERENCE_MAX_UNKNOWNS: usize = 4_000_000;
 
 /// What `summary.json` records of a run.
 #[derive(Serialize)]
@@ -78,6 +104,7 @@ struct Summary {
     /// With --strength-reduction: the largest k that held and the smallest that did not.
     strength_reduction: Option<StrengthReduction>,
     estimate: Option<EstimateSummary>,
+    effectivity: Option<Effectivity>,
     seconds: Timings,
     files: Vec<PathBuf>,
 }
@@ -126,6 +153,7 @@ struct Timings {
     assemble: f64,
     solve: f64,
     estimate: Option<f64>,
+    effectivity: Option<f64>,
     output: f64,
 }
 
@@ -173,7 +201,7 @@ pub fn run(args: Args) -> Result<()> {
         None => None,
     };
     // 4. Estimate
-    let estimate = if args.estimate || args.check_equilibration {
+    let estimate = if args.estimate || args.check_equilibration || args.effectivity {
         let (e, t) = progress.stage(
             "estimate",
             || estimate(&problem, &disc, &solution),
@@ -186,6 +214,27 @@ pub fn run(args: Args) -> Result<()> {
         Some(e)
     } else {
         None
+    };
+    let effectivity = match estimate.as_ref().filter(|_| args.effectivity) {
+        Some(e) => {
+            let (reference, t) = progress.stage(
+                "effectivity",
+                || effectivity(&problem, &disc, &solution, joint.as_ref(), e),
+                |r| {
+                    let agree = if r.converged { "agree within 2 %" } else { "do NOT agree within 2 % (size limit)" };
+                    format!(
+                        "I_eff = {:.3} (eta_tot {:.4e}, reference {:.4e}; the last two of {} references {agree})",
+                        r.i_eff,
+                        r.eta_tot,
+                        r.reference,
+                        r.references.len()
+                    )
+                },
+            )?;
+            seconds.effectivity = Some(t);
+            Some(reference)
+        }
+        None => None,
     };
     // 5. Write the ParaView files, the summary and the history
     let u = problem.displacement(&disc, solution.x());
@@ -202,6 +251,7 @@ pub fn run(args: Args) -> Result<()> {
     let mut summary = summary(&scene, &disc, &results, &continuation, seconds, files);
     summary.estimate = estimate.as_ref().map(|e| EstimateSummary::new(e, problem.mesh.order));
     summary.strength_reduction = strength.map(|(s, _)| s);
+    summary.effectivity = effectivity;
     write_output(&dir.join("summary.json"), serde_json::to_string_pretty(&summary)?.as_bytes())?;
     if solution.contact().is_some() || summary.estimate.is_some() {
         let history = History {
@@ -303,6 +353,27 @@ fn describe_solution(solution: &Solution) -> String {
     }
 }
 
+/// η_tot of `e` against the sharp reference of the solution's residual.
+fn effectivity(
+    problem: &Problem,
+    disc: &Discretisation,
+    solution: &Solution,
+    joint: Option<&ContactJoint>,
+    e: &Estimate,
+) -> Result<Effectivity> {
+    let u = problem.displacement(disc, solution.x());
+    let r = sharp_reference(problem, &u, joint, REFERENCE_AGREEMENT, REFERENCE_MAX_UNKNOWNS)?;
+    let eta_tot = e.estimators.global().tot;
+    Ok(Effectivity {
+        eta_tot,
+        reference: r.norm(),
+        i_eff: eta_tot / r.norm(),
+        converged: r.converged,
+        references: r.norms,
+        unknowns: r.unknowns,
+    })
+}
+
 /// The estimate of the solution.
 fn estimate(problem: &Problem, disc: &Discretisation, solution: &Solution) -> Result<Estimate> {
     let state = solution.contact().map(|c| c.linearisation(problem, disc));
@@ -361,6 +432,7 @@ fn summary(
         contact: contact.map(|c| contact_summary(problem, disc, c, continuation)),
         strength_reduction: None,
         estimate: None,
+        effectivity: None,
         seconds,
         files,
     }

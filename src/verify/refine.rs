@@ -375,6 +375,55 @@ mod tests {
         }
     }
 
+    /// Cells marked in a corner, bisected three times over: the mesh stays conforming, nested
+    /// and oriented, the marked cells are halved, and the refinement stays local.
+    #[test]
+    fn bisection_is_conforming_nested_and_local() {
+        let coarse = vertex_mesh(&skewed(2));
+        assert_eq!(coarse.order, 1);
+        assert_eq!(coarse.n_points(), skewed(1).n_points());
+        let mut r = refine_levels(&coarse, 0);
+        for _ in 0..3 {
+            let corner = |c: usize| r.mesh.cell_vertices(c).iter().any(|p| p[0] < -0.5 && p[1] < 1.0);
+            let marked: Vec<bool> = (0..r.mesh.n_cells()).map(corner).collect();
+            let before = r.mesh.n_cells();
+            let areas: Vec<f64> = (0..before).filter(|&c| marked[c]).map(|c| r.mesh.cell_area(c)).collect();
+            r = bisect(&r, &marked);
+            assert!(r.mesh.n_cells() >= before + areas.len());
+            let largest = areas.iter().fold(0.0_f64, |m, &a| m.max(a));
+            let smallest_new = (0..r.mesh.n_cells()).map(|c| r.mesh.cell_area(c)).fold(f64::MAX, f64::min);
+            assert!(smallest_new <= 0.5 * largest + 1e-15);
+        }
+        let fine = &r.mesh;
+        assert!(fine.n_cells() < 8 * coarse.n_cells(), "{} cells: not local", fine.n_cells());
+        assert!((area(fine) - 6.0).abs() < 1e-13);
+        let topo = Topology::new(fine);
+        let boundary = (0..topo.n_edges()).filter(|&e| topo.is_boundary_edge(e)).count();
+        assert_eq!(boundary, fine.n_facets(), "a hanging node");
+        let euler = topo.vertices.len() as i64 - topo.n_edges() as i64 + fine.n_cells() as i64;
+        assert_eq!(euler, 1);
+        let mut child_area = vec![0.0; coarse.n_cells()];
+        for c in 0..fine.n_cells() {
+            assert!(fine.cell_area(c) > 0.0);
+            let sign = |m: &Mesh, c: usize| {
+                let [a, b, d] = m.cell_vertices(c);
+                ((b[0] - a[0]) * (d[1] - a[1]) - (b[1] - a[1]) * (d[0] - a[0])).signum()
+            };
+            assert_eq!(sign(fine, c), sign(&coarse, r.cell_parents[c]));
+            assert_eq!(fine.cell_tags[c], coarse.cell_tags[r.cell_parents[c]]);
+            child_area[r.cell_parents[c]] += fine.cell_area(c);
+        }
+        for (c, a) in child_area.into_iter().enumerate() {
+            assert!((a - coarse.cell_area(c)).abs() < 1e-14);
+        }
+        for tag in [BOTTOM, RIGHT, TOP, LEFT] {
+            assert!((fine.boundary_length(tag) - coarse.boundary_length(tag)).abs() < 1e-13);
+        }
+        for f in 0..fine.n_facets() {
+            assert_eq!(fine.facet_tags[f], coarse.facet_tags[r.facet_parents[f]]);
+        }
+    }
+
     #[test]
     fn zero_levels_is_the_identity_and_elevation_keeps_cells() {
         let coarse = skewed(1);
