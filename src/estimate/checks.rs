@@ -105,7 +105,8 @@ impl Equilibration {
         let symmetry = if order >= 2 { self.weak_symmetry } else { 0.0 };
         let values =
             [self.divergence, self.normal_continuity, self.neumann, self.contact, symmetry, self.compatibility];
-        let i = (0..6).fold(0, |best, i| if values[i] > values[best] { i } else { best });
+        // a NaN check counts as the worst
+        let i = (0..6).fold(0, |best, i| if values[i] > values[best] || values[i].is_nan() { i } else { best });
         Violation { condition: CONDITIONS[i], value: values[i], at: self.at[i] }
     }
 }

@@ -63,7 +63,7 @@ pub fn estimate_iterate(
     let reconstruction = reconstruct(problem, &disc.topology, &u, contact)?;
     let equilibration = check(problem, &disc.topology, &u, &reconstruction, contact);
     let violation = equilibration.violation(problem.mesh.order);
-    if !(violation.value <= EQUILIBRATION_TOLERANCE) {
+    if violation.value.is_nan() || violation.value > EQUILIBRATION_TOLERANCE {
         return Err(EstimateError::NotEquilibrated(violation));
     }
     let estimators = estimate(problem, &disc.topology, &u, &reconstruction, contact);

@@ -94,7 +94,7 @@ impl SharpReference {
 }
 
 /// Share of ‖r‖²_{C,h} carried by the cells refined at each step of [`sharp_reference`].
-const MARKED_SHARE: f64 = 0.8;
+pub const MARKED_SHARE: f64 = 0.8;
 
 /// The lower bound ‖r‖_{C,h} ≤ ‖R(u_h)‖ enriched until two successive values agree within
 /// `agreement` (relative), or until a Riesz problem would exceed `max_unknowns`. The first

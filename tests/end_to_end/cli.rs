@@ -1006,3 +1006,31 @@ fn solve_headlines_converging_numbers() {
     let summary = check_summary(&tmp.0);
     assert!(last.contains(&format!("{:.4} m", summary["contact"]["contact_length"].as_f64().unwrap())), "{last}");
 }
+
+// `--effectivity` writes η_tot, the sharp reference and I_eff = η_tot / reference under
+// `effectivity`: the references are increasing lower bounds on growing spaces, the last two
+// agree within 2 %, and η_tot lies above them (the bound holds).
+#[test]
+fn effectivity_reports_a_converged_reference_below_eta() {
+    let tmp = TempDir::new("effectivity");
+    let out_dir = tmp.join("out");
+    let scene = repo("geo/scene_a.toml");
+    let args =
+        ["solve", "-q", scene.to_str().unwrap(), "--order", "1", "--effectivity", "-o", out_dir.to_str().unwrap()];
+    assert_ok(&damfem(&args));
+    let summary = check_summary(&out_dir);
+    let e = &summary["effectivity"];
+    let number = |key: &str| e[key].as_f64().unwrap_or_else(|| panic!("{key} in {e}"));
+    let list = |key: &str| -> Vec<f64> { e[key].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect() };
+    let (references, unknowns) = (list("references"), list("unknowns"));
+    assert!(references.len() >= 2 && references.len() == unknowns.len(), "{e}");
+    assert!(references.windows(2).all(|w| w[1] >= w[0]), "not increasing: {references:?}");
+    assert!(unknowns.windows(2).all(|w| w[1] > w[0]), "spaces not growing: {unknowns:?}");
+    let [previous, last] = [references[references.len() - 2], references[references.len() - 1]];
+    assert_eq!(e["converged"], true, "{e}");
+    assert!(last - previous <= 0.02 * last, "{references:?}");
+    assert_eq!(number("reference"), last);
+    assert_eq!(number("eta_tot"), summary["estimate"]["global"]["tot"].as_f64().unwrap());
+    assert!(number("i_eff") >= 1.0, "eta_tot below the reference: {e}");
+    assert!((number("i_eff") - number("eta_tot") / last).abs() <= 1e-12 * number("i_eff"));
+}

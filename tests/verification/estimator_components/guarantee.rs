@@ -12,7 +12,7 @@ use damfem::estimate::{estimate_iterate, EstimateError};
 use damfem::fem::dofs::FIXED;
 use damfem::mesh::structured::{unit_square, BOTTOM};
 use damfem::solve::NewtonOptions;
-use damfem::verify::dual_norm::residual_dual_norm;
+use damfem::verify::dual_norm::{residual_dual_norm, residual_riesz, sharp_reference};
 use damfem::verify::rng::Rng;
 use damfem::verify::{v1, v3};
 
@@ -130,5 +130,43 @@ fn damped_and_perturbed_contact_iterates_are_refused_or_bounded() {
             println!("V3 P{order}, {name} perturbation of 1e-1 of the full step:");
             assert_eq!(guarantee(&problem, &disc, &y, Some((&joint, &x0))), Outcome::Refused, "P{order} {name}");
         }
+    }
+}
+
+/// Source: docs/method.md §2 (the Riesz lower bound on nested spaces), issue "Estimator: … a
+/// sharp reference".
+/// Goal: the sharp reference starts from the space of the uniform reference refined once (the
+/// same value), grows through nested spaces, ends with two values within 2 %, is at least the
+/// uniform reference refined twice at a fraction of its unknowns, and lies below η_tot.
+/// Parameters: Scene A (contact at the heel, singular at the Γ_D/Γ_C junction), P1 and P2, the
+/// scene's mesh; uniform references refined once and twice.
+#[test]
+fn sharp_reference_beats_uniform_refinement_near_singularities() {
+    for order in [1, 2] {
+        let (problem, tags, run) = scene_with_contact("geo/scene_a.toml", order, 1.0);
+        let joint = ContactJoint::frictionless(tags.clone(), run.nitsche.parameters);
+        let sharp = sharp_reference(&problem, &run.u, Some(&joint), 0.02, 4_000_000).unwrap();
+        let uniform: Vec<_> =
+            [1, 2].iter().map(|&l| residual_riesz(&problem, &run.u, Some(&joint), l).unwrap()).collect();
+        let eta = evaluate(&problem, &run.u, run.state(), &tags, None).est.tot;
+        println!(
+            "Scene A P{order}: sharp {:?} on {:?} unknowns; uniform {:.4e} ({}), {:.4e} ({}); eta_tot {eta:.4e}, I_eff {:.3}",
+            fmt(&sharp.norms),
+            sharp.unknowns,
+            uniform[0].norm,
+            uniform[0].n_unknowns,
+            uniform[1].norm,
+            uniform[1].n_unknowns,
+            eta / sharp.norm()
+        );
+        assert!(
+            (sharp.norms[0] - uniform[0].norm).abs() <= 1e-10 * uniform[0].norm,
+            "P{order}: not the same first space"
+        );
+        assert!(sharp.norms.windows(2).all(|w| w[1] >= w[0] * (1.0 - 1e-12)), "P{order}: not increasing");
+        assert!(sharp.converged, "P{order}: {:?}", sharp.norms);
+        assert!(sharp.norm() >= uniform[1].norm, "P{order}: below the uniform reference refined twice");
+        assert!(sharp.unknowns.last().unwrap() < &uniform[1].n_unknowns, "P{order}: no cheaper than uniform");
+        assert!(eta >= sharp.norm(), "P{order}: eta_tot {eta:e} below the reference {:e}", sharp.norm());
     }
 }
