@@ -1,6 +1,6 @@
 //! The stability sweep's machinery: one row per solver run (status, Newton steps, residual,
 //! condition estimate, the answer at probe points), its comparison with a reference, and the
-//! markdown and CSV tables. `examples/stability.rs` chooses the combinations.
+//! markdown and CSV tables. [`super::cases`] runs the combinations `examples/stability.rs` lists.
 
 use crate::contact::nitsche::NitscheParameters;
 use crate::contact::projection::Smoothing;
@@ -8,9 +8,11 @@ use crate::contact::{continuation, ContactJoint, ContactProblem, JointLaw};
 use crate::elasticity::stress::cell_mean_stress;
 use crate::elasticity::Problem;
 use crate::fem::transfer::interpolate;
+use crate::io::atomic::write_output;
 use crate::solve::condition::condition_1;
 use crate::solve::{Cholesky, NewtonError, NewtonOptions, NonlinearSystem, SparseLu};
 use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// The error of a row's body.
@@ -487,4 +489,16 @@ pub fn markdown_rows(rows: &[Row]) -> String {
         out.push_str(&format!("| {} |\n", c.join(" | ")));
     }
     out
+}
+
+/// Writes `markdown` to `path` and the CSV table of `rows` next to it (extension `.csv`),
+/// each atomically; returns the CSV's path.
+pub fn write_tables(markdown: &str, rows: &[Row], path: &Path) -> Result<PathBuf, BoxError> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    }
+    let csv_path = path.with_extension("csv");
+    write_output(path, markdown.as_bytes())?;
+    write_output(&csv_path, csv(rows).as_bytes())?;
+    Ok(csv_path)
 }

@@ -6,7 +6,7 @@
 #[path = "../../examples/stability.rs"]
 mod driver;
 
-use damfem::verify::sweep::{broken, Status};
+use damfem::verify::sweep::{broken, write_tables, Status};
 use driver::Plan;
 
 #[test]
@@ -45,7 +45,7 @@ fn quick_sweep_converges_or_explains_and_stays_finite() {
     // the tables: one markdown line and one CSV line per row
     let dir = std::env::temp_dir().join(format!("damfem-stability-{}", std::process::id()));
     let md = dir.join("stability.md");
-    let csv = driver::write_tables(&plan, &rows, &md).expect("tables written");
+    let csv = write_tables(&driver::markdown(&plan, &rows), &rows, &md).expect("tables written");
     let table_lines = std::fs::read_to_string(&md).unwrap().lines().filter(|l| l.starts_with("| ")).count();
     assert_eq!(table_lines, rows.len() + 1, "markdown rows + header");
     let text = std::fs::read_to_string(&csv).unwrap();
