@@ -8,9 +8,9 @@ VENV := .venv
 PYTHON := $(VENV)/bin/python
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: demo test deps apt-deps python-deps build
+.PHONY: demo test rust deps apt-deps python-deps build
 
-demo: deps build
+demo: rust deps build
 	./target/release/damfem adapt geo/scene_a.toml -o out/scene_a
 	$(PYTHON) scripts/render.py out/scene_a/scene_a.pvd out/scene_a/scene_a.png
 	$(PYTHON) scripts/render.py out/scene_a/scene_a.pvd out/scene_a/scene_a_mesh.png --field eta_tot --log --edges --warp 0 --box 24 40 0 8
@@ -18,9 +18,14 @@ demo: deps build
 	@echo "  history.csv and history.json, figures scene_a_eta.png and scene_a_time.png,"
 	@echo "  pictures scene_a.png (von Mises) and scene_a_mesh.png (final mesh and eta_tot near the toe)"
 
-test: deps build
+test: rust deps build
 	cargo test --release
 	DAMFEM=$(CURDIR)/target/release/damfem $(PYTHON) -m pytest -q tests/python
+
+rust:
+	@command -v cargo >/dev/null 2>&1 || { \
+	  echo "error: cargo not found: install Rust and cargo (https://rustup.rs), open a new shell, then run make again" >&2; \
+	  exit 1; }
 
 deps: apt-deps python-deps
 

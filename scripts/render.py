@@ -19,11 +19,18 @@ bar). Stresses are shown in MPa, displacements in mm; the axes are in metres.
 """
 
 import argparse
+import os
+import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
-import numpy as np
-import pyvista as pv
+# Without an X display, VTK would try X first and warn "bad X server connection" before it
+# falls back to EGL: ask for EGL at once.
+if sys.platform.startswith("linux") and not os.environ.get("DISPLAY"):
+    os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+
+import numpy as np  # noqa: E402
+import pyvista as pv  # noqa: E402
 
 
 def warp_factor(grid, requested):
@@ -141,7 +148,7 @@ def main():
                 legend.append([label, colour])
         if legend:
             plotter.add_legend(legend, bcolor="white", face="line", size=(0.22, 0.045 * len(legend)), loc="upper left")
-    plotter.show_bounds(grid=False, location="outer", xtitle="x [m]", ytitle="y [m]", ztitle="", show_zaxis=False)
+    plotter.show_bounds(grid=False, location="outer", xtitle="x [m]", ytitle="y [m]", ztitle=" ", show_zaxis=False)
     plotter.view_xy()
     plotter.camera.zoom(1.0)
     plotter.screenshot(args.png)

@@ -3,7 +3,7 @@
 
 use super::common::{output_dir, stem, validate_overrides, Input, Output};
 use super::interrupt;
-use super::output::{write_results, Results};
+use super::output::{write_results, Results, Units, UNITS};
 use crate::adapt::geo::GeoMesher;
 use crate::adapt::history::{to_csv, write_adaptive_uniform, write_plots};
 use crate::adapt::marking::Marking;
@@ -61,6 +61,7 @@ pub struct Args {
 /// What `history.json` records.
 #[derive(Serialize)]
 struct History<'a> {
+    units: Units,
     scene: &'a Path,
     order: usize,
     settings: &'a AdaptSettings,
@@ -233,6 +234,7 @@ impl StepWriter<'_> {
     /// a collection never lists a step the history does not have.
     fn write_lists(&self, error: Option<String>) -> Result<()> {
         let history = History {
+            units: UNITS,
             scene: &self.scene.source,
             order: self.scene.mesh.order,
             settings: &self.scene.adapt,

@@ -27,10 +27,13 @@ pub struct Input {
     /// before meshing (default 2000000)
     #[arg(long, value_name = "N")]
     pub max_cells: Option<usize>,
+    /// Stop with an error when gmsh takes more than S seconds to read and mesh the geometry
+    #[arg(long, value_name = "S", default_value_t = 300)]
+    pub mesh_time_limit: u32,
     /// Print nothing but errors
     #[arg(short, long, conflicts_with = "verbose")]
     pub quiet: bool,
-    /// Also print gmsh's own messages
+    /// Also print gmsh's own messages and one line per Newton step
     #[arg(short, long)]
     pub verbose: bool,
 }
@@ -46,6 +49,8 @@ impl Input {
             anyhow::bail!("cannot open {}: it is a directory, not a scene or geometry file", path.display());
         }
         gmsh::set_cell_limit(self.max_cells.unwrap_or(gmsh::DEFAULT_CELL_LIMIT));
+        anyhow::ensure!(self.mesh_time_limit > 0, "--mesh-time-limit 0: the time limit must be at least 1 s");
+        gmsh::set_time_limit(Some(self.mesh_time_limit));
         let mut scene = match path.extension().and_then(|e| e.to_str()) {
             Some("toml") => Scene::load(path)?,
             Some("geo") | Some("msh") => Scene::for_geometry(path),
@@ -67,6 +72,11 @@ impl Input {
             scene.mesh.size_factor = factor;
         }
         Ok(scene)
+    }
+
+    /// With `-v`, what Newton calls at every iterate: one line on stderr.
+    pub fn newton_trace(&self) -> Option<fn(usize, f64)> {
+        self.verbose.then_some(newton_step_line as fn(usize, f64))
     }
 
     /// Meshes the scene's geometry (or reads its .msh).
@@ -140,6 +150,11 @@ pub fn remove_created_dirs() {
         // only empty directories are removed; a failure leaves the directory as it is
         let _ = std::fs::remove_dir(dir);
     }
+}
+
+/// A Newton iterate's progress line: its number k and ‖F(x_k)‖ / scale.
+fn newton_step_line(step: usize, relative_residual: f64) {
+    eprintln!("newton     step {step:>3}, relative residual {relative_residual:.3e}");
 }
 
 /// File stem of the scene, used to name outputs.

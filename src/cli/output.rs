@@ -6,9 +6,11 @@ use crate::elasticity::Problem;
 use crate::estimate::estimators::{GlobalEstimators, NAMES};
 use crate::estimate::Estimate;
 use crate::io::vtu::{write_boundary_vtu, write_mesh_vtu, Field};
+use crate::mesh::Mesh;
 use crate::scene::{OutputSection, Scene};
 use anyhow::Result;
 use serde::Serialize;
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// Names of the reconstructed stress components.
@@ -41,6 +43,42 @@ impl EstimateSummary {
             equilibration["weak_symmetry"] = NOT_APPLICABLE.into();
         }
         EstimateSummary { global: e.estimators.global(), equilibration }
+    }
+}
+
+/// The units of the numbers in the JSON files: SI, per metre of dam (plane strain).
+#[derive(Serialize, Clone, Copy)]
+pub struct Units {
+    length: &'static str,
+    stress: &'static str,
+    force: &'static str,
+    residual: &'static str,
+    estimator: &'static str,
+    time: &'static str,
+}
+
+/// The units every JSON file states.
+pub const UNITS: Units = Units {
+    length: "m (coordinates, lengths, displacements, mesh sizes)",
+    stress: "Pa (stresses, pressures, delta, stress_scale)",
+    force: "N/m (forces per metre of dam)",
+    residual: "N/m (Newton residuals; relative residuals have no unit)",
+    estimator: "Pa m (eta_* and stress norms: L2 norms of stresses over the section)",
+    time: "s",
+};
+
+/// The physical names of the numeric tags of the VTU files: `material` (cells) and
+/// `physical_tag` (boundary facets).
+#[derive(Serialize)]
+pub struct TagNames {
+    material: BTreeMap<i32, String>,
+    physical_tag: BTreeMap<i32, String>,
+}
+
+impl TagNames {
+    pub fn new(mesh: &Mesh) -> Self {
+        let names = |dim| mesh.groups.iter().filter(|g| g.dim == dim).map(|g| (g.tag, g.name.clone())).collect();
+        TagNames { material: names(2), physical_tag: names(1) }
     }
 }
 

@@ -2,7 +2,7 @@
 //! write ParaView files, `summary.json` and `history.json`.
 
 use super::common::{stem, validate_overrides, Input, Output};
-use super::output::{write_results, EstimateSummary, Results};
+use super::output::{write_results, EstimateSummary, Results, TagNames, Units, UNITS};
 use crate::contact::{
     solve_by_continuation, strength_reduction, ContactError, ContactJoint, ContactSolution, Continuation, Crack,
     JointLaw, Solution, Stage, StrengthReduction,
@@ -89,6 +89,7 @@ const REFERENCE_MAX_UNKNOWNS: usize = 4_000_000;
 /// What `summary.json` records of a run.
 #[derive(Serialize)]
 struct Summary {
+    units: Units,
     scene: PathBuf,
     order: usize,
     nodes: usize,
@@ -107,11 +108,14 @@ struct Summary {
     effectivity: Option<Effectivity>,
     seconds: Timings,
     files: Vec<PathBuf>,
+    /// The physical names of the tags in the VTU files.
+    tags: TagNames,
 }
 
 /// What `history.json` records: the Newton steps at each δ and the estimate of the solution.
 #[derive(Serialize)]
 struct History<'a> {
+    units: Units,
     newton: Vec<&'a Stage>,
     estimate: Option<&'a EstimateSummary>,
 }
@@ -184,7 +188,8 @@ pub fn run(args: Args) -> Result<()> {
     )?;
     seconds.assemble = t;
     // 3. Solve: one Cholesky solve, or Newton along the δ path with contact
-    let continuation = scene.continuation(&problem, &disc.topology);
+    let mut continuation = scene.continuation(&problem, &disc.topology);
+    continuation.newton.trace = input.newton_trace();
     let (solution, t) = progress
         .stage("solve", || solve(&problem, &disc, joint.as_ref(), &continuation), describe_solution)
         .map_err(|e| match e.downcast_ref::<ContactError>() {
@@ -255,6 +260,7 @@ pub fn run(args: Args) -> Result<()> {
     write_output(&dir.join("summary.json"), serde_json::to_string_pretty(&summary)?.as_bytes())?;
     if solution.contact().is_some() || summary.estimate.is_some() {
         let history = History {
+            units: UNITS,
             newton: solution.contact().map(|c| c.stages.iter().collect()).unwrap_or_default(),
             estimate: summary.estimate.as_ref(),
         };
@@ -283,6 +289,7 @@ fn headline(summary: &Summary) -> String {
 /// relative residuals of the failing stage.
 #[derive(Serialize)]
 struct FailedHistory {
+    units: Units,
     error: String,
     /// The target δ \[Pa\] of the continuation path.
     delta_target: f64,
@@ -314,8 +321,12 @@ fn newton_failure(scene: &Scene, continuation: &Continuation, error: &NewtonErro
         causes.push("the Nitsche parameters or the regularisation (contact.gamma0, theta, delta)".to_string());
     }
     let used = format!("gamma0 = {}, theta = {}, delta = {:.3e} Pa", c.gamma0, c.theta, continuation.delta);
-    let history =
-        FailedHistory { error: error.to_string(), delta_target: continuation.delta, relative_residuals: residuals };
+    let history = FailedHistory {
+        units: UNITS,
+        error: error.to_string(),
+        delta_target: continuation.delta,
+        relative_residuals: residuals,
+    };
     let kept = serde_json::to_string_pretty(&history).map_err(anyhow::Error::from).and_then(|text| {
         write_output(&dir.join("history.json"), text.as_bytes())?;
         Ok(format!("\nthe residuals are in {}", dir.join("history.json").display()))
@@ -418,6 +429,7 @@ fn summary(
     let Results { problem, u, sigma, contact, .. } = *results;
     let principal_stresses: Vec<[f64; 2]> = sigma.iter().map(|&s| principal(s)).collect();
     Summary {
+        units: UNITS,
         scene: scene.source.clone(),
         order: problem.mesh.order,
         nodes: problem.mesh.n_points(),
@@ -435,6 +447,7 @@ fn summary(
         effectivity: None,
         seconds,
         files,
+        tags: TagNames::new(&problem.mesh),
     }
 }
 

@@ -49,11 +49,14 @@ pub struct NewtonOptions {
     pub max_halvings: usize,
     /// A step is halved while it multiplies the residual norm by more than this factor.
     pub max_growth: f64,
+    /// Called with k and ‖F(x_k)‖ / scale at every iterate x_k, x_0 included (progress).
+    #[serde(skip)]
+    pub trace: Option<fn(usize, f64)>,
 }
 
 impl Default for NewtonOptions {
     fn default() -> Self {
-        NewtonOptions { max_iter: 50, rtol: 1e-10, min_steps: 1, max_halvings: 20, max_growth: 2.0 }
+        NewtonOptions { max_iter: 50, rtol: 1e-10, min_steps: 1, max_halvings: 20, max_growth: 2.0, trace: None }
     }
 }
 
@@ -176,6 +179,9 @@ pub fn newton_until(
         system.evaluate(&x, &mut residual, Some(&mut jacobian));
         seconds.assemble += clock.elapsed().as_secs_f64();
         let r = norm(&residual);
+        if let Some(trace) = options.trace {
+            trace(step, r / scale);
+        }
         // round-off floor: a tiny step that no longer reduces the residual
         let stagnated =
             history.last().is_some_and(|it: &Iteration| it.increment <= 1e-10 * norm(&x) && r >= 0.5 * it.residual);

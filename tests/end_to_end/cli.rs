@@ -106,6 +106,9 @@ fn check_summary(dir: &Path) -> serde_json::Value {
     for file in s["files"].as_array().unwrap() {
         assert!(Path::new(file.as_str().unwrap()).is_file(), "{file}");
     }
+    assert!(s["units"]["stress"].as_str().unwrap().starts_with("Pa "), "units in {text}");
+    assert!(s["units"]["length"].as_str().unwrap().starts_with("m "), "units in {text}");
+    assert!(!s["tags"]["material"].as_object().unwrap().is_empty(), "tag names in {text}");
     s
 }
 
@@ -818,6 +821,32 @@ fn absurd_sizes_and_coordinates() {
     assert_ok(&out);
 }
 
+// A .geo whose reading never ends (a loop of 10⁹ iterations) stops at the gmsh time limit
+// with one error naming the file and --mesh-time-limit, in every command that meshes, and
+// leaves no output directory; a limit of 0 s is refused.
+#[test]
+fn endless_geo_stops_at_the_time_limit() {
+    let tmp = TempDir::new("endless");
+    let geo = tmp.join("endless.geo");
+    let body = std::fs::read_to_string(fixture("bare.geo")).unwrap();
+    std::fs::write(&geo, format!("For i In {{1:1000000000}}\n  x = i;\nEndFor\n{body}")).unwrap();
+    for command in ["mesh", "check", "solve", "adapt"] {
+        let start = std::time::Instant::now();
+        let keywords = ["endless.geo", "time limit of 1 s", "--mesh-time-limit"];
+        assert_refused(&format!("endless-{command}"), command, &geo, &["--mesh-time-limit", "1"], &keywords);
+        assert!(start.elapsed().as_secs() < 20, "{command} took {:?}", start.elapsed());
+    }
+    let scene = repo("geo/scene_a.toml");
+    assert_refused("time-limit-zero", "check", &scene, &["--mesh-time-limit", "0"], &["--mesh-time-limit 0"]);
+    assert_ok(&damfem(&[
+        "check".as_ref(),
+        "-q".as_ref(),
+        scene.as_os_str(),
+        "--mesh-time-limit".as_ref(),
+        "5".as_ref(),
+    ]));
+}
+
 /// `damfem check <scene> [extra]`: asserts success and returns the "warning:" lines of stderr.
 fn check_warnings(scene: &Path, extra: &[&str]) -> Vec<String> {
     let mut args = vec![OsStr::new("check"), scene.as_os_str()];
@@ -1033,4 +1062,42 @@ fn effectivity_reports_a_converged_reference_below_eta() {
     assert_eq!(number("eta_tot"), summary["estimate"]["global"]["tot"].as_f64().unwrap());
     assert!(number("i_eff") >= 1.0, "eta_tot below the reference: {e}");
     assert!((number("i_eff") - number("eta_tot") / last).abs() <= 1e-12 * number("i_eff"));
+}
+
+// With -v, one line per Newton iterate on stderr (k = 0 … steps at every δ of the path);
+// with -q, nothing at all. summary.json and history.json state their units, and summary.json
+// names the numeric tags of the VTU files.
+#[test]
+fn verbose_shows_newton_steps_quiet_shows_nothing_and_json_states_units() {
+    let tmp = TempDir::new("verbose");
+    let scene = repo("geo/scene_a.toml");
+    let run = |flag: &str| {
+        damfem(&[OsStr::new("solve"), OsStr::new(flag), scene.as_os_str(), OsStr::new("-o"), tmp.0.as_os_str()])
+    };
+    let out = run("-v");
+    assert_ok(&out);
+    let text = stderr(&out);
+    let residuals: Vec<f64> = text
+        .lines()
+        .filter_map(|l| l.strip_prefix("newton "))
+        .map(|l| l.rsplit(' ').next().unwrap().parse().unwrap())
+        .collect();
+    let summary = check_summary(&tmp.0);
+    let stages = summary["contact"]["stages"].as_array().unwrap();
+    let iterates: u64 = stages.iter().map(|s| s[1].as_u64().unwrap() + 1).sum();
+    assert_eq!(residuals.len() as u64, iterates, "{text}");
+    assert!(residuals[0] > 0.1 && *residuals.last().unwrap() <= 1e-10, "{text}");
+    let tags = &summary["tags"];
+    assert_eq!(tags["material"].as_object().unwrap().values().collect::<Vec<_>>(), ["concrete"]);
+    let mut curves: Vec<&str> =
+        tags["physical_tag"].as_object().unwrap().values().map(|v| v.as_str().unwrap()).collect();
+    curves.sort_unstable();
+    assert_eq!(curves, ["base", "crest", "downstream", "toe", "upstream"]);
+    let history: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(tmp.join("history.json")).unwrap()).unwrap();
+    assert_eq!(history["units"]["residual"].as_str().unwrap().split(' ').next(), Some("N/m"));
+
+    let out = run("-q");
+    assert_ok(&out);
+    assert!(out.stdout.is_empty() && out.stderr.is_empty(), "{}{}", String::from_utf8_lossy(&out.stdout), stderr(&out));
 }

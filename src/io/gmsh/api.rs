@@ -73,6 +73,12 @@ fn c_string(s: &str) -> CString {
     CString::new(s).expect("gmsh option names contain no NUL byte")
 }
 
+/// Schedules SIGALRM for this process in `seconds` (0: cancels the pending one).
+pub(super) fn alarm(seconds: u32) {
+    // SAFETY: alarm only sets the process's alarm clock.
+    unsafe { libc::alarm(seconds) };
+}
+
 pub(super) fn initialize() -> Result<(), GmshError> {
     // SAFETY: no arguments are passed; called once, under the session lock.
     call("gmshInitialize", |e| unsafe { ffi::gmshInitialize(0, ptr::null_mut(), 0, e) })

@@ -9,10 +9,15 @@
 //!   times the size factor, the surface mesh is estimated at N ≈ |box| / (√3/4 h̄²) triangles
 //!   and refused when N exceeds the cell limit ([`set_cell_limit`], default
 //!   [`DEFAULT_CELL_LIMIT`]). The curve mesh is then cleared and the model meshed as asked.
+//! - Time: reading and meshing one file may take [`set_time_limit`] seconds (none by
+//!   default). gmsh cannot be stopped from outside its loops, so the limit is an `alarm`:
+//!   SIGALRM reaches the process when the time is up, and the caller's handler reports
+//!   [`time_limit_exceeded`] and ends the process (the command line's does).
 
 use super::{api, GmshError};
-use std::path::Path;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU32, AtomicUsize, Ordering};
+use std::sync::{Mutex, PoisonError};
 
 /// Largest coordinate accepted [m].
 pub const MAX_COORDINATE: f64 = 1e9;
@@ -26,6 +31,52 @@ static CELL_LIMIT: AtomicUsize = AtomicUsize::new(DEFAULT_CELL_LIMIT);
 /// Sets the estimated cell count above which [`super::Session::generate`] refuses to mesh.
 pub fn set_cell_limit(cells: usize) {
     CELL_LIMIT.store(cells, Ordering::Relaxed);
+}
+
+/// Seconds gmsh may take to read and mesh one file; 0: no limit.
+static TIME_LIMIT: AtomicU32 = AtomicU32::new(0);
+/// The file gmsh reads or meshes under the time limit.
+static TIMED_FILE: Mutex<Option<PathBuf>> = Mutex::new(None);
+
+/// Sets how many seconds gmsh may take to read and mesh one file (`None`: no limit). When
+/// they are up, the process receives SIGALRM, which the caller must handle.
+pub fn set_time_limit(seconds: Option<u32>) {
+    TIME_LIMIT.store(seconds.unwrap_or(0), Ordering::Relaxed);
+}
+
+/// The error to report when SIGALRM came from the time limit: the file and the limit.
+pub fn time_limit_exceeded() -> Option<String> {
+    let file = TIMED_FILE.lock().unwrap_or_else(PoisonError::into_inner).clone()?;
+    Some(format!(
+        "cannot use {}: gmsh did not finish reading and meshing it within the time limit of {} s; simplify the \
+         geometry or coarsen its sizes, or raise the limit with --mesh-time-limit",
+        file.display(),
+        TIME_LIMIT.load(Ordering::Relaxed)
+    ))
+}
+
+/// The time limit running for one file, from [`Deadline::start`] until dropped.
+pub(super) struct Deadline;
+
+impl Deadline {
+    /// Starts the clock for gmsh's work on `path`, if a time limit is set.
+    pub(super) fn start(path: &Path) -> Deadline {
+        let seconds = TIME_LIMIT.load(Ordering::Relaxed);
+        if seconds > 0 {
+            *TIMED_FILE.lock().unwrap_or_else(PoisonError::into_inner) = Some(path.to_path_buf());
+            api::alarm(seconds);
+        }
+        Deadline
+    }
+}
+
+impl Drop for Deadline {
+    fn drop(&mut self) {
+        if TIME_LIMIT.load(Ordering::Relaxed) > 0 {
+            api::alarm(0);
+            *TIMED_FILE.lock().unwrap_or_else(PoisonError::into_inner) = None;
+        }
+    }
 }
 
 /// Checks the coordinates of the opened model: finite, within ±[`MAX_COORDINATE`], and

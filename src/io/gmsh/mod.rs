@@ -40,7 +40,7 @@ mod session;
 mod size_field;
 
 pub use error::GmshError;
-pub use limits::{set_cell_limit, DEFAULT_CELL_LIMIT};
+pub use limits::{set_cell_limit, set_time_limit, time_limit_exceeded, DEFAULT_CELL_LIMIT};
 pub use session::Session;
 pub use size_field::SizeField;
 
@@ -154,6 +154,7 @@ fn generated(
     verbose: bool,
     allow_system_calls: bool,
 ) -> Result<Session, GmshError> {
+    let _deadline = limits::Deadline::start(path);
     let mut session = Session::new(verbose)?;
     session.open_geo(path, allow_system_calls)?;
     session.set_options(options)?;
@@ -166,6 +167,7 @@ fn generated(
 
 /// Reads the gmsh mesh file `path` (`.msh`).
 pub fn read_msh(path: &Path, verbose: bool) -> Result<Mesh, GmshError> {
+    let _deadline = limits::Deadline::start(path);
     let mut session = Session::new(verbose)?;
     session.open_msh(path)?;
     session.mesh()
