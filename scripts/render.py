@@ -7,7 +7,7 @@ For a .pvd collection (the steps of `damfem adapt`) the last step is drawn. The 
 domain size, unless --warp gives the factor) is coloured by a cell field. If
 RESULT_boundary.vtu exists beside it, the contact boundary is drawn on top: red where
 the body is in contact (sticks, on a frictional joint), orange where it slips, blue where
-it has separated, with a legend. --edges draws the cell edges, --log
+it has separated, and black where the boundary is clamped (u = 0), with a legend. --edges draws the cell edges, --log
 a logarithmic colour scale (for estimators); --box draws only the cells inside a box (a
 close-up, e.g. of the refined zone).
 
@@ -50,7 +50,16 @@ def contact_lines(boundary_path, factor):
     status = boundary.cell_data["contact_status"]
     closed = "stick" if "tangential_traction" in boundary.cell_data else "contact"
     zones = ((1, "red", closed), (2, "orange", "slip"), (0, "blue", "open"))
-    return [(warped.extract_cells(np.where(status == s)[0]), colour, label) for s, colour, label in zones]
+    lines = [(warped.extract_cells(np.where(status == s)[0]), colour, label) for s, colour, label in zones]
+    return lines + [(warped.extract_cells(anchored(boundary)), "black", "anchored (u = 0)")]
+
+
+def anchored(boundary):
+    """The facets off the contact boundary whose every node stays in place: the clamped part."""
+    still = np.linalg.norm(boundary.point_data["displacement"], axis=1) == 0.0
+    cells = boundary.cell_connectivity.reshape(boundary.n_cells, -1) if boundary.n_cells else np.empty((0, 2), int)
+    off_contact = boundary.cell_data["contact_status"] == -1
+    return np.where(off_contact & still[cells].all(axis=1))[0]
 
 
 PERCENTILES = (1.0, 99.0)

@@ -54,3 +54,5 @@ def test_render_last_step(adapted, tmp_path):
                            "--log", "--edges", "--warp", "0", "--box", "24", "40", "0", "8"], capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
     assert png.stat().st_size > 10_000
+    # VTK's log lines (an X server warning off-screen, an empty axis title) stay out of stderr
+    assert "WARN|" not in done.stderr and "ERR|" not in done.stderr, done.stderr

@@ -56,3 +56,15 @@ def test_render_script_default_range_excludes_singular_cells(damfem, solved, tmp
                    capture_output=True)
     image = pv.read(png).point_data.active_scalars
     assert len(np.unique(image.reshape(len(image), -1), axis=0)) > 20
+
+
+def test_render_script_marks_the_anchored_toe(solved):
+    # the clamped facets of Scene A are its anchored toe, x from 32 to 40 m at y = 0
+    out, _ = solved("scene_a", 2)
+    render = load_render()
+    boundary = pv.read(out / "scene_a_boundary.vtu")
+    toe = boundary.extract_cells(render.anchored(boundary))
+    assert toe.n_cells > 0
+    assert np.allclose(toe.points[:, 1], 0.0)
+    assert toe.points[:, 0].min() == pytest.approx(32.0) and toe.points[:, 0].max() == pytest.approx(40.0)
+    assert toe.compute_cell_sizes().cell_data["Length"].sum() == pytest.approx(8.0)
