@@ -7,11 +7,15 @@ use super::output::{write_results, Results, Units, UNITS};
 use crate::adapt::geo::GeoMesher;
 use crate::adapt::history::{to_csv, write_adaptive_uniform, write_plots};
 use crate::adapt::marking::Marking;
-use crate::adapt::{self, AdaptError, AdaptSettings, Refinement, Step, StepRecord};
+use crate::adapt::{self, AdaptError, AdaptSettings, Model, Refinement, Step, StepRecord};
+use crate::contact::ContactJoint;
 use crate::elasticity::stress::cell_mean_stress;
+use crate::elasticity::Problem;
 use crate::io::atomic::write_output;
 use crate::io::pvd::write_pvd;
+use crate::mesh::Mesh;
 use crate::scene::Scene;
+use crate::solve::NewtonOptions;
 use anyhow::{Context, Result};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -70,6 +74,22 @@ struct History<'a> {
     error: Option<String>,
 }
 
+/// The scene as the adaptive loop's model, with the Newton trace of `-v`.
+struct Traced<'a> {
+    scene: &'a Scene,
+    trace: Option<fn(usize, f64)>,
+}
+
+impl Model for Traced<'_> {
+    fn problem(&self, mesh: Mesh) -> Result<(Problem, Option<ContactJoint>), AdaptError> {
+        Model::problem(self.scene, mesh)
+    }
+
+    fn newton(&self) -> NewtonOptions {
+        NewtonOptions { trace: self.trace, ..self.scene.newton_options() }
+    }
+}
+
 pub fn run(args: Args) -> Result<()> {
     let progress = args.input.progress();
     let mut scene = args.input.scene()?;
@@ -108,7 +128,8 @@ fn run_sequence(scene: &Scene, input: &Input, dir: &Path, name: &str, prefix: &s
         allow_system_calls: input.allow_system_calls,
     };
     let mut writer = StepWriter { dir, name, scene, history: Vec::new(), vtu: Vec::new() };
-    let result = adapt::run(&scene.adapt, &mut mesher, scene, |step| {
+    let model = Traced { scene, trace: input.newton_trace() };
+    let result = adapt::run(&scene.adapt, &mut mesher, &model, |step| {
         writer.write(step).map_err(|source| AdaptError::Output { step: step.record.step, source: source.into() })?;
         progress.say(&format!("{prefix}{}", step_line(step.record)));
         Ok(())

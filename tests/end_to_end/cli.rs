@@ -1064,9 +1064,10 @@ fn effectivity_reports_a_converged_reference_below_eta() {
     assert!((number("i_eff") - number("eta_tot") / last).abs() <= 1e-12 * number("i_eff"));
 }
 
-// With -v, one line per Newton iterate on stderr (k = 0 … steps at every δ of the path);
-// with -q, nothing at all. summary.json and history.json state their units, and summary.json
-// names the numeric tags of the VTU files.
+// With -v, gmsh's messages and one line per Newton iterate on stderr (k = 0 … steps at every
+// δ of the path), in `solve` and `adapt`; with -q, nothing at all. summary.json and the
+// history.json of both commands state their units, and summary.json names the numeric tags
+// of the VTU files.
 #[test]
 fn verbose_shows_newton_steps_quiet_shows_nothing_and_json_states_units() {
     let tmp = TempDir::new("verbose");
@@ -1077,6 +1078,9 @@ fn verbose_shows_newton_steps_quiet_shows_nothing_and_json_states_units() {
     let out = run("-v");
     assert_ok(&out);
     let text = stderr(&out);
+    // gmsh's own messages go to stderr too, not among the results on stdout
+    assert!(text.contains("gmsh: Info: Meshing 1D"), "{text}");
+    assert!(!String::from_utf8_lossy(&out.stdout).contains("Info"), "{}", String::from_utf8_lossy(&out.stdout));
     let residuals: Vec<f64> = text
         .lines()
         .filter_map(|l| l.strip_prefix("newton "))
@@ -1100,4 +1104,20 @@ fn verbose_shows_newton_steps_quiet_shows_nothing_and_json_states_units() {
     let out = run("-q");
     assert_ok(&out);
     assert!(out.stdout.is_empty() && out.stderr.is_empty(), "{}{}", String::from_utf8_lossy(&out.stdout), stderr(&out));
+
+    let adapted = tmp.join("adapt");
+    let out = damfem(&[
+        OsStr::new("adapt"),
+        OsStr::new("-v"),
+        scene.as_os_str(),
+        OsStr::new("--steps"),
+        OsStr::new("1"),
+        OsStr::new("-o"),
+        adapted.as_os_str(),
+    ]);
+    assert_ok(&out);
+    assert!(stderr(&out).lines().filter(|l| l.starts_with("newton ")).count() >= 2, "{}", stderr(&out));
+    let history: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(adapted.join("history.json")).unwrap()).unwrap();
+    assert!(history["units"]["estimator"].as_str().unwrap().starts_with("Pa m"));
 }

@@ -4,8 +4,8 @@
 //! [`Session`] is the only way in: it holds a process-wide lock (a static `Mutex`), so
 //! concurrent callers, e.g. `cargo test` threads, wait for each other. The first session
 //! calls `gmshInitialize`; every session clears the model (`gmshClear`), puts back gmsh's
-//! defaults for the options that shape the mesh, and silences gmsh's console unless
-//! `verbose`. `gmshFinalize` is never called: gmsh lives until the process ends.
+//! defaults for the options that shape the mesh, and silences gmsh's console (stdout): its
+//! messages go to its logger, which the session reads, and to stderr if `verbose`. `gmshFinalize` is never called: gmsh lives until the process ends.
 //!
 //! This module holds the crate's only `unsafe` code, in `api`: every C call goes through
 //! one `check(ierr, "gmshName")` helper that turns a non-zero `ierr` into

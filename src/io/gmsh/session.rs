@@ -39,11 +39,14 @@ pub struct Session {
     log_seen: usize,
     /// Whether a size field sets the mesh sizes (then the cell count is not estimated).
     sized_by_field: bool,
+    /// Whether gmsh's messages are copied to stderr.
+    verbose: bool,
 }
 
 impl Session {
     /// Waits for gmsh, initialising it on first use, and starts from an empty model.
-    /// `verbose` lets gmsh print its progress on the terminal.
+    /// With `verbose`, gmsh's messages are copied to stderr after each long operation (gmsh's
+    /// own terminal output would go to stdout, which holds the results).
     pub fn new(verbose: bool) -> Result<Session, GmshError> {
         let mut lock = GMSH.lock().unwrap_or_else(PoisonError::into_inner);
         if lock.is_none() {
@@ -54,7 +57,7 @@ impl Session {
         for (name, &value) in RESET_OPTIONS.iter().zip(lock.iter().flatten()) {
             api::set_number(name, value)?;
         }
-        api::set_number("General.Terminal", if verbose { 1.0 } else { 0.0 })?;
+        api::set_number("General.Terminal", 0.0)?;
         // errors must stay logged (verbosity ≥ 1) for the session to report them
         api::set_number("General.Verbosity", if verbose { 5.0 } else { 1.0 })?;
         api::set_number("General.AbortOnError", 2.0)?;
@@ -63,7 +66,8 @@ impl Session {
         api::set_number("General.NumThreads", 1.0)?;
         api::clear()?;
         api::restart_logger()?;
-        Ok(Session { _lock: lock, source: PathBuf::from("the empty model"), log_seen: 0, sized_by_field: false })
+        let source = PathBuf::from("the empty model");
+        Ok(Session { _lock: lock, source, log_seen: 0, sized_by_field: false, verbose })
     }
 
     /// Opens a `.geo` file. Unless `allow_system_calls`, first refuses it if it, or a file it
@@ -209,11 +213,15 @@ impl Session {
         })
     }
 
-    /// The first error gmsh logged since the last look.
+    /// The first error gmsh logged since the last look; with `verbose`, every message logged
+    /// since then goes to stderr.
     fn first_new_error(&mut self) -> Result<Option<String>, GmshError> {
         let log = api::logged()?;
         let new = log.get(self.log_seen..).unwrap_or_default();
         self.log_seen = log.len();
+        if self.verbose {
+            new.iter().for_each(|line| eprintln!("gmsh: {line}"));
+        }
         Ok(new.iter().find_map(|line| line.strip_prefix("Error: ")).map(str::to_owned))
     }
 }
