@@ -44,7 +44,8 @@ pub fn to_csv(history: &[StepRecord]) -> String {
     csv
 }
 
-/// η_tot and its non-zero components against the number of unknowns.
+/// η_tot and its components against the number of unknowns; a component that is zero
+/// throughout has no curve and no legend entry, but keeps its colour slot.
 pub fn components_figure(title: &str, history: &[StepRecord]) -> Figure {
     let component = |name: &str, value: fn(&StepRecord) -> f64| Series {
         label: name.into(),
@@ -63,10 +64,13 @@ pub fn components_figure(title: &str, history: &[StepRecord]) -> Figure {
     Figure {
         title: title.into(),
         x_label: "unknowns".into(),
-        y_label: "estimator".into(),
-        series: all.into_iter().filter(|s| s.points.iter().any(|p| p.1 > 0.0)).collect(),
+        y_label: format!("estimator [{ESTIMATOR_UNIT}]"),
+        series: all.into(),
     }
 }
+
+/// The unit of the estimators: L² norms of stresses over the section.
+const ESTIMATOR_UNIT: &str = "Pa m";
 
 /// η_tot of several runs against `x` (unknowns or wall time).
 pub fn comparison_figure(
@@ -78,7 +82,7 @@ pub fn comparison_figure(
     Figure {
         title: title.into(),
         x_label: x_label.into(),
-        y_label: "η_tot".into(),
+        y_label: format!("η_tot [{ESTIMATOR_UNIT}]"),
         series: runs
             .iter()
             .map(|(label, h)| Series {

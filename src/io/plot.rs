@@ -29,7 +29,8 @@ pub const FONT_PATH: &str = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
 /// Gap between the data and the frame before rounding out to decades, in decades.
 const MARGIN: f64 = 0.05;
 
-/// Line and marker colours, cycled over the series.
+/// Line and marker colours, cycled over the series: series k has colour k whether or not an
+/// earlier one has points, so the same list of series keeps its colours across figures.
 const PALETTE: [RGBColor; 8] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
@@ -163,7 +164,8 @@ fn draw<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, figure: &Figure) -> Dr
     root.present()
 }
 
-/// Draws series `index` through its plottable `points`, with markers and a legend entry if labelled.
+/// Draws series `index` through its plottable `points`, with markers and a legend entry if
+/// labelled and not empty.
 fn draw_curve<'a, DB: DrawingBackend + 'a>(
     chart: &mut LogLog<'a, DB>,
     index: usize,
@@ -177,7 +179,7 @@ fn draw_curve<'a, DB: DrawingBackend + 'a>(
     } else {
         chart.draw_series(LineSeries::new(points.clone(), style))?
     };
-    if !series.label.is_empty() {
+    if !series.label.is_empty() && !points.is_empty() {
         curve.label(&series.label).legend(move |(x, y)| {
             EmptyElement::at((x, y)) + line_sample(dashed, style) + marker((12, 0), index, style)
         });

@@ -430,6 +430,16 @@ fn adapt_writes_every_step_its_history_and_figures() {
     for figure in ["scene_a_eta.svg", "scene_a_eta.png", "scene_a_time.svg", "scene_a_time.png"] {
         assert!(dir.join(figure).is_file(), "{figure}");
     }
+    // the η axes carry their unit; each component keeps its palette slot (η_reg the 6th,
+    // η_lin the 7th) whether or not the components before it are zero
+    let svg = |name: &str| std::fs::read_to_string(dir.join(name)).unwrap();
+    let (eta, time) = (svg("scene_a_eta.svg"), svg("scene_a_time.svg"));
+    assert!(eta.contains("estimator [Pa m]") && time.contains("η_tot [Pa m]"));
+    let last = &steps[2]["eta"];
+    for (component, colour) in [("reg", "#8C564B"), ("lin", "#E377C2")] {
+        assert!(last[component].as_f64().unwrap() > 0.0, "η_{component} = 0: {last}");
+        assert!(eta.contains(&format!("stroke=\"{colour}\"")), "η_{component} not in {colour}");
+    }
     assert!(hidden_files(&dir.0).is_empty());
 }
 
