@@ -257,7 +257,7 @@ fn stalled(theta: f64, size: f64, mesh: &Mesh, eta: &[f64], sizes: &[f64]) -> Op
     let total: f64 = eta.iter().map(|e| e * e).sum();
     let share = held.iter().map(|&c| eta[c] * eta[c]).sum::<f64>() / total;
     let worst = held.iter().copied().max_by(|&a, &b| eta[a].total_cmp(&eta[b]))?;
-    let at = mesh.cell_vertices(worst).iter().fold([0.0; 2], |m, v| [m[0] + v[0] / 3.0, m[1] + v[1] / 3.0]);
+    let at = mesh.cell_centroid(worst);
     (share >= theta * theta).then_some(Stall { size, cells: held.len(), share, at })
 }
 

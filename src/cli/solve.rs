@@ -99,6 +99,9 @@ struct Summary {
     matrix_nonzeros: usize,
     max_displacement: f64,
     max_von_mises: f64,
+    /// The centroid of the cell of `max_von_mises`, and what that value is worth.
+    max_von_mises_at: [f64; 2],
+    max_von_mises_note: &'static str,
     min_principal_stress: f64,
     max_principal_stress: f64,
     contact: Option<ContactSummary>,
@@ -428,6 +431,7 @@ fn summary(
 ) -> Summary {
     let Results { problem, u, sigma, contact, .. } = *results;
     let principal_stresses: Vec<[f64; 2]> = sigma.iter().map(|&s| principal(s)).collect();
+    let peak = (0..sigma.len()).max_by(|&a, &b| von_mises(sigma[a]).total_cmp(&von_mises(sigma[b]))).unwrap_or(0);
     Summary {
         units: UNITS,
         scene: scene.source.clone(),
@@ -438,7 +442,9 @@ fn summary(
         free_unknowns: disc.dofs.n_free,
         matrix_nonzeros: disc.pattern.nnz(),
         max_displacement: u.iter().map(|v| v[0].hypot(v[1])).fold(0.0, f64::max),
-        max_von_mises: sigma.iter().map(|&s| von_mises(s)).fold(0.0, f64::max),
+        max_von_mises: von_mises(sigma[peak]),
+        max_von_mises_at: problem.mesh.cell_centroid(peak),
+        max_von_mises_note: SINGULAR_MAXIMUM,
         min_principal_stress: principal_stresses.iter().map(|p| p[1]).fold(f64::INFINITY, f64::min),
         max_principal_stress: principal_stresses.iter().map(|p| p[0]).fold(f64::NEG_INFINITY, f64::max),
         contact: contact.map(|c| contact_summary(problem, disc, c, continuation)),
@@ -450,6 +456,10 @@ fn summary(
         tags: TagNames::new(&problem.mesh),
     }
 }
+
+/// What `summary.json` says of `max_von_mises`.
+const SINGULAR_MAXIMUM: &str = "mesh-dependent where it sits at a singular point (a re-entrant corner, the end of a \
+     contact zone or of a support): a cell mean that grows with every refinement there";
 
 fn contact_summary(
     problem: &Problem,

@@ -244,11 +244,7 @@ impl Problem {
                 mesh.facet(f).iter().map(move |&node| norm(bc.traction.at(mesh.points[node], n)))
             })
         });
-        let body = (0..mesh.n_cells()).map(|c| {
-            let v = mesh.cell_vertices(c);
-            let x = [(v[0][0] + v[1][0] + v[2][0]) / 3.0, (v[0][1] + v[1][1] + v[2][1]) / 3.0];
-            norm(self.body_force_at(c, x)) * diam
-        });
+        let body = (0..mesh.n_cells()).map(|c| norm(self.body_force_at(c, mesh.cell_centroid(c))) * diam);
         let young = self.materials.iter().map(|m| m.young).fold(0.0, f64::max);
         let imposed = self.dirichlet.iter().flat_map(|bc| {
             (0..mesh.n_facets()).filter(move |&f| mesh.facet_tags[f] == bc.tag).flat_map(move |f| {

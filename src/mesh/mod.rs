@@ -106,6 +106,12 @@ impl Mesh {
         [self.points[n[0]], self.points[n[1]], self.points[n[2]]]
     }
 
+    /// Centroid of cell `c`: the mean of its vertices.
+    pub fn cell_centroid(&self, c: usize) -> [f64; 2] {
+        let [a, b, d] = self.cell_vertices(c);
+        [(a[0] + b[0] + d[0]) / 3.0, (a[1] + b[1] + d[1]) / 3.0]
+    }
+
     /// The physical group of dimension `dim` called `name` (case-insensitive).
     pub fn group(&self, dim: u8, name: &str) -> Option<&PhysicalGroup> {
         self.groups.iter().find(|g| g.dim == dim && g.name.eq_ignore_ascii_case(name))

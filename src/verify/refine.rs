@@ -340,8 +340,7 @@ mod tests {
             let r = refine_levels(&coarse, 3);
             let fine = &r.mesh;
             for c in 0..fine.n_cells() {
-                let v = fine.cell_vertices(c);
-                let x = [(v[0][0] + v[1][0] + v[2][0]) / 3.0, (v[0][1] + v[1][1] + v[2][1]) / 3.0];
+                let x = fine.cell_centroid(c);
                 let map = AffineMap::new(coarse.cell_vertices(r.cell_parents[c]));
                 let d = [x[0] - map.origin[0], x[1] - map.origin[1]];
                 // ξ = J⁻¹ (x − v0) = (J⁻ᵀ)ᵀ (x − v0)

@@ -1044,6 +1044,28 @@ fn solve_headlines_converging_numbers() {
     assert!(!last.contains("von Mises"), "{last}");
     let summary = check_summary(&tmp.0);
     assert!(last.contains(&format!("{:.4} m", summary["contact"]["contact_length"].as_f64().unwrap())), "{last}");
+    // summary.json keeps the maximum with its place, where the anchor begins (x = 32 m), and
+    // says that it is mesh-dependent: it grows when the mesh is refined
+    let at = |s: &serde_json::Value| [0, 1].map(|i| s["max_von_mises_at"][i].as_f64().unwrap());
+    let [x, y] = at(&summary);
+    assert!((x - 32.0).hypot(y) < 1.0, "max von Mises at ({x}, {y})");
+    assert!(summary["max_von_mises_note"].as_str().unwrap().contains("mesh-dependent"));
+    let fine = TempDir::new("headline-fine");
+    let out = damfem(&[
+        OsStr::new("solve"),
+        OsStr::new("-q"),
+        scene.as_os_str(),
+        OsStr::new("--size-factor"),
+        OsStr::new("0.5"),
+        OsStr::new("-o"),
+        fine.0.as_os_str(),
+    ]);
+    assert_ok(&out);
+    let refined = check_summary(&fine.0);
+    let [x, y] = at(&refined);
+    assert!((x - 32.0).hypot(y) < 0.5, "max von Mises at ({x}, {y}) on the finer mesh");
+    let grows = refined["max_von_mises"].as_f64().unwrap() / summary["max_von_mises"].as_f64().unwrap();
+    assert!(grows > 1.1, "max von Mises × {grows} under refinement");
 }
 
 // `--effectivity` writes η_tot, the sharp reference and I_eff = η_tot / reference under
