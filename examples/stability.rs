@@ -7,9 +7,10 @@
 //! the mesh size over three levels, a randomly distorted mesh (the manufactured Signorini
 //! problem V3 on the unit square, interior nodes moved by up to 35 % of h, fixed seed) and
 //! SI against dimensionless units, and Coulomb friction over a decade of F and Mohr–Coulomb
-//! cohesion on the frictional dam (Scene A held by its joint alone). Scene B (dam bonded to a deformable rock) measures the
-//! material contrast up to 10³ through the sparse Cholesky solve, checked by its residual and
-//! by an independent LU solve. Every combination reports its Newton steps, final relative
+//! cohesion on the frictional dam (Scene A held by its joint alone). Scene B (dam bonded to
+//! a deformable rock) measures the material contrast up to 10³ through the sparse Cholesky
+//! solve, checked by its residual and by an independent LU solve. The cases are a list of
+//! `verify::cases::Case` values, which that module solves and compares. Every combination reports its Newton steps, final relative
 //! residual, status (or the solver's own error text), a Hager–Higham estimate of the 1-norm
 //! condition number of the final Jacobian, and the difference to a reference answer.
 //!
