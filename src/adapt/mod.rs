@@ -215,6 +215,8 @@ pub struct StepRecord {
     pub n_est: usize,
     /// The largest relative violation of an equilibration condition by the final estimate.
     pub equilibration: f64,
+    /// η_tot / a sharp lower bound of ‖R(u_h)‖, if the caller computed one.
+    pub i_eff: Option<f64>,
     /// Set on the last step if the run stopped because of the smallest size.
     pub stall: Option<Stall>,
     pub seconds: PhaseTimes,
@@ -337,6 +339,7 @@ pub fn run(
             n_lin: level.n_lin,
             n_est: level.n_est,
             equilibration: level.estimate.equilibration.worst(problem.mesh.order),
+            i_eff: None,
             stall,
             seconds,
             elapsed: start.elapsed().as_secs_f64(),

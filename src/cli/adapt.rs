@@ -16,6 +16,7 @@ use crate::io::pvd::write_pvd;
 use crate::mesh::Mesh;
 use crate::scene::Scene;
 use crate::solve::NewtonOptions;
+use crate::verify::dual_norm::effectivity;
 use anyhow::{Context, Result};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -60,6 +61,10 @@ pub struct Args {
     /// adapt.compare_uniform
     #[arg(long)]
     compare_uniform: bool,
+    /// At every step, also compute a sharp lower bound of the error's dual norm and I_eff =
+    /// eta_tot / bound (column i_eff of the history; costly)
+    #[arg(long)]
+    effectivity: bool,
 }
 
 /// What `history.json` records.
@@ -101,7 +106,7 @@ pub fn run(args: Args) -> Result<()> {
     );
     let dir = args.output.dir(&scene)?;
     let name = stem(&scene.source);
-    let history = run_sequence(&scene, &args.input, &dir, &name, "")?;
+    let history = run_sequence(&scene, &args.input, &dir, &name, "", args.effectivity)?;
     print_table(&history);
     progress.say(&format!("results in {} ({name}.pvd, history.csv, {name}_eta.png)", dir.display()));
     if scene.adapt.compare_uniform {
@@ -112,8 +117,15 @@ pub fn run(args: Args) -> Result<()> {
 
 /// The refinement sequence of `scene` into `dir`: every step written as it comes, then the
 /// lists and figures; progress lines start with `prefix`. An error names the step and where
-/// the steps before it are.
-fn run_sequence(scene: &Scene, input: &Input, dir: &Path, name: &str, prefix: &str) -> Result<Vec<StepRecord>> {
+/// the steps before it are. With `effectivity`, every step records its I_eff.
+fn run_sequence(
+    scene: &Scene,
+    input: &Input,
+    dir: &Path,
+    name: &str,
+    prefix: &str,
+    effectivity: bool,
+) -> Result<Vec<StepRecord>> {
     let progress = input.progress();
     let removed = remove_earlier_steps(dir, name)?;
     interrupt::record_in(&dir.join("history.json"));
@@ -127,11 +139,11 @@ fn run_sequence(scene: &Scene, input: &Input, dir: &Path, name: &str, prefix: &s
         verbose: input.verbose,
         allow_system_calls: input.allow_system_calls,
     };
-    let mut writer = StepWriter { dir, name, scene, history: Vec::new(), vtu: Vec::new() };
+    let mut writer = StepWriter { dir, name, scene, effectivity, history: Vec::new(), vtu: Vec::new() };
     let model = Traced { scene, trace: input.newton_trace() };
     let result = adapt::run(&scene.adapt, &mut mesher, &model, |step| {
         writer.write(step).map_err(|source| AdaptError::Output { step: step.record.step, source: source.into() })?;
-        progress.say(&format!("{prefix}{}", step_line(step.record)));
+        progress.say(&format!("{prefix}{}", step_line(writer.history.last().expect("just written"))));
         Ok(())
     });
     let error = result.as_ref().err().map(|e| format!("{e}"));
@@ -163,7 +175,7 @@ fn compare_uniform(scene: &Scene, input: &Input, dir: &Path, name: &str, adaptiv
     let mut uniform = scene.clone();
     uniform.adapt = uniform_settings(&scene.adapt, adaptive.last().map_or(0, |r| r.unknowns));
     let sub = output_dir(dir.join("uniform"))?;
-    let history = run_sequence(&uniform, input, &sub, name, "uniform ")?;
+    let history = run_sequence(&uniform, input, &sub, name, "uniform ", false)?;
     println!("uniform refinement from the same first mesh:");
     print_table(&history);
     let files = write_adaptive_uniform(dir, name, adaptive, &history).context("writing the comparison figure")?;
@@ -232,6 +244,8 @@ struct StepWriter<'a> {
     dir: &'a Path,
     name: &'a str,
     scene: &'a Scene,
+    /// Whether each step records I_eff against the sharp reference.
+    effectivity: bool,
     history: Vec<StepRecord>,
     /// The VTU files of every step.
     vtu: Vec<Vec<PathBuf>>,
@@ -247,8 +261,16 @@ impl StepWriter<'_> {
         let name = format!("{}_{:02}", self.name, step.record.step);
         let files = write_results(self.dir, &name, self.scene, &results)?;
         self.vtu.push(files);
-        self.history.push(step.record.clone());
+        let i_eff = self.effectivity.then(|| self.i_eff(step, &u)).transpose()?;
+        self.history.push(StepRecord { i_eff, ..step.record.clone() });
         self.write_lists(None)
+    }
+
+    /// η_tot of `step` against the sharp reference of its residual.
+    fn i_eff(&self, step: &Step, u: &[[f64; 2]]) -> Result<f64> {
+        let (_, joint) = self.scene.problem(step.problem.mesh.clone())?;
+        let solved = joint.zip(step.contact).map(|(j, c)| j.as_solved(c));
+        Ok(effectivity(step.problem, u, solved.as_ref(), step.record.eta.tot)?.i_eff)
     }
 
     /// `history.json` and `history.csv`, then one `.pvd` per kind of VTU file (time = step):
@@ -315,8 +337,9 @@ fn pvd_name(name: &str, file: &Path) -> String {
 /// The progress line of a step.
 fn step_line(r: &StepRecord) -> String {
     let delta = r.delta.map_or(String::new(), |d| format!("  delta {d:.2e}"));
+    let i_eff = r.i_eff.map_or(String::new(), |i| format!("  I_eff {i:.3}"));
     format!(
-        "step {:>2}  {:>8} unknowns  eta {:.3e} ({:.2e} of |sigma_h|)  N_reg {:>2}  N_lin {:>2}{delta}  {:.2} s",
+        "step {:>2}  {:>8} unknowns  eta {:.3e} ({:.2e} of |sigma_h|)  N_reg {:>2}  N_lin {:>2}{delta}{i_eff}  {:.2} s",
         r.step,
         r.unknowns,
         r.eta.tot,
@@ -327,15 +350,22 @@ fn step_line(r: &StepRecord) -> String {
     )
 }
 
-/// The closing table on stdout: one row per step.
+/// The closing table on stdout: one row per step, with I_eff if it was computed.
 fn print_table(history: &[StepRecord]) {
+    let with_i_eff = history.iter().any(|r| r.i_eff.is_some());
+    let i_eff_head = if with_i_eff { format!(" {:>6}", "I_eff") } else { String::new() };
     println!(
-        "{:>4} {:>9} {:>11} {:>11} {:>11} {:>11} {:>5} {:>5} {:>9}",
+        "{:>4} {:>9} {:>11} {:>11} {:>11} {:>11} {:>5} {:>5} {:>9}{i_eff_head}",
         "step", "unknowns", "eta_tot", "eta_flux", "eta_reg", "eta_lin", "N_reg", "N_lin", "time [s]"
     );
     for r in history {
+        let i_eff = match (with_i_eff, r.i_eff) {
+            (false, _) => String::new(),
+            (true, Some(i)) => format!(" {i:>6.3}"),
+            (true, None) => format!(" {:>6}", "-"),
+        };
         println!(
-            "{:>4} {:>9} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e} {:>5} {:>5} {:>9.2}",
+            "{:>4} {:>9} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e} {:>5} {:>5} {:>9.2}{i_eff}",
             r.step,
             r.unknowns,
             r.eta.tot,

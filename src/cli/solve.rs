@@ -14,7 +14,7 @@ use crate::estimate::{estimate_iterate, Estimate};
 use crate::io::atomic::write_output;
 use crate::scene::{ProjectionKind, Scene};
 use crate::solve::NewtonError;
-use crate::verify::dual_norm::sharp_reference;
+use crate::verify::dual_norm::{effectivity, Effectivity};
 use anyhow::Result;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -64,27 +64,6 @@ pub struct Args {
     #[arg(long)]
     effectivity: bool,
 }
-
-/// What `summary.json` records of `--effectivity`.
-#[derive(Serialize)]
-struct Effectivity {
-    eta_tot: f64,
-    /// The last (largest) lower bound of ‖R(u_h)‖.
-    reference: f64,
-    /// η_tot / reference ≥ the true effectivity index.
-    i_eff: f64,
-    /// The lower bounds on the successively enriched reference spaces, and their unknowns.
-    references: Vec<f64>,
-    unknowns: Vec<usize>,
-    /// Whether the last two agree within [`REFERENCE_AGREEMENT`].
-    converged: bool,
-}
-
-/// Relative agreement of two successive references that ends the enrichment.
-const REFERENCE_AGREEMENT: f64 = 0.02;
-
-/// Largest Riesz problem of the reference (scalar unknowns, both components).
-const REFERENCE_MAX_UNKNOWNS: usize = 4_000_000;
 
 /// What `summary.json` records of a run.
 #[derive(Serialize)]
@@ -227,7 +206,11 @@ pub fn run(args: Args) -> Result<()> {
         Some(e) => {
             let (reference, t) = progress.stage(
                 "effectivity",
-                || effectivity(&problem, &disc, &solution, joint.as_ref(), e),
+                || {
+                    let u = problem.displacement(&disc, solution.x());
+                    let solved = joint.as_ref().zip(solution.contact()).map(|(j, c)| j.as_solved(c));
+                    Ok(effectivity(&problem, &u, solved.as_ref(), e.estimators.global().tot)?)
+                },
                 |r| {
                     let agree = if r.converged { "agree within 2 %" } else { "do NOT agree within 2 % (size limit)" };
                     format!(
@@ -365,27 +348,6 @@ fn describe_solution(solution: &Solution) -> String {
             c.contact_length()
         ),
     }
-}
-
-/// η_tot of `e` against the sharp reference of the solution's residual.
-fn effectivity(
-    problem: &Problem,
-    disc: &Discretisation,
-    solution: &Solution,
-    joint: Option<&ContactJoint>,
-    e: &Estimate,
-) -> Result<Effectivity> {
-    let u = problem.displacement(disc, solution.x());
-    let r = sharp_reference(problem, &u, joint, REFERENCE_AGREEMENT, REFERENCE_MAX_UNKNOWNS)?;
-    let eta_tot = e.estimators.global().tot;
-    Ok(Effectivity {
-        eta_tot,
-        reference: r.norm(),
-        i_eff: eta_tot / r.norm(),
-        converged: r.converged,
-        references: r.norms,
-        unknowns: r.unknowns,
-    })
 }
 
 /// The estimate of the solution.

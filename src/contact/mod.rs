@@ -48,6 +48,11 @@ impl ContactJoint {
     pub fn faces(&self, problem: &Problem, disc: &Discretisation) -> Nitsche {
         Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, self)
     }
+
+    /// This joint with the uplift that `solution` was found with (its crack included).
+    pub fn as_solved(&self, solution: &ContactSolution) -> ContactJoint {
+        ContactJoint { uplift: solution.nitsche.uplift.clone(), ..self.clone() }
+    }
 }
 
 /// The elasticity problem with Nitsche contact on some of its boundary curves.
@@ -479,8 +484,7 @@ pub fn strength_reduction(
     let mut failed = f64::INFINITY;
     while failed - held > tolerance * held {
         let k = if failed.is_finite() { 0.5 * (held + failed) } else { 1.25 * held };
-        let (law, uplift) = (joint.law.reduced(k), start.nitsche.uplift.clone());
-        let reduced = ContactJoint { law, uplift, ..joint.clone() };
+        let reduced = ContactJoint { law: joint.law.reduced(k), ..joint.as_solved(&start) };
         let contact = ContactProblem::new(problem, disc, &reduced, Smoothing { delta: settings.delta });
         solves += 1;
         match newton(&contact, x.clone(), &settings.newton) {

@@ -51,6 +51,7 @@ use crate::solve::{Cholesky, SolveError};
 use crate::verify::refine::{bisect, elevate_to_p2, refine_levels, vertex_mesh, Refinement};
 use faer::Mat;
 use rayon::prelude::*;
+use serde::Serialize;
 
 /// Refinement levels used when the caller has no reason to choose.
 pub const DEFAULT_LEVELS: usize = 2;
@@ -98,9 +99,10 @@ pub const MARKED_SHARE: f64 = 0.8;
 
 /// The lower bound ‖r‖_{C,h} ≤ ‖R(u_h)‖ enriched until two successive values agree within
 /// `agreement` (relative), or until a Riesz problem would exceed `max_unknowns`. The first
-/// space is vector P2 on the coarse mesh refined once (as [`residual_dual_norm`] with one
-/// level); each next one halves the cells that carry [`MARKED_SHARE`] of ‖∇r‖² (the smallest
-/// such set, by two newest-vertex bisections), so it contains the last and the bounds increase.
+/// space is vector P2 on the coarse mesh refined [`sharp_start`] times (as
+/// [`residual_dual_norm`] with that many levels); each next one halves the cells that carry
+/// [`MARKED_SHARE`] of ‖∇r‖² (the smallest such set, by two newest-vertex bisections), so it
+/// contains the last and the bounds increase.
 pub fn sharp_reference(
     problem: &Problem,
     u_h: &[[f64; 2]],
@@ -108,7 +110,7 @@ pub fn sharp_reference(
     agreement: f64,
     max_unknowns: usize,
 ) -> Result<SharpReference, SolveError> {
-    let mut skeleton = refine_levels(&vertex_mesh(&problem.mesh), 1);
+    let mut skeleton = refine_levels(&vertex_mesh(&problem.mesh), sharp_start(problem.mesh.order));
     let mut reference = SharpReference { norms: Vec::new(), unknowns: Vec::new(), converged: false };
     loop {
         let fine = Refinement { mesh: elevate_to_p2(&skeleton.mesh), ..skeleton.clone() };
@@ -125,6 +127,57 @@ pub fn sharp_reference(
         }
         skeleton = bisect_twice(&skeleton, &marked);
     }
+}
+
+/// Uniform refinements of the first space of [`sharp_reference`] for u_h of degree p: none for
+/// p = 1 (P2 on the coarse mesh already contains V_h), one for p = 2 (P2 on the coarse mesh is
+/// V_h itself, where the residual nearly vanishes by Galerkin orthogonality).
+pub fn sharp_start(degree: usize) -> usize {
+    if degree == 1 {
+        0
+    } else {
+        1
+    }
+}
+
+/// Relative agreement of two successive references that ends the enrichment of [`effectivity`].
+pub const REFERENCE_AGREEMENT: f64 = 0.02;
+
+/// Largest Riesz problem of [`effectivity`] (scalar unknowns, both components).
+pub const REFERENCE_MAX_UNKNOWNS: usize = 4_000_000;
+
+/// An estimate η_tot against the sharp reference of ‖R(u_h)‖.
+#[derive(Debug, Clone, Serialize)]
+pub struct Effectivity {
+    pub eta_tot: f64,
+    /// The last (largest) lower bound of ‖R(u_h)‖.
+    pub reference: f64,
+    /// η_tot / reference ≥ the true effectivity index η_tot / ‖R(u_h)‖.
+    pub i_eff: f64,
+    /// The lower bounds on the successively enriched reference spaces, and their unknowns.
+    pub references: Vec<f64>,
+    pub unknowns: Vec<usize>,
+    /// Whether the last two agree within [`REFERENCE_AGREEMENT`].
+    pub converged: bool,
+}
+
+/// `eta_tot`, an estimate of ‖R(u_h)‖, against [`sharp_reference`] with
+/// [`REFERENCE_AGREEMENT`] and [`REFERENCE_MAX_UNKNOWNS`].
+pub fn effectivity(
+    problem: &Problem,
+    u_h: &[[f64; 2]],
+    contact: Option<&ContactJoint>,
+    eta_tot: f64,
+) -> Result<Effectivity, SolveError> {
+    let r = sharp_reference(problem, u_h, contact, REFERENCE_AGREEMENT, REFERENCE_MAX_UNKNOWNS)?;
+    Ok(Effectivity {
+        eta_tot,
+        reference: r.norm(),
+        i_eff: eta_tot / r.norm(),
+        converged: r.converged,
+        references: r.norms,
+        unknowns: r.unknowns,
+    })
 }
 
 /// The smallest set of cells whose `values` sum to at least `share` of the total.

@@ -12,7 +12,7 @@ use damfem::estimate::{estimate_iterate, EstimateError};
 use damfem::fem::dofs::FIXED;
 use damfem::mesh::structured::{unit_square, BOTTOM};
 use damfem::solve::NewtonOptions;
-use damfem::verify::dual_norm::{residual_dual_norm, residual_riesz, sharp_reference};
+use damfem::verify::dual_norm::{residual_dual_norm, residual_riesz, sharp_reference, sharp_start};
 use damfem::verify::rng::Rng;
 use damfem::verify::{v1, v3};
 
@@ -135,11 +135,11 @@ fn damped_and_perturbed_contact_iterates_are_refused_or_bounded() {
 
 /// Source: docs/method.md §2 (the Riesz lower bound on nested spaces), issue "Estimator: … a
 /// sharp reference".
-/// Goal: the sharp reference starts from the space of the uniform reference refined once (the
-/// same value), grows through nested spaces, ends with two values within 2 %, is at least the
+/// Goal: the sharp reference starts from the space of the uniform reference refined
+/// `sharp_start(p)` times (the same value), grows through nested spaces, ends with two values within 2 %, is at least the
 /// uniform reference refined twice at a fraction of its unknowns, and lies below η_tot.
 /// Parameters: Scene A (contact at the heel, singular at the Γ_D/Γ_C junction), P1 and P2, the
-/// scene's mesh; uniform references refined once and twice.
+/// scene's mesh; uniform references refined `sharp_start(p)` times and twice.
 #[test]
 fn sharp_reference_beats_uniform_refinement_near_singularities() {
     for order in [1, 2] {
@@ -147,7 +147,7 @@ fn sharp_reference_beats_uniform_refinement_near_singularities() {
         let joint = ContactJoint::frictionless(tags.clone(), run.nitsche.parameters);
         let sharp = sharp_reference(&problem, &run.u, Some(&joint), 0.02, 4_000_000).unwrap();
         let uniform: Vec<_> =
-            [1, 2].iter().map(|&l| residual_riesz(&problem, &run.u, Some(&joint), l).unwrap()).collect();
+            [sharp_start(order), 2].iter().map(|&l| residual_riesz(&problem, &run.u, Some(&joint), l).unwrap()).collect();
         let eta = evaluate(&problem, &run.u, run.state(), &tags, None).est.tot;
         println!(
             "Scene A P{order}: sharp {:?} on {:?} unknowns; uniform {:.4e} ({}), {:.4e} ({}); eta_tot {eta:.4e}, I_eff {:.3}",
