@@ -1096,6 +1096,36 @@ fn effectivity_reports_a_converged_reference_below_eta() {
     assert!((number("i_eff") - number("eta_tot") / last).abs() <= 1e-12 * number("i_eff"));
 }
 
+// `adapt --effectivity` records I_eff at every step: in the `i_eff` column of history.csv,
+// in history.json, on each step's progress line and in the closing table; every index is at
+// least 1 (η_tot bounds the sharp lower bound). Without the flag the column stays empty.
+#[test]
+fn adapt_effectivity_records_i_eff_at_every_step() {
+    let column = |dir: &TempDir| -> Vec<String> {
+        let csv = std::fs::read_to_string(dir.join("history.csv")).unwrap();
+        let k = csv.lines().next().unwrap().split(',').position(|c| c == "i_eff").expect("i_eff column");
+        csv.lines().skip(1).map(|l| l.split(',').nth(k).unwrap().to_string()).collect()
+    };
+    let plain = TempDir::new("adapt-plain");
+    assert_ok(&adapt_scene_a_p1(&plain, &[]));
+    assert!(column(&plain).iter().all(String::is_empty), "{:?}", column(&plain));
+    let dir = TempDir::new("adapt-effectivity");
+    let out = adapt_scene_a_p1(&dir, &["--effectivity"]);
+    assert_ok(&out);
+    let indices: Vec<f64> = column(&dir).iter().map(|v| v.parse().unwrap()).collect();
+    assert_eq!(indices.len(), 3);
+    assert!(indices.iter().all(|&i| i >= 1.0), "{indices:?}");
+    let history: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("history.json")).unwrap()).unwrap();
+    for (step, &i) in history["steps"].as_array().unwrap().iter().zip(&indices) {
+        assert!((step["i_eff"].as_f64().unwrap() - i).abs() <= 1e-4 * i, "{step}");
+    }
+    let progress = stderr(&out);
+    assert_eq!(progress.lines().filter(|l| l.starts_with("step ") && l.contains("I_eff")).count(), 3, "{progress}");
+    let table = String::from_utf8_lossy(&out.stdout);
+    assert!(table.lines().next().is_some_and(|l| l.contains("I_eff")), "{table}");
+}
+
 // With -v, gmsh's messages and one line per Newton iterate on stderr (k = 0 … steps at every
 // δ of the path), in `solve` and `adapt`; with -q, nothing at all. summary.json and the
 // history.json of both commands state their units, and summary.json names the numeric tags

@@ -6,6 +6,7 @@ use damfem::contact::{solve_by_continuation, ContactError, ContactJoint, Continu
 use damfem::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};
 use damfem::mesh::structured::{unit_square, BOTTOM, LEFT, RIGHT, TOP};
 use damfem::solve::{NewtonError, NewtonOptions};
+use damfem::verify::dual_norm::{sharp_reference, REFERENCE_AGREEMENT, REFERENCE_MAX_UNKNOWNS};
 use std::sync::Arc;
 
 /// The laws of the exact cases: S = 0.02 (Tresca), F = 0.5 (Coulomb), F = 0.3 and c = 0.005
@@ -233,19 +234,20 @@ fn the_jacobian_is_the_derivative_of_the_residual() {
 }
 
 /// What the estimator says of the contact iterate `x` (with the linearisation point of `state`),
-/// and the dual-norm reference of its residual (`levels` refinements, P2).
+/// and, if asked, the sharp dual-norm reference of its residual.
 fn estimate_and_reference(
     problem: &Problem,
     disc: &damfem::elasticity::Discretisation,
     joint: &ContactJoint,
     x: &[f64],
     state: &damfem::contact::Linearisation,
-    levels: Option<usize>,
+    with_reference: bool,
 ) -> (damfem::estimate::Estimate, Option<f64>) {
     let e = damfem::estimate::estimate_iterate(problem, disc, x, Some(state)).unwrap_or_else(|e| panic!("{e}"));
     let u = problem.displacement(disc, x);
-    let reference = levels.map(|l| {
-        damfem::verify::dual_norm::residual_dual_norm(problem, &u, Some(joint), l).unwrap_or_else(|e| panic!("{e}"))
+    let reference = with_reference.then(|| {
+        let r = sharp_reference(problem, &u, Some(joint), REFERENCE_AGREEMENT, REFERENCE_MAX_UNKNOWNS);
+        r.unwrap_or_else(|e| panic!("{e}")).norm()
     });
     (e, reference)
 }
@@ -270,7 +272,7 @@ fn the_estimator_vanishes_at_the_exact_stick_and_slip_solutions() {
                 let settings = Continuation { delta: 0.0, delta_start: 1e-2, newton: NewtonOptions::default() };
                 let solution = solve_by_continuation(&problem, &disc, &joint, &settings).expect("Newton converges");
                 let state = solution.linearisation(&problem, &disc);
-                let (e, _) = estimate_and_reference(&problem, &disc, &joint, &solution.x, &state, None);
+                let (e, _) = estimate_and_reference(&problem, &disc, &joint, &solution.x, &state, false);
                 let g = e.estimators.global();
                 let worst = e.equilibration.worst(order);
                 println!(
@@ -313,7 +315,7 @@ fn eta_tot_bounds_the_residual_with_friction() {
             let report = newton_until(&contact, x, &options, |it| {
                 if it.last.step == 1.0 {
                     let state = Linearisation::new(&problem, &disc, &contact.nitsche, contact.smoothing, it.x_prev);
-                    let (e, reference) = estimate_and_reference(&problem, &disc, &joint, it.x, &state, Some(2));
+                    let (e, reference) = estimate_and_reference(&problem, &disc, &joint, it.x, &state, true);
                     rows.push((it.residual, e.estimators.global(), reference.unwrap(), e.equilibration.worst(order)));
                 }
                 false
@@ -399,7 +401,7 @@ fn eta_tot_bounds_the_residual_on_the_frictional_dam() {
         let settings = scene.continuation(&problem, &disc.topology);
         let solution = solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("{e}"));
         let state = solution.linearisation(&problem, &disc);
-        let (e, reference) = estimate_and_reference(&problem, &disc, &joint, &solution.x, &state, Some(1));
+        let (e, reference) = estimate_and_reference(&problem, &disc, &joint, &solution.x, &state, true);
         let (g, reference, worst) = (e.estimators.global(), reference.unwrap(), e.equilibration.worst(order));
         println!(
             "P{order}: {} cells, stick {:.2} m, slip {:.2} m; eta_tot {:.4e} (osc {:.2e} flux {:.2e} Neu {:.2e} disc {:.2e} reg {:.2e} lin {:.2e}), reference {reference:.4e}, I_eff {:.3}; worst check {worst:.1e}",

@@ -146,8 +146,10 @@ fn sharp_reference_beats_uniform_refinement_near_singularities() {
         let (problem, tags, run) = scene_with_contact("geo/scene_a.toml", order, 1.0);
         let joint = ContactJoint::frictionless(tags.clone(), run.nitsche.parameters);
         let sharp = sharp_reference(&problem, &run.u, Some(&joint), 0.02, 4_000_000).unwrap();
-        let uniform: Vec<_> =
-            [sharp_start(order), 2].iter().map(|&l| residual_riesz(&problem, &run.u, Some(&joint), l).unwrap()).collect();
+        let uniform: Vec<_> = [sharp_start(order), 2]
+            .iter()
+            .map(|&l| residual_riesz(&problem, &run.u, Some(&joint), l).unwrap())
+            .collect();
         let eta = evaluate(&problem, &run.u, run.state(), &tags, None).est.tot;
         println!(
             "Scene A P{order}: sharp {:?} on {:?} unknowns; uniform {:.4e} ({}), {:.4e} ({}); eta_tot {eta:.4e}, I_eff {:.3}",
