@@ -291,8 +291,8 @@ fn the_estimator_vanishes_at_the_exact_stick_and_slip_solutions() {
 /// The bound with friction. Source: docs/method.md §5.2 with the Γ_C traction of §1.7. Goal:
 /// on the block on the incline (it holds at α = 25°, with open, stick and slip zones), at every
 /// full Newton step of the solve and at convergence, the reconstruction is equilibrated to
-/// round-off and η_tot ≥ the dual norm of the residual, computed independently as the Riesz
-/// representative on the mesh refined twice (P2), which is a lower bound of that norm.
+/// round-off and η_tot ≥ the dual norm of the residual, computed independently by the sharp
+/// reference (a Riesz representative on refined meshes), which is a lower bound of that norm.
 /// Parameters: as the block test, Coulomb F = tan 30°, θ = 0, Newton from u = 0 at δ = 10⁻¹ ×
 /// the stress scale, then at 10⁻⁴ × it; 4 × 4 grid, P1 and P2.
 #[test]
@@ -377,7 +377,7 @@ fn a_tampered_tangential_traction_fails_the_checks() {
 /// The bound on the frictional dam. Source: geo/scene_a_friction.toml (Scene A held by Coulomb
 /// friction alone, F = tan 40°), solved as `damfem solve` does (its δ-continuation from 0.1 × the
 /// stress scale to 10⁻⁴ × it). Goal: the reconstruction is equilibrated to round-off and
-/// η_tot ≥ the dual-norm reference (the mesh refined once, P2) at the solution. Parameters: P1
+/// η_tot ≥ the sharp dual-norm reference at the solution. Parameters: P1
 /// and P2, the file's mesh sizes × 2.
 #[test]
 fn eta_tot_bounds_the_residual_on_the_frictional_dam() {

@@ -75,7 +75,7 @@ fn uniform_uplift_lowers_the_contact_pressure_by_exactly_p_u() {
 /// ρ_w g H_w²/2, to 10⁻⁸, so that FS_LE = F (W − U)/T; the crack–uplift fixed point settles with a crack at the heel; the
 /// estimator with uplift is equilibrated to round-off and bounds the dual-norm reference
 /// (the uplift enters both as the Γ_C traction −p_u ν). Parameters: P1 and P2, the file's mesh
-/// sizes × 2; the reference on the mesh refined once.
+/// sizes × 2; the sharp reference of `damfem solve --effectivity`.
 #[test]
 fn the_dam_with_uplift_balances_weight_thrust_and_uplift() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("geo/scene_a_uplift.toml");
