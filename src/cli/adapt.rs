@@ -107,8 +107,8 @@ pub fn run(args: Args) -> Result<()> {
     let dir = args.output.dir(&scene)?;
     let name = stem(&scene.source);
     let history = run_sequence(&scene, &args.input, &dir, &name, "", args.effectivity)?;
-    print_table(&history);
     progress.say(&format!("results in {} ({name}.pvd, history.csv, {name}_eta.png)", dir.display()));
+    progress.result(&table(&history));
     if scene.adapt.compare_uniform {
         compare_uniform(&scene, &args.input, &dir, &name, &history)?;
     }
@@ -176,8 +176,7 @@ fn compare_uniform(scene: &Scene, input: &Input, dir: &Path, name: &str, adaptiv
     uniform.adapt = uniform_settings(&scene.adapt, adaptive.last().map_or(0, |r| r.unknowns));
     let sub = output_dir(dir.join("uniform"))?;
     let history = run_sequence(&uniform, input, &sub, name, "uniform ", false)?;
-    println!("uniform refinement from the same first mesh:");
-    print_table(&history);
+    input.progress().result(&format!("uniform refinement from the same first mesh:\n{}", table(&history)));
     let files = write_adaptive_uniform(dir, name, adaptive, &history).context("writing the comparison figure")?;
     let figures: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
     input.progress().say(&format!(
@@ -350,21 +349,21 @@ fn step_line(r: &StepRecord) -> String {
     )
 }
 
-/// The closing table on stdout: one row per step, with I_eff if it was computed.
-fn print_table(history: &[StepRecord]) {
+/// The closing table: one row per step, with I_eff if it was computed.
+fn table(history: &[StepRecord]) -> String {
     let with_i_eff = history.iter().any(|r| r.i_eff.is_some());
     let i_eff_head = if with_i_eff { format!(" {:>6}", "I_eff") } else { String::new() };
-    println!(
+    let mut lines = vec![format!(
         "{:>4} {:>9} {:>11} {:>11} {:>11} {:>11} {:>5} {:>5} {:>9}{i_eff_head}",
         "step", "unknowns", "eta_tot", "eta_flux", "eta_reg", "eta_lin", "N_reg", "N_lin", "time [s]"
-    );
+    )];
     for r in history {
         let i_eff = match (with_i_eff, r.i_eff) {
             (false, _) => String::new(),
             (true, Some(i)) => format!(" {i:>6.3}"),
             (true, None) => format!(" {:>6}", "-"),
         };
-        println!(
+        lines.push(format!(
             "{:>4} {:>9} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e} {:>5} {:>5} {:>9.2}{i_eff}",
             r.step,
             r.unknowns,
@@ -375,8 +374,9 @@ fn print_table(history: &[StepRecord]) {
             r.n_reg,
             r.n_lin,
             r.seconds.total()
-        );
+        ));
     }
+    lines.join("\n")
 }
 
 #[cfg(test)]

@@ -31,12 +31,13 @@ pub fn run(args: Args) -> Result<()> {
     let (problem, _) = scene.problem(mesh)?;
     let mesh = &problem.mesh;
     for (tag, name, b) in &roles {
-        progress.say(&format!("curve    {name:<20} {:?}, length {:.4}", b.role, mesh.boundary_length(*tag)));
+        progress.result(&format!("curve    {name:<20} {:?}, length {:.4}", b.role, mesh.boundary_length(*tag)));
     }
     for g in mesh.groups.iter().filter(|g| g.dim == 2) {
         let m = problem.materials[mesh.cell_tags.iter().position(|&t| t == g.tag).unwrap_or(0)];
-        progress.say(&format!("region   {:<20} E = {:.4e}, nu = {}, rho = {}", g.name, m.young, m.poisson, m.density));
+        progress
+            .result(&format!("region   {:<20} E = {:.4e}, nu = {}, rho = {}", g.name, m.young, m.poisson, m.density));
     }
-    println!("{}: ok", scene.source.display());
+    progress.result(&format!("{}: ok", scene.source.display()));
     Ok(())
 }

@@ -162,7 +162,8 @@ pub fn stem(path: &Path) -> String {
     path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "damfem".into())
 }
 
-/// One line per stage on stderr: name, what was done, and the wall time.
+/// What a command prints: one line per stage on stderr (name, what was done, and the wall
+/// time), other progress on stderr, results on stdout; with -q, none of it.
 pub struct Progress {
     quiet: bool,
 }
@@ -191,10 +192,17 @@ impl Progress {
         }
     }
 
-    /// Prints a line unless quiet.
+    /// Prints a progress line on stderr unless quiet.
     pub fn say(&self, line: &str) {
         if !self.quiet {
             eprintln!("{line}");
+        }
+    }
+
+    /// Prints a line of the results on stdout unless quiet.
+    pub fn result(&self, line: &str) {
+        if !self.quiet {
+            println!("{line}");
         }
     }
 }

@@ -35,6 +35,6 @@ pub fn run(args: Args) -> Result<()> {
     )?;
     write_mesh_vtu(&dir.join(format!("{name}_mesh.vtu")), &mesh, &[], &[])?;
     write_boundary_vtu(&dir.join(format!("{name}_boundary.vtu")), &mesh, &[], &[])?;
-    println!("{}", msh.display());
+    progress.result(&msh.display().to_string());
     Ok(())
 }

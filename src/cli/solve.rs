@@ -252,7 +252,8 @@ pub fn run(args: Args) -> Result<()> {
         };
         write_output(&dir.join("history.json"), serde_json::to_string_pretty(&history)?.as_bytes())?;
     }
-    progress.say(&format!("{}; results in {}", headline(&summary), dir.display()));
+    progress.say(&format!("results in {}", dir.display()));
+    progress.result(&headline(&summary));
     Ok(())
 }
 

@@ -124,13 +124,19 @@ fn scenes() -> Vec<PathBuf> {
     scenes
 }
 
-// Every scene of geo/ passes `check`.
+// Every scene of geo/ passes `check`, which lists the curves and regions on stdout (and with
+// -q prints nothing).
 #[test]
 fn every_scene_checks() {
     for scene in scenes() {
-        let out = damfem(&["check".as_ref(), "-q".as_ref(), scene.as_os_str()]);
+        let out = damfem(&["check".as_ref(), scene.as_os_str()]);
         assert_ok(&out);
-        assert!(String::from_utf8_lossy(&out.stdout).contains("ok"));
+        let table = String::from_utf8_lossy(&out.stdout);
+        assert!(table.lines().last().is_some_and(|l| l.ends_with(": ok")), "{table}");
+        assert!(table.lines().any(|l| l.starts_with("curve ")) && table.lines().any(|l| l.starts_with("region ")));
+        let quiet = damfem(&["check".as_ref(), "-q".as_ref(), scene.as_os_str()]);
+        assert_ok(&quiet);
+        assert!(quiet.stdout.is_empty() && quiet.stderr.is_empty(), "{}", stderr(&quiet));
     }
 }
 
@@ -192,7 +198,7 @@ fn bare_geo_solves_with_conventional_roles() {
 fn mesh_writes_msh_and_vtu() {
     let tmp = TempDir::new("mesh");
     let scene = repo("geo/scene_a.toml");
-    let out = damfem(&["mesh".as_ref(), "-q".as_ref(), scene.as_os_str(), "-o".as_ref(), tmp.0.as_os_str()]);
+    let out = damfem(&["mesh".as_ref(), scene.as_os_str(), "-o".as_ref(), tmp.0.as_os_str()]);
     assert_ok(&out);
     let msh = tmp.join("scene_a.msh");
     assert!(std::fs::read_to_string(&msh).unwrap().starts_with("$MeshFormat"));
@@ -1030,15 +1036,15 @@ fn adapt_interrupted_keeps_its_steps_and_says_so() {
     assert!(!history["steps"].as_array().unwrap().is_empty());
 }
 
-// The closing line of `solve` headlines what converges (displacement, contact length, joint
-// forces), not the maximum of the singular stress field.
+// The closing line of `solve`, its result on stdout, headlines what converges (displacement,
+// contact length, joint forces), not the maximum of the singular stress field.
 #[test]
 fn solve_headlines_converging_numbers() {
     let tmp = TempDir::new("headline");
     let scene = repo("geo/scene_a.toml");
     let out = damfem(&[OsStr::new("solve"), scene.as_os_str(), OsStr::new("-o"), tmp.0.as_os_str()]);
     assert_ok(&out);
-    let text = stderr(&out);
+    let text = String::from_utf8_lossy(&out.stdout);
     let last = text.lines().last().unwrap();
     assert!(last.contains("contact length") && last.contains("joint forces"), "{last}");
     assert!(!last.contains("von Mises"), "{last}");
@@ -1182,4 +1188,15 @@ fn verbose_shows_newton_steps_quiet_shows_nothing_and_json_states_units() {
     let history: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(adapted.join("history.json")).unwrap()).unwrap();
     assert!(history["units"]["estimator"].as_str().unwrap().starts_with("Pa m"));
+    // -q silences the closing table of `adapt` and the .msh path of `mesh` too
+    let steps = [OsStr::new("--steps"), OsStr::new("1")];
+    for (command, extra) in [("adapt", &steps[..]), ("mesh", &[][..])] {
+        let mut args =
+            vec![OsStr::new(command), OsStr::new("-q"), scene.as_os_str(), OsStr::new("-o"), adapted.as_os_str()];
+        args.extend(extra);
+        let out = damfem(&args);
+        assert_ok(&out);
+        let printed = format!("{}{}", String::from_utf8_lossy(&out.stdout), stderr(&out));
+        assert!(printed.is_empty(), "{command}: {printed}");
+    }
 }
