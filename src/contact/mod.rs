@@ -23,7 +23,7 @@ use crate::fem::sparse::{vector_dofs, LinearSystem, SparsePattern};
 use crate::mesh::Mesh;
 use crate::solve::{newton, NewtonError, NewtonOptions, NewtonReport, NonlinearSystem};
 pub use law::JointLaw;
-use nitsche::{Nitsche, NitscheParameters};
+use nitsche::{ContactFace, Nitsche, NitscheParameters};
 use projection::{negative_part, Smoothing};
 pub use uplift::Uplift;
 
@@ -156,6 +156,19 @@ impl<'a> ContactProblem<'a> {
     pub fn crack_length(&self, x: &[f64]) -> f64 {
         let Some(up) = &self.nitsche.uplift else { return 0.0 };
         self.face_states(x).iter().filter_map(|f| f.closed_from).fold(up.length, f64::min).max(0.0)
+    }
+
+    /// The length of the contact face at the distance `s` from the heel (the longest face if
+    /// none holds it); 0 without uplift.
+    fn face_length_at(&self, s: f64) -> f64 {
+        let Some(up) = &self.nitsche.uplift else { return 0.0 };
+        let span = |f: &ContactFace| f.ends.map(|e| up.distance(f.map.to_physical(e)));
+        let holds = |f: &&ContactFace| {
+            let [a, b] = span(f);
+            a.min(b) <= s && s <= a.max(b)
+        };
+        let faces = &self.nitsche.faces;
+        faces.iter().find(holds).map_or_else(|| faces.iter().map(|f| f.length).fold(0.0, f64::max), |f| f.length)
     }
 }
 
@@ -393,14 +406,18 @@ impl<'a> Linearisation<'a> {
     }
 }
 
-/// The crack open at the heel that the uplift fills, found by a fixed point: solve with the
-/// crack s_c, measure the open length at the heel, and solve again until it moves by at most
-/// [`Crack::TOLERANCE`] of the joint length.
+/// The crack open at the heel that the uplift fills: the root of g(s_c) = open(s_c) − s_c, with
+/// open(s_c) the length open at the heel when the reservoir pressure fills [0, s_c]. Fixed-point
+/// steps s_c ← open(s_c) until g changes sign, then regula falsi in the bracket, until |g| or the
+/// bracket is at most [`Crack::TOLERANCE`] of the joint length. On a mesh, open(s_c) can jump
+/// where the crack tip crosses a node, so that no s_c has g = 0: the bracket then closes on the
+/// jump, and `change` = |g| (below the length of the face at the tip) says how far the opening
+/// of the last solve lies from s_c.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Crack {
     /// s_c \[m\].
     pub length: f64,
-    /// Solves of the fixed point, the first included.
+    /// Solves of the iteration, the first included.
     pub iterations: usize,
     /// |s_c − the open length of the last solve| \[m\].
     pub change: f64,
@@ -408,7 +425,44 @@ pub struct Crack {
 
 impl Crack {
     pub const TOLERANCE: f64 = 1e-6;
-    pub const MAX_ITERATIONS: usize = 30;
+    pub const MAX_ITERATIONS: usize = 40;
+}
+
+/// The crack lengths on either side of the root of g(s_c) = open(s_c) − s_c seen so far, with
+/// their g.
+#[derive(Debug, Default)]
+struct CrackBracket {
+    /// The last s_c with g > 0, and the last with g ≤ 0.
+    below: Option<(f64, f64)>,
+    above: Option<(f64, f64)>,
+    /// Whether the last s_c replaced `below`.
+    last_below: Option<bool>,
+}
+
+impl CrackBracket {
+    /// Records g(s_c) and returns the next s_c: the fixed-point step open(s_c) = s_c + g until g
+    /// has changed sign, then regula falsi in the bracket with the Illinois rule (the end kept
+    /// twice in a row has its g halved), which shrinks the bracket also where g jumps.
+    fn next(&mut self, crack: f64, g: f64) -> f64 {
+        let is_below = g > 0.0;
+        if self.last_below == Some(is_below) {
+            let kept = if is_below { &mut self.above } else { &mut self.below };
+            if let Some((_, g_kept)) = kept {
+                *g_kept *= 0.5;
+            }
+        }
+        *(if is_below { &mut self.below } else { &mut self.above }) = Some((crack, g));
+        self.last_below = Some(is_below);
+        match (self.below, self.above) {
+            (Some((c0, g0)), Some((c1, g1))) => (c0 * g1 - c1 * g0) / (g1 - g0),
+            _ => crack + g,
+        }
+    }
+
+    /// |above − below| once g has been seen on both sides.
+    fn width(&self) -> Option<f64> {
+        Some((self.above?.0 - self.below?.0).abs())
+    }
 }
 
 /// Why a contact solve stopped without an answer.
@@ -421,6 +475,11 @@ pub enum ContactError {
          still moved by {change:.3e} m; set [uplift] crack = \"ignore\" to solve without the crack's pressure"
     )]
     Crack { iterations: usize, length: f64, change: f64 },
+    #[error(
+        "the crack–uplift iteration closed on a crack of {length:.4} m whose opening jumps by {change:.3e} m, more \
+         than the face there ({face:.3e} m); refine the mesh along the joint, or set [uplift] crack = \"ignore\""
+    )]
+    CrackJump { length: f64, change: f64, face: f64 },
 }
 
 /// Solves the elasticity problem with contact on `joint` from a zero initial guess, along
@@ -437,18 +496,23 @@ pub fn solve_by_continuation(
     let Some(length) = joint.uplift.as_ref().filter(|up| up.crack_filled).map(|up| up.length) else {
         return Ok(contact.solution(x, stages, None));
     };
+    let tolerance = Crack::TOLERANCE * length;
+    let mut bracket = CrackBracket::default();
     for iterations in 1..=Crack::MAX_ITERATIONS {
-        let open = contact.crack_length(&x);
-        let uplift = contact.nitsche.uplift.as_mut().expect("the joint has uplift");
-        let change = (open - uplift.crack).abs();
-        if change <= Crack::TOLERANCE * length {
-            let crack = Crack { length: uplift.crack, iterations, change };
-            return Ok(contact.solution(x, stages, Some(crack)));
+        let crack = contact.nitsche.uplift.as_ref().expect("the joint has uplift").crack;
+        let g = contact.crack_length(&x) - crack;
+        let next = bracket.next(crack, g);
+        if g.abs() <= tolerance || bracket.width().is_some_and(|w| w <= tolerance) {
+            let face = contact.face_length_at(crack);
+            if g.abs() > face {
+                return Err(ContactError::CrackJump { length: crack, change: g.abs(), face });
+            }
+            return Ok(contact.solution(x, stages, Some(Crack { length: crack, iterations, change: g.abs() })));
         }
         if iterations == Crack::MAX_ITERATIONS {
-            return Err(ContactError::Crack { iterations, length: open, change });
+            return Err(ContactError::Crack { iterations, length: crack + g, change: g.abs() });
         }
-        uplift.crack = open;
+        contact.nitsche.uplift.as_mut().expect("the joint has uplift").crack = next;
         let (next, more) = continuation(&mut contact, settings.delta, settings.delta, x, &settings.newton)?;
         (x, stages) = (next, [stages, more].concat());
     }
@@ -520,5 +584,42 @@ impl Solution {
             Solution::Linear(_) => None,
             Solution::Contact(c) => Some(c),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::CrackBracket;
+
+    /// Runs the crack iteration on the map `open` from s_c = 0 until |g| or the bracket is
+    /// below 10⁻⁹; returns s_c and the number of evaluations.
+    fn iterate(open: impl Fn(f64) -> f64) -> (f64, usize) {
+        let (mut bracket, mut crack) = (CrackBracket::default(), 0.0);
+        for k in 1..=60 {
+            let g = open(crack) - crack;
+            let next = bracket.next(crack, g);
+            if g.abs() <= 1e-9 || bracket.width().is_some_and(|w| w <= 1e-9) {
+                return (crack, k);
+            }
+            crack = next;
+        }
+        panic!("no convergence");
+    }
+
+    #[test]
+    fn the_crack_iteration_finds_roots_and_jumps_of_the_opening() {
+        // a contraction: plain fixed-point steps
+        let (c, k) = iterate(|c| 0.5 * c + 1.0);
+        assert!((c - 2.0).abs() <= 1e-8 && k <= 35, "{c} after {k}");
+        // fixed-point steps that cycle (0, 30, 0, …) and a nonlinear opening: the bracket closes
+        // on the root
+        let (c, k) = iterate(|c| (30.0 - c).clamp(0.0, 40.0));
+        assert!((c - 15.0).abs() <= 1e-9 && k <= 5, "{c} after {k}");
+        let (c, k) = iterate(|c| (30.0 - c - 0.01 * (c - 15.0).powi(3)).clamp(0.0, 40.0));
+        assert!((c - 15.0).abs() <= 1e-8 && k <= 40, "{c} after {k}");
+        // a jump across the diagonal at 15.05 (the crack tip crossing a node): no root, the
+        // bracket closes on the jump
+        let (c, k) = iterate(|c| if c < 15.05 { 15.13 } else { 15.0 });
+        assert!((c - 15.05).abs() <= 1e-8 && k <= 60, "{c} after {k}");
     }
 }

@@ -78,20 +78,11 @@ fn uniform_uplift_lowers_the_contact_pressure_by_exactly_p_u() {
 /// sizes × 2; the sharp reference of `damfem solve --effectivity`.
 #[test]
 fn the_dam_with_uplift_balances_weight_thrust_and_uplift() {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("geo/scene_a_uplift.toml");
-    let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
     let weight = 2400.0 * 9.81 * (40.0 + 5.0) / 2.0 * 50.0;
     let thrust = 1000.0 * 9.81 * 45.0 * 45.0 / 2.0;
     for order in [1, 2] {
-        let m = &scene.mesh;
-        let options =
-            MeshOptions { order, size_factor: 2.0, size_min: m.size_min, size_max: m.size_max, algorithm: m.algorithm };
-        let mesh = mesh_geo(&scene.geometry, &options, false, false).unwrap_or_else(|e| panic!("{e}"));
-        let (problem, joint) = scene.problem(mesh).unwrap_or_else(|e| panic!("{e}"));
-        let joint = joint.expect("a joint");
-        let disc = problem.discretise();
-        let solution = solve_by_continuation(&problem, &disc, &joint, &scene.continuation(&problem, &disc.topology))
-            .unwrap_or_else(|e| panic!("{e}"));
+        let common::SolvedScene { problem, disc, joint, solution } =
+            common::solve_scene("geo/scene_a_uplift.toml", order, 2.0);
         let (n, t, u) = (solution.normal_force(), solution.tangential_force(), solution.uplift_force());
         let crack = solution.crack.expect("the crack is iterated");
         let state = solution.linearisation(&problem, &disc);
@@ -160,4 +151,88 @@ fn strength_reduction_finds_the_exact_sliding_factor() {
             assert!(sr.held >= 0.995 * exact, "P{order}: FS_SR {} more than 0.5 % below {exact}", sr.held);
         }
     }
+}
+
+/// The classical cracked-base analysis of a gravity-dam section (USACE EM 1110-2-2200, Gravity
+/// Dam Design, 1995, §4; CADAM's manual): the base pressure is linear on the uncracked ligament
+/// l = B − c, zero at the crack tip, so the effective normal force N' = W − U(c) acts at l/3
+/// from the toe; with the reservoir pressure H_u in the crack, U(c) = H_u c + H_u l/2, and
+/// moment equilibrium about the toe gives c. Returns c and, for any c, the distance d(c) from
+/// the toe at which statics put N'.
+struct CrackedBase {
+    weight: f64,
+    thrust: f64,
+    /// H_u = ρ_w g H_w at the heel (tailwater 0).
+    heel_pressure: f64,
+    base: f64,
+    water: f64,
+}
+
+impl CrackedBase {
+    fn uplift(&self, c: f64) -> f64 {
+        self.heel_pressure * (c + (self.base - c) / 2.0)
+    }
+
+    /// d(c) = (W·2B/3 − P H_w/3 − M_U(c)) / (W − U(c)), all moments about the toe.
+    fn resultant_from_toe(&self, c: f64) -> f64 {
+        let (b, l) = (self.base, self.base - c);
+        let uplift_moment = self.heel_pressure * (c * (b - c / 2.0) + l / 2.0 * (2.0 * l / 3.0));
+        let moment = self.weight * 2.0 * b / 3.0 - self.thrust * self.water / 3.0 - uplift_moment;
+        moment / (self.weight - self.uplift(c))
+    }
+
+    /// The crack of beam theory: d(c) = (B − c)/3, by bisection on [0, B/2] (d > l/3 at 0).
+    fn beam_crack(&self) -> f64 {
+        let f = |c: f64| self.resultant_from_toe(c) - (self.base - c) / 3.0;
+        let (mut lo, mut hi) = (0.0, self.base / 2.0);
+        assert!(f(lo) < 0.0 && f(hi) > 0.0, "the section cracks, and not beyond half its base");
+        while hi - lo > 1e-12 * self.base {
+            let mid = 0.5 * (lo + hi);
+            *(if f(mid) < 0.0 { &mut lo } else { &mut hi }) = mid;
+        }
+        0.5 * (lo + hi)
+    }
+}
+
+/// Cracked-base hand check. Source: the classical computation above, on a textbook section
+/// (tests/data/cracked_base.toml: a triangle with a vertical upstream face, H = 50 m, B = 40 m,
+/// reservoir at the crest, full uplift in the crack, no drains, a Coulomb joint with F = 2 on a
+/// rigid foundation). Goal: the elastic crack lies within 10 % of beam theory's, on the short
+/// side, and converges with the mesh; the difference is the one beam theory makes: plane
+/// sections do not stay plane on a rigid foundation, whose restraint draws the base pressure
+/// towards the toe, so that N' acts at α l from the toe with α < 1/3 (measured 0.327), and
+/// d(c) − l/3 crosses zero at a shallow angle, so that 2 % in α moves the crack by 7 %
+/// (15.07 m against 16.25 m). Exact statics hold throughout: N + U = W, T = the thrust, and U
+/// is the diagram's integral with the computed crack. Parameters: P2, the fixture's mesh sizes
+/// × 2 and × 1.
+#[test]
+fn the_crack_of_a_textbook_section_against_the_cracked_base_analysis() {
+    let (h, b, water, g) = (50.0, 40.0, 50.0, 9.81);
+    let section = CrackedBase {
+        weight: 2400.0 * g * b * h / 2.0,
+        thrust: 1000.0 * g * water * water / 2.0,
+        heel_pressure: 1000.0 * g * water,
+        base: b,
+        water,
+    };
+    let beam = section.beam_crack();
+    let mut cracks = Vec::new();
+    for size_factor in [2.0, 1.0] {
+        let solved = common::solve_scene("tests/data/cracked_base.toml", 2, size_factor);
+        let s = &solved.solution;
+        let (n, t, u) = (s.normal_force(), s.tangential_force(), s.uplift_force());
+        let c = s.crack.expect("the crack is iterated").length;
+        let alpha = section.resultant_from_toe(c) / (b - c);
+        println!(
+            "size × {size_factor}: crack {c:.4} m (beam theory {beam:.4} m, {:+.1} %), N' at {alpha:.4} l from the toe, N {n:.6e} U {u:.6e} T {t:.6e}",
+            100.0 * (c / beam - 1.0)
+        );
+        assert!((n + u - section.weight).abs() <= 1e-8 * section.weight, "N + U = {} against W", n + u);
+        assert!((t + section.thrust).abs() <= 1e-8 * section.thrust, "T = {t}");
+        assert!((u - section.uplift(c)).abs() <= 1e-8 * section.weight, "U = {u} against {}", section.uplift(c));
+        assert!(c < beam && c > 0.9 * beam, "crack {c} against beam theory's {beam}");
+        assert!((0.3..1.0 / 3.0).contains(&alpha), "N' at {alpha} l from the toe");
+        cracks.push(c);
+    }
+    assert!((cracks[1] - cracks[0]).abs() <= 0.01 * cracks[1], "the crack moves with the mesh: {cracks:?}");
 }
