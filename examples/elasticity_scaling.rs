@@ -29,7 +29,7 @@ fn problem(n: usize, order: usize) -> Problem {
         materials: vec![Material { density: 1.0, ..Material::from_lame(1.0, 1.0) }; mesh.n_cells()],
         dirichlet: (1..=4).map(|tag| Dirichlet { tag, fix: [true; 2], value: Arc::new(|_| [0.0; 2]) }).collect(),
         neumann: vec![],
-        body_force: BodyForce::Gravity(1.0),
+        body_force: BodyForce::Acceleration([0.0, -1.0]),
         mesh,
     }
 }

@@ -20,6 +20,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 mod checks;
+mod combinations;
 
 /// A scene that cannot be read or does not fit its mesh.
 #[derive(Debug, thiserror::Error)]
@@ -34,6 +35,11 @@ pub enum SceneError {
     Material { path: PathBuf, name: String, message: String },
     #[error("{path}: {message}")]
     Invalid { path: PathBuf, message: String },
+}
+
+/// A TOML error of the scene file `path`, on one line per line of its message.
+fn syntax(path: &Path, e: toml::de::Error) -> SceneError {
+    SceneError::Syntax { path: path.into(), message: e.to_string().trim_end().to_string() }
 }
 
 /// Options handed to the mesher.
@@ -150,11 +156,14 @@ pub enum CrackKind {
 pub struct LoadSection {
     /// Gravity g [m/s²] for self-weight (0, −ρ g) and hydrostatic pressure; 0 disables self-weight.
     pub gravity: f64,
+    /// A pseudo-static acceleration (a_x, a_y) in units of g: the body force becomes
+    /// ρ g (a_x, a_y − 1). The water pressures do not change (no hydrodynamic added pressure).
+    pub acceleration: [f64; 2],
 }
 
 impl Default for LoadSection {
     fn default() -> Self {
-        LoadSection { gravity: 9.81 }
+        LoadSection { gravity: 9.81, acceleration: [0.0; 2] }
     }
 }
 
@@ -292,26 +301,43 @@ pub struct Scene {
     pub adapt: AdaptSettings,
     #[serde(default)]
     pub output: OutputSection,
+    /// Load combinations by name, each a table of keys of `[boundary.*]`, `[loads]` and
+    /// `[uplift]` that override the scene's (see [`Scene::combination`]).
+    #[serde(default)]
+    pub combinations: BTreeMap<String, toml::Table>,
     /// The file this scene was read from (the geometry itself for a default scene).
     #[serde(skip)]
     pub source: PathBuf,
+    /// The scene file's own keys, without its combinations: what a combination overrides.
+    #[serde(skip)]
+    table: toml::Table,
 }
 
 impl Scene {
     /// Material of regions that a scene does not name: concrete, E = 30 GPa, ν = 0.2, ρ = 2400.
     pub const DEFAULT_MATERIAL: Material = Material { young: 3.0e10, poisson: 0.2, density: 2400.0 };
 
-    /// Reads a scene file; the geometry path becomes relative to the working directory.
+    /// Reads a scene file; the geometry path becomes relative to the working directory. Every
+    /// load combination is checked too.
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
         let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read { path: path.into(), source })?;
-        let syntax = |e: toml::de::Error| SceneError::Syntax {
-            path: path.into(),
-            message: e.to_string().trim_end().to_string(),
-        };
-        checks::check_values(path, &toml::from_str(&text).map_err(syntax)?)?;
-        let mut scene: Scene = toml::from_str(&text).map_err(syntax)?;
+        let table: toml::Table = toml::from_str(&text).map_err(|e| syntax(path, e))?;
+        let scene = Scene::from_table(path, table)?;
+        for name in scene.combinations.keys() {
+            scene.combination(name)?;
+        }
+        Ok(scene)
+    }
+
+    /// The scene of the TOML `table` read from `path`.
+    fn from_table(path: &Path, table: toml::Table) -> Result<Scene, SceneError> {
+        let value = toml::Value::Table(table);
+        checks::check_values(path, &value)?;
+        let mut scene: Scene = value.clone().try_into().map_err(|e| syntax(path, e))?;
         scene.geometry = path.parent().unwrap_or(Path::new("")).join(&scene.geometry);
         scene.source = path.into();
+        scene.table = value.try_into().map_err(|e| syntax(path, e))?;
+        scene.table.remove("combinations");
         scene.validate()?;
         Ok(scene)
     }
@@ -328,7 +354,9 @@ impl Scene {
             uplift: None,
             adapt: AdaptSettings::default(),
             output: OutputSection::default(),
+            combinations: BTreeMap::new(),
             source: path.into(),
+            table: toml::Table::new(),
         }
     }
 
@@ -574,7 +602,8 @@ impl Scene {
             "give a physical curve role = \"dirichlet\""
         };
         let materials = self.cell_materials(&mesh)?;
-        let body_force = if g == 0.0 { BodyForce::None } else { BodyForce::Gravity(g) };
+        let [a_x, a_y] = self.loads.acceleration;
+        let body_force = if g == 0.0 { BodyForce::None } else { BodyForce::Acceleration([a_x * g, (a_y - 1.0) * g]) };
         let problem = Problem { mesh, materials, dirichlet, neumann, body_force };
         let mut joint = self.joint(&problem.mesh)?;
         let friction = joint.as_ref().is_some_and(|j| j.law.has_friction());

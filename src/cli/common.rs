@@ -30,6 +30,9 @@ pub struct Input {
     /// Stop with an error when gmsh takes more than S seconds to read and mesh the geometry
     #[arg(long, value_name = "S", default_value_t = 300)]
     pub mesh_time_limit: u32,
+    /// Run the scene under its load combination NAME ([combinations.NAME])
+    #[arg(long, value_name = "NAME")]
+    pub combination: Option<String>,
     /// Print nothing but errors
     #[arg(short, long, conflicts_with = "verbose")]
     pub quiet: bool,
@@ -56,6 +59,9 @@ impl Input {
             Some("geo") | Some("msh") => Scene::for_geometry(path),
             _ => anyhow::bail!("{}: expected a scene (.toml), a geometry (.geo) or a mesh (.msh)", path.display()),
         };
+        if let Some(name) = &self.combination {
+            scene = scene.combination(name).with_context(|| format!("--combination {name}"))?;
+        }
         let is_mesh = scene.geometry.extension().is_some_and(|e| e == "msh");
         if is_mesh && (self.order.is_some() || self.size_factor.is_some()) {
             anyhow::bail!(

@@ -82,8 +82,9 @@ pub struct Neumann {
 #[derive(Clone)]
 pub enum BodyForce {
     None,
-    /// Self-weight f = (0, −ρ g) with the density of each material.
-    Gravity(f64),
+    /// f = ρ a with the density of each material: self-weight for a = (0, −g), plus a
+    /// pseudo-static acceleration.
+    Acceleration([f64; 2]),
     Field(VectorFn),
 }
 
@@ -124,7 +125,7 @@ impl Problem {
     pub fn body_force_at(&self, c: usize, x: [f64; 2]) -> [f64; 2] {
         match &self.body_force {
             BodyForce::None => [0.0; 2],
-            BodyForce::Gravity(g) => [0.0, -self.materials[c].density * g],
+            BodyForce::Acceleration(a) => a.map(|a| self.materials[c].density * a),
             BodyForce::Field(field) => field(x),
         }
     }

@@ -700,6 +700,61 @@ fn uplift_keys_out_of_range() {
     assert_nothing_written(&out);
 }
 
+// A load combination overrides the water levels and the pseudo-static acceleration of the
+// scene: the joint forces follow statics exactly, N + U = W and T = −(the thrust + a_x W), with
+// the thrust ρ_w g H_w²/2 of the combination's reservoir level.
+#[test]
+fn combinations_override_water_levels_and_acceleration() {
+    let tmp = TempDir::new("combinations");
+    let scene = frictional_scene(&tmp, |t| {
+        format!(
+            "{t}\n[uplift]\nheadwater = 45.0\ndrains = {{ x = 5.0, efficiency = 0.6667 }}\ncrack = \"ignore\"\n\n\
+             [combinations.usual]\nboundary.upstream.hydrostatic.level = 45.0\n\n\
+             [combinations.flood]\nboundary.upstream.hydrostatic.level = 50.0\nuplift.headwater = 50.0\n\n\
+             [combinations.earthquake]\nboundary.upstream.hydrostatic.level = 45.0\nloads.acceleration = [0.1, 0.0]\n"
+        )
+    });
+    let weight = 2400.0 * 9.81 * (40.0 + 5.0) / 2.0 * 50.0;
+    for (name, level, a_x) in [("usual", 45.0_f64, 0.0), ("flood", 50.0, 0.0), ("earthquake", 45.0, 0.1)] {
+        let out = tmp.join(name);
+        let args = ["solve", "-q", scene.to_str().unwrap(), "--combination", name, "--size-factor", "2", "-o"];
+        assert_ok(&damfem(&[&args[..], &[out.to_str().unwrap()]].concat()));
+        let c = &check_summary(&out)["contact"];
+        let force = |key: &str| c[key].as_f64().unwrap_or_else(|| panic!("{key} in {c}"));
+        let thrust = 1000.0 * 9.81 * level * level / 2.0;
+        let (n, t, u) = (force("normal_force"), force("tangential_force"), force("uplift_force"));
+        assert!((n + u - weight).abs() <= 1e-8 * weight, "{name}: N + U = {} against W = {weight}", n + u);
+        let expected = -(thrust + a_x * weight);
+        assert!((t - expected).abs() <= 1e-8 * expected.abs(), "{name}: T = {t} against {expected}");
+    }
+}
+
+// A combination is checked like the scene: an unknown key, a NaN level, a tailwater above the
+// headwater, or a table it may not override is refused when the scene is read, naming the
+// combination; an unknown --combination lists the scene's.
+#[test]
+fn bad_combinations_are_refused() {
+    let tmp = TempDir::new("bad-combinations");
+    let uplift = "\n[uplift]\nheadwater = 45.0\ncrack = \"ignore\"\n";
+    for (combination, expected) in [
+        ("uplift.headwatr = 50.0", vec!["[combinations.bad]", "headwatr"]),
+        ("boundary.upstream.hydrostatic.level = nan", vec!["combinations.bad", "level = NaN", "finite"]),
+        ("uplift.tailwater = 60.0", vec!["[combinations.bad]", "tailwater = 60", "above uplift.headwater = 45"]),
+        ("mesh.size_factor = 0.5", vec!["[combinations.bad]", "'mesh' cannot be overridden"]),
+    ] {
+        let scene = frictional_scene(&tmp, |t| format!("{t}{uplift}\n[combinations.bad]\n{combination}\n"));
+        assert_solve_fails("bad-combination", &scene, &expected);
+    }
+    let scene = frictional_scene(&tmp, |t| format!("{t}{uplift}\n[combinations.usual]\n[combinations.flood]\n"));
+    assert_refused(
+        "unknown-combination",
+        "solve",
+        &scene,
+        &["--combination", "storm"],
+        &["--combination storm", "no combination 'storm'", "flood, usual"],
+    );
+}
+
 // --strength-reduction needs a frictional joint, and says so before writing anything.
 #[test]
 fn strength_reduction_needs_friction() {

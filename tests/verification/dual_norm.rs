@@ -283,7 +283,7 @@ fn galerkin_solution_has_no_residual_on_its_own_space() {
                 Neumann { tag: RIGHT, traction: Traction::Hydrostatic { density: 1000.0, gravity: 9.81, level: 0.5 } },
                 Neumann { tag: TOP, traction: Traction::Constant([2e3, -1e4]) },
             ],
-            body_force: BodyForce::Gravity(9.81),
+            body_force: BodyForce::Acceleration([0.0, -9.81]),
             mesh,
         };
         let u_h = solve_linear(&problem);

@@ -56,7 +56,8 @@ fn zero_oscillation_and_neumann_terms_on_scene_a() {
         assert!(e.eq.worst(order) < 1e-10, "P{order}: {:?}", e.eq);
 
         // the same data as general fields
-        let BodyForce::Gravity(g) = problem.body_force else { panic!("scene A has self-weight") };
+        let BodyForce::Acceleration([_, minus_g]) = problem.body_force else { panic!("scene A has self-weight") };
+        let g = -minus_g;
         let weight = problem.materials[0].density * g;
         assert!(problem.materials.iter().all(|m| m.density * g == weight), "one material");
         let mut fields = problem.clone();
@@ -193,7 +194,11 @@ fn constant_traction_problem(order: usize, as_fields: bool) -> Problem {
             Neumann { tag: RIGHT, traction: traction([0.3, -0.2]) },
             Neumann { tag: TOP, traction: traction([0.0, -1.0]) },
         ],
-        body_force: if as_fields { BodyForce::Field(Arc::new(|_| [0.0, -1.0])) } else { BodyForce::Gravity(1.0) },
+        body_force: if as_fields {
+            BodyForce::Field(Arc::new(|_| [0.0, -1.0]))
+        } else {
+            BodyForce::Acceleration([0.0, -1.0])
+        },
         mesh,
     }
 }
