@@ -1,4 +1,4 @@
-//! Equilibration checks of a reconstruction (docs/method.md §4.5, (E1)–(E3)).
+//! Equilibration checks of a reconstruction (docs/method.md §4.1, §5.2).
 //!
 //! Each check returns its largest relative violation and where it occurs; all should be at
 //! round-off level. They are the hypotheses of the bound (docs/method.md §5): when every one
