@@ -77,6 +77,10 @@ pub fn traction_load(
 
 /// Displacement gradient ∇u_h (∂_j u_i at `[i][j]`) at reference point `xi` of a cell with
 /// nodal displacements `u`. `grads` is scratch of length n_basis.
+///
+/// ∇u_h = Σ_k (u_k − u_0) ⊗ ∇φ_k (Σ_k ∇φ_k = 0): the differences to the first node are
+/// exact for nearby nodes, so a displacement |u| much larger than h |∇u| (a thin cell, or a
+/// cell far along a sliding base) costs no digits of the gradient.
 pub fn displacement_gradient(
     map: &AffineMap,
     order: usize,
@@ -86,11 +90,12 @@ pub fn displacement_gradient(
 ) -> [[f64; 2]; 2] {
     lagrange::gradients(order, xi, grads);
     let mut g = [[0.0; 2]; 2];
-    for (gr, ui) in grads.iter().zip(u) {
+    for (gr, ui) in grads.iter().zip(u).skip(1) {
         let d = map.physical_gradient(*gr);
         for a in 0..2 {
+            let du = ui[a] - u[0][a];
             for b in 0..2 {
-                g[a][b] += ui[a] * d[b];
+                g[a][b] += du * d[b];
             }
         }
     }

@@ -1,4 +1,4 @@
-//! Equilibration checks of a reconstruction (docs/method.md §4.5, (E1)–(E3)).
+//! Equilibration checks of a reconstruction (docs/method.md §4.1, §5.2).
 //!
 //! Each check returns its largest relative violation and where it occurs; all should be at
 //! round-off level. They are the hypotheses of the bound (docs/method.md §5): when every one
@@ -9,6 +9,7 @@ use super::face::FaceProjection;
 use super::reconstruction::{contact_rule, tractions, Reconstruction};
 use crate::contact::Linearisation;
 use crate::elasticity::problem::{load_degree, traction_rule};
+use crate::elasticity::stress::cell_mean_stress;
 use crate::elasticity::Problem;
 use crate::fem::affine::AffineMap;
 use crate::fem::lagrange;
@@ -138,6 +139,29 @@ pub fn check(
         compatibility: checks[5].value,
         at: checks.map(|w| w.at),
     }
+}
+
+/// The relative violation that the representation of `u` in double alone may cause
+/// (docs/method.md §5.2): ε max_T w_T |u|_T (λ + 2μ)_T / h_T over max_T |σ(u_h)|_T, with |u|_T
+/// the largest nodal |u| of cell T, |σ(u_h)|_T its largest cell-mean component and w_T = γ₀
+/// on the cells of Γ_C (whose Nitsche term weighs nodal values by γ₀ E / h), else 1. A double
+/// u_h resolves nodal differences only to ε |u_h|, so no double vector solves the discrete
+/// equation better than about ε E |u_h| per vertex, and a patch's data balance only to that.
+pub fn representation_bound(problem: &Problem, u: &[[f64; 2]], contact: Option<&Linearisation>) -> f64 {
+    let mesh = &problem.mesh;
+    let mut weight = vec![1.0; mesh.n_cells()];
+    if let Some(state) = contact {
+        state.nitsche.faces.iter().for_each(|face| weight[face.cell] = state.nitsche.parameters.gamma0.max(1.0));
+    }
+    let stress = cell_mean_stress(problem, u).into_iter().flatten().fold(0.0_f64, |m, v| m.max(v.abs()));
+    let defect = (0..mesh.n_cells())
+        .map(|c| {
+            let size = mesh.cell(c).iter().map(|&n| u[n][0].hypot(u[n][1])).fold(0.0, f64::max);
+            let (lambda, mu) = problem.materials[c].lame();
+            weight[c] * size * (lambda + 2.0 * mu) / mesh.cell_diameter(c)
+        })
+        .fold(0.0, f64::max);
+    f64::EPSILON * defect / stress.max(f64::MIN_POSITIVE)
 }
 
 /// The centroid of cell c.

@@ -88,7 +88,7 @@ pub struct PatchInput<'a> {
     /// Total area |ω_a|.
     pub area: f64,
     /// For p = 1: correct the symmetry datum of case 0 (the total) by c = κ J so that the
-    /// rotations satisfy the compatibility condition (docs/method.md §4.4).
+    /// rotations satisfy the compatibility condition (docs/method.md §4.2).
     pub rotation_correction: bool,
 }
 

@@ -1,5 +1,6 @@
-//! Perturbed meshes for stability studies.
+//! Perturbed and graded meshes for stability studies.
 
+use super::refine::{bisect, Refinement};
 use super::rng::Rng;
 use crate::mesh::Mesh;
 
@@ -46,4 +47,27 @@ pub fn quality(mesh: &Mesh) -> (f64, f64) {
         }
     }
     (min_angle, min_area)
+}
+
+/// The degree-1 `mesh` bisected (newest-vertex bisection) at the cells within two diameters
+/// of `point` until its smallest cell is `ratio` times smaller than its largest: a
+/// shape-regular mesh graded by `ratio` towards `point`, like those of the adaptive loop.
+/// On a mesh with dyadic vertices, every vertex stays dyadic.
+pub fn graded(mesh: &Mesh, point: [f64; 2], ratio: f64) -> Mesh {
+    let diameters = |m: &Mesh| (0..m.n_cells()).map(|c| m.cell_diameter(c)).collect::<Vec<_>>();
+    let largest = diameters(mesh).into_iter().fold(0.0, f64::max);
+    let mut current = Refinement {
+        mesh: mesh.clone(),
+        cell_parents: (0..mesh.n_cells()).collect(),
+        facet_parents: (0..mesh.n_facets()).collect(),
+    };
+    loop {
+        let h = diameters(&current.mesh);
+        if h.iter().fold(f64::MAX, |m, &v| m.min(v)) * ratio <= largest {
+            return current.mesh;
+        }
+        let near = |c: usize| crate::mesh::distance(current.mesh.cell_centroid(c), point) <= 2.0 * h[c];
+        let marked: Vec<bool> = (0..h.len()).map(near).collect();
+        current = bisect(&current, &marked);
+    }
 }

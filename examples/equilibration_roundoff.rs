@@ -1,0 +1,193 @@
+//! Where the round-off of the equilibration checks comes from (docs/method.md §4.1, §5.2).
+//!
+//! What it shows, one table per hypothesis, on V1's data (`verify::v1`, clamped bottom):
+//!
+//! 1. The global solve: the checks of the Cholesky solution against those of the same
+//!    solution after three steps of iterative refinement with the residual b − Kx summed in
+//!    double-double (TwoSum/FMA), on the unit square squeezed to cells of aspect 10² … 10⁴.
+//! 2. The size of u_h against h |∇u_h|: the same with a rigid translation c = 0, 1, 100
+//!    added to the Dirichlet data (u_h shifts by c, σ(u_h) does not).
+//! 3. The estimator's own arithmetic: u_h the exact discrete solution, the linear field
+//!    u = (x/2 + y/4 + c, x/8 − y/2 + c) without body force, whose nodal values at the dyadic
+//!    nodes of a bisected mesh are exact doubles, on meshes graded by 10², 10⁴, 10⁶.
+//! 4. The solve output on meshes graded by 10² … 10⁸ against the representation bound
+//!    ε max|u_h| (λ + 2μ) / (h_min max|σ(u_h)|): a double u_h resolves nodal differences only
+//!    to ε |u_h|, so the residual of the discrete equation cannot fall below ε E |u_h| per node.
+//! 5. The patch problems on thin cells: the size of σ_h and η_flux against the stress.
+//!
+//! Run: `cargo run --release --example equilibration_roundoff` (a few seconds).
+
+use damfem::elasticity::stress::cell_mean_stress;
+use damfem::elasticity::{BodyForce, Discretisation, Problem};
+use damfem::estimate::checks::{check, Equilibration};
+use damfem::estimate::estimators::estimate;
+use damfem::estimate::reconstruction::reconstruct;
+use damfem::mesh::structured::{rectangle, BOTTOM, LEFT, RIGHT, TOP};
+use damfem::mesh::{Mesh, Topology};
+use damfem::solve::Cholesky;
+use damfem::verify::meshes::graded;
+use damfem::verify::refine::elevate_to_p2;
+use damfem::verify::v1;
+use std::sync::Arc;
+
+/// a + b = s + e exactly (TwoSum).
+fn two_sum(a: f64, b: f64) -> (f64, f64) {
+    let s = a + b;
+    let v = s - a;
+    (s, (a - (s - v)) + (b - v))
+}
+
+/// b − K x with every product and sum carried in double-double, rounded at the end, and
+/// max_i (|b_i| + Σ_j |K_ij x_j|).
+fn residual(disc: &Discretisation, values: &[f64], rhs: &[f64], x: &[f64]) -> (Vec<f64>, f64) {
+    let symbolic = disc.pattern.symbolic();
+    let (col_ptr, row_idx) = (symbolic.col_ptr(), symbolic.row_idx());
+    let (mut hi, mut lo) = (rhs.to_vec(), vec![0.0; rhs.len()]);
+    let mut scale: Vec<f64> = rhs.iter().map(|b| b.abs()).collect();
+    for (col, &xc) in x.iter().enumerate() {
+        for k in col_ptr[col]..col_ptr[col + 1] {
+            let i = row_idx[k];
+            let p = -values[k] * xc;
+            let p_error = (-values[k]).mul_add(xc, -p);
+            let (s, e) = two_sum(hi[i], p);
+            hi[i] = s;
+            lo[i] += e + p_error;
+            scale[i] += p.abs();
+        }
+    }
+    (hi.iter().zip(&lo).map(|(h, l)| h + l).collect(), scale.into_iter().fold(0.0, f64::max))
+}
+
+/// The checks, η_flux and max |σ_h| (coefficients) of the reconstruction of nodal `u`.
+fn checks(problem: &Problem, u: &[[f64; 2]]) -> (Equilibration, f64, f64) {
+    let topology = Topology::new(&problem.mesh);
+    let rec = reconstruct(problem, &topology, u, None).expect("reconstruction");
+    let eta = estimate(problem, &topology, u, &rec, None);
+    let flux = eta.flux.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let largest = (0..rec.n_cells()).flat_map(|c| rec.total(c)).fold(0.0_f64, |m, v| m.max(v.abs()));
+    (check(problem, &topology, u, &rec, None), flux, largest)
+}
+
+fn line(eq: &Equilibration) -> String {
+    format!(
+        "div {:.1e}  cont {:.1e}  sym {:.1e}  compat {:.1e}",
+        eq.divergence, eq.normal_continuity, eq.weak_symmetry, eq.compatibility
+    )
+}
+
+/// V1 with the Dirichlet data shifted by the translation (c, c).
+fn shifted_v1(mesh: Mesh, c: f64) -> Problem {
+    let mut problem = v1::problem(mesh, &[BOTTOM]);
+    for bc in &mut problem.dirichlet {
+        bc.value = Arc::new(move |x| {
+            let u = v1::exact(x);
+            [u[0] + c, u[1] + c]
+        });
+    }
+    problem
+}
+
+/// Tables 1 and 2.
+fn solve_and_refine() {
+    println!("1-2. squeezed unit square (4 x 4), V1 shifted by c: Cholesky, then refined in double-double");
+    for order in [1, 2] {
+        for aspect in [1e2, 1e3, 1e4] {
+            for c in [0.0, 1.0, 100.0] {
+                let problem = shifted_v1(rectangle(0.0, 1.0, 0.0, 1.0 / aspect, 4, 4, order), c);
+                let disc = problem.discretise();
+                let system = problem.assemble(&disc);
+                let symbolic = Cholesky::analyse(&disc.pattern).expect("analysis");
+                let factors = symbolic.factor(&disc.pattern, &system.values).expect("factorisation");
+                let solve = |b: &[f64]| {
+                    let mut m = faer::Mat::from_fn(b.len(), 1, |i, _| b[i]);
+                    factors.solve_in_place(&mut m).expect("solve");
+                    (0..b.len()).map(|i| m[(i, 0)]).collect::<Vec<f64>>()
+                };
+                let mut x = solve(&system.rhs);
+                for refined in [false, true] {
+                    if refined {
+                        for _ in 0..3 {
+                            let d = solve(&residual(&disc, &system.values, &system.rhs, &x).0);
+                            x.iter_mut().zip(&d).for_each(|(x, d)| *x += d);
+                        }
+                    }
+                    let (r, scale) = residual(&disc, &system.values, &system.rhs, &x);
+                    let r = r.iter().fold(0.0_f64, |m, v| m.max(v.abs())) / scale;
+                    let (eq, _, _) = checks(&problem, &problem.displacement(&disc, &x));
+                    let how = if refined { "refined " } else { "cholesky" };
+                    println!("  P{order} aspect {aspect:.0e} c {c:<5} {how} |b-Kx|/|K||x| {r:.1e}  {}", line(&eq));
+                }
+            }
+        }
+    }
+}
+
+/// Table 3.
+fn exact_linear() {
+    println!("3. exact discrete solution (linear, dyadic) on meshes graded towards (0.5, 0.5)");
+    for order in [1, 2] {
+        for ratio in [1e2, 1e4, 1e6] {
+            let mesh = graded_mesh(ratio, order);
+            for c in [0.0, 1.0, 100.0] {
+                let exact = move |x: [f64; 2]| [0.5 * x[0] + 0.25 * x[1] + c, 0.125 * x[0] - 0.5 * x[1] + c];
+                let mut problem = v1::problem(mesh.clone(), &[BOTTOM, RIGHT, TOP, LEFT]);
+                problem.body_force = BodyForce::None;
+                problem.dirichlet.iter_mut().for_each(|bc| bc.value = Arc::new(exact));
+                let u: Vec<[f64; 2]> = problem.mesh.points.iter().map(|&p| exact(p)).collect();
+                let (eq, _, _) = checks(&problem, &u);
+                println!("  P{order} ratio {ratio:.0e} c {c:<5} {}", line(&eq));
+            }
+        }
+    }
+}
+
+/// Table 4.
+fn graded_solve() {
+    println!("4. V1 solved on meshes graded towards (0.5, 0.5): checks against eps max|u| (lambda + 2 mu) / (h_min max|sigma(u)|)");
+    for order in [1, 2] {
+        for ratio in [1e2, 1e4, 1e6, 1e7, 1e8] {
+            let problem = v1::problem(graded_mesh(ratio, order), &[BOTTOM]);
+            let disc = problem.discretise();
+            let x = problem.solve_linear(&disc).expect("solve");
+            let u = problem.displacement(&disc, &x);
+            let (eq, _, _) = checks(&problem, &u);
+            let mesh = &problem.mesh;
+            let h = (0..mesh.n_cells()).map(|c| mesh.cell_diameter(c)).fold(f64::MAX, f64::min);
+            let size = u.iter().map(|v| v[0].hypot(v[1])).fold(0.0, f64::max);
+            let stress = cell_mean_stress(&problem, &u).into_iter().flatten().fold(0.0_f64, |m, v| m.max(v.abs()));
+            let bound = f64::EPSILON * size * (v1::LAMBDA + 2.0 * v1::MU) / (h * stress);
+            println!("  P{order} ratio {ratio:.0e} bound {bound:.1e}  {}", line(&eq));
+        }
+    }
+}
+
+/// Table 5.
+fn thin_patches() {
+    println!("5. squeezed unit square, V1 solved: eta_flux and max |sigma_h| (coefficients)");
+    for order in [1, 2] {
+        for aspect in [1.0, 1e2, 1e3, 1e4] {
+            let problem = v1::problem(rectangle(0.0, 1.0, 0.0, 1.0 / aspect, 4, 4, order), &[BOTTOM]);
+            let disc = problem.discretise();
+            let x = problem.solve_linear(&disc).expect("solve");
+            let (eq, flux, largest) = checks(&problem, &problem.displacement(&disc, &x));
+            println!("  P{order} aspect {aspect:.0e} eta_flux {flux:.2e} max|sigma_h| {largest:.2e}  {}", line(&eq));
+        }
+    }
+}
+
+/// The 4 × 4 unit square graded by `ratio` towards its centre, at degree `order`.
+fn graded_mesh(ratio: f64, order: usize) -> Mesh {
+    let mesh = graded(&rectangle(0.0, 1.0, 0.0, 1.0, 4, 4, 1), [0.5, 0.5], ratio);
+    if order == 2 {
+        elevate_to_p2(&mesh)
+    } else {
+        mesh
+    }
+}
+
+fn main() {
+    solve_and_refine();
+    exact_linear();
+    graded_solve();
+    thin_patches();
+}
