@@ -21,10 +21,11 @@ use crate::elasticity::{Discretisation, Problem};
 use crate::fem::dofs::FIXED;
 use crate::fem::sparse::{vector_dofs, LinearSystem, SparsePattern};
 use crate::mesh::Mesh;
-use crate::solve::{newton, NewtonError, NewtonOptions, NewtonReport, NonlinearSystem};
+use crate::solve::{newton, LayerSchur, NewtonError, NewtonOptions, NewtonReport, NonlinearSystem};
 pub use law::JointLaw;
 use nitsche::{Nitsche, NitscheParameters};
 use projection::{negative_part, Smoothing};
+use std::sync::OnceLock;
 pub use uplift::Uplift;
 
 /// A contact boundary: the curves of Γ_C, the joint law and the Nitsche parameters.
@@ -58,6 +59,9 @@ pub struct ContactProblem<'a> {
     pub smoothing: Smoothing,
     /// K over the free dofs and b = f + g_N − K_fc g_D.
     bulk: LinearSystem,
+    /// K factorised once with its Schur complement on the dofs of the cells along Γ_C, made
+    /// at the first Newton solve (None: Newton factors J by sparse LU).
+    schur: OnceLock<Option<LayerSchur>>,
 }
 
 /// Contact quantities of one face, for output.
@@ -104,12 +108,27 @@ impl<'a> ContactProblem<'a> {
     /// Assembles the bulk terms once; the faces are those of `joint`.
     pub fn new(problem: &'a Problem, disc: &'a Discretisation, joint: &ContactJoint, smoothing: Smoothing) -> Self {
         let bulk = problem.assemble(disc);
-        ContactProblem { problem, disc, nitsche: joint.faces(problem, disc), smoothing, bulk }
+        let nitsche = joint.faces(problem, disc);
+        ContactProblem { problem, disc, nitsche, smoothing, bulk, schur: OnceLock::new() }
     }
 
     /// Sets the regularisation δ of the projection.
     pub fn set_delta(&mut self, delta: f64) {
         self.smoothing = Smoothing { delta };
+    }
+
+    /// The free dofs of the cells that own a contact face, sorted: the face terms touch no others.
+    pub fn layer(&self) -> Vec<usize> {
+        let (free, mut dofs) = (&self.disc.dofs.free, Vec::new());
+        let mut layer: Vec<usize> = (self.nitsche.faces.iter())
+            .flat_map(|face| {
+                vector_dofs(self.problem.mesh.cell(face.cell), &mut dofs);
+                dofs.iter().map(|&g| free[g]).filter(|&f| f != FIXED).collect::<Vec<_>>()
+            })
+            .collect();
+        layer.sort_unstable();
+        layer.dedup();
+        layer
     }
 
     /// Contact state of every face for the free unknowns `x`.
@@ -245,6 +264,11 @@ impl NonlinearSystem for ContactProblem<'_> {
                 }
             }
         }
+    }
+
+    fn schur(&self) -> Option<&LayerSchur> {
+        let build = || LayerSchur::new(&self.disc.pattern, &self.bulk.values, self.layer());
+        self.schur.get_or_init(build).as_ref()
     }
 
     fn scale(&self) -> f64 {

@@ -5,10 +5,12 @@ pub mod cholesky;
 pub mod condition;
 pub mod lu;
 pub mod newton;
+pub mod schur;
 
 pub use cholesky::Cholesky;
 pub use lu::SparseLu;
 pub use newton::{newton, newton_until, Iterate, NewtonError, NewtonOptions, NewtonReport, NonlinearSystem};
+pub use schur::LayerSchur;
 
 /// faer's factorisations run on one thread. On the small supernodes of 2D meshes the task
 /// overhead of a parallel factorisation outweighs its gain: Scene A, P2, 83 494 unknowns,
