@@ -14,7 +14,7 @@ use damfem::fem::sparse::SparsePattern;
 use damfem::io::gmsh::{mesh_geo, MeshOptions};
 use damfem::mesh::structured::{unit_square, BOTTOM, LEFT, RIGHT, TOP};
 use damfem::scene::Scene;
-use damfem::solve::{newton, LayerSchur, NewtonError, NewtonOptions, NonlinearSystem, SparseLu};
+use damfem::solve::{newton, NewtonError, NewtonOptions, NonlinearSystem, SparseLu};
 use std::path::Path;
 use std::sync::Arc;
 
@@ -240,7 +240,7 @@ fn newton_failure_is_a_clear_error() {
     expect_not_converged(newton(&contact, vec![0.0; disc.dofs.n_free], &settings.newton).map(|r| r.x), 3);
 }
 
-/// A system that hides the [`LayerSchur`] of the one it wraps: Newton factors its Jacobian by
+/// A system that hides the `LayerSchur` of the one it wraps: Newton factors its Jacobian by
 /// sparse LU.
 struct WithoutSchur<'a>(&'a ContactProblem<'a>);
 
