@@ -226,7 +226,7 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
         ((), s.evaluate) = timed(|| system.evaluate(&x, &mut residual, Some(&mut jacobian)));
         let minus_r: Vec<f64> = residual.iter().map(|v| -v).collect();
         // one Newton step by the Schur complement: the dense LU, the solve and its refinement
-        let (factors, schur_factor) = timed(|| schur.factor(&jacobian));
+        let (factors, schur_factor) = timed(|| schur.factor(&jacobian).expect("Schur LU"));
         s.schur_factor = schur_factor;
         let (delta_schur, schur_solve) = timed(|| {
             let delta = factors.solve(&minus_r).expect("Schur solve");

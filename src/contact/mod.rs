@@ -21,7 +21,7 @@ use crate::elasticity::{Discretisation, Problem};
 use crate::fem::dofs::FIXED;
 use crate::fem::sparse::{vector_dofs, LinearSystem, SparsePattern};
 use crate::mesh::Mesh;
-use crate::solve::{newton, LayerSchur, NewtonError, NewtonOptions, NewtonReport, NonlinearSystem};
+use crate::solve::{newton, newton_until, LayerSchur, NewtonError, NewtonOptions, NewtonReport, NonlinearSystem};
 pub use law::JointLaw;
 use nitsche::{Nitsche, NitscheParameters};
 use projection::{negative_part, Smoothing};
@@ -129,6 +129,16 @@ impl<'a> ContactProblem<'a> {
         layer.sort_unstable();
         layer.dedup();
         layer
+    }
+
+    /// The fully active state: the solution with every point of Γ_C held closed, [P_γ]
+    /// replaced by P_γ (a linear problem, one Newton step from u = 0).
+    pub fn fully_active_start(&mut self) -> Result<Vec<f64>, NewtonError> {
+        let smoothing = std::mem::replace(&mut self.smoothing, Smoothing::CLOSED);
+        let x0 = vec![0.0; self.disc.dofs.n_free];
+        let report = newton_until(self, x0, &NewtonOptions { max_iter: 1, ..Default::default() }, |_| true);
+        self.smoothing = smoothing;
+        Ok(report?.x)
     }
 
     /// Contact state of every face for the free unknowns `x`.

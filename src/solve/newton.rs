@@ -64,7 +64,7 @@ impl<'a> Linear<'a> {
 
     fn factor(&self, pattern: &SparsePattern, jacobian: &[f64]) -> Result<Factors<'_>, SolveError> {
         match self {
-            Linear::Schur(schur) => Ok(Factors::Schur(schur.factor(jacobian))),
+            Linear::Schur(schur) => schur.factor(jacobian).map(Factors::Schur),
             Linear::Lu(lu) => lu.factor(pattern, jacobian).map(Factors::Lu),
         }
     }

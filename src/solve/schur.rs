@@ -16,10 +16,13 @@
 //! bytes: above [`MAX_LAYER`] layer dofs the caller keeps the sparse LU of the whole Jacobian.
 
 use super::cholesky::Cholesky;
-use super::SolveError;
+use super::{workspace, SolveError, PARALLELISM};
 use crate::fem::sparse::SparsePattern;
-use faer::linalg::solvers::{PartialPivLu, Solve};
-use faer::Mat;
+use faer::dyn_stack::MemStack;
+use faer::linalg::lu::partial_pivoting::{factor, solve};
+use faer::linalg::matmul::matmul;
+use faer::perm::PermRef;
+use faer::{Accum, Conj, Mat, MatRef};
 
 /// The largest layer factorised dense: at 6 000 dofs one step's LU costs 1.4·10¹¹ flops (a
 /// few seconds) and each dense matrix 288 MB.
@@ -51,7 +54,7 @@ impl LayerSchur {
         let factor = cholesky.factor_values(pattern, stiffness).ok()?;
         let l_ll = cholesky.trailing_block(&factor, m)?;
         let entries = layer_entries(pattern, &layer);
-        let mut s0_minus_k = &l_ll * l_ll.transpose();
+        let mut s0_minus_k = product(l_ll.as_ref(), l_ll.transpose());
         for &(r, c, position) in &entries {
             s0_minus_k[(r, c)] -= stiffness[position];
         }
@@ -65,12 +68,17 @@ impl LayerSchur {
 
     /// The dense LU of S = S₀ + C_LL = S₀ − K_LL + J_LL for the Jacobian values `jacobian` (on
     /// the pattern of K).
-    pub fn factor(&self, jacobian: &[f64]) -> SchurFactors<'_> {
-        let mut s = self.s0_minus_k.clone();
+    pub fn factor(&self, jacobian: &[f64]) -> Result<SchurFactors<'_>, SolveError> {
+        let mut lu = self.s0_minus_k.clone();
         for &(r, c, position) in &self.entries {
-            s[(r, c)] += jacobian[position];
+            lu[(r, c)] += jacobian[position];
         }
-        SchurFactors { schur: self, lu: s.partial_piv_lu() }
+        let m = self.layer.len();
+        let (mut rows, mut inverse) = (vec![0usize; m], vec![0usize; m]);
+        let mut buffer = workspace(factor::lu_in_place_scratch::<usize, f64>(m, m, PARALLELISM, Default::default()))?;
+        let stack = MemStack::new(&mut buffer);
+        factor::lu_in_place(lu.as_mut(), &mut rows, &mut inverse, PARALLELISM, stack, Default::default());
+        Ok(SchurFactors { schur: self, lu, rows, inverse })
     }
 }
 
@@ -94,10 +102,21 @@ fn layer_entries(pattern: &SparsePattern, layer: &[usize]) -> Vec<(usize, usize,
     entries
 }
 
-/// The factors of one Jacobian: the LU of its Schur complement S on the layer.
+/// A B, on one thread as every factorisation here (the result does not depend on the
+/// number of threads).
+fn product(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Mat<f64> {
+    let mut c = Mat::zeros(a.nrows(), b.ncols());
+    matmul(c.as_mut(), Accum::Replace, a, b, 1.0, PARALLELISM);
+    c
+}
+
+/// The factors of one Jacobian: P S = L U, the LU of its Schur complement S on the layer (L
+/// unit lower and U in one matrix), with the row permutation P and its inverse.
 pub struct SchurFactors<'a> {
     schur: &'a LayerSchur,
-    lu: PartialPivLu<f64>,
+    lu: Mat<f64>,
+    rows: Vec<usize>,
+    inverse: Vec<usize>,
 }
 
 impl SchurFactors<'_> {
@@ -106,9 +125,13 @@ impl SchurFactors<'_> {
         let schur = self.schur;
         let mut w = schur.cholesky.forward_substitute(&schur.factor, b)?;
         let first = b.len() - schur.layer.len();
-        let mut w_l = &schur.l_ll * w.as_ref().subrows(first, schur.layer.len());
-        self.lu.solve_in_place(&mut w_l);
-        w.as_mut().subrows_mut(first, schur.layer.len()).copy_from(schur.l_ll.transpose() * &w_l);
+        let m = schur.layer.len();
+        let mut w_l = product(schur.l_ll.as_ref(), w.as_ref().subrows(first, m));
+        let mut buffer = workspace(solve::solve_in_place_scratch::<usize, f64>(m, 1, PARALLELISM))?;
+        let perm = PermRef::new_checked(&self.rows, &self.inverse, m);
+        let (lu, stack) = (self.lu.as_ref(), MemStack::new(&mut buffer));
+        solve::solve_in_place_with_conj(lu, lu, perm, Conj::No, w_l.as_mut(), PARALLELISM, stack);
+        w.as_mut().subrows_mut(first, m).copy_from(product(schur.l_ll.transpose(), w_l.as_ref()));
         schur.cholesky.back_substitute(&schur.factor, w)
     }
 }

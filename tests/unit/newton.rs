@@ -296,7 +296,7 @@ fn schur_complement_on_the_layer_solves_the_newton_equation() {
         contact.evaluate(&x, &mut residual, Some(&mut jacobian));
         let lu = SparseLu::analyse(pattern).unwrap();
         let lu = lu.factor(pattern, &jacobian).unwrap();
-        let factors = schur.factor(&jacobian);
+        let factors = schur.factor(&jacobian).unwrap();
         let defect = |x: &[f64], b: &[f64]| {
             let mut jx = vec![0.0; n];
             pattern.multiply(&jacobian, x, &mut jx);
