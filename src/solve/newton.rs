@@ -51,7 +51,7 @@ enum Linear<'a> {
 /// The factors of one Jacobian.
 enum Factors<'a> {
     Schur(SchurFactors<'a>),
-    Lu(LuFactors<'a>),
+    Lu(Box<LuFactors<'a>>),
 }
 
 impl<'a> Linear<'a> {
@@ -65,7 +65,7 @@ impl<'a> Linear<'a> {
     fn factor(&self, pattern: &SparsePattern, jacobian: &[f64]) -> Result<Factors<'_>, SolveError> {
         match self {
             Linear::Schur(schur) => schur.factor(jacobian).map(Factors::Schur),
-            Linear::Lu(lu) => lu.factor(pattern, jacobian).map(Factors::Lu),
+            Linear::Lu(lu) => lu.factor(pattern, jacobian).map(|f| Factors::Lu(Box::new(f))),
         }
     }
 }
