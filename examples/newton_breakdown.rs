@@ -35,17 +35,14 @@
 //! 7 GB limit, fails with OutOfMemory (the bonded Cholesky takes 14.5 s and 2.6 GiB), so it
 //! is off by default; with the memory, expect about an hour (≈ 30 Newton steps).
 //!
-//! Key numbers (2 cores, shared machine at load 2 to 6; 10⁴ = 9 846 and 10⁵ = 99 608
-//! unknowns):
-//! - the numeric LU is the whole Newton step: 95 % at 10⁴, 97 % at 10⁵ (0.09 s and 1.8 s);
-//!   evaluating F and J takes < 1 %, the triangular solves ≈ 3 %;
-//! - reusing the symbolic LU saves 18 % of a step at 10⁴ and 16 % at 10⁵ (the symbolic
-//!   analysis is ≈ 1/6 of an LU from scratch): the ≥ 30 % target is not met;
-//! - one Newton step by sparse LU costs 2.5 (10⁴) and 3.4 (10⁵) bonded Cholesky solves
-//!   (symbolic + numeric + solve); the numeric LU of the Jacobian alone costs 2.6 to 3.4 whole
-//!   Cholesky solves (the Schur complement on the layer replaced it: docs/results.md);
-//! - the converged contact solve takes 22 Newton steps at 10⁴ and 28 at 10⁵ (target ≤ 10
-//!   at 10⁵ not met): ≈ 50 to 100 bonded Cholesky solves.
+//! Key numbers (`--repeats 3`, 2 cores, shared machine at load 4 to 7; 10⁴ = 9 846 and 10⁵ =
+//! 99 608 unknowns, contact layers of 480 and 1 560 dofs):
+//! - Newton's step by the Schur complement costs 0.43 (10⁴) and 0.47 (10⁵) bonded Cholesky
+//!   solves (0.010 s and 0.20 s): the dense LU and the two solves share it about evenly; the
+//!   once-per-mesh factorisation with the layer last costs about two Cholesky solves at 10⁵;
+//! - the step by sparse LU costs 2.9 and 3.6 bonded Cholesky solves, its numeric LU 90–92 %
+//!   of it; reusing the symbolic LU saves 18–23 % of that step;
+//! - the converged contact solve takes 22 Newton steps at 10⁴ and 28 at 10⁵.
 
 use damfem::contact::projection::Smoothing;
 use damfem::contact::{solve_by_continuation, ContactProblem};
