@@ -138,6 +138,21 @@ impl Cholesky {
         Some(block)
     }
 
+    /// min_i L_ii² / (P K Pᵀ)_ii over the pivots of a supernodal L: a lower bound of
+    /// λ_min(K) / λ_max(K) = 1/κ₂(K), since L_ii² ≥ λ_min(K) and K_jj ≤ λ_max(K).
+    pub(super) fn pivot_ratio(&self, factor: &[f64], pattern: &SparsePattern, values: &[f64]) -> Option<f64> {
+        let symbolic = self.supernodal()?;
+        let llt = SupernodalLltRef::new(symbolic, factor);
+        let order = self.forward_order();
+        let diagonal = |dof: usize| values[pattern.position(dof, dof)];
+        let ratios = (0..symbolic.n_supernodes()).flat_map(|s| {
+            let node = llt.supernode(s);
+            let (start, values) = (node.start(), node.val());
+            (0..values.ncols()).map(move |c| (start + c, values[(c, c)]))
+        });
+        Some(ratios.map(|(i, l_ii)| l_ii * l_ii / diagonal(order[i])).fold(f64::INFINITY, f64::min))
+    }
+
     /// w = L⁻¹ P b, in the eliminated order, for the values `factor` of a supernodal L.
     pub(super) fn forward_substitute(&self, factor: &[f64], b: &[f64]) -> Result<Mat<f64>, SolveError> {
         let symbolic = self.supernodal().ok_or(SolveError::Factorisation("L is not supernodal".into()))?;

@@ -28,6 +28,11 @@ use faer::{Accum, Conj, Mat, MatRef};
 /// few seconds) and each dense matrix 288 MB.
 pub const MAX_LAYER: usize = 6000;
 
+/// K is taken as definite if every pivot keeps L_ii² ≥ 10⁻¹⁰ K_ii, which holds when κ₂(K) ≤
+/// 10¹⁰. A body held only by its contact has a singular K, whose floating-point Cholesky may
+/// still succeed with pivots at round-off: the sparse LU of J takes those.
+const MIN_PIVOT_RATIO: f64 = 1e-10;
+
 /// K factorised once with its Schur complement S₀ on the layer.
 pub struct LayerSchur {
     cholesky: Cholesky,
@@ -44,7 +49,8 @@ pub struct LayerSchur {
 impl LayerSchur {
     /// Factorises K (`stiffness` on `pattern`) with the dofs `layer` eliminated last. None if
     /// the layer is empty or has more than [`MAX_LAYER`] dofs, or if K is not positive definite
-    /// (a body held only by its contact): Newton then factors J by sparse LU.
+    /// or has a pivot below 10⁻¹⁰ K_ii (a body held only by its contact): Newton then factors J
+    /// by sparse LU.
     pub fn new(pattern: &SparsePattern, stiffness: &[f64], layer: Vec<usize>) -> Option<Self> {
         let m = layer.len();
         if m == 0 || m > MAX_LAYER {
@@ -52,6 +58,9 @@ impl LayerSchur {
         }
         let cholesky = Cholesky::analyse_with_last(pattern, &layer).ok()?;
         let factor = cholesky.factor_values(pattern, stiffness).ok()?;
+        if cholesky.pivot_ratio(&factor, pattern, stiffness)? < MIN_PIVOT_RATIO {
+            return None;
+        }
         let l_ll = cholesky.trailing_block(&factor, m)?;
         let entries = layer_entries(pattern, &layer);
         let mut s0_minus_k = product(l_ll.as_ref(), l_ll.transpose());

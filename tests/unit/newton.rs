@@ -376,3 +376,36 @@ fn fully_active_start_solves_the_closed_problem() {
     );
     assert!(closed_residual <= 1e-10 && from_start >= 1e-3 && difference <= 1e-8);
 }
+
+/// A body held only by its contact. Source: src/solve/schur.rs (K is factorised once only if
+/// every Cholesky pivot keeps L_ii² ≥ 10⁻¹⁰ K_ii). Goal: a stiffness that leaves a rigid
+/// motion free, which only the contact stops, is not used for the Schur complement, and
+/// Newton solves by sparse LU instead. Problem: the unit square (8 × 2 cells, P1, E = 1,
+/// ν = 0.3, ρ = 1) under its weight (g = 1), u_x = 0 on the left and right sides, u_y free
+/// there, frictionless Nitsche contact on the bottom (θ = 0, γ₀ = 100, δ = 0): the vertical
+/// translation is free in K. Checks: no Schur complement; Newton converges; the contact
+/// force balances the weight, ∫ p_c = 1, to 10⁻⁸.
+#[test]
+fn a_body_held_only_by_its_contact_is_solved_by_lu() {
+    let mesh = unit_square(8, 2);
+    let zero: Arc<dyn Fn([f64; 2]) -> [f64; 2] + Send + Sync> = Arc::new(|_| [0.0, 0.0]);
+    let problem = Problem {
+        materials: vec![Material { young: 1.0, poisson: 0.3, density: 1.0 }; mesh.n_cells()],
+        dirichlet: [LEFT, RIGHT]
+            .into_iter()
+            .map(|tag| Dirichlet { tag, fix: [true, false], value: zero.clone() })
+            .collect(),
+        neumann: vec![],
+        body_force: BodyForce::Gravity(1.0),
+        mesh,
+    };
+    let disc = problem.discretise();
+    let joint = ContactJoint::frictionless(vec![BOTTOM], NitscheParameters::default());
+    let contact = ContactProblem::new(&problem, &disc, &joint, Smoothing::NONE);
+    assert!(contact.schur().is_none(), "a singular stiffness was factorised for the Schur complement");
+    let report =
+        newton(&contact, vec![0.0; disc.dofs.n_free], &NewtonOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    let solution = contact.solution(report.x, vec![], None);
+    println!("contact force {:.12}", solution.normal_force());
+    assert!((solution.normal_force() - 1.0).abs() <= 1e-8);
+}
