@@ -131,8 +131,9 @@ impl<'a> ContactProblem<'a> {
         layer
     }
 
-    /// The fully active state: the solution with every point of Γ_C held closed, [P_γ]
-    /// replaced by P_γ (a linear problem, one Newton step from u = 0).
+    /// The fully active state: the solution with every point of Γ_C held closed, \[P_γ\]
+    /// replaced by P_γ (a linear problem, one Newton step from u = 0). For frictionless
+    /// joints: a friction threshold F p_c would follow P_γ of either sign.
     pub fn fully_active_start(&mut self) -> Result<Vec<f64>, NewtonError> {
         let smoothing = std::mem::replace(&mut self.smoothing, Smoothing::CLOSED);
         let x0 = vec![0.0; self.disc.dofs.n_free];

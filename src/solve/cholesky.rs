@@ -102,24 +102,25 @@ impl Cholesky {
         Ok(())
     }
 
-    /// The supernodal structure of L (always, after [`Cholesky::analyse_with_last`]).
-    fn supernodal(&self) -> Option<&SymbolicSupernodalCholesky<usize>> {
-        match self.symbolic.raw() {
-            SymbolicCholeskyRaw::Supernodal(symbolic) => Some(symbolic),
-            SymbolicCholeskyRaw::Simplicial(_) => None,
+    /// The supernodal structure of L and the fill-reducing ordering (position → dof), as
+    /// [`Cholesky::analyse_with_last`] makes them.
+    fn supernodal(&self) -> Option<(&SymbolicSupernodalCholesky<usize>, &[usize])> {
+        match (self.symbolic.raw(), self.symbolic.perm()) {
+            (SymbolicCholeskyRaw::Supernodal(symbolic), Some(order)) => Some((symbolic, order.arrays().0)),
+            _ => None,
         }
     }
 
-    /// The fill-reducing ordering: position → dof.
-    fn forward_order(&self) -> Vec<usize> {
-        self.symbolic.perm().map_or_else(|| (0..self.symbolic.nrows()).collect(), |p| p.arrays().0.to_vec())
+    /// The supernodal structure and ordering, or the error of a solve without them.
+    fn supernodal_or_error(&self) -> Result<(&SymbolicSupernodalCholesky<usize>, &[usize]), SolveError> {
+        self.supernodal().ok_or(SolveError::Factorisation("L is not supernodal with an ordering".into()))
     }
 
     /// The trailing m × m block of L (lower triangular, dense) for the values `factor`: with the
     /// last m dofs eliminated last ([`Cholesky::analyse_with_last`]), L_LL L_LLᵀ is the Schur
     /// complement K_LL − K_LI K_II⁻¹ K_IL of the others. None for a simplicial analysis.
     pub(super) fn trailing_block(&self, factor: &[f64], m: usize) -> Option<Mat<f64>> {
-        let symbolic = self.supernodal()?;
+        let (symbolic, _) = self.supernodal()?;
         let first = symbolic.nrows() - m;
         let llt = SupernodalLltRef::new(symbolic, factor);
         let mut block = Mat::zeros(m, m);
@@ -141,9 +142,8 @@ impl Cholesky {
     /// min_i L_ii² / (P K Pᵀ)_ii over the pivots of a supernodal L: a lower bound of
     /// λ_min(K) / λ_max(K) = 1/κ₂(K), since L_ii² ≥ λ_min(K) and K_jj ≤ λ_max(K).
     pub(super) fn pivot_ratio(&self, factor: &[f64], pattern: &SparsePattern, values: &[f64]) -> Option<f64> {
-        let symbolic = self.supernodal()?;
+        let (symbolic, order) = self.supernodal()?;
         let llt = SupernodalLltRef::new(symbolic, factor);
-        let order = self.forward_order();
         let diagonal = |dof: usize| values[pattern.position(dof, dof)];
         let ratios = (0..symbolic.n_supernodes()).flat_map(|s| {
             let node = llt.supernode(s);
@@ -155,8 +155,7 @@ impl Cholesky {
 
     /// w = L⁻¹ P b, in the eliminated order, for the values `factor` of a supernodal L.
     pub(super) fn forward_substitute(&self, factor: &[f64], b: &[f64]) -> Result<Mat<f64>, SolveError> {
-        let symbolic = self.supernodal().ok_or(SolveError::Factorisation("L is not supernodal".into()))?;
-        let order = self.forward_order();
+        let (symbolic, order) = self.supernodal_or_error()?;
         let mut w = Mat::from_fn(b.len(), 1, |i, _| b[order[i]]);
         let mut buffer = workspace(symbolic.solve_in_place_scratch::<f64>(1, PARALLELISM))?;
         let llt = SupernodalLltRef::new(symbolic, factor);
@@ -166,12 +165,12 @@ impl Cholesky {
 
     /// x = Pᵀ L⁻ᵀ v, for v in the eliminated order and the values `factor` of a supernodal L.
     pub(super) fn back_substitute(&self, factor: &[f64], mut v: Mat<f64>) -> Result<Vec<f64>, SolveError> {
-        let symbolic = self.supernodal().ok_or(SolveError::Factorisation("L is not supernodal".into()))?;
+        let (symbolic, order) = self.supernodal_or_error()?;
         let mut buffer = workspace(symbolic.solve_in_place_scratch::<f64>(1, PARALLELISM))?;
         let llt = SupernodalLltRef::new(symbolic, factor);
         llt.l_transpose_solve_with_conj(Conj::No, v.as_mut(), PARALLELISM, MemStack::new(&mut buffer));
         let mut x = vec![0.0; v.nrows()];
-        for (position, dof) in self.forward_order().into_iter().enumerate() {
+        for (position, &dof) in order.iter().enumerate() {
             x[dof] = v[(position, 0)];
         }
         Ok(x)
