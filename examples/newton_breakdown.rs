@@ -6,10 +6,14 @@
 //! At each size, in one process:
 //! - the converged contact solve from a zero initial guess with the CLI's settings
 //!   (δ = 10⁻⁴ × stress scale, γ₀ = 100, θ = 0, rtol = 10⁻¹⁰): its number of Newton steps;
-//! - the parts of one Newton step at the converged state: residual + Jacobian evaluation
-//!   (`NonlinearSystem::evaluate`), numeric LU with the symbolic factorisation reused
-//!   (`SparseLu::factor`), triangular solves (`LuFactors::solve`), and the residual-only evaluation of
-//!   an accepted full step of the line search;
+//! - the parts of one Newton step at the converged state, as Newton takes it: residual +
+//!   Jacobian evaluation (`NonlinearSystem::evaluate`), the dense LU of the Schur complement on
+//!   the contact layer (`LayerSchur::factor`), the two solves of the step and its refinement
+//!   (`SchurFactors::solve`), and the residual-only evaluation of an accepted full step of the
+//!   line search; and, once per mesh, the Cholesky factorisation of the stiffness with the layer
+//!   last and its Schur complement S₀ (`NonlinearSystem::schur`);
+//! - the same step by the sparse LU of the whole Jacobian (the fallback): numeric LU with the
+//!   symbolic factorisation reused (`SparseLu::factor`) and its two solves (`LuFactors::solve`);
 //! - the same LU refactored from scratch (`SparseLu::analyse` + numeric) and the saving of
 //!   reuse per step: the symbolic analysis over a step from scratch, both timed in one block
 //!   (and, noisier, 1 − step / step from scratch over two separately timed numeric LUs);
@@ -31,17 +35,14 @@
 //! 7 GB limit, fails with OutOfMemory (the bonded Cholesky takes 14.5 s and 2.6 GiB), so it
 //! is off by default; with the memory, expect about an hour (≈ 30 Newton steps).
 //!
-//! Key numbers (2 cores, shared machine at load 2 to 6; 10⁴ = 9 846 and 10⁵ = 99 608
-//! unknowns):
-//! - the numeric LU is the whole Newton step: 95 % at 10⁴, 97 % at 10⁵ (0.09 s and 1.8 s);
-//!   evaluating F and J takes < 1 %, the triangular solves ≈ 3 %;
-//! - reusing the symbolic LU saves 18 % of a step at 10⁴ and 16 % at 10⁵ (the symbolic
-//!   analysis is ≈ 1/6 of an LU from scratch): the ≥ 30 % target is not met;
-//! - one Newton step costs 2.5 (10⁴) and 3.4 (10⁵) bonded Cholesky solves (symbolic +
-//!   numeric + solve): the ≤ 2 target is not met; the numeric LU of the Jacobian alone costs
-//!   2.6 to 3.4 whole Cholesky solves;
-//! - the converged contact solve takes 22 Newton steps at 10⁴ and 28 at 10⁵ (target ≤ 10
-//!   at 10⁵ not met): ≈ 50 to 100 bonded Cholesky solves.
+//! Key numbers (`--repeats 3`, 2 cores, shared machine at load 4 to 7; 10⁴ = 9 846 and 10⁵ =
+//! 99 608 unknowns, contact layers of 480 and 1 560 dofs):
+//! - Newton's step by the Schur complement costs 0.43 (10⁴) and 0.47 (10⁵) bonded Cholesky
+//!   solves (0.010 s and 0.20 s): the dense LU and the two solves share it about evenly; the
+//!   once-per-mesh factorisation with the layer last costs about two Cholesky solves at 10⁵;
+//! - the step by sparse LU costs 2.9 and 3.6 bonded Cholesky solves, its numeric LU 90–92 %
+//!   of it; reusing the symbolic LU saves 18–23 % of that step;
+//! - the converged contact solve takes 22 Newton steps at 10⁴ and 28 at 10⁵.
 
 use damfem::contact::projection::Smoothing;
 use damfem::contact::{solve_by_continuation, ContactProblem};
@@ -90,6 +91,8 @@ fn timed<T>(f: impl FnOnce() -> T) -> (T, f64) {
 #[derive(Default, Clone, Copy)]
 struct Sample {
     evaluate: f64,
+    schur_factor: f64,
+    schur_solve: f64,
     residual: f64,
     numeric: f64,
     solve: f64,
@@ -101,7 +104,11 @@ struct Sample {
 }
 
 impl Sample {
-    /// One Newton step with the symbolic LU reused.
+    /// One Newton step as Newton takes it: by the Schur complement on the contact layer.
+    fn step_schur(&self) -> f64 {
+        self.evaluate + self.schur_factor + self.schur_solve + self.residual
+    }
+    /// One Newton step by sparse LU with the symbolic LU reused.
     fn step(&self) -> f64 {
         self.evaluate + self.numeric + self.solve + self.residual
     }
@@ -122,12 +129,17 @@ struct Row {
     nonzeros: usize,
     bonded_unknowns: usize,
     contact_faces: usize,
+    /// Dofs of the contact layer, and the once-per-mesh Cholesky with the layer last and S₀.
+    layer: usize,
+    schur_setup: f64,
     newton_steps: usize,
     contact_solve: f64,
     /// Mean time of a Newton step inside the converged solve (`NewtonTimings` / steps).
     in_situ_step: f64,
     assemble_bonded: f64,
     median: Sample,
+    step_schur: f64,
+    step_schur_over_cholesky: f64,
     step: f64,
     step_scratch: f64,
     /// Share of the symbolic analysis in an LU from scratch (both timed in one block).
@@ -191,6 +203,9 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
     let n = pattern.n();
     let (mut residual, mut jacobian, mut trial_residual) = (vec![0.0; n], vec![0.0; pattern.nnz()], vec![0.0; n]);
     let lu = SparseLu::analyse(pattern).expect("symbolic LU");
+    let (schur, schur_setup) = timed(|| system.schur().expect("the layer of Scene A is factorised dense"));
+    let layer = schur.layer_size();
+    eprintln!("[{label}] contact layer: {layer} dofs, Cholesky with the layer last and S₀ in {schur_setup:.2} s");
 
     // 4. The bonded linear problem on the same mesh: the contact curve clamped
     let mut bonded_scene = scene.clone();
@@ -205,13 +220,29 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
     let mut samples = Vec::with_capacity(repeats);
     for _ in 0..repeats {
         let mut s = Sample::default();
-        // one Newton step with the symbolic factorisation reused
         ((), s.evaluate) = timed(|| system.evaluate(&x, &mut residual, Some(&mut jacobian)));
         let minus_r: Vec<f64> = residual.iter().map(|v| -v).collect();
+        // one Newton step by the Schur complement: the dense LU, the solve and its refinement
+        let (factors, schur_factor) = timed(|| schur.factor(&jacobian).expect("Schur LU"));
+        s.schur_factor = schur_factor;
+        let (delta_schur, schur_solve) = timed(|| {
+            let delta = factors.solve(&minus_r).expect("Schur solve");
+            factors.solve(&delta).expect("Schur solve"); // stands for the refinement's solve
+            delta
+        });
+        s.schur_solve = schur_solve;
+        drop(factors);
+        // the same step by sparse LU with the symbolic factorisation reused
         let (factors, numeric) = timed(|| lu.factor(pattern, &jacobian).expect("numeric LU"));
         s.numeric = numeric;
-        let (delta, solve) = timed(|| factors.solve(&minus_r));
+        let (delta, solve) = timed(|| {
+            let delta = factors.solve(&minus_r);
+            factors.solve(&delta); // stands for the refinement's solve
+            delta
+        });
         s.solve = solve;
+        let difference: Vec<f64> = delta.iter().zip(&delta_schur).map(|(a, b)| a - b).collect();
+        assert!(norm(&difference) <= 1e-8 * norm(&delta).max(f64::MIN_POSITIVE), "Schur and LU steps disagree");
         drop(factors);
         let trial: Vec<f64> = x.iter().zip(&delta).map(|(a, d)| a + d).collect();
         ((), s.residual) = timed(|| system.evaluate(&trial, &mut trial_residual, None));
@@ -241,9 +272,11 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
         s.estimate = seconds;
         assert!(estimate.estimators.global().tot.is_finite());
         eprintln!(
-            "[{label}] repetition {}: evaluate {:.4}, LU numeric {:.4}, solves {:.4}, LU symbolic {:.4}, LU from scratch {:.4}, Cholesky {:.4}, estimate {:.4} s",
+            "[{label}] repetition {}: evaluate {:.4}, Schur LU {:.4}, Schur solves {:.4}, LU numeric {:.4}, solves {:.4}, LU symbolic {:.4}, LU from scratch {:.4}, Cholesky {:.4}, estimate {:.4} s",
             samples.len() + 1,
             s.evaluate,
+            s.schur_factor,
+            s.schur_solve,
             s.numeric,
             s.solve,
             s.symbolic,
@@ -256,6 +289,8 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
     let pick = |f: &dyn Fn(&Sample) -> f64| median(samples.iter().map(f).collect());
     let median_sample = Sample {
         evaluate: pick(&|s| s.evaluate),
+        schur_factor: pick(&|s| s.schur_factor),
+        schur_solve: pick(&|s| s.schur_solve),
         residual: pick(&|s| s.residual),
         numeric: pick(&|s| s.numeric),
         solve: pick(&|s| s.solve),
@@ -273,11 +308,15 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
         nonzeros: pattern.nnz(),
         bonded_unknowns: bonded_disc.dofs.n_free,
         contact_faces,
+        layer,
+        schur_setup,
         newton_steps,
         contact_solve,
         in_situ_step,
         assemble_bonded,
         median: median_sample,
+        step_schur: pick(&Sample::step_schur),
+        step_schur_over_cholesky: pick(&|s| s.step_schur() / s.cholesky()),
         step: pick(&Sample::step),
         step_scratch: pick(&Sample::step_scratch),
         saving_factor: pick(&|s| s.symbolic / s.scratch),
@@ -285,7 +324,7 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
         saving_step_direct: pick(&|s| 1.0 - s.step() / s.step_scratch()),
         step_over_cholesky: pick(&|s| s.step() / s.cholesky()),
         step_over_assemble_cholesky: pick(&|s| s.step() / (assemble_bonded + s.cholesky())),
-        estimate_over_step: pick(&|s| s.estimate / s.step()),
+        estimate_over_step: pick(&|s| s.estimate / s.step_schur()),
         contact_over_cholesky: contact_solve / cholesky,
         peak_mib: peak_memory_mib(),
     }
@@ -297,9 +336,33 @@ fn table(rows: &[Row], repeats: usize) -> String {
     out += &format!(
         "## Newton step breakdown, Scene A (P2, contact on the base), median of {repeats} repetitions, {threads} threads\n\n"
     );
-    out += "Times in seconds. Step = evaluate F, J + numeric LU + triangular solves + one residual \
-            evaluation (full step accepted by the line search), at the converged state.\n\n";
-    out += "| target | size factor | unknowns | nnz(J) | contact faces | evaluate F, J | evaluate F | LU numeric (symbolic reused) | solves | **step** | LU symbolic | LU from scratch (symbolic + numeric) | step from scratch | bonded: unknowns | bonded: assemble | bonded: Cholesky symbolic + numeric + solve |\n";
+    out += "Times in seconds, at the converged state. Newton's step = evaluate F, J + dense LU of the \
+            Schur complement on the contact layer + two solves (the step and its refinement) + one residual \
+            evaluation (full step accepted by the line search); once per mesh, the Cholesky factorisation \
+            of the stiffness with the layer last and S₀.\n\n";
+    out += "| target | unknowns | contact layer [dofs] | once per mesh: Cholesky, layer last, and S₀ | evaluate F, J | Schur LU | two solves | **step** | bonded: Cholesky symbolic + numeric + solve | **step / Cholesky solve** (≤ 1.5) | contact solve [s] | Newton steps |\n";
+    out += "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for r in rows {
+        let m = &r.median;
+        out += &format!(
+            "| {} | {} | {} | {:.3} | {:.4} | {:.4} | {:.4} | **{:.4}** | {:.4} | **{:.2}** | {:.2} | {} |\n",
+            r.label,
+            r.unknowns,
+            r.layer,
+            r.schur_setup,
+            m.evaluate,
+            m.schur_factor,
+            m.schur_solve,
+            r.step_schur,
+            m.cholesky(),
+            r.step_schur_over_cholesky,
+            r.contact_solve,
+            r.newton_steps,
+        );
+    }
+    out += "\nThe same step by the sparse LU of the whole Jacobian (the fallback above 6 000 layer dofs): \
+            evaluate F, J + numeric LU + two triangular solves + one residual evaluation.\n\n";
+    out += "| target | size factor | unknowns | nnz(J) | contact faces | evaluate F, J | evaluate F | LU numeric (symbolic reused) | two solves | **LU step** | LU symbolic | LU from scratch (symbolic + numeric) | LU step from scratch | bonded: unknowns | bonded: assemble | bonded: Cholesky symbolic + numeric + solve |\n";
     out += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for r in rows {
         let m = &r.median;
@@ -328,7 +391,7 @@ fn table(rows: &[Row], repeats: usize) -> String {
             Saving of reuse per step = LU symbolic / step from scratch, both timed in the same block; \
             the direct difference 1 − step / step from scratch compares two separately timed numeric \
             LUs and carries the load noise of the machine.\n\n";
-    out += "| target | unknowns | share of step: evaluate F, J / LU / solves / evaluate F | saving of reuse: LU (symbolic / LU from scratch) | **saving of reuse: step** (≥ 30 %; direct difference in brackets) | **step / Cholesky solve** (≤ 2) | step / (assemble + Cholesky) | **Newton steps** (≤ 10 at 10⁵) | contact solve [s] | mean step in the solve [s] | contact solve / Cholesky solve | estimate [s] | **estimate / step** (≤ 1) | peak memory [MiB] |\n";
+    out += "| target | unknowns | share of LU step: evaluate F, J / LU / solves / evaluate F | saving of reuse: LU (symbolic / LU from scratch) | saving of reuse: LU step (direct difference in brackets) | LU step / Cholesky solve | LU step / (assemble + Cholesky) | **Newton steps** | contact solve [s] | mean step in the solve [s] | contact solve / Cholesky solve | estimate [s] | **estimate / Newton's step** (≤ 0.5) | peak memory [MiB] |\n";
     out += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for r in rows {
         let m = &r.median;

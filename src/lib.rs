@@ -16,7 +16,8 @@
 //!    │  elasticity      plane-strain Hooke law, element kernels, loads, the linear solve
 //!    │  contact         Nitsche terms on Γ_C, joint laws, the smoothing of min(x, 0) at δ
 //!    ▼
-//!  solve                sparse Cholesky / LU (faer), symbolic factorisation reused; Newton
+//!  solve                sparse Cholesky / LU (faer), symbolic factorisation reused; Newton,
+//!    │                  its steps by the dense Schur complement on the contact layer
 //!    ▼
 //!  contact::ContactSolution   the iterate, its linearisation point and smoothing, face states
 //!    ▼

@@ -21,10 +21,11 @@ use crate::elasticity::{Discretisation, Problem};
 use crate::fem::dofs::FIXED;
 use crate::fem::sparse::{vector_dofs, LinearSystem, SparsePattern};
 use crate::mesh::Mesh;
-use crate::solve::{newton, NewtonError, NewtonOptions, NewtonReport, NonlinearSystem};
+use crate::solve::{newton, newton_until, LayerSchur, NewtonError, NewtonOptions, NewtonReport, NonlinearSystem};
 pub use law::JointLaw;
 use nitsche::{ContactFace, Nitsche, NitscheParameters};
 use projection::{negative_part, Smoothing};
+use std::sync::OnceLock;
 pub use uplift::Uplift;
 
 /// A contact boundary: the curves of Γ_C, the joint law and the Nitsche parameters.
@@ -63,6 +64,9 @@ pub struct ContactProblem<'a> {
     pub smoothing: Smoothing,
     /// K over the free dofs and b = f + g_N − K_fc g_D.
     bulk: LinearSystem,
+    /// K factorised once with its Schur complement on the dofs of the cells along Γ_C, made
+    /// at the first Newton solve (None: Newton factors J by sparse LU).
+    schur: OnceLock<Option<LayerSchur>>,
 }
 
 /// Contact quantities of one face, for output.
@@ -109,12 +113,38 @@ impl<'a> ContactProblem<'a> {
     /// Assembles the bulk terms once; the faces are those of `joint`.
     pub fn new(problem: &'a Problem, disc: &'a Discretisation, joint: &ContactJoint, smoothing: Smoothing) -> Self {
         let bulk = problem.assemble(disc);
-        ContactProblem { problem, disc, nitsche: joint.faces(problem, disc), smoothing, bulk }
+        let nitsche = joint.faces(problem, disc);
+        ContactProblem { problem, disc, nitsche, smoothing, bulk, schur: OnceLock::new() }
     }
 
     /// Sets the regularisation δ of the projection.
     pub fn set_delta(&mut self, delta: f64) {
         self.smoothing = Smoothing { delta };
+    }
+
+    /// The free dofs of the cells that own a contact face, sorted: the face terms touch no others.
+    pub fn layer(&self) -> Vec<usize> {
+        let (free, mut dofs) = (&self.disc.dofs.free, Vec::new());
+        let mut layer: Vec<usize> = (self.nitsche.faces.iter())
+            .flat_map(|face| {
+                vector_dofs(self.problem.mesh.cell(face.cell), &mut dofs);
+                dofs.iter().map(|&g| free[g]).filter(|&f| f != FIXED).collect::<Vec<_>>()
+            })
+            .collect();
+        layer.sort_unstable();
+        layer.dedup();
+        layer
+    }
+
+    /// The fully active state: the solution with every point of Γ_C held closed, \[P_γ\]
+    /// replaced by P_γ (a linear problem, one Newton step from u = 0). For frictionless
+    /// joints: a friction threshold F p_c would follow P_γ of either sign.
+    pub fn fully_active_start(&mut self) -> Result<Vec<f64>, NewtonError> {
+        let smoothing = std::mem::replace(&mut self.smoothing, Smoothing::CLOSED);
+        let x0 = vec![0.0; self.disc.dofs.n_free];
+        let report = newton_until(self, x0, &NewtonOptions { max_iter: 1, ..Default::default() }, |_| true);
+        self.smoothing = smoothing;
+        Ok(report?.x)
     }
 
     /// Contact state of every face for the free unknowns `x`.
@@ -263,6 +293,11 @@ impl NonlinearSystem for ContactProblem<'_> {
                 }
             }
         }
+    }
+
+    fn schur(&self) -> Option<&LayerSchur> {
+        let build = || LayerSchur::new(&self.disc.pattern, &self.bulk.values, self.layer());
+        self.schur.get_or_init(build).as_ref()
     }
 
     fn scale(&self) -> f64 {

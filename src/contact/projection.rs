@@ -21,6 +21,10 @@ impl Smoothing {
     /// The plain projection min(x, 0) with its semismooth derivative.
     pub const NONE: Smoothing = Smoothing { delta: 0.0 };
 
+    /// δ = −∞: the identity \[x\] = x with derivative 1, every point held closed (the fully
+    /// active state of a bilateral joint).
+    pub const CLOSED: Smoothing = Smoothing { delta: f64::NEG_INFINITY };
+
     /// The projected value \[x\]_{reg,δ}.
     pub fn value(&self, x: f64) -> f64 {
         let d = self.delta;
@@ -58,7 +62,9 @@ impl Smoothing {
 
     /// The points where \[x\]_{reg,δ} is not a polynomial; quadrature splits faces there.
     pub fn breakpoints(&self) -> Vec<f64> {
-        if self.delta == 0.0 {
+        if self.delta == f64::NEG_INFINITY {
+            vec![]
+        } else if self.delta == 0.0 {
             vec![0.0]
         } else {
             vec![-self.delta, self.delta]

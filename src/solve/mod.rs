@@ -1,19 +1,24 @@
 //! Sparse direct solvers (faer) with the symbolic factorisation computed once per pattern,
-//! and Newton's method built on them.
+//! the Schur complement of a Jacobian on its nonlinear layer ([`schur`]), and Newton's method
+//! built on them.
 
 pub mod cholesky;
 pub mod condition;
 pub mod lu;
 pub mod newton;
+pub mod schur;
 
 pub use cholesky::Cholesky;
 pub use lu::SparseLu;
 pub use newton::{newton, newton_until, Iterate, NewtonError, NewtonOptions, NewtonReport, NonlinearSystem};
+pub use schur::LayerSchur;
 
 /// faer's factorisations run on one thread. On the small supernodes of 2D meshes the task
 /// overhead of a parallel factorisation outweighs its gain: Scene A, P2, 83 494 unknowns,
 /// 24 Newton steps took 25.2 s on one thread and 33.3 s on two. The estimator's patch
-/// problems, not the factorisation, are what runs in parallel.
+/// problems, not the factorisation, are what runs in parallel. The dense Schur complements on
+/// a contact layer are factorised on one thread too, so that a solve gives the same bits
+/// whatever the number of threads.
 const PARALLELISM: faer::Par = faer::Par::Seq;
 
 /// A workspace of the size faer asks for.

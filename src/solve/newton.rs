@@ -1,6 +1,8 @@
 //! Newton's method with backtracking for F(x) = 0 on a fixed sparsity pattern.
 //!
-//! Step k solves J(x_k) Δ = −F(x_k) by sparse LU (symbolic factorisation reused), then takes
+//! Step k solves J(x_k) Δ = −F(x_k), by the system's [`LayerSchur`] if it has one (a dense
+//! factorisation on its nonlinear layer, the constant bulk factorised once) and otherwise by
+//! sparse LU (symbolic factorisation reused), then takes
 //! the largest t ∈ {1, ½, ¼, …} with ‖F(x_k + tΔ)‖ ≤ κ ‖F(x_k)‖, κ = `max_growth`. A system
 //! that asks for a monotone residual (Coulomb friction, whose full steps can cycle) gets the
 //! largest t that lowers ‖F‖ instead, and the rule above only where none does (a kink). Each
@@ -11,7 +13,8 @@
 //! estimator's bound assumes). Running out of iterations is an error that carries the whole
 //! history: never a silent wrong answer.
 
-use super::lu::SparseLu;
+use super::lu::{LuFactors, SparseLu};
+use super::schur::{LayerSchur, SchurFactors};
 use super::SolveError;
 use crate::fem::sparse::SparsePattern;
 use serde::Serialize;
@@ -31,6 +34,49 @@ pub trait NonlinearSystem {
     /// (Coulomb friction) lets full steps cycle, which a monotone ‖F‖ breaks.
     fn monotone(&self) -> bool {
         false
+    }
+    /// The constant part of the Jacobian factorised once, with the layer of dofs that the
+    /// nonlinear part touches; None (the default): every step factors J by sparse LU.
+    fn schur(&self) -> Option<&LayerSchur> {
+        None
+    }
+}
+
+/// How the Newton steps solve with the Jacobian.
+enum Linear<'a> {
+    Schur(&'a LayerSchur),
+    Lu(SparseLu),
+}
+
+/// The factors of one Jacobian.
+enum Factors<'a> {
+    Schur(SchurFactors<'a>),
+    Lu(Box<LuFactors<'a>>),
+}
+
+impl<'a> Linear<'a> {
+    fn new(system: &'a impl NonlinearSystem) -> Result<Self, SolveError> {
+        match system.schur() {
+            Some(schur) => Ok(Linear::Schur(schur)),
+            None => SparseLu::analyse(system.pattern()).map(Linear::Lu),
+        }
+    }
+
+    fn factor(&self, pattern: &SparsePattern, jacobian: &[f64]) -> Result<Factors<'_>, SolveError> {
+        match self {
+            Linear::Schur(schur) => schur.factor(jacobian).map(Factors::Schur),
+            Linear::Lu(lu) => lu.factor(pattern, jacobian).map(|f| Factors::Lu(Box::new(f))),
+        }
+    }
+}
+
+impl Factors<'_> {
+    /// Solves J x = b.
+    fn solve(&self, rhs: &[f64]) -> Result<Vec<f64>, SolveError> {
+        match self {
+            Factors::Schur(schur) => schur.solve(rhs),
+            Factors::Lu(lu) => Ok(lu.solve(rhs)),
+        }
     }
 }
 
@@ -165,7 +211,7 @@ pub fn newton_until(
     mut stop: impl FnMut(&Iterate) -> bool,
 ) -> Result<NewtonReport, NewtonError> {
     let pattern = system.pattern();
-    let lu = SparseLu::analyse(pattern).map_err(|source| NewtonError::Solve { step: 0, source })?;
+    let linear = Linear::new(system).map_err(|source| NewtonError::Solve { step: 0, source })?;
     let scale = system.scale().max(f64::MIN_POSITIVE);
     let (mut x, mut trial) = (x0, vec![0.0; pattern.n()]);
     let mut x_prev = x.clone();
@@ -200,15 +246,16 @@ pub fn newton_until(
             break;
         }
         let clock = Instant::now();
-        let factors = lu.factor(pattern, &jacobian).map_err(|source| NewtonError::Solve { step, source })?;
+        let solve_error = |source| NewtonError::Solve { step, source };
+        let factors = linear.factor(pattern, &jacobian).map_err(solve_error)?;
         seconds.factor += clock.elapsed().as_secs_f64();
         let clock = Instant::now();
         let minus_r: Vec<f64> = residual.iter().map(|v| -v).collect();
-        let mut delta = factors.solve(&minus_r);
+        let mut delta = factors.solve(&minus_r).map_err(solve_error)?;
         // one step of iterative refinement: the step then solves J Δ = −F to round-off
         pattern.multiply(&jacobian, &delta, &mut trial);
         let defect: Vec<f64> = minus_r.iter().zip(&trial).map(|(b, jd)| b - jd).collect();
-        for (d, c) in delta.iter_mut().zip(factors.solve(&defect)) {
+        for (d, c) in delta.iter_mut().zip(factors.solve(&defect).map_err(solve_error)?) {
             *d += c;
         }
         seconds.solve += clock.elapsed().as_secs_f64();

@@ -1,18 +1,20 @@
 //! Behaviour of Newton's method on the contact problem (docs/method.md §1.4–1.5): quadratic
 //! convergence of the regularised problem, convergence of the regularised solution as δ → 0,
-//! and failure reported as an error.
+//! failure reported as an error, and the Schur complement on the contact layer against the
+//! sparse LU of the whole Jacobian.
 
 use crate::common;
 
 use damfem::contact::nitsche::NitscheParameters;
 use damfem::contact::projection::Smoothing;
-use damfem::contact::{solve_by_continuation, ContactError, ContactJoint, ContactProblem, Continuation};
+use damfem::contact::{solve_by_continuation, ContactError, ContactJoint, ContactProblem, Continuation, JointLaw};
 use damfem::elasticity::{BodyForce, Dirichlet, Discretisation, Material, Problem};
 use damfem::fem::dofs::FIXED;
+use damfem::fem::sparse::SparsePattern;
 use damfem::io::gmsh::{mesh_geo, MeshOptions};
 use damfem::mesh::structured::{unit_square, BOTTOM, LEFT, RIGHT, TOP};
 use damfem::scene::Scene;
-use damfem::solve::{newton, NewtonError, NewtonOptions, NonlinearSystem};
+use damfem::solve::{newton, NewtonError, NewtonOptions, NonlinearSystem, SparseLu};
 use std::path::Path;
 use std::sync::Arc;
 
@@ -236,4 +238,174 @@ fn newton_failure_is_a_clear_error() {
     settings.newton.max_iter = 3;
     let contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: settings.delta });
     expect_not_converged(newton(&contact, vec![0.0; disc.dofs.n_free], &settings.newton).map(|r| r.x), 3);
+}
+
+/// A system that hides the `LayerSchur` of the one it wraps: Newton factors its Jacobian by
+/// sparse LU.
+struct WithoutSchur<'a>(&'a ContactProblem<'a>);
+
+impl NonlinearSystem for WithoutSchur<'_> {
+    fn pattern(&self) -> &SparsePattern {
+        self.0.pattern()
+    }
+    fn evaluate(&self, x: &[f64], residual: &mut [f64], jacobian: Option<&mut [f64]>) {
+        self.0.evaluate(x, residual, jacobian)
+    }
+    fn scale(&self) -> f64 {
+        self.0.scale()
+    }
+    fn monotone(&self) -> bool {
+        self.0.monotone()
+    }
+}
+
+/// Scene A at P2 with the Nitsche variant θ and the joint law `law`, and its contact problem
+/// at δ = 10⁻⁴ S.
+fn scene_a_joint(theta: f64, law: JointLaw) -> (Problem, Discretisation, ContactJoint, f64) {
+    let (problem, disc, mut joint, scale) = scene_a(2);
+    joint.parameters.theta = theta;
+    joint.law = law;
+    (problem, disc, joint, scale)
+}
+
+/// The Schur complement on the contact layer. Source: docs/method.md §1.5 and the block
+/// elimination P J Pᵀ = L diag(I, L_LL⁻¹ S L_LL⁻ᵀ) Lᵀ (src/solve/schur.rs). Goal: a Newton step
+/// by the dense Schur complement S = S₀ + C on the layer solves the same equation as the
+/// sparse LU of the whole Jacobian J = K + E C Eᵀ, for symmetric and non-symmetric C.
+/// Problem: Scene A (P2, gmsh, as above) at δ = 10⁻⁴ S with θ = 1, 0, −1 (frictionless) and
+/// θ = 0 with Coulomb friction F = 0.84, whose Jacobian couples the normal columns into the
+/// tangential rows. J is evaluated at the converged frictionless solution, which has closed
+/// and open faces. Checks: the layer (dofs of the cells owning a contact face) is under a
+/// tenth of n and factorised dense; for b = F(0) (the load, with its sign) and for b with
+/// entries sin(i), the two solutions agree to 10⁻¹⁰ relative and ‖J x − b‖ ≤ 10⁻¹⁰ ‖b‖ for the Schur solution.
+#[test]
+fn schur_complement_on_the_layer_solves_the_newton_equation() {
+    let (problem, disc, joint, scale) = scene_a_joint(0.0, JointLaw::Frictionless);
+    let settings = Continuation { delta: 1e-4 * scale, delta_start: 0.0, newton: NewtonOptions::default() };
+    let x = solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("{e}")).x;
+    let n = disc.dofs.n_free;
+    let laws = [(1.0, JointLaw::Frictionless), (0.0, JointLaw::Frictionless), (-1.0, JointLaw::Frictionless)];
+    for (theta, law) in laws.into_iter().chain([(0.0, JointLaw::Coulomb { friction: 0.84 })]) {
+        let joint = ContactJoint { law, parameters: NitscheParameters { theta, ..joint.parameters }, ..joint.clone() };
+        let contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: settings.delta });
+        let schur = contact.schur().expect("the layer of Scene A is factorised dense");
+        let m = schur.layer_size();
+        assert!(m == contact.layer().len() && 10 * m < n, "layer of {m} dofs for {n} unknowns");
+        let pattern = contact.pattern();
+        let (mut residual, mut jacobian) = (vec![0.0; n], vec![0.0; pattern.nnz()]);
+        contact.evaluate(&x, &mut residual, Some(&mut jacobian));
+        let lu = SparseLu::analyse(pattern).unwrap();
+        let lu = lu.factor(pattern, &jacobian).unwrap();
+        let factors = schur.factor(&jacobian).unwrap();
+        let defect = |x: &[f64], b: &[f64]| {
+            let mut jx = vec![0.0; n];
+            pattern.multiply(&jacobian, x, &mut jx);
+            distance(&jx, b) / norm(b)
+        };
+        let mut load = vec![0.0; n];
+        contact.evaluate(&vec![0.0; n], &mut load, None);
+        let oscillating: Vec<f64> = (0..n).map(|i| (i as f64).sin()).collect();
+        for b in [load, oscillating] {
+            let (by_schur, by_lu) = (factors.solve(&b).unwrap(), lu.solve(&b));
+            let (defect_schur, defect_lu) = (defect(&by_schur, &b), defect(&by_lu, &b));
+            let difference = distance(&by_schur, &by_lu) / norm(&by_lu);
+            println!(
+                "θ = {theta}, {law:?}: layer {m} of {n} dofs, ‖Jx − b‖/‖b‖ = {defect_schur:.1e} (LU {defect_lu:.1e}), \
+                 Schur vs LU {difference:.1e}"
+            );
+            assert!(
+                defect_schur <= 1e-10 && difference <= 1e-10,
+                "θ = {theta}, {law:?}: defect {defect_schur:e}, difference {difference:e}"
+            );
+        }
+    }
+}
+
+/// Converged displacements by either linear solver. Source: the Newton tolerance
+/// (src/solve/newton.rs). Goal: Newton with the Schur complement on the contact layer reaches
+/// the solution that it reaches with the sparse LU of the whole Jacobian, to the Newton
+/// tolerance. Problem: Scene A (P2, gmsh, as above), δ = 10⁻⁴ S, rtol = 10⁻¹⁰, from u = 0,
+/// with θ = 0 and θ = 1 (frictionless). Check: ‖x_Schur − x_LU‖ ≤ 10⁻⁸ ‖x_LU‖.
+#[test]
+fn newton_by_the_schur_complement_reaches_the_lu_solution() {
+    for theta in [0.0, 1.0] {
+        let (problem, disc, joint, scale) = scene_a_joint(theta, JointLaw::Frictionless);
+        let contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 1e-4 * scale });
+        assert!(contact.schur().is_some());
+        let x0 = vec![0.0; disc.dofs.n_free];
+        let options = NewtonOptions::default();
+        let by_schur = newton(&contact, x0.clone(), &options).unwrap_or_else(|e| panic!("θ = {theta}: {e}"));
+        let by_lu = newton(&WithoutSchur(&contact), x0, &options).unwrap_or_else(|e| panic!("θ = {theta}: {e}"));
+        let difference = distance(&by_schur.x, &by_lu.x) / norm(&by_lu.x);
+        println!(
+            "θ = {theta}: {} Newton steps by the Schur complement, {} by LU, ‖x_S − x_LU‖/‖x_LU‖ = {difference:.1e}",
+            by_schur.iterations.len(),
+            by_lu.iterations.len()
+        );
+        assert!(difference <= 1e-8, "θ = {theta}: the converged displacements differ by {difference:e}");
+    }
+}
+
+/// The fully active start. Source: docs/method.md §1.5 (Smoothing::CLOSED: [P_γ] replaced by
+/// P_γ). Goal: `fully_active_start` solves the linear problem with every point of Γ_C held
+/// closed, and Newton from it reaches the solution it reaches from u = 0. Problem: Scene A
+/// (P2, gmsh, as above), θ = 0, γ₀ = 100, δ = 10⁻⁴ S. Checks: the residual of the start with
+/// Smoothing::CLOSED is ≤ 10⁻¹⁰ of the load norm; the start is not the solution (the heel is
+/// held down: ‖x_start − x‖ ≥ 10⁻³ ‖x‖); both converged solutions agree to 10⁻⁸ relative.
+#[test]
+fn fully_active_start_solves_the_closed_problem() {
+    let (problem, disc, joint, scale) = scene_a_joint(0.0, JointLaw::Frictionless);
+    let mut contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 1e-4 * scale });
+    let start = contact.fully_active_start().unwrap_or_else(|e| panic!("{e}"));
+    let n = disc.dofs.n_free;
+    let mut residual = vec![0.0; n];
+    contact.set_delta(f64::NEG_INFINITY);
+    assert_eq!(contact.smoothing, Smoothing::CLOSED);
+    contact.evaluate(&start, &mut residual, None);
+    let closed_residual = norm(&residual) / contact.scale();
+    contact.set_delta(1e-4 * scale);
+    let options = NewtonOptions::default();
+    let cold = newton(&contact, vec![0.0; n], &options).unwrap_or_else(|e| panic!("{e}"));
+    let warm = newton(&contact, start.clone(), &options).unwrap_or_else(|e| panic!("{e}"));
+    let (from_start, difference) =
+        (distance(&start, &cold.x) / norm(&cold.x), distance(&warm.x, &cold.x) / norm(&cold.x));
+    println!(
+        "closed residual {closed_residual:.1e}, ‖x_start − x‖/‖x‖ = {from_start:.2e}, Newton steps {} cold, {} from the start, difference {difference:.1e}",
+        cold.iterations.len(),
+        warm.iterations.len()
+    );
+    assert!(closed_residual <= 1e-10 && from_start >= 1e-3 && difference <= 1e-8);
+}
+
+/// A body held only by its contact. Source: src/solve/schur.rs (K is factorised once only if
+/// every Cholesky pivot keeps L_ii² ≥ 10⁻¹⁰ K_ii). Goal: a stiffness that leaves a rigid
+/// motion free, which only the contact stops, is not used for the Schur complement, and
+/// Newton solves by sparse LU instead. Problem: the unit square (8 × 2 cells, P1, E = 1,
+/// ν = 0.3, ρ = 1) under its weight (g = 1), u_x = 0 on the left and right sides, u_y free
+/// there, frictionless Nitsche contact on the bottom (θ = 0, γ₀ = 100, δ = 0): the vertical
+/// translation is free in K. Checks: no Schur complement; Newton converges; the contact
+/// force balances the weight, ∫ p_c = 1, to 10⁻⁸.
+#[test]
+fn a_body_held_only_by_its_contact_is_solved_by_lu() {
+    let mesh = unit_square(8, 2);
+    let zero: Arc<dyn Fn([f64; 2]) -> [f64; 2] + Send + Sync> = Arc::new(|_| [0.0, 0.0]);
+    let problem = Problem {
+        materials: vec![Material { young: 1.0, poisson: 0.3, density: 1.0 }; mesh.n_cells()],
+        dirichlet: [LEFT, RIGHT]
+            .into_iter()
+            .map(|tag| Dirichlet { tag, fix: [true, false], value: zero.clone() })
+            .collect(),
+        neumann: vec![],
+        body_force: BodyForce::Gravity(1.0),
+        mesh,
+    };
+    let disc = problem.discretise();
+    let joint = ContactJoint::frictionless(vec![BOTTOM], NitscheParameters::default());
+    let contact = ContactProblem::new(&problem, &disc, &joint, Smoothing::NONE);
+    assert!(contact.schur().is_none(), "a singular stiffness was factorised for the Schur complement");
+    let report =
+        newton(&contact, vec![0.0; disc.dofs.n_free], &NewtonOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    let solution = contact.solution(report.x, vec![], None);
+    println!("contact force {:.12}", solution.normal_force());
+    assert!((solution.normal_force() - 1.0).abs() <= 1e-8);
 }
