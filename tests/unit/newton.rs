@@ -396,7 +396,7 @@ fn a_body_held_only_by_its_contact_is_solved_by_lu() {
             .map(|tag| Dirichlet { tag, fix: [true, false], value: zero.clone() })
             .collect(),
         neumann: vec![],
-        body_force: BodyForce::Gravity(1.0),
+        body_force: BodyForce::Acceleration([0.0, -1.0]),
         mesh,
     };
     let disc = problem.discretise();
