@@ -322,7 +322,10 @@ impl Scene {
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
         let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read { path: path.into(), source })?;
         let table: toml::Table = toml::from_str(&text).map_err(|e| syntax(path, e))?;
-        let scene = Scene::from_table(path, table)?;
+        checks::check_values(path, &toml::Value::Table(table.clone()))?;
+        // read from the text, so that a syntax error gives its line
+        let scene: Scene = toml::from_str(&text).map_err(|e| syntax(path, e))?;
+        let scene = scene.placed(path, table)?;
         for name in scene.combinations.keys() {
             scene.combination(name)?;
         }
@@ -331,15 +334,21 @@ impl Scene {
 
     /// The scene of the TOML `table` read from `path`.
     fn from_table(path: &Path, table: toml::Table) -> Result<Scene, SceneError> {
-        let value = toml::Value::Table(table);
+        let value = toml::Value::Table(table.clone());
         checks::check_values(path, &value)?;
-        let mut scene: Scene = value.clone().try_into().map_err(|e| syntax(path, e))?;
-        scene.geometry = path.parent().unwrap_or(Path::new("")).join(&scene.geometry);
-        scene.source = path.into();
-        scene.table = value.try_into().map_err(|e| syntax(path, e))?;
-        scene.table.remove("combinations");
-        scene.validate()?;
-        Ok(scene)
+        let scene: Scene = value.try_into().map_err(|e| syntax(path, e))?;
+        scene.placed(path, table)
+    }
+
+    /// This scene as read from `path` with its keys `table`: the geometry relative to the
+    /// working directory, then checked.
+    fn placed(mut self, path: &Path, mut table: toml::Table) -> Result<Scene, SceneError> {
+        self.geometry = path.parent().unwrap_or(Path::new("")).join(&self.geometry);
+        self.source = path.into();
+        table.remove("combinations");
+        self.table = table;
+        self.validate()?;
+        Ok(self)
     }
 
     /// The default scene of a bare geometry file: roles from the curve names, default materials.

@@ -183,7 +183,7 @@ fn bare_geo_solves_with_conventional_roles() {
     let geo = fixture("bare.geo");
     let check = damfem(&["check".as_ref(), geo.as_os_str()]);
     assert_ok(&check);
-    let roles = stderr(&check);
+    let roles = String::from_utf8_lossy(&check.stdout);
     for role in ["Gamma_D", "Dirichlet", "Gamma_N", "Neumann", "Gamma_C", "Contact"] {
         assert!(roles.contains(role), "{role} not in: {roles}");
     }
