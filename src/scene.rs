@@ -9,7 +9,7 @@
 use crate::adapt::{AdaptError, AdaptSettings, Model};
 use crate::contact::nitsche::{Gap, NitscheParameters};
 use crate::contact::uplift::{Drains, Uplift};
-use crate::contact::{ContactJoint, Continuation, JointLaw};
+use crate::contact::{ContactJoint, Continuation, JointLaw, JointLine};
 use crate::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};
 use crate::io::gmsh::MeshOptions;
 use crate::mesh::{distance, Mesh, Topology};
@@ -511,13 +511,6 @@ impl Scene {
             ("contact.delta_start", c.delta_start.is_some()),
             ("contact.projection = \"semismooth\"", c.projection == ProjectionKind::Semismooth),
         ];
-        if self.uplift.as_ref().is_some_and(|up| up.crack == CrackKind::Full) {
-            return Err(self.invalid(
-                "[uplift] crack = \"full\" couples the crack and its pressure, which `damfem solve` iterates but \
-                 `damfem adapt` does not yet: use `damfem solve`, or crack = \"ignore\""
-                    .into(),
-            ));
-        }
         match set.iter().find(|(_, given)| *given) {
             Some((key, _)) => Err(self.invalid(format!(
                 "{key} is read by `damfem solve` only; `damfem adapt` chooses the regularisation from \
@@ -623,21 +616,30 @@ impl Model for Scene {
     fn newton(&self) -> NewtonOptions {
         self.newton_options()
     }
+
+    fn joint_line(&self, problem: &Problem) -> Option<JointLine> {
+        Scene::joint_line(self, problem)
+    }
 }
 
 impl Scene {
-    /// The uplift diagram of `[uplift]` on the straight joint of `facets`.
-    fn uplift_diagram(
-        &self,
-        problem: &Problem,
-        facets: &[(usize, [f64; 2])],
-        up: &UpliftSection,
-    ) -> Result<Uplift, SceneError> {
+    /// The straight joint of the contact curves on `problem`'s mesh from its heel to its toe
+    /// (docs/method.md §1.9); None without contact curves, on a joint that is not straight,
+    /// or when nothing shows its upstream end (no `[uplift] heel`, no hydrostatic curve).
+    pub fn joint_line(&self, problem: &Problem) -> Option<JointLine> {
+        let tags = self.contact_tags(&problem.mesh).ok()?;
+        let facets = contact_facets(&problem.mesh, &Topology::new(&problem.mesh), &tags);
+        self.straight_joint(problem, &facets).ok()
+    }
+
+    /// The joint of `facets` from its heel to its toe: the heel is `[uplift] heel`'s end, or
+    /// the end nearest a curve with a hydrostatic load. Err: why there is none.
+    fn straight_joint(&self, problem: &Problem, facets: &[(usize, [f64; 2])]) -> Result<JointLine, String> {
         let mesh = &problem.mesh;
-        if facets.iter().any(|(_, n)| (n[0] - facets[0].1[0]).hypot(n[1] - facets[0].1[1]) > 1e-9) {
-            return Err(self.invalid("[uplift] needs a straight joint: the contact curves are not on one line".into()));
+        let Some(&(_, nu)) = facets.first() else { return Err("there is no contact curve".into()) };
+        if facets.iter().any(|(_, n)| (n[0] - nu[0]).hypot(n[1] - nu[1]) > 1e-9) {
+            return Err("the contact curves are not on one line".into());
         }
-        let nu = facets[0].1;
         let along = [-nu[1], nu[0]];
         let ends: Vec<[f64; 2]> =
             facets.iter().flat_map(|&(f, _)| mesh.facet(f)[..2].iter().map(|&n| mesh.points[n])).collect();
@@ -652,18 +654,32 @@ impl Scene {
             .map(|n| mesh.points[n])
             .collect();
         let near = |end: [f64; 2], to: &[[f64; 2]]| to.iter().map(|&x| distance(x, end)).fold(f64::INFINITY, f64::min);
-        let heel_first = match up.heel {
+        let heel_first = match self.uplift.as_ref().and_then(|up| up.heel) {
             Some(h) => distance(first, h) <= distance(last, h),
             None if water.is_empty() => {
-                return Err(self.invalid(
-                    "uplift.heel is needed: no curve has a hydrostatic load to show the upstream end of the joint"
-                        .into(),
-                ))
+                return Err("no curve has a hydrostatic load to show the upstream end of the joint".into())
             }
             None => near(first, &water) <= near(last, &water),
         };
-        let (heel, toe) = if heel_first { (first, last) } else { (last, first) };
-        let length = distance(heel, toe);
+        Ok(if heel_first { JointLine::new(first, last) } else { JointLine::new(last, first) })
+    }
+
+    /// The uplift diagram of `[uplift]` on the straight joint of `facets`.
+    fn uplift_diagram(
+        &self,
+        problem: &Problem,
+        facets: &[(usize, [f64; 2])],
+        up: &UpliftSection,
+    ) -> Result<Uplift, SceneError> {
+        let line = self.straight_joint(problem, facets).map_err(|why| {
+            let key = if why.contains("hydrostatic") {
+                "uplift.heel is needed: "
+            } else {
+                "[uplift] needs a straight joint: "
+            };
+            self.invalid(format!("{key}{why}"))
+        })?;
+        let (heel, toe, length) = (line.heel, line.point(line.length), line.length);
         let g = self.loads.gravity;
         let head = |level: f64, y: f64| up.density * g * (level - y).max(0.0);
         let drains = up.drains.map(|d| Drains { distance: d.x, efficiency: d.efficiency });
@@ -674,9 +690,7 @@ impl Scene {
             )));
         }
         Ok(Uplift {
-            heel,
-            along: [(toe[0] - heel[0]) / length, (toe[1] - heel[1]) / length],
-            length,
+            line,
             upstream: head(up.headwater, heel[1]),
             downstream: up.tailwater.map_or(0.0, |t| head(t, toe[1])),
             drains,

@@ -15,6 +15,7 @@
 pub mod law;
 pub mod nitsche;
 pub mod projection;
+pub mod resultant;
 pub mod uplift;
 
 use crate::elasticity::{Discretisation, Problem};
@@ -25,6 +26,7 @@ use crate::solve::{newton, NewtonError, NewtonOptions, NewtonReport, NonlinearSy
 pub use law::JointLaw;
 use nitsche::{Nitsche, NitscheParameters};
 use projection::{negative_part, Smoothing};
+pub use resultant::{JointLine, Resultant};
 pub use uplift::Uplift;
 
 /// A contact boundary: the curves of Γ_C, the joint law and the Nitsche parameters.
@@ -81,10 +83,12 @@ pub struct FaceState {
     /// where |P^t_γ(u_h)| ≥ S (slip), for the plain projection.
     pub stick_length: f64,
     pub slip_length: f64,
-    /// With uplift, the mean pore pressure (1/|F|) ∫_F p_u and the distance from the heel of
-    /// the nearest closed point of F, if F has one.
+    /// With uplift, the mean pore pressure (1/|F|) ∫_F p_u.
     pub uplift: f64,
-    pub closed_from: Option<f64>,
+    /// The first moment ∫_F x p_c ds of the contact pressure.
+    pub pressure_moment: [f64; 2],
+    /// The ends of the closed part of F (from its first closed point to its last), if any.
+    pub closed: Option<[[f64; 2]; 2]>,
 }
 
 impl FaceState {
@@ -146,12 +150,18 @@ impl<'a> ContactProblem<'a> {
         ContactSolution { x, x_prev, smoothing: self.smoothing, stages, faces, nitsche: self.nitsche, crack }
     }
 
-    /// The length of the crack open at the heel for `x`: the distance from the heel of the
-    /// nearest closed point (the whole joint if none is closed); 0 without uplift.
+    /// The length of the crack open at the heel for `x` ([`open_from_heel`]); 0 without uplift.
     pub fn crack_length(&self, x: &[f64]) -> f64 {
         let Some(up) = &self.nitsche.uplift else { return 0.0 };
-        self.face_states(x).iter().filter_map(|f| f.closed_from).fold(up.length, f64::min).max(0.0)
+        open_from_heel(&self.face_states(x), &up.line)
     }
+}
+
+/// The length of the joint open at the heel: the distance from the heel of the nearest closed
+/// point (the whole joint if none is closed).
+pub fn open_from_heel(faces: &[FaceState], line: &JointLine) -> f64 {
+    let nearest = |[a, b]: [[f64; 2]; 2]| line.distance(a).min(line.distance(b));
+    faces.iter().filter_map(|f| f.closed.map(nearest)).fold(line.length, f64::min).max(0.0)
 }
 
 /// Local dofs of the cell owning face k and the displacement there.
@@ -173,6 +183,9 @@ fn face_state(nitsche: &Nitsche, smoothing: Smoothing, k: usize, u: &[f64]) -> F
         let p = nitsche.p_gamma(k, &pt, u);
         let mean = w / length;
         state.pressure -= negative_part(p) * mean;
+        for (m, x) in state.pressure_moment.iter_mut().zip(pt.x) {
+            *m -= x * negative_part(p) * w;
+        }
         state.normal_displacement += dot(&pt.u_n, u) * mean;
         state.contact_length += if p < 0.0 { w } else { 0.0 };
         let error = (smoothing.value(p) - negative_part(p)).abs();
@@ -188,13 +201,13 @@ fn face_state(nitsche: &Nitsche, smoothing: Smoothing, k: usize, u: &[f64]) -> F
             }
         }
     }
-    if let Some(up) = &nitsche.uplift {
-        // the pieces between the cuts are wholly open or closed
-        let closed = cuts
-            .windows(2)
-            .filter(|w| w[1] > w[0] && nitsche.p_gamma(k, &nitsche.point(k, 0.5 * (w[0] + w[1])), u) < 0.0);
-        let distance = |s: f64| up.distance(nitsche.point(k, s).x);
-        state.closed_from = closed.map(|w| distance(w[0]).min(distance(w[1]))).reduce(f64::min);
+    // the pieces between the cuts are wholly open or closed
+    let closed: Vec<&[f64]> = cuts
+        .windows(2)
+        .filter(|w| w[1] > w[0] && nitsche.p_gamma(k, &nitsche.point(k, 0.5 * (w[0] + w[1])), u) < 0.0)
+        .collect();
+    if let (Some(first), Some(last)) = (closed.first(), closed.last()) {
+        state.closed = Some([nitsche.position(k, first[0]), nitsche.position(k, last[1])]);
     }
     state
 }
@@ -349,6 +362,56 @@ impl ContactSolution {
         self.faces.iter().map(|f| f.uplift * f.length).sum()
     }
 
+    /// The resultant of the joint traction on the straight joint `line` (docs/method.md §1.9);
+    /// None when nothing presses on the joint.
+    pub fn resultant(&self, line: &JointLine) -> Option<Resultant> {
+        let moment =
+            self.faces.iter().fold([0.0; 2], |m, f| [m[0] + f.pressure_moment[0], m[1] + f.pressure_moment[1]]);
+        let forces = [self.normal_force(), self.tangential_force(), self.uplift_force()];
+        Resultant::new(line, forces, moment)
+    }
+
+    /// The length of `line` open at the heel ([`open_from_heel`]).
+    pub fn crack_from_heel(&self, line: &JointLine) -> f64 {
+        open_from_heel(&self.faces, line)
+    }
+
+    /// The mean effective normal stress σ'^n = −p_c \[Pa\] (tension positive) over the part of
+    /// `line` at the distances `window` = \[s₀, s₁\] from the heel, integrated exactly on pieces
+    /// split at the kinks of p_c and at s₀, s₁.
+    pub fn mean_normal_stress(
+        &self,
+        problem: &Problem,
+        disc: &Discretisation,
+        line: &JointLine,
+        window: [f64; 2],
+    ) -> f64 {
+        let u_full = disc.dofs.expand(&self.x);
+        let mut dofs = Vec::new();
+        let mut integral = 0.0;
+        for k in 0..self.nitsche.faces.len() {
+            let [d0, d1] = [0.0, 1.0].map(|t| line.distance(self.nitsche.position(k, t)));
+            // the window's ends in the face parameter t: s(t) = d0 + t (d1 − d0)
+            let [a, b] = window.map(|s| (s - d0) / (d1 - d0));
+            let (lo, hi) = (a.min(b).max(0.0), a.max(b).min(1.0));
+            if lo >= hi {
+                continue;
+            }
+            let u = local(&problem.mesh, &self.nitsche, k, &u_full, &mut dofs);
+            let mut cuts = self.nitsche.kinks(k, &u, Smoothing::NONE);
+            cuts.extend([lo, hi]);
+            cuts.sort_by(f64::total_cmp);
+            integral += self
+                .nitsche
+                .split_rule(k, &cuts)
+                .into_iter()
+                .filter(|&(t, _)| t > lo && t < hi)
+                .map(|(t, w)| negative_part(self.nitsche.p_gamma(k, &self.nitsche.point(k, t), &u)) * w)
+                .sum::<f64>();
+        }
+        integral / (window[1] - window[0])
+    }
+
     /// With friction, the total length of the closed part that sticks.
     pub fn stick_length(&self) -> f64 {
         self.faces.iter().map(|f| f.stick_length).sum()
@@ -428,24 +491,46 @@ pub fn solve_by_continuation(
 ) -> Result<ContactSolution, ContactError> {
     let mut contact = ContactProblem::new(problem, disc, joint, Smoothing { delta: settings.delta });
     let x0 = vec![0.0; disc.dofs.n_free];
-    let (mut x, mut stages) = continuation(&mut contact, settings.delta, settings.delta_start, x0, &settings.newton)?;
-    let Some(length) = joint.uplift.as_ref().filter(|up| up.crack_filled).map(|up| up.length) else {
+    let (x, mut stages) = continuation(&mut contact, settings.delta, settings.delta_start, x0, &settings.newton)?;
+    if !joint.uplift.as_ref().is_some_and(|up| up.crack_filled) {
         return Ok(contact.solution(x, stages, None));
-    };
+    }
+    let (x, more, crack) = settle_crack(&mut contact, x, &settings.newton)?;
+    stages.extend(more);
+    Ok(contact.solution(x, stages, Some(crack)))
+}
+
+/// The crack–uplift fixed point at the δ of `contact` (docs/method.md §1.8), from the solution
+/// `x` with its current crack s_c: the crack becomes the open length at the heel of the last
+/// solution, s_c ← s_c + ω (open − s_c), and Newton solves again from it, until s_c moves by
+/// at most [`Crack::TOLERANCE`] of the joint length. ω = 1, or ½ after an update of the other
+/// sign than the last (the crack then jumps back and forth across its fixed point). Returns
+/// the solution, the Newton stages of the new solves (none if `x` already settles it), and
+/// the crack.
+pub fn settle_crack(
+    contact: &mut ContactProblem,
+    mut x: Vec<f64>,
+    options: &NewtonOptions,
+) -> Result<(Vec<f64>, Vec<Stage>, Crack), ContactError> {
+    let mut stages: Vec<Stage> = Vec::new();
+    let mut last_update = 0.0;
     for iterations in 1..=Crack::MAX_ITERATIONS {
         let open = contact.crack_length(&x);
         let uplift = contact.nitsche.uplift.as_mut().expect("the joint has uplift");
         let change = (open - uplift.crack).abs();
-        if change <= Crack::TOLERANCE * length {
-            let crack = Crack { length: uplift.crack, iterations, change };
-            return Ok(contact.solution(x, stages, Some(crack)));
+        if change <= Crack::TOLERANCE * uplift.line.length {
+            return Ok((x, stages, Crack { length: uplift.crack, iterations, change }));
         }
         if iterations == Crack::MAX_ITERATIONS {
             return Err(ContactError::Crack { iterations, length: open, change });
         }
-        uplift.crack = open;
-        let (next, more) = continuation(&mut contact, settings.delta, settings.delta, x, &settings.newton)?;
-        (x, stages) = (next, [stages, more].concat());
+        let update = open - uplift.crack;
+        let relax = if update * last_update < 0.0 { 0.5 } else { 1.0 };
+        last_update = relax * update;
+        uplift.crack += last_update;
+        let report = newton(contact, x, options)?;
+        x = report.x.clone();
+        stages.push(Stage { delta: contact.smoothing.delta, report });
     }
     unreachable!("the loop returns by its last iteration")
 }

@@ -3,6 +3,7 @@
 
 use crate::common;
 use damfem::contact::nitsche::NitscheParameters;
+use damfem::contact::resultant::JointLine;
 use damfem::contact::uplift::Uplift;
 use damfem::contact::{solve_by_continuation, ContactJoint, Continuation, JointLaw};
 use damfem::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};
@@ -23,9 +24,7 @@ use std::sync::Arc;
 fn uniform_uplift_lowers_the_contact_pressure_by_exactly_p_u() {
     let (lambda, mu, a, b, p_u) = (1.0, 1.0, 0.01, 0.01, 0.005);
     let uplift = Uplift {
-        heel: [0.0, 0.0],
-        along: [1.0, 0.0],
-        length: 1.0,
+        line: JointLine { heel: [0.0, 0.0], along: [1.0, 0.0], length: 1.0 },
         upstream: p_u,
         downstream: p_u,
         drains: None,
