@@ -310,6 +310,7 @@ pub struct Continuation {
 }
 
 /// A contact iterate and what it was computed with.
+#[derive(Clone)]
 pub struct ContactSolution {
     /// Free unknowns.
     pub x: Vec<f64>,
