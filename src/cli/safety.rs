@@ -285,7 +285,13 @@ fn text_table(rows: &[[String; 3]]) -> String {
 }
 
 /// `safety.json`, `joint.csv`, `base_stresses.{png,svg}` and `report.md` in `dir`.
-fn write_files(dir: &Path, report: &Report, table: &[[String; 3]], c: &ContactSolution, line: &JointLine) -> Result<()> {
+fn write_files(
+    dir: &Path,
+    report: &Report,
+    table: &[[String; 3]],
+    c: &ContactSolution,
+    line: &JointLine,
+) -> Result<()> {
     write_output(&dir.join("safety.json"), serde_json::to_string_pretty(report)?.as_bytes())?;
     let rows = joint_rows(c, line);
     write_output(&dir.join("joint.csv"), joint_csv(&rows).as_bytes())?;
@@ -331,7 +337,8 @@ fn joint_rows(c: &ContactSolution, line: &JointLine) -> Vec<JointRow> {
 }
 
 fn joint_csv(rows: &[JointRow]) -> String {
-    let mut csv = String::from("x,y,s,effective_normal_stress,normal_stress,tangential_stress,uplift_pressure,status\n");
+    let mut csv =
+        String::from("x,y,s,effective_normal_stress,normal_stress,tangential_stress,uplift_pressure,status\n");
     for r in rows {
         csv += &format!(
             "{:e},{:e},{:e},{:e},{:e},{:e},{:e},{}\n",

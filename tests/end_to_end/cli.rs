@@ -1256,3 +1256,116 @@ fn adapt_settles_the_crack_and_records_the_joint_per_step() {
     let text = stderr(&out);
     assert!(text.contains("last step: crack ") && text.contains("U = "), "{text}");
 }
+
+/// Runs `damfem safety <scene> -o <dir>` on meshes twice as coarse as the file's, with `extra`
+/// flags.
+fn safety_coarse(scene: &Path, dir: &Path, extra: &[&str]) -> Output {
+    let mut args: Vec<&OsStr> = ["safety", "--size-factor", "2"].iter().map(OsStr::new).collect();
+    args.extend(extra.iter().map(OsStr::new));
+    args.extend([scene.as_os_str(), OsStr::new("-o"), dir.as_os_str()]);
+    damfem(&args)
+}
+
+// `damfem safety` on the frictional dam with uplift. Source: geo/scene_a_uplift.toml (c = 0,
+// horizontal joint: FS_LE = F N/|T| and FS_SR = F N/|T| with the crack of k = 1, N = W − U);
+// docs/method.md §1.9. Goal: the adaptive run meets its tolerance; safety.json states its
+// units and gives N = W − U (to 10⁻⁵: the regularisation at the adaptive δ), FS_LE = F N/|T|, FS_SR's bracket around it within 0.5 %, the
+// crack and resultant of summary.json, compressive heel and toe means over L/10; joint.csv
+// runs from the heel to the toe, open (status 0) under full reservoir pressure ρ_w g 45 m up to
+// the crack; report.md and the figure exist; the table goes to stdout, progress to stderr, and
+// -q prints nothing. Parameters: P1, mesh sizes × 2, --tol-relative 0.005.
+#[test]
+fn safety_reports_the_dam_with_uplift() {
+    let tmp = TempDir::new("safety-uplift");
+    let scene = repo("geo/scene_a_uplift.toml");
+    let out = safety_coarse(&scene, &tmp.0, &["--tol-relative", "0.005"]);
+    assert_ok(&out);
+    let json = |name: &str| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(tmp.join(name)).unwrap()).unwrap()
+    };
+    let (report, summary) = (json("safety.json"), json("summary.json"));
+    let number = |v: &serde_json::Value| v.as_f64().unwrap_or_else(|| panic!("{report}"));
+    assert!(report["units"]["force"].as_str().unwrap().starts_with("N/m"), "{report}");
+    assert_eq!(report["tolerance_met"], true);
+    assert!(number(&report["eta_relative"]) <= 0.005);
+    let r = &report["resultant"];
+    let (n, t, u) = (number(&r["normal_force"]), number(&r["tangential_force"]), number(&r["uplift_force"]));
+    let (weight, _) = scene_a_weight();
+    // p_c is the plain projection's, the solve's traction the smoothing's at the adaptive δ
+    assert!((n + u - weight).abs() <= 1e-5 * weight, "N + U = {} against W = {weight}", n + u);
+    let fs_le = number(&report["sliding_safety_factor"]);
+    assert!((fs_le - 0.8391 * n / t.abs()).abs() <= 1e-6 * fs_le, "FS_LE {fs_le}");
+    let sr = &report["strength_reduction"];
+    let (held, failed) = (number(&sr["held"]), number(&sr["failed"]));
+    assert!(held <= fs_le * (1.0 + 1e-6) && failed >= fs_le * (1.0 - 1e-6) && held >= 0.995 * fs_le, "{sr}");
+    assert_eq!(report["crack_length"], summary["contact"]["crack_length"]);
+    assert_eq!(report["resultant"], summary["contact"]["resultant"]);
+    let base = &report["base_stresses"];
+    assert_eq!(number(&base["length"]), 4.0);
+    assert!(number(&base["heel"]) < 0.0 && number(&base["toe"]) < 0.0, "{base}");
+    let crack = number(&report["crack_length"]);
+    let csv = std::fs::read_to_string(tmp.join("joint.csv")).unwrap();
+    let rows: Vec<Vec<f64>> = csv.lines().skip(1).map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect();
+    assert!(rows.windows(2).all(|w| w[0][2] < w[1][2]) && rows[0][2] > 0.0 && rows.last().unwrap()[2] < 40.0);
+    for row in rows.iter().take_while(|row| row[2] < crack - 1.0) {
+        let full = 1000.0 * 9.81 * 45.0;
+        assert!(row[7] == 0.0 && (row[6] - full).abs() <= 1e-12 * full, "open under full pressure: {row:?}");
+    }
+    let md = std::fs::read_to_string(tmp.join("report.md")).unwrap();
+    assert!(md.contains("| FS_SR |") && md.contains("base_stresses.png"), "{md}");
+    assert!(tmp.join("base_stresses.png").is_file() && tmp.join("base_stresses.svg").is_file());
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("FS_SR") && stdout.contains("crack length from the heel"), "{stdout}");
+    assert!(stderr(&out).contains("strength ") && !stderr(&out).contains("FS_LE"), "{}", stderr(&out));
+}
+
+// `damfem safety` on a frictionless joint reports the rest and says why FS is missing.
+// Source: geo/scene_a.toml (frictionless base, anchored toe). Goal: exit 0, FS_LE and FS_SR
+// null with the reason in safety.json, a warning on stderr, the resultant reported; with -q
+// nothing on stdout or stderr. Parameters: P1, mesh sizes × 2, two meshes at most.
+#[test]
+fn safety_without_friction_reports_no_safety_factor() {
+    let tmp = TempDir::new("safety-frictionless");
+    let scene = repo("geo/scene_a.toml");
+    let out = safety_coarse(&scene, &tmp.0, &["--order", "1", "--max-steps", "2"]);
+    assert_ok(&out);
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(tmp.join("safety.json")).unwrap()).unwrap();
+    assert!(report["sliding_safety_factor"].is_null() && report["strength_reduction"].is_null(), "{report}");
+    assert!(report["safety_factor_note"].as_str().unwrap().contains("frictionless"), "{report}");
+    assert!(report["resultant"]["normal_force"].as_f64().unwrap() > 0.0, "{report}");
+    assert!(stderr(&out).contains("warning: the joint is frictionless"), "{}", stderr(&out));
+    let quiet = safety_coarse(&scene, &tmp.join("quiet"), &["--order", "1", "--max-steps", "2", "-q"]);
+    assert_ok(&quiet);
+    assert!(quiet.stdout.is_empty() && quiet.stderr.is_empty(), "{}", stderr(&quiet));
+}
+
+// Bad input to `damfem safety`: an unknown key, a NaN level, a tailwater above the headwater,
+// drains outside the joint, a scene without a joint, and out-of-range flags each give one error
+// line, exit 1 and no output directory.
+#[test]
+fn safety_refuses_bad_input() {
+    let tmp = TempDir::new("safety-bad");
+    let uplift = |section: &str| {
+        let scene = frictional_scene(&tmp, |t| format!("{t}\n[uplift]\n{section}\n"));
+        let kept = tmp.join(&format!("scene-{}.toml", section.len()));
+        std::fs::rename(&scene, &kept).unwrap();
+        kept
+    };
+    for (scene, extra, keywords) in [
+        (uplift("headwater = 45.0\nlevel = 3.0"), vec![], vec!["unknown field", "level"]),
+        (uplift("headwater = nan"), vec![], vec!["uplift.headwater = NaN", "finite"]),
+        (uplift("headwater = 40.0\ntailwater = 45.0"), vec![], vec!["uplift.tailwater = 45", "above"]),
+        (uplift("headwater = 45.0\ndrains = { x = 55.0, efficiency = 0.5 }"), vec![], vec!["drains.x = 55", "outside"]),
+        (repo("geo/unit_square.toml"), vec![], vec!["needs a joint", "contact"]),
+        (
+            repo("geo/scene_a_uplift.toml"),
+            vec!["--average-length", "30"],
+            vec!["--average-length 30", "half the joint"],
+        ),
+        (repo("geo/scene_a_uplift.toml"), vec!["--tol-relative", "0"], vec!["--tol-relative", "positive"]),
+        (repo("geo/scene_a_uplift.toml"), vec!["--max-steps", "0"], vec!["--max-steps", "at least 1"]),
+    ] {
+        assert_refused("safety-input", "safety", &scene, &extra, &keywords);
+    }
+}
