@@ -150,11 +150,26 @@ pub enum CrackKind {
 pub struct LoadSection {
     /// Gravity g [m/s²] for self-weight (0, −ρ g) and hydrostatic pressure; 0 disables self-weight.
     pub gravity: f64,
+    /// A pseudo-static inertia force per unit mass [a_x, a_y], in g: the body force becomes
+    /// ρ g (a_x, a_y − 1).
+    pub acceleration: [f64; 2],
 }
 
 impl Default for LoadSection {
     fn default() -> Self {
-        LoadSection { gravity: 9.81 }
+        LoadSection { gravity: 9.81, acceleration: [0.0; 2] }
+    }
+}
+
+impl LoadSection {
+    /// The body force of the weight and the pseudo-static acceleration.
+    fn body_force(&self) -> BodyForce {
+        let (g, [a_x, a_y]) = (self.gravity, self.acceleration);
+        match (g, self.acceleration) {
+            (0.0, _) => BodyForce::None,
+            (_, [0.0, 0.0]) => BodyForce::Gravity(g),
+            _ => BodyForce::Acceleration([g * a_x, g * (a_y - 1.0)]),
+        }
     }
 }
 
@@ -292,9 +307,16 @@ pub struct Scene {
     pub adapt: AdaptSettings,
     #[serde(default)]
     pub output: OutputSection,
+    /// Load combinations by name: `[uplift]`, `[boundary.<curve>]` and `[loads]` keys that
+    /// replace the scene's ([`Scene::combination`]).
+    #[serde(default)]
+    pub combinations: BTreeMap<String, toml::Table>,
     /// The file this scene was read from (the geometry itself for a default scene).
     #[serde(skip)]
     pub source: PathBuf,
+    /// The scene's TOML table, without its combinations.
+    #[serde(skip)]
+    table: toml::Table,
 }
 
 impl Scene {
@@ -308,12 +330,50 @@ impl Scene {
             path: path.into(),
             message: e.to_string().trim_end().to_string(),
         };
-        checks::check_values(path, &toml::from_str(&text).map_err(syntax)?)?;
+        let mut table: toml::Table = toml::from_str(&text).map_err(syntax)?;
+        checks::check_values(path, &toml::Value::Table(table.clone()))?;
         let mut scene: Scene = toml::from_str(&text).map_err(syntax)?;
         scene.geometry = path.parent().unwrap_or(Path::new("")).join(&scene.geometry);
         scene.source = path.into();
+        table.remove("combinations");
+        scene.table = table;
         scene.validate()?;
+        for name in scene.combinations.keys() {
+            scene.combination(name)?;
+        }
         Ok(scene)
+    }
+
+    /// The sections a load combination may change.
+    const COMBINED: [&'static str; 3] = ["uplift", "boundary", "loads"];
+
+    /// The scene of the load combination `name`: its `[uplift]`, `[boundary.<curve>]` and
+    /// `[loads]` keys replace the scene's one by one (a table merges into the scene's table),
+    /// every other section is this scene's (with the command-line overrides), and the result
+    /// is checked as a scene file is. Errors name `combinations.<name>`.
+    pub fn combination(&self, name: &str) -> Result<Scene, SceneError> {
+        let context = |message: String| self.invalid(format!("combinations.{name}: {message}"));
+        let overlay = self.combinations.get(name).ok_or_else(|| context("no such combination".into()))?;
+        if let Some(key) = overlay.keys().find(|k| !Self::COMBINED.contains(&k.as_str())) {
+            return Err(context(format!(
+                "'{key}' cannot be combined: a combination changes [uplift], [boundary.<curve>] and [loads] keys"
+            )));
+        }
+        let mut table = self.table.clone();
+        merge(&mut table, overlay);
+        let merged: Scene =
+            toml::Value::Table(table).try_into().map_err(|e: toml::de::Error| context(e.to_string()))?;
+        let scene = Scene {
+            uplift: merged.uplift,
+            boundary: merged.boundary,
+            loads: merged.loads,
+            combinations: BTreeMap::new(),
+            ..self.clone()
+        };
+        match scene.validate() {
+            Err(SceneError::Invalid { message, .. }) => Err(context(message)),
+            other => other.map(|_| scene),
+        }
     }
 
     /// The default scene of a bare geometry file: roles from the curve names, default materials.
@@ -328,7 +388,9 @@ impl Scene {
             uplift: None,
             adapt: AdaptSettings::default(),
             output: OutputSection::default(),
+            combinations: BTreeMap::new(),
             source: path.into(),
+            table: toml::Table::new(),
         }
     }
 
@@ -379,6 +441,13 @@ impl Scene {
             return Err(self.invalid(format!("contact.direction = {nu:?} must be a non-zero vector")));
         }
         c.check_law().map_err(|message| self.invalid(message))?;
+        let a = self.loads.acceleration;
+        if a != [0.0; 2] && self.loads.gravity <= 0.0 {
+            return Err(self.invalid(format!(
+                "loads.acceleration = {a:?} is in g, so it needs loads.gravity > 0 (now {})",
+                self.loads.gravity
+            )));
+        }
         if let Some(up) = &self.uplift {
             self.check_uplift(up)?;
         }
@@ -567,7 +636,7 @@ impl Scene {
             "give a physical curve role = \"dirichlet\""
         };
         let materials = self.cell_materials(&mesh)?;
-        let body_force = if g == 0.0 { BodyForce::None } else { BodyForce::Gravity(g) };
+        let body_force = self.loads.body_force();
         let problem = Problem { mesh, materials, dirichlet, neumann, body_force };
         let mut joint = self.joint(&problem.mesh)?;
         let friction = joint.as_ref().is_some_and(|j| j.law.has_friction());
@@ -762,6 +831,18 @@ fn facing_away(mesh: &Mesh, facets: &[(usize, [f64; 2])], direction: Option<[f64
 /// The facets of the contact curves (tags) with their outward normals.
 fn contact_facets(mesh: &Mesh, topology: &Topology, tags: &[i32]) -> Vec<(usize, [f64; 2])> {
     mesh.facets_tagged(tags).map(|f| (f, topology.outward_normal(mesh, f))).collect()
+}
+
+/// Merges `overlay` into `table`: a table into a table key by key, any other value replacing.
+fn merge(table: &mut toml::Table, overlay: &toml::Table) {
+    for (key, value) in overlay {
+        match (table.get_mut(key), value) {
+            (Some(toml::Value::Table(inner)), toml::Value::Table(over)) => merge(inner, over),
+            _ => {
+                table.insert(key.clone(), value.clone());
+            }
+        }
+    }
 }
 
 /// Role given by the naming convention of bare geometry files.

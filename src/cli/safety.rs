@@ -4,15 +4,16 @@
 //! check, the heel and toe normal stresses averaged over a stated length, FS_LE and FS_SR.
 
 use super::adapt::run_sequence;
-use super::common::{stem, validate_overrides, Input, Output};
+use super::common::{output_dir, stem, validate_overrides, Input, Output};
 use super::output::{Units, UNITS};
 use crate::adapt::Step;
-use crate::contact::{strength_reduction, ContactSolution, JointLine, Resultant, StrengthReduction};
+use crate::contact::{reduce_strength, ContactSolution, JointLine, Resultant, StrengthReduction};
 use crate::elasticity::{Discretisation, Problem};
 use crate::io::atomic::write_output;
 use crate::io::plot::{write_linear_figure, Figure, Series};
 use crate::mesh::Mesh;
 use crate::scene::Scene;
+use crate::solve::NewtonOptions;
 use anyhow::{Context, Result};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -111,9 +112,76 @@ pub fn run(args: Args) -> Result<()> {
         "{}: the safety analysis refines the mesh adaptively, so it needs a .geo file, not a mesh",
         scene.geometry.display()
     );
-    let line = joint_line(&scene, &args.input)?;
-    let average = average_length(args.average_length, &line)?;
+    let names: Vec<String> = scene.combinations.keys().cloned().collect();
+    let cases: Vec<(Option<&str>, Scene)> = if names.is_empty() {
+        vec![(None, scene.clone())]
+    } else {
+        names.iter().map(|n| Ok((Some(n.as_str()), scene.combination(n)?))).collect::<Result<_>>()?
+    };
+    // every case is checked before anything is written
+    let mut lines = Vec::new();
+    for (_, case) in &cases {
+        let line = joint_line(case, &args.input)?;
+        lines.push((line, average_length(args.average_length, &line)?));
+    }
     let dir = args.output.dir(&scene)?;
+    if names.is_empty() {
+        let (report, table) = analyse(&cases[0].1, &args, lines[0], &dir)?;
+        write_files(&dir, &report, &table)?;
+        if !args.input.quiet {
+            println!("{}", text_table(&table));
+        }
+        progress.say(&format!("results in {} (safety.json, report.md, joint.csv, base_stresses.png)", dir.display()));
+        return Ok(());
+    }
+    let mut reports = Vec::new();
+    for ((name, case), line) in cases.iter().zip(lines) {
+        let name = name.expect("a combination");
+        progress.say(&format!("combination {name}"));
+        let sub = output_dir(dir.join(name))?;
+        let (report, table) = analyse(case, &args, line, &sub).with_context(|| format!("combination {name}"))?;
+        write_files(&sub, &report, &table)?;
+        reports.push(Combination { name: name.to_string(), report });
+    }
+    let rows = combination_rows(&reports);
+    write_output(
+        &dir.join("safety.json"),
+        serde_json::to_string_pretty(&Combinations { units: UNITS, combinations: &reports })?.as_bytes(),
+    )?;
+    write_output(&dir.join("report.md"), combinations_markdown(&scene, &rows).as_bytes())?;
+    if !args.input.quiet {
+        println!("{}", text_columns(&rows));
+    }
+    progress.say(&format!("results in {} (safety.json, report.md; one directory per combination)", dir.display()));
+    Ok(())
+}
+
+/// One combination's report, as the combined `safety.json` lists it.
+#[derive(Serialize)]
+struct Combination {
+    name: String,
+    #[serde(flatten)]
+    report: Report,
+}
+
+/// What `safety.json` records of a scene with load combinations.
+#[derive(Serialize)]
+struct Combinations<'a> {
+    units: Units,
+    combinations: &'a [Combination],
+}
+
+/// The analysis of `scene` into `dir`: the adaptive run on the joint `line` (with the
+/// averaging length), then the safety quantities of its last mesh; returns the report and its
+/// table.
+fn analyse(
+    scene: &Scene,
+    args: &Args,
+    (line, average): (JointLine, f64),
+    dir: &Path,
+) -> Result<(Report, Vec<[String; 3]>)> {
+    let progress = args.input.progress();
+    let tol_relative = scene.adapt.tol_relative.unwrap_or(TOL_RELATIVE);
     let name = stem(&scene.source);
     let mut rows = Vec::new();
     let mut last: Option<(Mesh, ContactSolution)> = None;
@@ -131,7 +199,7 @@ pub fn run(args: Args) -> Result<()> {
         last = Some((step.problem.mesh.clone(), c.clone()));
         Ok(())
     };
-    let (history, _) = run_sequence(&scene, &args.input, &dir, &name, "", &mut keep)?;
+    let (history, _) = run_sequence(scene, &args.input, dir, &name, "", &mut keep)?;
     let (mesh, solution) = last.context("the adaptive run made no step")?;
     let record = history.last().context("the adaptive run made no step")?;
     let (problem, joint) = scene.problem(mesh)?;
@@ -141,11 +209,10 @@ pub fn run(args: Args) -> Result<()> {
     let (strength, note) = if !law.has_friction() {
         (None, Some(FRICTIONLESS.to_string()))
     } else {
-        let mut continuation = scene.continuation(&problem, &disc.topology);
-        continuation.newton.trace = args.input.newton_trace();
+        let newton = NewtonOptions { trace: args.input.newton_trace(), ..scene.newton_options() };
         let (sr, _) = progress.stage(
             "strength",
-            || Ok(strength_reduction(&problem, &disc, &joint, &continuation, STRENGTH_TOLERANCE)?),
+            || Ok(reduce_strength(&problem, &disc, &joint, &solution, &newton, STRENGTH_TOLERANCE)),
             |s: &StrengthReduction| format!("FS_SR in [{:.4}, {:.4}] after {} solves", s.held, s.failed, s.solves),
         )?;
         let unbounded = (!sr.failed.is_finite()).then(|| format!("{} {:.0}", UNBOUNDED, sr.held));
@@ -183,12 +250,10 @@ pub fn run(args: Args) -> Result<()> {
         progress.say(&format!("warning: {note}"));
     }
     let table = table(&report);
-    write_files(&dir, &report, &table, &solution, &line)?;
-    if !args.input.quiet {
-        println!("{}", text_table(&table));
-    }
-    progress.say(&format!("results in {} (safety.json, report.md, joint.csv, base_stresses.png)", dir.display()));
-    Ok(())
+    let joint = joint_rows(&solution, &line);
+    write_output(&dir.join("joint.csv"), joint_csv(&joint).as_bytes())?;
+    write_linear_figure(&dir.join("base_stresses"), &base_figure(&joint, &report)).context("writing the figure")?;
+    Ok((report, table))
 }
 
 /// What `safety.json` says without friction.
@@ -266,12 +331,16 @@ fn table(r: &Report) -> Vec<[String; 3]> {
     rows.push(row(&format!("toe normal stress (mean over {:.3} m)", b.length), mpa(b.toe), "MPa"));
     let none = || "not computed".to_string();
     rows.push(row("FS_LE", r.sliding_safety_factor.map_or_else(none, |f| format!("{f:.4}")), ""));
-    let bracket = |s: &StrengthReduction| match s.failed.is_finite() {
-        true => format!("[{:.4}, {:.4}]", s.held, s.failed),
-        false => format!("> {:.0}", s.held),
-    };
     rows.push(row("FS_SR", r.strength_reduction.as_ref().map_or_else(none, bracket), ""));
     rows
+}
+
+/// FS_SR's bracket \[held, failed\], or "> held" if the joint never failed.
+fn bracket(s: &StrengthReduction) -> String {
+    match s.failed.is_finite() {
+        true => format!("[{:.4}, {:.4}]", s.held, s.failed),
+        false => format!("> {:.0}", s.held),
+    }
 }
 
 /// The rows as aligned columns.
@@ -284,20 +353,78 @@ fn text_table(rows: &[[String; 3]]) -> String {
         .join("\n")
 }
 
-/// `safety.json`, `joint.csv`, `base_stresses.{png,svg}` and `report.md` in `dir`.
-fn write_files(
-    dir: &Path,
-    report: &Report,
-    table: &[[String; 3]],
-    c: &ContactSolution,
-    line: &JointLine,
-) -> Result<()> {
+/// `safety.json` and `report.md` of one analysis in `dir`.
+fn write_files(dir: &Path, report: &Report, table: &[[String; 3]]) -> Result<()> {
     write_output(&dir.join("safety.json"), serde_json::to_string_pretty(report)?.as_bytes())?;
-    let rows = joint_rows(c, line);
-    write_output(&dir.join("joint.csv"), joint_csv(&rows).as_bytes())?;
-    write_linear_figure(&dir.join("base_stresses"), &base_figure(&rows, report)).context("writing the figure")?;
     write_output(&dir.join("report.md"), markdown(report, table).as_bytes())?;
     Ok(())
+}
+
+/// The header and one row per combination: the headline numbers of each report.
+fn combination_rows(reports: &[Combination]) -> Vec<Vec<String>> {
+    let header = [
+        "combination",
+        "crack [m]",
+        "N [N/m]",
+        "T [N/m]",
+        "U [N/m]",
+        "s_R [m]",
+        "e [m]",
+        "middle third",
+        "heel [MPa]",
+        "toe [MPa]",
+        "FS_LE",
+        "FS_SR",
+        "eta_tot/||sigma_h||",
+    ];
+    let mut rows = vec![header.map(String::from).to_vec()];
+    let optional = |v: Option<f64>, format: fn(f64) -> String| v.map_or("-".to_string(), format);
+    for Combination { name, report: r } in reports {
+        let f = r.resultant;
+        rows.push(vec![
+            name.clone(),
+            format!("{:.4}", r.crack_length),
+            optional(f.map(|f| f.normal_force), |v| format!("{v:.4e}")),
+            optional(f.map(|f| f.tangential_force), |v| format!("{v:.4e}")),
+            optional(f.map(|f| f.uplift_force), |v| format!("{v:.4e}")),
+            optional(f.map(|f| f.position), |v| format!("{v:.4}")),
+            optional(f.map(|f| f.eccentricity), |v| format!("{v:.4}")),
+            f.map_or("-", |f| if f.middle_third { "yes" } else { "no" }).to_string(),
+            format!("{:.4}", r.base_stresses.heel / 1e6),
+            format!("{:.4}", r.base_stresses.toe / 1e6),
+            optional(r.sliding_safety_factor, |v| format!("{v:.4}")),
+            r.strength_reduction.as_ref().map_or("-".to_string(), bracket),
+            format!("{:.2e}", r.eta_relative),
+        ]);
+    }
+    rows
+}
+
+/// The rows as columns aligned on the right (the first on the left).
+fn text_columns(rows: &[Vec<String>]) -> String {
+    let widths: Vec<usize> =
+        (0..rows[0].len()).map(|k| rows.iter().map(|r| r[k].chars().count()).max().unwrap_or(0)).collect();
+    let line = |row: &Vec<String>| {
+        let cells = row.iter().zip(&widths).enumerate().map(|(k, (cell, &w))| match k {
+            0 => format!("{cell:<w$}"),
+            _ => format!("{cell:>w$}"),
+        });
+        cells.collect::<Vec<_>>().join("  ")
+    };
+    rows.iter().map(line).collect::<Vec<_>>().join("\n")
+}
+
+/// `report.md` of a scene with combinations: one row per combination, linked to its report.
+fn combinations_markdown(scene: &Scene, rows: &[Vec<String>]) -> String {
+    let mut md = format!("# Dam safety: {}, load combinations\n\n", scene.source.display());
+    md += "Stresses are positive in tension. Each combination's report, joint stresses and figure are in \
+           its own directory.\n\n";
+    let cells = |row: &[String]| row.iter().map(|c| c.replace('|', "\\|")).collect::<Vec<_>>().join(" | ");
+    md += &format!("| {} |\n|{}\n", cells(&rows[0]), "---|".repeat(rows[0].len()));
+    for row in &rows[1..] {
+        md += &format!("| [{}]({}/report.md) | {} |\n", row[0], row[0], cells(&row[1..]));
+    }
+    md
 }
 
 /// One contact face along the joint: its midpoint x, its distance s from the heel, and the

@@ -547,12 +547,8 @@ pub struct StrengthReduction {
     pub solves: usize,
 }
 
-/// FS_SR to the relative `tolerance`: from the solution at k = 1, k grows by a quarter while the
-/// joint holds, then the bracket is bisected; every solve starts from the last solution that
-/// held, at the final δ of `settings`. Loss of equilibrium is a Newton failure (near the limit
-/// the tangential stiffness of the slipping joint vanishes); so a solve that fails only for
-/// want of steps counts as a loss, and `held` is a lower bound. The crack that uplift fills is
-/// kept at its length for k = 1 (use `crack = "ignore"` for the exact comparison).
+/// FS_SR to the relative `tolerance`, from the solution at k = 1 reached along the δ path of
+/// `settings` ([`reduce_strength`]).
 pub fn strength_reduction(
     problem: &Problem,
     disc: &Discretisation,
@@ -561,15 +557,32 @@ pub fn strength_reduction(
     tolerance: f64,
 ) -> Result<StrengthReduction, ContactError> {
     let start = solve_by_continuation(problem, disc, joint, settings)?;
+    Ok(reduce_strength(problem, disc, joint, &start, &settings.newton, tolerance))
+}
+
+/// FS_SR to the relative `tolerance` from `start`, the solution at k = 1: k grows by a quarter
+/// while the joint holds, then the bracket is bisected; every solve starts from the last
+/// solution that held, at the δ of `start`. Loss of equilibrium is a Newton failure (near the
+/// limit the tangential stiffness of the slipping joint vanishes); so a solve that fails only
+/// for want of steps counts as a loss, and `held` is a lower bound. The crack that uplift
+/// fills is kept at its length in `start` (use `crack = "ignore"` for the exact comparison).
+pub fn reduce_strength(
+    problem: &Problem,
+    disc: &Discretisation,
+    joint: &ContactJoint,
+    start: &ContactSolution,
+    newton_options: &NewtonOptions,
+    tolerance: f64,
+) -> StrengthReduction {
     let (mut held, mut x, mut solves) = (1.0, start.x.clone(), 1);
     let mut failed = f64::INFINITY;
     while failed - held > tolerance * held {
         let k = if failed.is_finite() { 0.5 * (held + failed) } else { 1.25 * held };
         let (law, uplift) = (joint.law.reduced(k), start.nitsche.uplift.clone());
         let reduced = ContactJoint { law, uplift, ..joint.clone() };
-        let contact = ContactProblem::new(problem, disc, &reduced, Smoothing { delta: settings.delta });
+        let contact = ContactProblem::new(problem, disc, &reduced, start.smoothing);
         solves += 1;
-        match newton(&contact, x.clone(), &settings.newton) {
+        match newton(&contact, x.clone(), newton_options) {
             Ok(report) => (held, x) = (k, report.x),
             Err(_) => failed = k,
         }
@@ -577,7 +590,7 @@ pub fn strength_reduction(
             break;
         }
     }
-    Ok(StrengthReduction { held, failed, solves })
+    StrengthReduction { held, failed, solves }
 }
 
 /// The free unknowns of a solve, with the contact state when the problem has Γ_C.

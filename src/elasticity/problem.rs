@@ -84,6 +84,9 @@ pub enum BodyForce {
     None,
     /// Self-weight f = (0, −ρ g) with the density of each material.
     Gravity(f64),
+    /// f = ρ a \[N/m³\] for the acceleration a \[m/s²\] (the weight and a pseudo-static
+    /// inertia force together), with the density of each material.
+    Acceleration([f64; 2]),
     Field(VectorFn),
 }
 
@@ -125,6 +128,7 @@ impl Problem {
         match &self.body_force {
             BodyForce::None => [0.0; 2],
             BodyForce::Gravity(g) => [0.0, -self.materials[c].density * g],
+            BodyForce::Acceleration(a) => a.map(|a| self.materials[c].density * a),
             BodyForce::Field(field) => field(x),
         }
     }
