@@ -131,7 +131,8 @@ fn strength_reduction_finds_the_exact_sliding_factor() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("geo/scene_a_uplift.toml");
     let mut with_uplift = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
     with_uplift.uplift.as_mut().expect("[uplift]").crack = damfem::scene::CrackKind::Ignore;
-    let without_uplift = Scene { uplift: None, ..with_uplift.clone() };
+    let mut without_uplift = with_uplift.clone();
+    without_uplift.uplift = None;
     let weight = 2400.0 * 9.81 * (40.0 + 5.0) / 2.0 * 50.0;
     let thrust = 1000.0 * 9.81 * 45.0 * 45.0 / 2.0;
     for scene in [with_uplift, without_uplift] {
