@@ -452,9 +452,10 @@ impl<'a> Linearisation<'a> {
     }
 }
 
-/// The crack open at the heel that the uplift fills, found by a fixed point: solve with the
-/// crack s_c, measure the open length at the heel, and solve again until it moves by at most
-/// [`Crack::TOLERANCE`] of the joint length.
+/// The crack open at the heel that the uplift fills, found by a fixed point ([`settle_crack`]):
+/// solve with the crack s_c, measure the open length at the heel, and solve again until it
+/// moves by at most [`Crack::TOLERANCE`] of the joint length, or a bisection brackets it that
+/// closely.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Crack {
     /// s_c \[m\].
@@ -463,6 +464,9 @@ pub struct Crack {
     pub iterations: usize,
     /// |s_c − the open length of the last solve| \[m\].
     pub change: f64,
+    /// The last cracks below and above the fixed point (the open length was larger, and
+    /// smaller, than the crack solved with), once both were seen \[m\].
+    pub bracket: Option<[f64; 2]>,
 }
 
 impl Crack {
@@ -502,33 +506,43 @@ pub fn solve_by_continuation(
 }
 
 /// The crack–uplift fixed point at the δ of `contact` (docs/method.md §1.8), from the solution
-/// `x` with its current crack s_c: the crack becomes the open length at the heel of the last
-/// solution, s_c ← s_c + ω (open − s_c), and Newton solves again from it, until s_c moves by
-/// at most [`Crack::TOLERANCE`] of the joint length. ω = 1, or ½ after an update of the other
-/// sign than the last (the crack then jumps back and forth across its fixed point). Returns
-/// the solution, the Newton stages of the new solves (none if `x` already settles it), and
-/// the crack.
+/// `x` with its current crack s_c. With g(s_c) = open − s_c, the open length at the heel of the
+/// solution less the crack it was solved with: s_c ← open at first, then the secant step
+/// s_c − g (s_c − s_prev)/(g − g_prev) while g keeps its sign (the plain update creeps when
+/// the open length follows the crack closely), and once g has taken both signs, s_c ← the
+/// midpoint of the last crack of each sign (bisection: the open length may jump across the
+/// fixed point). Newton solves again from the last solution after each update, until
+/// |g| ≤ [`Crack::TOLERANCE`] L or the bracket is that narrow.
+/// Returns the solution, the Newton stages of the new solves (none if `x` already settles
+/// it), and the crack.
 pub fn settle_crack(
     contact: &mut ContactProblem,
     mut x: Vec<f64>,
     options: &NewtonOptions,
 ) -> Result<(Vec<f64>, Vec<Stage>, Crack), ContactError> {
     let mut stages: Vec<Stage> = Vec::new();
-    let mut last_update = 0.0;
+    // the last crack with g > 0 and the last with g < 0
+    let (mut below, mut above): (Option<f64>, Option<f64>) = (None, None);
+    let mut previous: Option<(f64, f64)> = None;
     for iterations in 1..=Crack::MAX_ITERATIONS {
         let open = contact.crack_length(&x);
         let uplift = contact.nitsche.uplift.as_mut().expect("the joint has uplift");
-        let change = (open - uplift.crack).abs();
-        if change <= Crack::TOLERANCE * uplift.line.length {
-            return Ok((x, stages, Crack { length: uplift.crack, iterations, change }));
+        let (crack, g, tolerance) = (uplift.crack, open - uplift.crack, Crack::TOLERANCE * uplift.line.length);
+        *(if g > 0.0 { &mut below } else { &mut above }) = Some(crack);
+        let bracket = below.zip(above).map(|(a, b)| [a.min(b), a.max(b)]);
+        if g.abs() <= tolerance || bracket.is_some_and(|[a, b]| b - a <= tolerance) {
+            return Ok((x, stages, Crack { length: crack, iterations, change: g.abs(), bracket }));
         }
         if iterations == Crack::MAX_ITERATIONS {
-            return Err(ContactError::Crack { iterations, length: open, change });
+            return Err(ContactError::Crack { iterations, length: open, change: g.abs() });
         }
-        let update = open - uplift.crack;
-        let relax = if update * last_update < 0.0 { 0.5 } else { 1.0 };
-        last_update = relax * update;
-        uplift.crack += last_update;
+        let secant =
+            previous.filter(|&(_, g_prev)| g_prev != g).map(|(s, g_prev)| crack - g * (crack - s) / (g - g_prev));
+        uplift.crack = match bracket {
+            Some([a, b]) => 0.5 * (a + b),
+            None => secant.filter(|s| s.is_finite()).unwrap_or(open).clamp(0.0, uplift.line.length),
+        };
+        previous = Some((crack, g));
         let report = newton(contact, x, options)?;
         x = report.x.clone();
         stages.push(Stage { delta: contact.smoothing.delta, report });

@@ -1341,14 +1341,17 @@ fn safety_without_friction_reports_no_safety_factor() {
 }
 
 // Bad input to `damfem safety`: an unknown key, a NaN level, a tailwater above the headwater,
-// drains outside the joint, a scene without a joint, and out-of-range flags each give one error
-// line, exit 1 and no output directory.
+// drains outside the joint, the same in a load combination, a key a combination cannot change,
+// a three-component acceleration, a scene without a joint, and out-of-range flags each give one
+// error line, exit 1 and no output directory.
 #[test]
 fn safety_refuses_bad_input() {
     let tmp = TempDir::new("safety-bad");
+    let count = std::cell::Cell::new(0);
     let uplift = |section: &str| {
         let scene = frictional_scene(&tmp, |t| format!("{t}\n[uplift]\n{section}\n"));
-        let kept = tmp.join(&format!("scene-{}.toml", section.len()));
+        count.set(count.get() + 1);
+        let kept = tmp.join(&format!("scene-{}.toml", count.get()));
         std::fs::rename(&scene, &kept).unwrap();
         kept
     };
@@ -1357,6 +1360,31 @@ fn safety_refuses_bad_input() {
         (uplift("headwater = nan"), vec![], vec!["uplift.headwater = NaN", "finite"]),
         (uplift("headwater = 40.0\ntailwater = 45.0"), vec![], vec!["uplift.tailwater = 45", "above"]),
         (uplift("headwater = 45.0\ndrains = { x = 55.0, efficiency = 0.5 }"), vec![], vec!["drains.x = 55", "outside"]),
+        (
+            uplift("headwater = 45.0\n[combinations.flood]\nfoo = 1"),
+            vec![],
+            vec!["combinations.flood", "'foo' cannot be combined"],
+        ),
+        (
+            uplift("headwater = 45.0\n[combinations.flood.uplift]\nlevel = 3.0"),
+            vec![],
+            vec!["combinations.flood", "level"],
+        ),
+        (
+            uplift("headwater = 45.0\n[combinations.flood.uplift]\nheadwater = nan"),
+            vec![],
+            vec!["combinations.flood.uplift.headwater = NaN", "finite"],
+        ),
+        (
+            uplift("headwater = 45.0\n[combinations.flood.uplift]\ntailwater = 50.0"),
+            vec![],
+            vec!["combinations.flood: uplift.tailwater = 50", "above"],
+        ),
+        (
+            uplift("headwater = 45.0\n[combinations.quake.loads]\nacceleration = [0.1, 0.0, 0.0]"),
+            vec![],
+            vec!["combinations.quake.loads.acceleration has 3 components"],
+        ),
         (repo("geo/unit_square.toml"), vec![], vec!["needs a joint", "contact"]),
         (
             repo("geo/scene_a_uplift.toml"),
@@ -1368,4 +1396,45 @@ fn safety_refuses_bad_input() {
     ] {
         assert_refused("safety-input", "safety", &scene, &extra, &keywords);
     }
+}
+
+// Load combinations. Source: geo/scene_a_uplift.toml with [combinations.usual] (no change),
+// [combinations.drains_blocked] (drain efficiency 0) and [combinations.earthquake] (a
+// pseudo-static acceleration of 0.05 g downstream). Goal: one row per combination on stdout and
+// in safety.json, each combination's files in its own directory; horizontal equilibrium of the
+// earthquake, T = −(the thrust + 0.05 W), to 10⁻⁶; the blocked drains raise U and lower FS_LE.
+// Parameters: P1, mesh sizes × 2, one mesh per combination.
+#[test]
+fn safety_runs_every_load_combination() {
+    let tmp = TempDir::new("safety-combinations");
+    let text = std::fs::read_to_string(repo("geo/scene_a_uplift.toml")).unwrap();
+    let geometry = format!("geometry = {:?}", repo("geo/scene_a_friction.geo").display().to_string());
+    let scene = tmp.join("dam.toml");
+    let combinations = "\n[combinations.usual]\n\
+        [combinations.drains_blocked.uplift]\ndrains = { x = 5.0, efficiency = 0.0 }\n\
+        [combinations.earthquake.loads]\nacceleration = [0.05, 0.0]\n";
+    std::fs::write(&scene, text.replace("geometry = \"scene_a_friction.geo\"", &geometry) + combinations).unwrap();
+    let out = safety_coarse(&scene, &tmp.join("out"), &["--order", "1", "--max-steps", "1"]);
+    assert_ok(&out);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let lines: Vec<&str> = stdout.lines().collect();
+    assert_eq!(lines.len(), 4, "{stdout}");
+    for (line, name) in lines[1..].iter().zip(["drains_blocked", "earthquake", "usual"]) {
+        assert!(line.starts_with(name), "{stdout}");
+        assert!(tmp.join("out").join(name).join("report.md").is_file(), "{name}");
+    }
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(tmp.join("out/safety.json")).unwrap()).unwrap();
+    let case =
+        |name: &str| report["combinations"].as_array().unwrap().iter().find(|c| c["name"] == name).unwrap().clone();
+    let number = |c: &serde_json::Value, key: &str| c["resultant"][key].as_f64().unwrap_or_else(|| panic!("{c}"));
+    let (weight, _) = scene_a_weight();
+    let thrust = 1000.0 * 9.81 * 45.0 * 45.0 / 2.0;
+    let t = number(&case("earthquake"), "tangential_force");
+    assert!((t + thrust + 0.05 * weight).abs() <= 1e-6 * thrust, "T = {t} against {}", -(thrust + 0.05 * weight));
+    let (usual, blocked) = (case("usual"), case("drains_blocked"));
+    assert!(number(&blocked, "uplift_force") > number(&usual, "uplift_force"), "{blocked}");
+    let fs = |c: &serde_json::Value| c["sliding_safety_factor"].as_f64().unwrap();
+    assert!(fs(&blocked) < fs(&usual), "FS_LE {} against {}", fs(&blocked), fs(&usual));
+    assert!(std::fs::read_to_string(tmp.join("out/report.md")).unwrap().contains("[earthquake](earthquake/report.md)"));
 }
