@@ -9,7 +9,7 @@
 use crate::adapt::{AdaptError, AdaptSettings, Model};
 use crate::contact::nitsche::{Gap, NitscheParameters};
 use crate::contact::uplift::{Drains, Uplift};
-use crate::contact::{ContactJoint, Continuation, JointLaw};
+use crate::contact::{ContactJoint, Continuation, JointLaw, JointLine};
 use crate::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};
 use crate::io::gmsh::MeshOptions;
 use crate::mesh::{distance, Mesh, Topology};
@@ -20,7 +20,6 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 mod checks;
-mod combinations;
 
 /// A scene that cannot be read or does not fit its mesh.
 #[derive(Debug, thiserror::Error)]
@@ -35,11 +34,6 @@ pub enum SceneError {
     Material { path: PathBuf, name: String, message: String },
     #[error("{path}: {message}")]
     Invalid { path: PathBuf, message: String },
-}
-
-/// A TOML error of the scene file `path`, on one line per line of its message.
-fn syntax(path: &Path, e: toml::de::Error) -> SceneError {
-    SceneError::Syntax { path: path.into(), message: e.to_string().trim_end().to_string() }
 }
 
 /// Options handed to the mesher.
@@ -164,6 +158,18 @@ pub struct LoadSection {
 impl Default for LoadSection {
     fn default() -> Self {
         LoadSection { gravity: 9.81, acceleration: [0.0; 2] }
+    }
+}
+
+impl LoadSection {
+    /// The body force of the weight and the pseudo-static acceleration.
+    fn body_force(&self) -> BodyForce {
+        let (g, [a_x, a_y]) = (self.gravity, self.acceleration);
+        if g == 0.0 {
+            BodyForce::None
+        } else {
+            BodyForce::Acceleration([g * a_x, g * (a_y - 1.0)])
+        }
     }
 }
 
@@ -301,14 +307,14 @@ pub struct Scene {
     pub adapt: AdaptSettings,
     #[serde(default)]
     pub output: OutputSection,
-    /// Load combinations by name, each a table of keys of `[boundary.*]`, `[loads]` and
-    /// `[uplift]` that override the scene's (see [`Scene::combination`]).
+    /// Load combinations by name: `[uplift]`, `[boundary.<curve>]` and `[loads]` keys that
+    /// replace the scene's ([`Scene::combination`]).
     #[serde(default)]
     pub combinations: BTreeMap<String, toml::Table>,
     /// The file this scene was read from (the geometry itself for a default scene).
     #[serde(skip)]
     pub source: PathBuf,
-    /// The scene file's own keys, without its combinations: what a combination overrides.
+    /// The scene's TOML table, without its combinations.
     #[serde(skip)]
     table: toml::Table,
 }
@@ -321,34 +327,57 @@ impl Scene {
     /// load combination is checked too.
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
         let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read { path: path.into(), source })?;
-        let table: toml::Table = toml::from_str(&text).map_err(|e| syntax(path, e))?;
+        let syntax = |e: toml::de::Error| SceneError::Syntax {
+            path: path.into(),
+            message: e.to_string().trim_end().to_string(),
+        };
+        let mut table: toml::Table = toml::from_str(&text).map_err(syntax)?;
         checks::check_values(path, &toml::Value::Table(table.clone()))?;
-        // read from the text, so that a syntax error gives its line
-        let scene: Scene = toml::from_str(&text).map_err(|e| syntax(path, e))?;
-        let scene = scene.placed(path, table)?;
+        let mut scene: Scene = toml::from_str(&text).map_err(syntax)?;
+        scene.geometry = path.parent().unwrap_or(Path::new("")).join(&scene.geometry);
+        scene.source = path.into();
+        table.remove("combinations");
+        scene.table = table;
+        scene.validate()?;
         for name in scene.combinations.keys() {
             scene.combination(name)?;
         }
         Ok(scene)
     }
 
-    /// The scene of the TOML `table` read from `path`.
-    fn from_table(path: &Path, table: toml::Table) -> Result<Scene, SceneError> {
-        let value = toml::Value::Table(table.clone());
-        checks::check_values(path, &value)?;
-        let scene: Scene = value.try_into().map_err(|e| syntax(path, e))?;
-        scene.placed(path, table)
-    }
+    /// The sections a load combination may change.
+    const COMBINED: [&'static str; 3] = ["uplift", "boundary", "loads"];
 
-    /// This scene as read from `path` with its keys `table`: the geometry relative to the
-    /// working directory, then checked.
-    fn placed(mut self, path: &Path, mut table: toml::Table) -> Result<Scene, SceneError> {
-        self.geometry = path.parent().unwrap_or(Path::new("")).join(&self.geometry);
-        self.source = path.into();
-        table.remove("combinations");
-        self.table = table;
-        self.validate()?;
-        Ok(self)
+    /// The scene of the load combination `name`: its `[uplift]`, `[boundary.<curve>]` and
+    /// `[loads]` keys replace the scene's one by one (a table merges into the scene's table),
+    /// every other section is this scene's (with the command-line overrides), and the result
+    /// is checked as a scene file is. Errors name `combinations.<name>`.
+    pub fn combination(&self, name: &str) -> Result<Scene, SceneError> {
+        let context = |message: String| self.invalid(format!("combinations.{name}: {message}"));
+        let overlay = self.combinations.get(name).ok_or_else(|| {
+            let names: Vec<&str> = self.combinations.keys().map(String::as_str).collect();
+            context(format!("no such combination; the scene has: {}", if names.is_empty() { "none".into() } else { names.join(", ") }))
+        })?;
+        if let Some(key) = overlay.keys().find(|k| !Self::COMBINED.contains(&k.as_str())) {
+            return Err(context(format!(
+                "'{key}' cannot be combined: a combination changes [uplift], [boundary.<curve>] and [loads] keys"
+            )));
+        }
+        let mut table = self.table.clone();
+        merge(&mut table, overlay);
+        let merged: Scene =
+            toml::Value::Table(table).try_into().map_err(|e: toml::de::Error| context(e.to_string()))?;
+        let scene = Scene {
+            uplift: merged.uplift,
+            boundary: merged.boundary,
+            loads: merged.loads,
+            combinations: BTreeMap::new(),
+            ..self.clone()
+        };
+        match scene.validate() {
+            Err(SceneError::Invalid { message, .. }) => Err(context(message)),
+            other => other.map(|_| scene),
+        }
     }
 
     /// The default scene of a bare geometry file: roles from the curve names, default materials.
@@ -416,6 +445,13 @@ impl Scene {
             return Err(self.invalid(format!("contact.direction = {nu:?} must be a non-zero vector")));
         }
         c.check_law().map_err(|message| self.invalid(message))?;
+        let a = self.loads.acceleration;
+        if a != [0.0; 2] && self.loads.gravity <= 0.0 {
+            return Err(self.invalid(format!(
+                "loads.acceleration = {a:?} is in g, so it needs loads.gravity > 0 (now {})",
+                self.loads.gravity
+            )));
+        }
         if let Some(up) = &self.uplift {
             self.check_uplift(up)?;
         }
@@ -548,13 +584,6 @@ impl Scene {
             ("contact.delta_start", c.delta_start.is_some()),
             ("contact.projection = \"semismooth\"", c.projection == ProjectionKind::Semismooth),
         ];
-        if self.uplift.as_ref().is_some_and(|up| up.crack == CrackKind::Full) {
-            return Err(self.invalid(
-                "[uplift] crack = \"full\" couples the crack and its pressure, which `damfem solve` iterates but \
-                 `damfem adapt` does not yet: use `damfem solve`, or crack = \"ignore\""
-                    .into(),
-            ));
-        }
         match set.iter().find(|(_, given)| *given) {
             Some((key, _)) => Err(self.invalid(format!(
                 "{key} is read by `damfem solve` only; `damfem adapt` chooses the regularisation from \
@@ -611,8 +640,7 @@ impl Scene {
             "give a physical curve role = \"dirichlet\""
         };
         let materials = self.cell_materials(&mesh)?;
-        let [a_x, a_y] = self.loads.acceleration;
-        let body_force = if g == 0.0 { BodyForce::None } else { BodyForce::Acceleration([a_x * g, (a_y - 1.0) * g]) };
+        let body_force = self.loads.body_force();
         let problem = Problem { mesh, materials, dirichlet, neumann, body_force };
         let mut joint = self.joint(&problem.mesh)?;
         let friction = joint.as_ref().is_some_and(|j| j.law.has_friction());
@@ -661,21 +689,30 @@ impl Model for Scene {
     fn newton(&self) -> NewtonOptions {
         self.newton_options()
     }
+
+    fn joint_line(&self, problem: &Problem) -> Option<JointLine> {
+        Scene::joint_line(self, problem)
+    }
 }
 
 impl Scene {
-    /// The uplift diagram of `[uplift]` on the straight joint of `facets`.
-    fn uplift_diagram(
-        &self,
-        problem: &Problem,
-        facets: &[(usize, [f64; 2])],
-        up: &UpliftSection,
-    ) -> Result<Uplift, SceneError> {
+    /// The straight joint of the contact curves on `problem`'s mesh from its heel to its toe
+    /// (docs/method.md §1.9); None without contact curves, on a joint that is not straight,
+    /// or when nothing shows its upstream end (no `[uplift] heel`, no hydrostatic curve).
+    pub fn joint_line(&self, problem: &Problem) -> Option<JointLine> {
+        let tags = self.contact_tags(&problem.mesh).ok()?;
+        let facets = contact_facets(&problem.mesh, &Topology::new(&problem.mesh), &tags);
+        self.straight_joint(problem, &facets).ok()
+    }
+
+    /// The joint of `facets` from its heel to its toe: the heel is `[uplift] heel`'s end, or
+    /// the end nearest a curve with a hydrostatic load. Err: why there is none.
+    fn straight_joint(&self, problem: &Problem, facets: &[(usize, [f64; 2])]) -> Result<JointLine, String> {
         let mesh = &problem.mesh;
-        if facets.iter().any(|(_, n)| (n[0] - facets[0].1[0]).hypot(n[1] - facets[0].1[1]) > 1e-9) {
-            return Err(self.invalid("[uplift] needs a straight joint: the contact curves are not on one line".into()));
+        let Some(&(_, nu)) = facets.first() else { return Err("there is no contact curve".into()) };
+        if facets.iter().any(|(_, n)| (n[0] - nu[0]).hypot(n[1] - nu[1]) > 1e-9) {
+            return Err("the contact curves are not on one line".into());
         }
-        let nu = facets[0].1;
         let along = [-nu[1], nu[0]];
         let ends: Vec<[f64; 2]> =
             facets.iter().flat_map(|&(f, _)| mesh.facet(f)[..2].iter().map(|&n| mesh.points[n])).collect();
@@ -690,18 +727,32 @@ impl Scene {
             .map(|n| mesh.points[n])
             .collect();
         let near = |end: [f64; 2], to: &[[f64; 2]]| to.iter().map(|&x| distance(x, end)).fold(f64::INFINITY, f64::min);
-        let heel_first = match up.heel {
+        let heel_first = match self.uplift.as_ref().and_then(|up| up.heel) {
             Some(h) => distance(first, h) <= distance(last, h),
             None if water.is_empty() => {
-                return Err(self.invalid(
-                    "uplift.heel is needed: no curve has a hydrostatic load to show the upstream end of the joint"
-                        .into(),
-                ))
+                return Err("no curve has a hydrostatic load to show the upstream end of the joint".into())
             }
             None => near(first, &water) <= near(last, &water),
         };
-        let (heel, toe) = if heel_first { (first, last) } else { (last, first) };
-        let length = distance(heel, toe);
+        Ok(if heel_first { JointLine::new(first, last) } else { JointLine::new(last, first) })
+    }
+
+    /// The uplift diagram of `[uplift]` on the straight joint of `facets`.
+    fn uplift_diagram(
+        &self,
+        problem: &Problem,
+        facets: &[(usize, [f64; 2])],
+        up: &UpliftSection,
+    ) -> Result<Uplift, SceneError> {
+        let line = self.straight_joint(problem, facets).map_err(|why| {
+            let key = if why.contains("hydrostatic") {
+                "uplift.heel is needed: "
+            } else {
+                "[uplift] needs a straight joint: "
+            };
+            self.invalid(format!("{key}{why}"))
+        })?;
+        let (heel, toe, length) = (line.heel, line.point(line.length), line.length);
         let g = self.loads.gravity;
         let head = |level: f64, y: f64| up.density * g * (level - y).max(0.0);
         let drains = up.drains.map(|d| Drains { distance: d.x, efficiency: d.efficiency });
@@ -712,9 +763,7 @@ impl Scene {
             )));
         }
         Ok(Uplift {
-            heel,
-            along: [(toe[0] - heel[0]) / length, (toe[1] - heel[1]) / length],
-            length,
+            line,
             upstream: head(up.headwater, heel[1]),
             downstream: up.tailwater.map_or(0.0, |t| head(t, toe[1])),
             drains,
@@ -786,6 +835,18 @@ fn facing_away(mesh: &Mesh, facets: &[(usize, [f64; 2])], direction: Option<[f64
 /// The facets of the contact curves (tags) with their outward normals.
 fn contact_facets(mesh: &Mesh, topology: &Topology, tags: &[i32]) -> Vec<(usize, [f64; 2])> {
     mesh.facets_tagged(tags).map(|f| (f, topology.outward_normal(mesh, f))).collect()
+}
+
+/// Merges `overlay` into `table`: a table into a table key by key, any other value replacing.
+fn merge(table: &mut toml::Table, overlay: &toml::Table) {
+    for (key, value) in overlay {
+        match (table.get_mut(key), value) {
+            (Some(toml::Value::Table(inner)), toml::Value::Table(over)) => merge(inner, over),
+            _ => {
+                table.insert(key.clone(), value.clone());
+            }
+        }
+    }
 }
 
 /// Role given by the naming convention of bare geometry files.

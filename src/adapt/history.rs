@@ -7,17 +7,29 @@ use std::path::{Path, PathBuf};
 
 /// Columns of [`to_csv`].
 const HEADER: &str = "step,cells,unknowns,eta_osc,eta_flux,eta_Neu,eta_disc,eta_reg,eta_lin,eta_tot,stress_norm,\
-delta,n_reg,n_lin,n_est,equilibration,i_eff,t_mesh,t_transfer,t_assemble,t_solve,t_estimate,t_remesh,elapsed";
+delta,n_reg,n_lin,n_est,equilibration,i_eff,crack_length,normal_force,tangential_force,resultant_position,eccentricity,\
+t_mesh,t_transfer,t_assemble,t_solve,t_estimate,t_remesh,elapsed";
 
-/// One line per step; δ is empty without contact, I_eff when it was not computed.
+/// One line per step; δ is empty without contact, I_eff when it was not computed, the joint's
+/// numbers without a straight joint with a heel (docs/method.md §1.9).
 pub fn to_csv(history: &[StepRecord]) -> String {
     let mut csv = format!("{HEADER}\n");
     for r in history {
         let (e, t) = (&r.eta, &r.seconds);
-        let delta = r.delta.map_or(String::new(), |d| format!("{d:e}"));
+        let number = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:e}"));
+        let delta = number(r.delta);
         let i_eff = r.i_eff.map_or(String::new(), |i| format!("{i:.4}"));
+        let joint = [
+            r.crack_length,
+            r.resultant.map(|f| f.normal_force),
+            r.resultant.map(|f| f.tangential_force),
+            r.resultant.map(|f| f.position),
+            r.resultant.map(|f| f.eccentricity),
+        ]
+        .map(number)
+        .join(",");
         csv += &format!(
-            "{},{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{delta},{},{},{},{:.1e},{i_eff},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6}\n",
+            "{},{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{delta},{},{},{},{:.1e},{i_eff},{joint},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6}\n",
             r.step,
             r.cells,
             r.unknowns,

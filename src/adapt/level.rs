@@ -3,7 +3,7 @@
 
 use super::{AdaptError, AdaptSettings};
 use crate::contact::projection::Smoothing;
-use crate::contact::{ContactJoint, ContactProblem, Linearisation, Solution, Stage};
+use crate::contact::{settle_crack, ContactJoint, ContactProblem, Crack, Linearisation, Solution, Stage};
 use crate::elasticity::{Discretisation, Problem};
 use crate::estimate::estimators::GlobalEstimators;
 use crate::estimate::{estimate_iterate, Estimate};
@@ -140,7 +140,8 @@ fn first_iterate(
 }
 
 /// With contact on `joint`: Newton from `x0` at δ, stopped by (S_lin), and δ ← δ/ρ_δ until
-/// (S_reg). On the first mesh δ₀ comes from the first Newton iterate, which counts in N_lin.
+/// (S_reg); with the reservoir's pressure in the crack at the heel, solved again at that δ
+/// until the crack settles. On the first mesh δ₀ comes from the first Newton iterate, which counts in N_lin.
 /// An estimate follows every full Newton step that at least halved the residual, unless the
 /// [`Trend`] of the last estimate (on this mesh or the previous one) predicts that (S_lin)
 /// fails: a damped step does not solve the linearised problem, so its η_lin would not be a
@@ -170,6 +171,7 @@ pub fn contact_level(
         }
     };
     let (mut solve_seconds, mut estimates, mut n_reg) = (clock.elapsed().as_secs_f64(), EstimateCount::default(), 0);
+    let mut crack_solves = 0;
     loop {
         contact.set_delta(delta);
         let smoothing = contact.smoothing;
@@ -206,9 +208,22 @@ pub fn contact_level(
         x = report.x.clone();
         stages.push(Stage { delta, report });
         if regularisation_small(&global, settings.gamma_reg) {
+            // with the crack filled by the reservoir: its fixed point at this δ; if it moved,
+            // the level goes on from the new solution, so that the last iterate is estimated
+            let mut crack = None;
+            if contact.nitsche.uplift.as_ref().is_some_and(|up| up.crack_filled) {
+                let (settled, more, found) = settle_crack(&mut contact, x, newton)?;
+                crack_solves += found.iterations - 1;
+                x = settled;
+                if !more.is_empty() {
+                    stages.extend(more);
+                    continue;
+                }
+                crack = Some(Crack { iterations: crack_solves + 1, ..found });
+            }
             let n_lin = stages.iter().map(|s| s.report.iterations.len()).sum();
             return Ok(Level {
-                solution: Solution::Contact(Box::new(contact.solution(x, stages, None))),
+                solution: Solution::Contact(Box::new(contact.solution(x, stages, crack))),
                 estimate,
                 n_reg,
                 n_lin,

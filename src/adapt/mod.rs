@@ -22,7 +22,7 @@ pub mod history;
 pub mod level;
 pub mod marking;
 
-use crate::contact::{ContactJoint, ContactSolution};
+use crate::contact::{ContactError, ContactJoint, ContactSolution, JointLine, Resultant};
 use crate::elasticity::{Discretisation, Problem};
 use crate::estimate::estimators::{stress_norm, GlobalEstimators};
 use crate::estimate::Estimate;
@@ -154,6 +154,8 @@ pub enum AdaptError {
          raise adapt.max_delta_reductions or adapt.gamma_reg"
     )]
     Regularisation { delta: f64, reductions: usize, eta_reg: f64 },
+    #[error(transparent)]
+    Contact(#[from] ContactError),
     #[error("writing step {step}: {source}")]
     Output { step: usize, source: Box<dyn std::error::Error + Send + Sync> },
 }
@@ -176,6 +178,11 @@ pub trait Model {
     fn problem(&self, mesh: Mesh) -> Result<(Problem, Option<ContactJoint>), AdaptError>;
     /// Newton options of the contact solve.
     fn newton(&self) -> NewtonOptions;
+    /// The straight joint from its heel, if the problem has one (for the crack length and the
+    /// resultant of every step).
+    fn joint_line(&self, _problem: &Problem) -> Option<JointLine> {
+        None
+    }
 }
 
 /// Wall time of each phase of a step \[s\]. `mesh` is gmsh's (the initial mesh at step 0, a
@@ -217,6 +224,10 @@ pub struct StepRecord {
     pub equilibration: f64,
     /// η_tot / a sharp lower bound of ‖R(u_h)‖, if the caller computed one.
     pub i_eff: Option<f64>,
+    /// On a straight joint with a heel: the length open at the heel \[m\] and the resultant
+    /// of the joint traction (docs/method.md §1.9).
+    pub crack_length: Option<f64>,
+    pub resultant: Option<Resultant>,
     /// Set on the last step if the run stopped because of the smallest size.
     pub stall: Option<Stall>,
     pub seconds: PhaseTimes,
@@ -285,12 +296,17 @@ pub fn run(
     let mut history = Vec::new();
     let mut previous: Option<(Mesh, Vec<[f64; 2]>, Vec<f64>)> = None;
     let mut kept = None;
+    let mut crack = None;
     for step in 0..settings.steps {
         let mut seconds = PhaseTimes::default();
         let clock = Instant::now();
         let mesh = mesher.mesh(step, previous.as_ref().map(|(m, _, sizes)| (m, &sizes[..])))?;
         seconds.mesh = clock.elapsed().as_secs_f64();
-        let (problem, joint) = model.problem(mesh)?;
+        let (problem, mut joint) = model.problem(mesh)?;
+        // the crack filled by the reservoir starts where the previous mesh left it
+        if let (Some(up), Some(crack)) = (joint.as_mut().and_then(|j| j.uplift.as_mut()), crack) {
+            up.crack = crack;
+        }
         let clock = Instant::now();
         let disc = problem.discretise();
         seconds.assemble = clock.elapsed().as_secs_f64();
@@ -312,6 +328,8 @@ pub fn run(
         };
         let contact = level.solution.contact();
         kept = contact.map(|c| (c.smoothing.delta, level.trend));
+        crack = contact.and_then(|c| c.crack).map(|c| c.length);
+        let line = model.joint_line(&problem);
         seconds.solve = level.solve_seconds;
         seconds.estimate = level.estimate_seconds;
         let eta = level.estimate.estimators.global();
@@ -340,6 +358,8 @@ pub fn run(
             n_est: level.n_est,
             equilibration: level.estimate.equilibration.worst(problem.mesh.order),
             i_eff: None,
+            crack_length: contact.zip(line).map(|(c, line)| c.crack_from_heel(&line)),
+            resultant: contact.zip(line).and_then(|(c, line)| c.resultant(&line)),
             stall,
             seconds,
             elapsed: start.elapsed().as_secs_f64(),

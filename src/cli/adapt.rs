@@ -3,12 +3,12 @@
 
 use super::common::{output_dir, stem, validate_overrides, Input, Output};
 use super::interrupt;
-use super::output::{write_results, Results, Units, UNITS};
+use super::output::{write_results, Results, Summary, Units, UNITS};
 use crate::adapt::geo::GeoMesher;
 use crate::adapt::history::{to_csv, write_adaptive_uniform, write_plots};
 use crate::adapt::marking::Marking;
-use crate::adapt::{self, AdaptError, AdaptSettings, Model, Refinement, Step, StepRecord};
-use crate::contact::ContactJoint;
+use crate::adapt::{self, AdaptError, AdaptSettings, Model, PhaseTimes, Refinement, Step, StepRecord};
+use crate::contact::{ContactJoint, JointLine};
 use crate::elasticity::stress::cell_mean_stress;
 use crate::elasticity::Problem;
 use crate::io::atomic::write_output;
@@ -79,6 +79,13 @@ struct History<'a> {
     error: Option<String>,
 }
 
+/// What `summary.json` records of `adapt` beside the last step's solution.
+#[derive(Serialize)]
+struct AdaptSummary {
+    step: usize,
+    seconds: PhaseTimes,
+}
+
 /// The scene as the adaptive loop's model, with the Newton trace of `-v`.
 struct Traced<'a> {
     scene: &'a Scene,
@@ -93,6 +100,10 @@ impl Model for Traced<'_> {
     fn newton(&self) -> NewtonOptions {
         NewtonOptions { trace: self.trace, ..self.scene.newton_options() }
     }
+
+    fn joint_line(&self, problem: &Problem) -> Option<JointLine> {
+        self.scene.joint_line(problem)
+    }
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -106,26 +117,31 @@ pub fn run(args: Args) -> Result<()> {
     );
     let dir = args.output.dir(&scene)?;
     let name = stem(&scene.source);
-    let history = run_sequence(&scene, &args.input, &dir, &name, "", args.effectivity)?;
+    let (history, headline) = run_sequence(&scene, &args.input, &dir, &name, "", &mut |_| Ok(()), args.effectivity)?;
     progress.say(&format!("results in {} ({name}.pvd, history.csv, {name}_eta.png)", dir.display()));
     progress.result(&table(&history));
+    for line in headline {
+        progress.result(&format!("last step: {line}"));
+    }
     if scene.adapt.compare_uniform {
         compare_uniform(&scene, &args.input, &dir, &name, &history)?;
     }
     Ok(())
 }
 
-/// The refinement sequence of `scene` into `dir`: every step written as it comes, then the
-/// lists and figures; progress lines start with `prefix`. An error names the step and where
-/// the steps before it are. With `effectivity`, every step records its I_eff.
-fn run_sequence(
+/// The refinement sequence of `scene` into `dir`: every step written as it comes (and handed
+/// to `also`), then the lists and figures; progress lines start with `prefix`. An error names
+/// the step and where the steps before it are. With `effectivity`, every step records its
+/// I_eff. Returns the history and the closing lines of the last step's summary.
+pub fn run_sequence(
     scene: &Scene,
     input: &Input,
     dir: &Path,
     name: &str,
     prefix: &str,
+    also: &mut dyn FnMut(&Step) -> Result<()>,
     effectivity: bool,
-) -> Result<Vec<StepRecord>> {
+) -> Result<(Vec<StepRecord>, Vec<String>)> {
     let progress = input.progress();
     let removed = remove_earlier_steps(dir, name)?;
     interrupt::record_in(&dir.join("history.json"));
@@ -139,10 +155,13 @@ fn run_sequence(
         verbose: input.verbose,
         allow_system_calls: input.allow_system_calls,
     };
-    let mut writer = StepWriter { dir, name, scene, effectivity, history: Vec::new(), vtu: Vec::new() };
+    let mut writer =
+        StepWriter { dir, name, scene, effectivity, history: Vec::new(), vtu: Vec::new(), headline: Vec::new() };
     let model = Traced { scene, trace: input.newton_trace() };
     let result = adapt::run(&scene.adapt, &mut mesher, &model, |step| {
-        writer.write(step).map_err(|source| AdaptError::Output { step: step.record.step, source: source.into() })?;
+        let output = |source: anyhow::Error| AdaptError::Output { step: step.record.step, source: source.into() };
+        writer.write(step).map_err(output)?;
+        also(step).map_err(output)?;
         progress.say(&format!("{prefix}{}", step_line(writer.history.last().expect("just written"))));
         Ok(())
     });
@@ -165,7 +184,7 @@ fn run_sequence(
             hint.map_or(String::new(), |h| format!("\n{h}"))
         );
     }
-    Ok(writer.history)
+    Ok((writer.history, writer.headline))
 }
 
 /// Uniform refinement of `scene` from the same first mesh into `<dir>/uniform`, up to the
@@ -175,7 +194,7 @@ fn compare_uniform(scene: &Scene, input: &Input, dir: &Path, name: &str, adaptiv
     let mut uniform = scene.clone();
     uniform.adapt = uniform_settings(&scene.adapt, adaptive.last().map_or(0, |r| r.unknowns));
     let sub = output_dir(dir.join("uniform"))?;
-    let history = run_sequence(&uniform, input, &sub, name, "uniform ", false)?;
+    let (history, _) = run_sequence(&uniform, input, &sub, name, "uniform ", &mut |_| Ok(()), false)?;
     input.progress().result(&format!("uniform refinement from the same first mesh:\n{}", table(&history)));
     let files = write_adaptive_uniform(dir, name, adaptive, &history).context("writing the comparison figure")?;
     let figures: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
@@ -248,6 +267,8 @@ struct StepWriter<'a> {
     history: Vec<StepRecord>,
     /// The VTU files of every step.
     vtu: Vec<Vec<PathBuf>>,
+    /// The closing lines of the last step's summary.
+    headline: Vec<String>,
 }
 
 impl StepWriter<'_> {
@@ -259,10 +280,16 @@ impl StepWriter<'_> {
         let results = Results { problem, u: &u, sigma: &sigma, contact: step.contact, estimate: Some(step.estimate) };
         let name = format!("{}_{:02}", self.name, step.record.step);
         let files = write_results(self.dir, &name, self.scene, &results)?;
+        let line = self.scene.joint_line(problem);
+        let command = AdaptSummary { step: step.record.step, seconds: step.record.seconds };
+        let summary = Summary::new(self.scene, step.disc, &results, line, files.clone(), command);
         self.vtu.push(files);
         let i_eff = self.effectivity.then(|| self.i_eff(step, &u)).transpose()?;
         self.history.push(StepRecord { i_eff, ..step.record.clone() });
-        self.write_lists(None)
+        self.write_lists(None)?;
+        write_output(&self.dir.join("summary.json"), serde_json::to_string_pretty(&summary)?.as_bytes())?;
+        self.headline = summary.headline();
+        Ok(())
     }
 
     /// η_tot of `step` against the sharp reference of its residual.
@@ -336,9 +363,11 @@ fn pvd_name(name: &str, file: &Path) -> String {
 /// The progress line of a step.
 fn step_line(r: &StepRecord) -> String {
     let delta = r.delta.map_or(String::new(), |d| format!("  delta {d:.2e}"));
+    let crack = r.crack_length.map_or(String::new(), |c| format!("  crack {c:.3} m"));
+    let resultant = r.resultant.map_or(String::new(), |f| format!("  resultant {:.3} m", f.position));
     let i_eff = r.i_eff.map_or(String::new(), |i| format!("  I_eff {i:.3}"));
     format!(
-        "step {:>2}  {:>8} unknowns  eta {:.3e} ({:.2e} of |sigma_h|)  N_reg {:>2}  N_lin {:>2}{delta}{i_eff}  {:.2} s",
+        "step {:>2}  {:>8} unknowns  eta {:.3e} ({:.2e} of |sigma_h|)  N_reg {:>2}  N_lin {:>2}{delta}{crack}{resultant}{i_eff}  {:.2} s",
         r.step,
         r.unknowns,
         r.eta.tot,
@@ -349,14 +378,26 @@ fn step_line(r: &StepRecord) -> String {
     )
 }
 
-/// The closing table: one row per step, with I_eff if it was computed.
+/// The closing table: one row per step, with the crack at the heel and the resultant's
+/// distance from the heel on a straight joint with a heel, and I_eff if it was computed.
 fn table(history: &[StepRecord]) -> String {
     let with_i_eff = history.iter().any(|r| r.i_eff.is_some());
     let i_eff_head = if with_i_eff { format!(" {:>6}", "I_eff") } else { String::new() };
     let mut lines = vec![format!(
-        "{:>4} {:>9} {:>11} {:>11} {:>11} {:>11} {:>5} {:>5} {:>9}{i_eff_head}",
-        "step", "unknowns", "eta_tot", "eta_flux", "eta_reg", "eta_lin", "N_reg", "N_lin", "time [s]"
+        "{:>4} {:>9} {:>11} {:>11} {:>11} {:>11} {:>5} {:>5} {:>9} {:>9} {:>9}{i_eff_head}",
+        "step",
+        "unknowns",
+        "eta_tot",
+        "eta_flux",
+        "eta_reg",
+        "eta_lin",
+        "N_reg",
+        "N_lin",
+        "crack [m]",
+        "s_R [m]",
+        "time [s]"
     )];
+    let metres = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.4}"));
     for r in history {
         let i_eff = match (with_i_eff, r.i_eff) {
             (false, _) => String::new(),
@@ -364,7 +405,7 @@ fn table(history: &[StepRecord]) -> String {
             (true, None) => format!(" {:>6}", "-"),
         };
         lines.push(format!(
-            "{:>4} {:>9} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e} {:>5} {:>5} {:>9.2}{i_eff}",
+            "{:>4} {:>9} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e} {:>5} {:>5} {:>9} {:>9} {:>9.2}{i_eff}",
             r.step,
             r.unknowns,
             r.eta.tot,
@@ -373,6 +414,8 @@ fn table(history: &[StepRecord]) -> String {
             r.eta.lin,
             r.n_reg,
             r.n_lin,
+            metres(r.crack_length),
+            metres(r.resultant.map(|f| f.position)),
             r.seconds.total()
         ));
     }

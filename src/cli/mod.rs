@@ -1,4 +1,5 @@
-//! Command-line interface: `damfem mesh`, `damfem check`, `damfem solve`, `damfem adapt`.
+//! Command-line interface: `damfem mesh`, `damfem check`, `damfem solve`, `damfem adapt`,
+//! `damfem safety`.
 //!
 //! Library errors become one plain sentence on stderr and exit code 1; progress goes to
 //! stderr (one line per stage with its time), results to stdout and the output directory.
@@ -9,6 +10,7 @@ mod common;
 pub mod interrupt;
 mod mesh;
 mod output;
+mod safety;
 mod solve;
 
 use clap::{Parser, Subcommand};
@@ -31,6 +33,9 @@ enum Command {
     Solve(solve::Args),
     /// Solve, estimate the error and refine the mesh until the estimate is small enough
     Adapt(adapt::Args),
+    /// Dam safety: refine adaptively, then report the joint's forces, crack, resultant, base
+    /// stresses and sliding safety factors
+    Safety(safety::Args),
 }
 
 /// Runs the command line `args` and returns the process exit code.
@@ -51,6 +56,7 @@ where
         Command::Check(a) => check::run(a),
         Command::Solve(a) => solve::run(a),
         Command::Adapt(a) => adapt::run(a),
+        Command::Safety(a) => safety::run(a),
     };
     match result {
         Ok(()) => 0,

@@ -1,8 +1,8 @@
 //! ParaView files and summaries of one solution, shared by `solve` and `adapt`.
 
-use crate::contact::{ContactSolution, FaceState};
+use crate::contact::{ContactSolution, Crack, FaceState, JointLaw, JointLine, Resultant};
 use crate::elasticity::kernels::{principal, von_mises};
-use crate::elasticity::Problem;
+use crate::elasticity::{Discretisation, Problem};
 use crate::estimate::estimators::{GlobalEstimators, NAMES};
 use crate::estimate::Estimate;
 use crate::io::vtu::{write_boundary_vtu, write_mesh_vtu, Field};
@@ -172,4 +172,186 @@ fn contact_fields(n_facets: usize, contact: &ContactSolution) -> Vec<Field> {
             Field::scalar(name, field)
         })
         .collect()
+}
+
+/// What `summary.json` records of a solution (`solve`, and the last step of `adapt`), with
+/// the command's own part `command` (flattened into it).
+#[derive(Serialize)]
+pub struct Summary<T> {
+    units: Units,
+    scene: PathBuf,
+    order: usize,
+    nodes: usize,
+    cells: usize,
+    unknowns: usize,
+    free_unknowns: usize,
+    matrix_nonzeros: usize,
+    max_displacement: f64,
+    max_von_mises: f64,
+    /// The centroid of the cell of `max_von_mises`, and what that value is worth.
+    max_von_mises_at: [f64; 2],
+    max_von_mises_note: &'static str,
+    min_principal_stress: f64,
+    max_principal_stress: f64,
+    pub contact: Option<ContactSummary>,
+    pub estimate: Option<EstimateSummary>,
+    #[serde(flatten)]
+    command: T,
+    files: Vec<PathBuf>,
+    /// The physical names of the tags in the VTU files.
+    tags: TagNames,
+}
+
+/// Contact part of the summary.
+#[derive(Serialize)]
+pub struct ContactSummary {
+    faces: usize,
+    gamma0: f64,
+    theta: f64,
+    /// δ of the last Newton step.
+    delta: f64,
+    stress_scale: f64,
+    /// Length of the zone where P_γ(u_h) < 0, and its bounding box [[x, y], [x, y]].
+    pub contact_length: f64,
+    contact_extent: Option<[[f64; 2]; 2]>,
+    newton_steps: usize,
+    /// Newton steps at each δ of the continuation path.
+    stages: Vec<(f64, usize)>,
+    max_pressure: f64,
+    max_regularisation_error: f64,
+    /// The joint law and its parameters.
+    joint: JointLaw,
+    /// With friction, the lengths of the closed part that sticks and that slips \[m\].
+    stick_length: f64,
+    slip_length: f64,
+    /// ∫_{Γ_C} p_c ds and ∫_{Γ_C} t^t ds along τ = (−ν_y, ν_x) \[N/m\].
+    pub normal_force: f64,
+    pub tangential_force: f64,
+    /// With friction, FS_LE = ∫ (c 1_closed + F p_c) / |∫ t^t| (docs/method.md §1.7).
+    sliding_safety_factor: Option<f64>,
+    /// With uplift: U = ∫_{Γ_C} p_u ds \[N/m\], and the crack at the heel that it fills.
+    pub uplift_force: Option<f64>,
+    crack: Option<Crack>,
+    /// On a straight joint whose heel is known (docs/method.md §1.9): the joint from its heel,
+    /// the length open at the heel \[m\], and the resultant of the joint traction.
+    joint_line: Option<JointLine>,
+    pub crack_length: Option<f64>,
+    pub resultant: Option<Resultant>,
+}
+
+/// What `summary.json` says of `max_von_mises`.
+const SINGULAR_MAXIMUM: &str = "mesh-dependent where it sits at a singular point (a re-entrant corner, the end of a \
+     contact zone or of a support): a cell mean that grows with every refinement there";
+
+impl<T> Summary<T> {
+    /// The summary of `results` on the joint `line` (if known), with the files written and
+    /// the command's part.
+    pub fn new(
+        scene: &Scene,
+        disc: &Discretisation,
+        results: &Results,
+        line: Option<JointLine>,
+        files: Vec<PathBuf>,
+        command: T,
+    ) -> Self {
+        let Results { problem, u, sigma, contact, estimate } = *results;
+        let principal_stresses: Vec<[f64; 2]> = sigma.iter().map(|&s| principal(s)).collect();
+        let peak = (0..sigma.len()).max_by(|&a, &b| von_mises(sigma[a]).total_cmp(&von_mises(sigma[b]))).unwrap_or(0);
+        Summary {
+            units: UNITS,
+            scene: scene.source.clone(),
+            order: problem.mesh.order,
+            nodes: problem.mesh.n_points(),
+            cells: problem.mesh.n_cells(),
+            unknowns: problem.n_dofs(),
+            free_unknowns: disc.dofs.n_free,
+            matrix_nonzeros: disc.pattern.nnz(),
+            max_displacement: u.iter().map(|v| v[0].hypot(v[1])).fold(0.0, f64::max),
+            max_von_mises: von_mises(sigma[peak]),
+            max_von_mises_at: problem.mesh.cell_centroid(peak),
+            max_von_mises_note: SINGULAR_MAXIMUM,
+            min_principal_stress: principal_stresses.iter().map(|p| p[1]).fold(f64::INFINITY, f64::min),
+            max_principal_stress: principal_stresses.iter().map(|p| p[0]).fold(f64::NEG_INFINITY, f64::max),
+            contact: contact.map(|c| ContactSummary::new(problem, disc, c, line)),
+            estimate: estimate.map(|e| EstimateSummary::new(e, problem.mesh.order)),
+            command,
+            files,
+            tags: TagNames::new(&problem.mesh),
+        }
+    }
+
+    /// The closing lines: the numbers that converge under refinement, the largest
+    /// displacement and, with contact, the contact length, the joint forces, the crack at the
+    /// heel and the resultant. The largest stress sits at a singular point (a re-entrant
+    /// corner, the end of the contact zone) and grows with refinement, so it is left to
+    /// `summary.json`.
+    pub fn headline(&self) -> Vec<String> {
+        let mut lines = vec![format!("max |u| = {:.4e} m", self.max_displacement)];
+        if let Some(c) = &self.contact {
+            lines.push(c.forces_line());
+            lines.extend(c.resultant_line());
+        }
+        lines
+    }
+}
+
+impl ContactSummary {
+    fn new(problem: &Problem, disc: &Discretisation, c: &ContactSolution, line: Option<JointLine>) -> Self {
+        let mesh = &problem.mesh;
+        let in_contact = c.nitsche.faces.iter().zip(&c.faces).filter(|(_, state)| state.contact_length > 0.0);
+        let extent = in_contact.flat_map(|(face, _)| mesh.facet(face.facet)[..2].iter().map(|&n| mesh.points[n])).fold(
+            None,
+            |b: Option<[[f64; 2]; 2]>, p| {
+                let [lo, hi] = b.unwrap_or([p, p]);
+                Some([[lo[0].min(p[0]), lo[1].min(p[1])], [hi[0].max(p[0]), hi[1].max(p[1])]])
+            },
+        );
+        ContactSummary {
+            faces: c.faces.len(),
+            gamma0: c.nitsche.parameters.gamma0,
+            theta: c.nitsche.parameters.theta,
+            delta: c.smoothing.delta,
+            stress_scale: problem.stress_scale(&disc.topology),
+            contact_length: c.contact_length(),
+            contact_extent: extent,
+            newton_steps: c.newton_steps(),
+            stages: c.stages.iter().map(|st| (st.delta, st.report.iterations.len())).collect(),
+            max_pressure: c.faces.iter().map(|f| f.pressure).fold(0.0, f64::max),
+            max_regularisation_error: c.faces.iter().map(|f| f.regularisation_error).fold(0.0, f64::max),
+            joint: c.nitsche.law,
+            stick_length: c.stick_length(),
+            slip_length: c.slip_length(),
+            normal_force: c.normal_force(),
+            tangential_force: c.tangential_force(),
+            sliding_safety_factor: c.sliding_safety_factor(),
+            uplift_force: c.nitsche.uplift.as_ref().map(|_| c.uplift_force()),
+            crack: c.crack,
+            joint_line: line,
+            crack_length: line.map(|l| c.crack_from_heel(&l)),
+            resultant: line.and_then(|l| c.resultant(&l)),
+        }
+    }
+
+    /// "contact length …, N = …, T = …[, U = …]".
+    fn forces_line(&self) -> String {
+        let uplift = self.uplift_force.map_or(String::new(), |u| format!(", U = {u:.4e} N/m"));
+        format!(
+            "contact length {:.4} m, joint forces N = {:.4e} N/m, T = {:.4e} N/m{uplift}",
+            self.contact_length, self.normal_force, self.tangential_force
+        )
+    }
+
+    /// "crack … m from the heel, resultant at … m from the heel (e = … m, …)", on a straight
+    /// joint with a heel.
+    fn resultant_line(&self) -> Option<String> {
+        let crack = self.crack_length?;
+        let resultant = self.resultant.map_or(", nothing presses on the joint".into(), |r| {
+            let third = if r.middle_third { "inside" } else { "outside" };
+            format!(
+                ", resultant at {:.4} m from the heel (e = {:.4} m, {third} the middle third)",
+                r.position, r.eccentricity
+            )
+        });
+        Some(format!("crack {crack:.4} m open from the heel{resultant}"))
+    }
 }

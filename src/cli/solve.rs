@@ -2,12 +2,11 @@
 //! write ParaView files, `summary.json` and `history.json`.
 
 use super::common::{stem, validate_overrides, Input, Output};
-use super::output::{write_results, EstimateSummary, Results, TagNames, Units, UNITS};
+use super::output::{write_results, EstimateSummary, Results, Summary, Units, UNITS};
 use crate::contact::{
-    solve_by_continuation, strength_reduction, ContactError, ContactJoint, ContactSolution, Continuation, Crack,
-    JointLaw, Solution, Stage, StrengthReduction,
+    solve_by_continuation, strength_reduction, ContactError, ContactJoint, Continuation, Solution, Stage,
+    StrengthReduction,
 };
-use crate::elasticity::kernels::{principal, von_mises};
 use crate::elasticity::stress::cell_mean_stress;
 use crate::elasticity::{Discretisation, Problem};
 use crate::estimate::{estimate_iterate, Estimate};
@@ -17,7 +16,7 @@ use crate::solve::NewtonError;
 use crate::verify::dual_norm::{effectivity, Effectivity};
 use anyhow::Result;
 use serde::Serialize;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// The relative width of the FS_SR bracket that `--strength-reduction` stops at.
 const STRENGTH_TOLERANCE: f64 = 2e-3;
@@ -65,33 +64,13 @@ pub struct Args {
     effectivity: bool,
 }
 
-/// What `summary.json` records of a run.
+/// What `summary.json` records of `solve` beside the solution.
 #[derive(Serialize)]
-struct Summary {
-    units: Units,
-    scene: PathBuf,
-    order: usize,
-    nodes: usize,
-    cells: usize,
-    unknowns: usize,
-    free_unknowns: usize,
-    matrix_nonzeros: usize,
-    max_displacement: f64,
-    max_von_mises: f64,
-    /// The centroid of the cell of `max_von_mises`, and what that value is worth.
-    max_von_mises_at: [f64; 2],
-    max_von_mises_note: &'static str,
-    min_principal_stress: f64,
-    max_principal_stress: f64,
-    contact: Option<ContactSummary>,
+struct SolveSummary {
     /// With --strength-reduction: the largest k that held and the smallest that did not.
     strength_reduction: Option<StrengthReduction>,
-    estimate: Option<EstimateSummary>,
     effectivity: Option<Effectivity>,
     seconds: Timings,
-    files: Vec<PathBuf>,
-    /// The physical names of the tags in the VTU files.
-    tags: TagNames,
 }
 
 /// What `history.json` records: the Newton steps at each δ and the estimate of the solution.
@@ -100,37 +79,6 @@ struct History<'a> {
     units: Units,
     newton: Vec<&'a Stage>,
     estimate: Option<&'a EstimateSummary>,
-}
-
-/// Contact part of the summary.
-#[derive(Serialize)]
-struct ContactSummary {
-    faces: usize,
-    gamma0: f64,
-    theta: f64,
-    delta: f64,
-    stress_scale: f64,
-    /// Length of the zone where P_γ(u_h) < 0, and its bounding box [[x, y], [x, y]].
-    contact_length: f64,
-    contact_extent: Option<[[f64; 2]; 2]>,
-    newton_steps: usize,
-    /// Newton steps at each δ of the continuation path.
-    stages: Vec<(f64, usize)>,
-    max_pressure: f64,
-    max_regularisation_error: f64,
-    /// The joint law and its parameters.
-    joint: JointLaw,
-    /// With friction, the lengths of the closed part that sticks and that slips \[m\].
-    stick_length: f64,
-    slip_length: f64,
-    /// ∫_{Γ_C} p_c ds and ∫_{Γ_C} t^t ds along τ = (−ν_y, ν_x) \[N/m\].
-    normal_force: f64,
-    tangential_force: f64,
-    /// With friction, FS_LE = ∫ (c 1_closed + F p_c) / |∫ t^t| (docs/method.md §1.7).
-    sliding_safety_factor: Option<f64>,
-    /// With uplift: U = ∫_{Γ_C} p_u ds \[N/m\], and the crack at the heel that it fills.
-    uplift_force: Option<f64>,
-    crack: Option<Crack>,
 }
 
 #[derive(Serialize, Default)]
@@ -239,10 +187,9 @@ pub fn run(args: Args) -> Result<()> {
         |f| format!("{} files in {}", f.len(), dir.display()),
     )?;
     seconds.output = t;
-    let mut summary = summary(&scene, &disc, &results, &continuation, seconds, files);
-    summary.estimate = estimate.as_ref().map(|e| EstimateSummary::new(e, problem.mesh.order));
-    summary.strength_reduction = strength.map(|(s, _)| s);
-    summary.effectivity = effectivity;
+    let line = scene.joint_line(&problem);
+    let solve = SolveSummary { strength_reduction: strength.map(|(s, _)| s), effectivity, seconds };
+    let summary = Summary::new(&scene, &disc, &results, line, files, solve);
     write_output(&dir.join("summary.json"), serde_json::to_string_pretty(&summary)?.as_bytes())?;
     if solution.contact().is_some() || summary.estimate.is_some() {
         let history = History {
@@ -253,23 +200,10 @@ pub fn run(args: Args) -> Result<()> {
         write_output(&dir.join("history.json"), serde_json::to_string_pretty(&history)?.as_bytes())?;
     }
     progress.say(&format!("results in {}", dir.display()));
-    progress.result(&headline(&summary));
-    Ok(())
-}
-
-/// The numbers that converge under refinement: the largest displacement and, with contact,
-/// the contact length and the joint forces. The largest stress sits at a singular point
-/// (a re-entrant corner, the end of the contact zone) and grows with refinement, so it is
-/// left to `summary.json`.
-fn headline(summary: &Summary) -> String {
-    let u = format!("max |u| = {:.4e} m", summary.max_displacement);
-    match &summary.contact {
-        None => u,
-        Some(c) => format!(
-            "{u}, contact length {:.4} m, joint forces N = {:.4e} N/m, T = {:.4e} N/m",
-            c.contact_length, c.normal_force, c.tangential_force
-        ),
+    for line in summary.headline() {
+        progress.result(&line);
     }
+    Ok(())
 }
 
 /// What `history.json` records of a Newton run that did not converge: the error and the
@@ -382,82 +316,4 @@ fn override_contact(args: &Args, scene: &mut Scene) -> Result<()> {
         ("--threshold", "contact.threshold", args.threshold.is_some()),
     ];
     validate_overrides(scene, &overrides)
-}
-
-fn summary(
-    scene: &Scene,
-    disc: &Discretisation,
-    results: &Results,
-    continuation: &Continuation,
-    seconds: Timings,
-    files: Vec<PathBuf>,
-) -> Summary {
-    let Results { problem, u, sigma, contact, .. } = *results;
-    let principal_stresses: Vec<[f64; 2]> = sigma.iter().map(|&s| principal(s)).collect();
-    let peak = (0..sigma.len()).max_by(|&a, &b| von_mises(sigma[a]).total_cmp(&von_mises(sigma[b]))).unwrap_or(0);
-    Summary {
-        units: UNITS,
-        scene: scene.source.clone(),
-        order: problem.mesh.order,
-        nodes: problem.mesh.n_points(),
-        cells: problem.mesh.n_cells(),
-        unknowns: problem.n_dofs(),
-        free_unknowns: disc.dofs.n_free,
-        matrix_nonzeros: disc.pattern.nnz(),
-        max_displacement: u.iter().map(|v| v[0].hypot(v[1])).fold(0.0, f64::max),
-        max_von_mises: von_mises(sigma[peak]),
-        max_von_mises_at: problem.mesh.cell_centroid(peak),
-        max_von_mises_note: SINGULAR_MAXIMUM,
-        min_principal_stress: principal_stresses.iter().map(|p| p[1]).fold(f64::INFINITY, f64::min),
-        max_principal_stress: principal_stresses.iter().map(|p| p[0]).fold(f64::NEG_INFINITY, f64::max),
-        contact: contact.map(|c| contact_summary(problem, disc, c, continuation)),
-        strength_reduction: None,
-        estimate: None,
-        effectivity: None,
-        seconds,
-        files,
-        tags: TagNames::new(&problem.mesh),
-    }
-}
-
-/// What `summary.json` says of `max_von_mises`.
-const SINGULAR_MAXIMUM: &str = "mesh-dependent where it sits at a singular point (a re-entrant corner, the end of a \
-     contact zone or of a support): a cell mean that grows with every refinement there";
-
-fn contact_summary(
-    problem: &Problem,
-    disc: &Discretisation,
-    c: &ContactSolution,
-    continuation: &Continuation,
-) -> ContactSummary {
-    let mesh = &problem.mesh;
-    let in_contact = c.nitsche.faces.iter().zip(&c.faces).filter(|(_, state)| state.contact_length > 0.0);
-    let extent = in_contact.flat_map(|(face, _)| mesh.facet(face.facet)[..2].iter().map(|&n| mesh.points[n])).fold(
-        None,
-        |b: Option<[[f64; 2]; 2]>, p| {
-            let [lo, hi] = b.unwrap_or([p, p]);
-            Some([[lo[0].min(p[0]), lo[1].min(p[1])], [hi[0].max(p[0]), hi[1].max(p[1])]])
-        },
-    );
-    ContactSummary {
-        faces: c.faces.len(),
-        gamma0: c.nitsche.parameters.gamma0,
-        theta: c.nitsche.parameters.theta,
-        delta: continuation.delta,
-        stress_scale: problem.stress_scale(&disc.topology),
-        contact_length: c.contact_length(),
-        contact_extent: extent,
-        newton_steps: c.newton_steps(),
-        stages: c.stages.iter().map(|st| (st.delta, st.report.iterations.len())).collect(),
-        max_pressure: c.faces.iter().map(|f| f.pressure).fold(0.0, f64::max),
-        max_regularisation_error: c.faces.iter().map(|f| f.regularisation_error).fold(0.0, f64::max),
-        joint: c.nitsche.law,
-        stick_length: c.stick_length(),
-        slip_length: c.slip_length(),
-        normal_force: c.normal_force(),
-        tangential_force: c.tangential_force(),
-        sliding_safety_factor: c.sliding_safety_factor(),
-        uplift_force: c.nitsche.uplift.as_ref().map(|_| c.uplift_force()),
-        crack: c.crack,
-    }
 }

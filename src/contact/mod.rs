@@ -15,6 +15,7 @@
 pub mod law;
 pub mod nitsche;
 pub mod projection;
+pub mod resultant;
 pub mod uplift;
 
 use crate::elasticity::{Discretisation, Problem};
@@ -26,6 +27,7 @@ pub use law::JointLaw;
 use nitsche::{ContactFace, Nitsche, NitscheParameters};
 use projection::{negative_part, Smoothing};
 use std::sync::OnceLock;
+pub use resultant::{JointLine, Resultant};
 pub use uplift::Uplift;
 
 /// A contact boundary: the curves of Γ_C, the joint law and the Nitsche parameters.
@@ -90,10 +92,12 @@ pub struct FaceState {
     /// where |P^t_γ(u_h)| ≥ S (slip), for the plain projection.
     pub stick_length: f64,
     pub slip_length: f64,
-    /// With uplift, the mean pore pressure (1/|F|) ∫_F p_u and the distance from the heel of
-    /// the nearest closed point of F, if F has one.
+    /// With uplift, the mean pore pressure (1/|F|) ∫_F p_u.
     pub uplift: f64,
-    pub closed_from: Option<f64>,
+    /// The first moment ∫_F x p_c ds of the contact pressure.
+    pub pressure_moment: [f64; 2],
+    /// The ends of the closed part of F (from its first closed point to its last), if any.
+    pub closed: Option<[[f64; 2]; 2]>,
 }
 
 impl FaceState {
@@ -181,18 +185,17 @@ impl<'a> ContactProblem<'a> {
         ContactSolution { x, x_prev, smoothing: self.smoothing, stages, faces, nitsche: self.nitsche, crack }
     }
 
-    /// The length of the crack open at the heel for `x`: the distance from the heel of the
-    /// nearest closed point (the whole joint if none is closed); 0 without uplift.
+    /// The length of the crack open at the heel for `x` ([`open_from_heel`]); 0 without uplift.
     pub fn crack_length(&self, x: &[f64]) -> f64 {
         let Some(up) = &self.nitsche.uplift else { return 0.0 };
-        self.face_states(x).iter().filter_map(|f| f.closed_from).fold(up.length, f64::min).max(0.0)
+        open_from_heel(&self.face_states(x), &up.line)
     }
 
     /// The length of the contact face at the distance `s` from the heel (the longest face if
     /// none holds it); 0 without uplift.
     fn face_length_at(&self, s: f64) -> f64 {
         let Some(up) = &self.nitsche.uplift else { return 0.0 };
-        let span = |f: &ContactFace| f.ends.map(|e| up.distance(f.map.to_physical(e)));
+        let span = |f: &ContactFace| f.ends.map(|e| up.line.distance(f.map.to_physical(e)));
         let holds = |f: &&ContactFace| {
             let [a, b] = span(f);
             a.min(b) <= s && s <= a.max(b)
@@ -200,6 +203,13 @@ impl<'a> ContactProblem<'a> {
         let faces = &self.nitsche.faces;
         faces.iter().find(holds).map_or_else(|| faces.iter().map(|f| f.length).fold(0.0, f64::max), |f| f.length)
     }
+}
+
+/// The length of the joint open at the heel: the distance from the heel of the nearest closed
+/// point (the whole joint if none is closed).
+pub fn open_from_heel(faces: &[FaceState], line: &JointLine) -> f64 {
+    let nearest = |[a, b]: [[f64; 2]; 2]| line.distance(a).min(line.distance(b));
+    faces.iter().filter_map(|f| f.closed.map(nearest)).fold(line.length, f64::min).max(0.0)
 }
 
 /// Local dofs of the cell owning face k and the displacement there.
@@ -221,6 +231,9 @@ fn face_state(nitsche: &Nitsche, smoothing: Smoothing, k: usize, u: &[f64]) -> F
         let p = nitsche.p_gamma(k, &pt, u);
         let mean = w / length;
         state.pressure -= negative_part(p) * mean;
+        for (m, x) in state.pressure_moment.iter_mut().zip(pt.x) {
+            *m -= x * negative_part(p) * w;
+        }
         state.normal_displacement += dot(&pt.u_n, u) * mean;
         state.contact_length += if p < 0.0 { w } else { 0.0 };
         let error = (smoothing.value(p) - negative_part(p)).abs();
@@ -236,13 +249,13 @@ fn face_state(nitsche: &Nitsche, smoothing: Smoothing, k: usize, u: &[f64]) -> F
             }
         }
     }
-    if let Some(up) = &nitsche.uplift {
-        // the pieces between the cuts are wholly open or closed
-        let closed = cuts
-            .windows(2)
-            .filter(|w| w[1] > w[0] && nitsche.p_gamma(k, &nitsche.point(k, 0.5 * (w[0] + w[1])), u) < 0.0);
-        let distance = |s: f64| up.distance(nitsche.point(k, s).x);
-        state.closed_from = closed.map(|w| distance(w[0]).min(distance(w[1]))).reduce(f64::min);
+    // the pieces between the cuts are wholly open or closed
+    let closed: Vec<&[f64]> = cuts
+        .windows(2)
+        .filter(|w| w[1] > w[0] && nitsche.p_gamma(k, &nitsche.point(k, 0.5 * (w[0] + w[1])), u) < 0.0)
+        .collect();
+    if let (Some(first), Some(last)) = (closed.first(), closed.last()) {
+        state.closed = Some([nitsche.position(k, first[0]), nitsche.position(k, last[1])]);
     }
     state
 }
@@ -350,6 +363,7 @@ pub struct Continuation {
 }
 
 /// A contact iterate and what it was computed with.
+#[derive(Clone)]
 pub struct ContactSolution {
     /// Free unknowns.
     pub x: Vec<f64>,
@@ -402,6 +416,56 @@ impl ContactSolution {
         self.faces.iter().map(|f| f.uplift * f.length).sum()
     }
 
+    /// The resultant of the joint traction on the straight joint `line` (docs/method.md §1.9);
+    /// None when nothing presses on the joint.
+    pub fn resultant(&self, line: &JointLine) -> Option<Resultant> {
+        let moment =
+            self.faces.iter().fold([0.0; 2], |m, f| [m[0] + f.pressure_moment[0], m[1] + f.pressure_moment[1]]);
+        let forces = [self.normal_force(), self.tangential_force(), self.uplift_force()];
+        Resultant::new(line, forces, moment)
+    }
+
+    /// The length of `line` open at the heel ([`open_from_heel`]).
+    pub fn crack_from_heel(&self, line: &JointLine) -> f64 {
+        open_from_heel(&self.faces, line)
+    }
+
+    /// The mean effective normal stress σ'^n = −p_c \[Pa\] (tension positive) over the part of
+    /// `line` at the distances `window` = \[s₀, s₁\] from the heel, integrated exactly on pieces
+    /// split at the kinks of p_c and at s₀, s₁.
+    pub fn mean_normal_stress(
+        &self,
+        problem: &Problem,
+        disc: &Discretisation,
+        line: &JointLine,
+        window: [f64; 2],
+    ) -> f64 {
+        let u_full = disc.dofs.expand(&self.x);
+        let mut dofs = Vec::new();
+        let mut integral = 0.0;
+        for k in 0..self.nitsche.faces.len() {
+            let [d0, d1] = [0.0, 1.0].map(|t| line.distance(self.nitsche.position(k, t)));
+            // the window's ends in the face parameter t: s(t) = d0 + t (d1 − d0)
+            let [a, b] = window.map(|s| (s - d0) / (d1 - d0));
+            let (lo, hi) = (a.min(b).max(0.0), a.max(b).min(1.0));
+            if lo >= hi {
+                continue;
+            }
+            let u = local(&problem.mesh, &self.nitsche, k, &u_full, &mut dofs);
+            let mut cuts = self.nitsche.kinks(k, &u, Smoothing::NONE);
+            cuts.extend([lo, hi]);
+            cuts.sort_by(f64::total_cmp);
+            integral += self
+                .nitsche
+                .split_rule(k, &cuts)
+                .into_iter()
+                .filter(|&(t, _)| t > lo && t < hi)
+                .map(|(t, w)| negative_part(self.nitsche.p_gamma(k, &self.nitsche.point(k, t), &u)) * w)
+                .sum::<f64>();
+        }
+        integral / (window[1] - window[0])
+    }
+
     /// With friction, the total length of the closed part that sticks.
     pub fn stick_length(&self) -> f64 {
         self.faces.iter().map(|f| f.stick_length).sum()
@@ -441,13 +505,10 @@ impl<'a> Linearisation<'a> {
     }
 }
 
-/// The crack open at the heel that the uplift fills: the root of g(s_c) = open(s_c) − s_c, with
-/// open(s_c) the length open at the heel when the reservoir pressure fills [0, s_c]. Fixed-point
-/// steps s_c ← open(s_c) until g changes sign, then regula falsi in the bracket, until |g| or the
-/// bracket is at most [`Crack::TOLERANCE`] of the joint length. On a mesh, open(s_c) can jump
-/// where the crack tip crosses a node, so that no s_c has g = 0: the bracket then closes on the
-/// jump, and `change` = |g| (below the length of the face at the tip) says how far the opening
-/// of the last solve lies from s_c.
+/// The crack open at the heel that the uplift fills, found by a fixed point ([`settle_crack`]):
+/// solve with the crack s_c, measure the open length at the heel, and solve again until it
+/// moves by at most [`Crack::TOLERANCE`] of the joint length, or a bisection brackets it that
+/// closely.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Crack {
     /// s_c \[m\].
@@ -456,48 +517,14 @@ pub struct Crack {
     pub iterations: usize,
     /// |s_c − the open length of the last solve| \[m\].
     pub change: f64,
+    /// The last cracks below and above the fixed point (the open length was larger, and
+    /// smaller, than the crack solved with), once both were seen \[m\].
+    pub bracket: Option<[f64; 2]>,
 }
 
 impl Crack {
     pub const TOLERANCE: f64 = 1e-6;
     pub const MAX_ITERATIONS: usize = 40;
-}
-
-/// The crack lengths on either side of the root of g(s_c) = open(s_c) − s_c seen so far, with
-/// their g.
-#[derive(Debug, Default)]
-struct CrackBracket {
-    /// The last s_c with g > 0, and the last with g ≤ 0.
-    below: Option<(f64, f64)>,
-    above: Option<(f64, f64)>,
-    /// Whether the last s_c replaced `below`.
-    last_below: Option<bool>,
-}
-
-impl CrackBracket {
-    /// Records g(s_c) and returns the next s_c: the fixed-point step open(s_c) = s_c + g until g
-    /// has changed sign, then regula falsi in the bracket with the Illinois rule (the end kept
-    /// twice in a row has its g halved), which shrinks the bracket also where g jumps.
-    fn next(&mut self, crack: f64, g: f64) -> f64 {
-        let is_below = g > 0.0;
-        if self.last_below == Some(is_below) {
-            let kept = if is_below { &mut self.above } else { &mut self.below };
-            if let Some((_, g_kept)) = kept {
-                *g_kept *= 0.5;
-            }
-        }
-        *(if is_below { &mut self.below } else { &mut self.above }) = Some((crack, g));
-        self.last_below = Some(is_below);
-        match (self.below, self.above) {
-            (Some((c0, g0)), Some((c1, g1))) => (c0 * g1 - c1 * g0) / (g1 - g0),
-            _ => crack + g,
-        }
-    }
-
-    /// |above − below| once g has been seen on both sides.
-    fn width(&self) -> Option<f64> {
-        Some((self.above?.0 - self.below?.0).abs())
-    }
 }
 
 /// Why a contact solve stopped without an answer.
@@ -527,29 +554,60 @@ pub fn solve_by_continuation(
 ) -> Result<ContactSolution, ContactError> {
     let mut contact = ContactProblem::new(problem, disc, joint, Smoothing { delta: settings.delta });
     let x0 = vec![0.0; disc.dofs.n_free];
-    let (mut x, mut stages) = continuation(&mut contact, settings.delta, settings.delta_start, x0, &settings.newton)?;
-    let Some(length) = joint.uplift.as_ref().filter(|up| up.crack_filled).map(|up| up.length) else {
+    let (x, mut stages) = continuation(&mut contact, settings.delta, settings.delta_start, x0, &settings.newton)?;
+    if !joint.uplift.as_ref().is_some_and(|up| up.crack_filled) {
         return Ok(contact.solution(x, stages, None));
-    };
-    let tolerance = Crack::TOLERANCE * length;
-    let mut bracket = CrackBracket::default();
+    }
+    let (x, more, crack) = settle_crack(&mut contact, x, &settings.newton)?;
+    stages.extend(more);
+    Ok(contact.solution(x, stages, Some(crack)))
+}
+
+/// The crack–uplift fixed point at the δ of `contact` (docs/method.md §1.8), from the solution
+/// `x` with its current crack s_c. With g(s_c) = open − s_c, the open length at the heel of the
+/// solution less the crack it was solved with: s_c ← open at first, then the secant step
+/// s_c − g (s_c − s_prev)/(g − g_prev) while g keeps its sign (the plain update creeps when
+/// the open length follows the crack closely), and once g has taken both signs, s_c ← the
+/// midpoint of the last crack of each sign (bisection: the open length may jump across the
+/// fixed point). Newton solves again from the last solution after each update, until
+/// |g| ≤ [`Crack::TOLERANCE`] L or the bracket is that narrow.
+/// Returns the solution, the Newton stages of the new solves (none if `x` already settles
+/// it), and the crack.
+pub fn settle_crack(
+    contact: &mut ContactProblem,
+    mut x: Vec<f64>,
+    options: &NewtonOptions,
+) -> Result<(Vec<f64>, Vec<Stage>, Crack), ContactError> {
+    let mut stages: Vec<Stage> = Vec::new();
+    // the last crack with g > 0 and the last with g < 0
+    let (mut below, mut above): (Option<f64>, Option<f64>) = (None, None);
+    let mut previous: Option<(f64, f64)> = None;
     for iterations in 1..=Crack::MAX_ITERATIONS {
-        let crack = contact.nitsche.uplift.as_ref().expect("the joint has uplift").crack;
-        let g = contact.crack_length(&x) - crack;
-        let next = bracket.next(crack, g);
-        if g.abs() <= tolerance || bracket.width().is_some_and(|w| w <= tolerance) {
+        let open = contact.crack_length(&x);
+        let uplift = contact.nitsche.uplift.as_mut().expect("the joint has uplift");
+        let (crack, g, tolerance) = (uplift.crack, open - uplift.crack, Crack::TOLERANCE * uplift.line.length);
+        *(if g > 0.0 { &mut below } else { &mut above }) = Some(crack);
+        let bracket = below.zip(above).map(|(a, b)| [a.min(b), a.max(b)]);
+        if g.abs() <= tolerance || bracket.is_some_and(|[a, b]| b - a <= tolerance) {
             let face = contact.face_length_at(crack);
             if g.abs() > face {
                 return Err(ContactError::CrackJump { length: crack, change: g.abs(), face });
             }
-            return Ok(contact.solution(x, stages, Some(Crack { length: crack, iterations, change: g.abs() })));
+            return Ok((x, stages, Crack { length: crack, iterations, change: g.abs(), bracket }));
         }
         if iterations == Crack::MAX_ITERATIONS {
-            return Err(ContactError::Crack { iterations, length: crack + g, change: g.abs() });
+            return Err(ContactError::Crack { iterations, length: open, change: g.abs() });
         }
-        contact.nitsche.uplift.as_mut().expect("the joint has uplift").crack = next;
-        let (next, more) = continuation(&mut contact, settings.delta, settings.delta, x, &settings.newton)?;
-        (x, stages) = (next, [stages, more].concat());
+        let secant =
+            previous.filter(|&(_, g_prev)| g_prev != g).map(|(s, g_prev)| crack - g * (crack - s) / (g - g_prev));
+        uplift.crack = match bracket {
+            Some([a, b]) => 0.5 * (a + b),
+            None => secant.filter(|s| s.is_finite()).unwrap_or(open).clamp(0.0, uplift.line.length),
+        };
+        previous = Some((crack, g));
+        let report = newton(contact, x, options)?;
+        x = report.x.clone();
+        stages.push(Stage { delta: contact.smoothing.delta, report });
     }
     unreachable!("the loop returns by its last iteration")
 }
@@ -565,12 +623,8 @@ pub struct StrengthReduction {
     pub solves: usize,
 }
 
-/// FS_SR to the relative `tolerance`: from the solution at k = 1, k grows by a quarter while the
-/// joint holds, then the bracket is bisected; every solve starts from the last solution that
-/// held, at the final δ of `settings`. Loss of equilibrium is a Newton failure (near the limit
-/// the tangential stiffness of the slipping joint vanishes); so a solve that fails only for
-/// want of steps counts as a loss, and `held` is a lower bound. The crack that uplift fills is
-/// kept at its length for k = 1 (use `crack = "ignore"` for the exact comparison).
+/// FS_SR to the relative `tolerance`, from the solution at k = 1 reached along the δ path of
+/// `settings` ([`reduce_strength`]).
 pub fn strength_reduction(
     problem: &Problem,
     disc: &Discretisation,
@@ -579,14 +633,31 @@ pub fn strength_reduction(
     tolerance: f64,
 ) -> Result<StrengthReduction, ContactError> {
     let start = solve_by_continuation(problem, disc, joint, settings)?;
+    Ok(reduce_strength(problem, disc, joint, &start, &settings.newton, tolerance))
+}
+
+/// FS_SR to the relative `tolerance` from `start`, the solution at k = 1: k grows by a quarter
+/// while the joint holds, then the bracket is bisected; every solve starts from the last
+/// solution that held, at the δ of `start`. Loss of equilibrium is a Newton failure (near the
+/// limit the tangential stiffness of the slipping joint vanishes); so a solve that fails only
+/// for want of steps counts as a loss, and `held` is a lower bound. The crack that uplift
+/// fills is kept at its length in `start` (use `crack = "ignore"` for the exact comparison).
+pub fn reduce_strength(
+    problem: &Problem,
+    disc: &Discretisation,
+    joint: &ContactJoint,
+    start: &ContactSolution,
+    newton_options: &NewtonOptions,
+    tolerance: f64,
+) -> StrengthReduction {
     let (mut held, mut x, mut solves) = (1.0, start.x.clone(), 1);
     let mut failed = f64::INFINITY;
     while failed - held > tolerance * held {
         let k = if failed.is_finite() { 0.5 * (held + failed) } else { 1.25 * held };
-        let reduced = ContactJoint { law: joint.law.reduced(k), ..joint.as_solved(&start) };
-        let contact = ContactProblem::new(problem, disc, &reduced, Smoothing { delta: settings.delta });
+        let reduced = ContactJoint { law: joint.law.reduced(k), ..joint.as_solved(start) };
+        let contact = ContactProblem::new(problem, disc, &reduced, start.smoothing);
         solves += 1;
-        match newton(&contact, x.clone(), &settings.newton) {
+        match newton(&contact, x.clone(), newton_options) {
             Ok(report) => (held, x) = (k, report.x),
             Err(_) => failed = k,
         }
@@ -594,7 +665,7 @@ pub fn strength_reduction(
             break;
         }
     }
-    Ok(StrengthReduction { held, failed, solves })
+    StrengthReduction { held, failed, solves }
 }
 
 /// The free unknowns of a solve, with the contact state when the problem has Γ_C.
@@ -619,42 +690,5 @@ impl Solution {
             Solution::Linear(_) => None,
             Solution::Contact(c) => Some(c),
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::CrackBracket;
-
-    /// Runs the crack iteration on the map `open` from s_c = 0 until |g| or the bracket is
-    /// below 10⁻⁹; returns s_c and the number of evaluations.
-    fn iterate(open: impl Fn(f64) -> f64) -> (f64, usize) {
-        let (mut bracket, mut crack) = (CrackBracket::default(), 0.0);
-        for k in 1..=60 {
-            let g = open(crack) - crack;
-            let next = bracket.next(crack, g);
-            if g.abs() <= 1e-9 || bracket.width().is_some_and(|w| w <= 1e-9) {
-                return (crack, k);
-            }
-            crack = next;
-        }
-        panic!("no convergence");
-    }
-
-    #[test]
-    fn the_crack_iteration_finds_roots_and_jumps_of_the_opening() {
-        // a contraction: plain fixed-point steps
-        let (c, k) = iterate(|c| 0.5 * c + 1.0);
-        assert!((c - 2.0).abs() <= 1e-8 && k <= 35, "{c} after {k}");
-        // fixed-point steps that cycle (0, 30, 0, …) and a nonlinear opening: the bracket closes
-        // on the root
-        let (c, k) = iterate(|c| (30.0 - c).clamp(0.0, 40.0));
-        assert!((c - 15.0).abs() <= 1e-9 && k <= 5, "{c} after {k}");
-        let (c, k) = iterate(|c| (30.0 - c - 0.01 * (c - 15.0).powi(3)).clamp(0.0, 40.0));
-        assert!((c - 15.0).abs() <= 1e-8 && k <= 40, "{c} after {k}");
-        // a jump across the diagonal at 15.05 (the crack tip crossing a node): no root, the
-        // bracket closes on the jump
-        let (c, k) = iterate(|c| if c < 15.05 { 15.13 } else { 15.0 });
-        assert!((c - 15.05).abs() <= 1e-8 && k <= 60, "{c} after {k}");
     }
 }

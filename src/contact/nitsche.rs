@@ -123,6 +123,12 @@ impl Nitsche {
         2 * lagrange::n_basis(self.order)
     }
 
+    /// The physical point at parameter s ∈ [0, 1] of face `k`.
+    pub fn position(&self, k: usize, s: f64) -> [f64; 2] {
+        let face = &self.faces[k];
+        face.map.to_physical(Segment::new(face.ends[0], face.ends[1]).point(s))
+    }
+
     /// Basis data at parameter s ∈ [0, 1] of face `k`.
     pub fn point(&self, k: usize, s: f64) -> FacePoint {
         let face = &self.faces[k];

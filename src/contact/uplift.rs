@@ -17,6 +17,8 @@
 //! The pressure acts on the effective normal stress σ'^n = σ^n + p_u, which obeys the contact
 //! conditions; the joint carries the total traction (σ'^n − p_u) ν + σ^t τ.
 
+use super::resultant::JointLine;
+
 /// Drains in the joint: the distance s_d from the heel \[m\] and their efficiency E ∈ [0, 1].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Drains {
@@ -27,11 +29,8 @@ pub struct Drains {
 /// The uplift diagram of a straight joint.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Uplift {
-    /// The heel and the unit direction from the heel to the toe.
-    pub heel: [f64; 2],
-    pub along: [f64; 2],
-    /// The joint length L \[m\].
-    pub length: f64,
+    /// The joint from its heel to its toe, of length L.
+    pub line: JointLine,
     /// H_u and H_d \[Pa\].
     pub upstream: f64,
     pub downstream: f64,
@@ -45,12 +44,12 @@ pub struct Uplift {
 impl Uplift {
     /// The distance s from the heel of the point x of the joint.
     pub fn distance(&self, x: [f64; 2]) -> f64 {
-        (x[0] - self.heel[0]) * self.along[0] + (x[1] - self.heel[1]) * self.along[1]
+        self.line.distance(x)
     }
 
     /// p_u at the distance s from the heel, with the crack open to `crack` (0: none).
     pub fn pressure(&self, s: f64, crack: f64) -> f64 {
-        let (h_u, h_d, l) = (self.upstream, self.downstream, self.length);
+        let (h_u, h_d, l) = (self.upstream, self.downstream, self.line.length);
         let crack = if self.crack_filled { crack.clamp(0.0, l) } else { 0.0 };
         if s <= crack {
             return h_u;
@@ -74,13 +73,13 @@ impl Uplift {
         let crack = if self.crack_filled { crack } else { 0.0 };
         let mut kinks = vec![crack];
         kinks.extend(self.drains.map(|d| d.distance).filter(|&s| s > crack));
-        kinks.retain(|&s| s > 0.0 && s < self.length);
+        kinks.retain(|&s| s > 0.0 && s < self.line.length);
         kinks
     }
 
     /// The uplift force U = ∫ p_u ds \[N/m\] (exact: p_u is piecewise linear).
     pub fn force(&self, crack: f64) -> f64 {
-        let mut points = vec![0.0, self.length];
+        let mut points = vec![0.0, self.line.length];
         points.extend(self.kinks(crack));
         points.sort_by(f64::total_cmp);
         points.windows(2).map(|w| 0.5 * (w[1] - w[0]) * (self.pressure(w[0], crack) + self.pressure(w[1], crack))).sum()
@@ -93,9 +92,7 @@ mod tests {
 
     fn joint(drains: Option<Drains>) -> Uplift {
         Uplift {
-            heel: [0.0, 0.0],
-            along: [1.0, 0.0],
-            length: 40.0,
+            line: JointLine { heel: [0.0, 0.0], along: [1.0, 0.0], length: 40.0 },
             upstream: 700.0,
             downstream: 100.0,
             drains,

@@ -1,8 +1,10 @@
-//! Log–log convergence figures (estimators against unknowns or wall time), written as SVG and PNG.
+//! Log–log convergence figures (estimators against unknowns or wall time) and figures on linear
+//! axes (stresses along the joint), written as SVG and PNG.
 //!
 //! Figures are drawn with `plotters`, rendered in memory and written atomically. Both formats
-//! are [`SIZE`] pixels. Axes span at least two whole decades around the data and are labelled
-//! at powers of ten; each series gets its own colour and marker, dashed series a dashed line.
+//! are [`SIZE`] pixels. Log axes span at least two whole decades around the data and are
+//! labelled at powers of ten; linear axes span the data with a margin. Each series gets its
+//! own colour and marker, dashed series a dashed line.
 //!
 //! Text is laid out (for both formats) and rasterised (for PNG) with DejaVu Sans, read once per
 //! process from [`FONT_PATH`] (Debian package `fonts-dejavu-core`, installed by the Makefile).
@@ -10,6 +12,7 @@
 //! name the generic `sans-serif` family. A missing font file is an [`OutputError::Font`] naming it.
 
 use super::atomic::{write_output, OutputError};
+use plotters::chart::MeshStyle;
 use plotters::coord::Shift;
 use plotters::element::{DashedPathElement, DynElement};
 use plotters::prelude::*;
@@ -66,11 +69,27 @@ pub struct Figure {
 ///
 /// Both images are rendered before either file is written.
 pub fn write_figure(stem: &Path, figure: &Figure) -> Result<Vec<PathBuf>, OutputError> {
+    write_with_axes(stem, figure, Axes::LogLog)
+}
+
+/// As [`write_figure`], on linear axes.
+pub fn write_linear_figure(stem: &Path, figure: &Figure) -> Result<Vec<PathBuf>, OutputError> {
+    write_with_axes(stem, figure, Axes::Linear)
+}
+
+/// The scale of both axes.
+#[derive(Clone, Copy)]
+enum Axes {
+    LogLog,
+    Linear,
+}
+
+fn write_with_axes(stem: &Path, figure: &Figure, axes: Axes) -> Result<Vec<PathBuf>, OutputError> {
     let svg_path = with_suffix(stem, ".svg");
     let png_path = with_suffix(stem, ".png");
     load_font(Path::new(FONT_PATH), &svg_path)?;
-    let svg = render_svg(figure).map_err(|message| OutputError::Render { path: svg_path.clone(), message })?;
-    let png = render_png(figure).map_err(|message| OutputError::Render { path: png_path.clone(), message })?;
+    let svg = render_svg(figure, axes).map_err(|message| OutputError::Render { path: svg_path.clone(), message })?;
+    let png = render_png(figure, axes).map_err(|message| OutputError::Render { path: png_path.clone(), message })?;
     write_output(&svg_path, svg.as_bytes())?;
     write_output(&png_path, &png)?;
     Ok(vec![svg_path, png_path])
@@ -100,17 +119,17 @@ fn load_font(font: &Path, path: &Path) -> Result<(), OutputError> {
 }
 
 /// The figure as an SVG document.
-fn render_svg(figure: &Figure) -> Result<String, String> {
+fn render_svg(figure: &Figure, axes: Axes) -> Result<String, String> {
     let mut svg = String::new();
-    draw(SVGBackend::with_string(&mut svg, SIZE).into_drawing_area(), figure).map_err(|e| e.to_string())?;
+    draw(SVGBackend::with_string(&mut svg, SIZE).into_drawing_area(), figure, axes).map_err(|e| e.to_string())?;
     Ok(svg)
 }
 
 /// The figure as a PNG file (8-bit RGB).
-fn render_png(figure: &Figure) -> Result<Vec<u8>, String> {
+fn render_png(figure: &Figure, axes: Axes) -> Result<Vec<u8>, String> {
     let (width, height) = SIZE;
     let mut rgb = vec![0; 3 * width as usize * height as usize];
-    draw(BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area(), figure).map_err(|e| e.to_string())?;
+    draw(BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area(), figure, axes).map_err(|e| e.to_string())?;
     let mut png = Vec::new();
     let mut encoder = png::Encoder::new(&mut png, width, height);
     encoder.set_color(png::ColorType::Rgb);
@@ -122,34 +141,57 @@ fn render_png(figure: &Figure) -> Result<Vec<u8>, String> {
 }
 
 type DrawResult<DB> = Result<(), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
-type LogLog<'a, DB> = ChartContext<'a, DB, Cartesian2d<LogCoord<f64>, LogCoord<f64>>>;
 
 /// Draws axes, series and legend on `root`.
-fn draw<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, figure: &Figure) -> DrawResult<DB> {
+fn draw<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, figure: &Figure, axes: Axes) -> DrawResult<DB> {
     root.fill(&WHITE)?;
-    let points: Vec<Vec<(f64, f64)>> = figure.series.iter().map(|s| plottable(&s.points)).collect();
-    let all = || points.iter().flatten();
-    let x_range = decades(all().map(|p| p.0));
-    let y_range = decades(all().map(|p| p.1));
-    let mut chart = ChartBuilder::on(&root)
-        .caption(&figure.title, ("sans-serif", 26))
-        .margin(24)
-        .x_label_area_size(64)
-        .y_label_area_size(84)
-        .build_cartesian_2d(x_range.log_scale(), y_range.log_scale())?;
-    chart
-        .configure_mesh()
-        .x_desc(&figure.x_label)
+    let mut builder = ChartBuilder::on(&root);
+    builder.caption(&figure.title, ("sans-serif", 26)).margin(24).x_label_area_size(64).y_label_area_size(84);
+    match axes {
+        Axes::LogLog => {
+            let points: Vec<Vec<(f64, f64)>> = figure.series.iter().map(|s| plottable(&s.points)).collect();
+            let all = || points.iter().flatten();
+            let (x_range, y_range) = (decades(all().map(|p| p.0)), decades(all().map(|p| p.1)));
+            let mut chart = builder.build_cartesian_2d(x_range.log_scale(), y_range.log_scale())?;
+            let mut mesh = chart.configure_mesh();
+            mesh.x_label_formatter(&power_of_ten).y_label_formatter(&power_of_ten);
+            style_mesh(&mut mesh, figure).draw()?;
+            draw_all(&mut chart, figure, points)?;
+        }
+        Axes::Linear => {
+            let points: Vec<Vec<(f64, f64)>> = figure.series.iter().map(|s| finite(&s.points)).collect();
+            let all = || points.iter().flatten();
+            let (x_range, y_range) = (span(all().map(|p| p.0)), span(all().map(|p| p.1)));
+            let mut chart = builder.build_cartesian_2d(x_range, y_range)?;
+            let mut mesh = chart.configure_mesh();
+            style_mesh(&mut mesh, figure).draw()?;
+            draw_all(&mut chart, figure, points)?;
+        }
+    }
+    root.present()
+}
+
+/// Axis descriptions, label fonts and grid lines of `figure`.
+fn style_mesh<'m, 'a, 'b, DB: DrawingBackend, X: Ranged, Y: Ranged>(
+    mesh: &'m mut MeshStyle<'a, 'b, X, Y, DB>,
+    figure: &Figure,
+) -> &'m mut MeshStyle<'a, 'b, X, Y, DB> {
+    mesh.x_desc(&figure.x_label)
         .y_desc(&figure.y_label)
-        .x_label_formatter(&power_of_ten)
-        .y_label_formatter(&power_of_ten)
         .label_style(("sans-serif", 18))
         .axis_desc_style(("sans-serif", 20))
         .bold_line_style(BLACK.mix(0.25))
         .light_line_style(BLACK.mix(0.07))
-        .draw()?;
+}
+
+/// Every series of `figure` through its drawable `points`, and the legend.
+fn draw_all<'a, DB: DrawingBackend + 'a, CT: CoordTranslate<From = (f64, f64)>>(
+    chart: &mut ChartContext<'a, DB, CT>,
+    figure: &Figure,
+    points: Vec<Vec<(f64, f64)>>,
+) -> DrawResult<DB> {
     for (index, (series, points)) in figure.series.iter().zip(points).enumerate() {
-        draw_curve(&mut chart, index, series, points)?;
+        draw_curve(chart, index, series, points)?;
     }
     if figure.series.iter().any(|s| !s.label.is_empty()) {
         chart
@@ -161,13 +203,13 @@ fn draw<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, figure: &Figure) -> Dr
             .legend_area_size(36)
             .draw()?;
     }
-    root.present()
+    Ok(())
 }
 
 /// Draws series `index` through its plottable `points`, with markers and a legend entry if
 /// labelled and not empty.
-fn draw_curve<'a, DB: DrawingBackend + 'a>(
-    chart: &mut LogLog<'a, DB>,
+fn draw_curve<'a, DB: DrawingBackend + 'a, CT: CoordTranslate<From = (f64, f64)>>(
+    chart: &mut ChartContext<'a, DB, CT>,
     index: usize,
     series: &Series,
     points: Vec<(f64, f64)>,
@@ -193,6 +235,25 @@ fn plottable(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
     let positive = |v: f64| v.is_finite() && v > 0.0;
     points.iter().copied().filter(|&(x, y)| positive(x) && positive(y)).collect()
 }
+
+/// The points of a series with finite coordinates.
+fn finite(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    points.iter().copied().filter(|&(x, y)| x.is_finite() && y.is_finite()).collect()
+}
+
+/// The range of `values` widened by [`LINEAR_MARGIN`] of its width on both sides; [0, 1]
+/// without values, ± 1 around a single value.
+fn span(values: impl Iterator<Item = f64>) -> Range<f64> {
+    let (min, max) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)));
+    if min > max {
+        return 0.0..1.0;
+    }
+    let margin = if max > min { LINEAR_MARGIN * (max - min) } else { 1.0 };
+    min - margin..max + margin
+}
+
+/// Gap between the data and the frame on linear axes, as a fraction of the data's range.
+const LINEAR_MARGIN: f64 = 0.05;
 
 /// The smallest range of at least two whole decades holding `values` with a margin; [1, 100]
 /// without values.

@@ -10,7 +10,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 /// Scene keys that hold a plane vector [x, y].
-const VECTOR_KEYS: [&str; 4] = ["traction", "value", "gap_gradient", "direction"];
+const VECTOR_KEYS: [&str; 5] = ["traction", "value", "gap_gradient", "direction", "acceleration"];
 
 /// Smallest γ₀ at which the θ = 1 and θ = 0 variants are known to converge on Scene A
 /// (docs/results.md, "Numerical stability": θ = 1 with γ₀ = 1 loses coercivity); θ = −1 is stable

@@ -1,5 +1,5 @@
 //! Unit tests: the library's pieces one at a time (elements, quadrature and transfer, the gmsh
-//! interface and remeshing, Newton's method, the VTU/PVD writers and the figures).
+//! interface and remeshing, Newton's method, the joint's resultant, the VTU/PVD writers and the figures).
 
 #[path = "../common/mod.rs"]
 mod common;
@@ -9,5 +9,6 @@ mod gmsh_io;
 mod newton;
 mod plot;
 mod remesh;
+mod resultant;
 mod transfer;
 mod vtu_output;

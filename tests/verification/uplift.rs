@@ -3,6 +3,7 @@
 
 use crate::common;
 use damfem::contact::nitsche::NitscheParameters;
+use damfem::contact::resultant::JointLine;
 use damfem::contact::uplift::Uplift;
 use damfem::contact::{solve_by_continuation, ContactJoint, Continuation, JointLaw};
 use damfem::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};
@@ -24,9 +25,7 @@ use std::sync::Arc;
 fn uniform_uplift_lowers_the_contact_pressure_by_exactly_p_u() {
     let (lambda, mu, a, b, p_u) = (1.0, 1.0, 0.01, 0.01, 0.005);
     let uplift = Uplift {
-        heel: [0.0, 0.0],
-        along: [1.0, 0.0],
-        length: 1.0,
+        line: JointLine { heel: [0.0, 0.0], along: [1.0, 0.0], length: 1.0 },
         upstream: p_u,
         downstream: p_u,
         drains: None,
@@ -116,39 +115,48 @@ fn the_dam_with_uplift_balances_weight_thrust_and_uplift() {
 /// Strength reduction against the exact answer. Source: docs/method.md §1.7 (equilibrium of a
 /// body held by a horizontal joint on a rigid foundation, c = 0): the joint holds the dam with
 /// F/k exactly while k ≤ F N / T, N = W − U. Goal: FS_SR's bracket contains F (W − U)/T and is
-/// within 0.5 % of it, on two meshes and both degrees. Parameters: geo/scene_a_uplift.toml with
-/// crack = "ignore" (U of the uncracked diagram), mesh sizes × 2 and × 4, P1 and P2, bisection
-/// to 0.2 %.
+/// within 0.5 % of it, with and without uplift, on two meshes and both degrees. Parameters:
+/// geo/scene_a_uplift.toml with crack = "ignore" (U of the uncracked diagram), and without its
+/// [uplift] table (U = 0), mesh sizes × 2 and × 4, P1 and P2, bisection to 0.2 %.
 #[test]
 fn strength_reduction_finds_the_exact_sliding_factor() {
     use damfem::contact::strength_reduction;
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("geo/scene_a_uplift.toml");
-    let mut scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
-    scene.uplift.as_mut().expect("[uplift]").crack = damfem::scene::CrackKind::Ignore;
+    let mut with_uplift = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    with_uplift.uplift.as_mut().expect("[uplift]").crack = damfem::scene::CrackKind::Ignore;
+    let mut without_uplift = with_uplift.clone();
+    without_uplift.uplift = None;
     let weight = 2400.0 * 9.81 * (40.0 + 5.0) / 2.0 * 50.0;
     let thrust = 1000.0 * 9.81 * 45.0 * 45.0 / 2.0;
-    for order in [1, 2] {
-        for size_factor in [4.0, 2.0] {
-            let m = &scene.mesh;
-            let options =
-                MeshOptions { order, size_factor, size_min: m.size_min, size_max: m.size_max, algorithm: m.algorithm };
-            let mesh = mesh_geo(&scene.geometry, &options, false, false).unwrap_or_else(|e| panic!("{e}"));
-            let (problem, joint) = scene.problem(mesh).unwrap_or_else(|e| panic!("{e}"));
-            let joint = joint.expect("a joint");
-            let uplift = joint.uplift.as_ref().expect("uplift").force(0.0);
-            let disc = problem.discretise();
-            let settings = scene.continuation(&problem, &disc.topology);
-            let sr = strength_reduction(&problem, &disc, &joint, &settings, 2e-3).unwrap_or_else(|e| panic!("{e}"));
-            let exact = 0.8391 * (weight - uplift) / thrust;
-            println!(
-                "P{order} size {size_factor}: FS_SR in [{:.4}, {:.4}] after {} solves; F (W − U)/T = {exact:.4}",
-                sr.held, sr.failed, sr.solves
-            );
-            assert!(
-                sr.held <= exact * (1.0 + 1e-9) && sr.failed >= exact * (1.0 - 1e-9),
-                "P{order}: bracket {sr:?} misses {exact}"
-            );
-            assert!(sr.held >= 0.995 * exact, "P{order}: FS_SR {} more than 0.5 % below {exact}", sr.held);
+    for scene in [with_uplift, without_uplift] {
+        for order in [1, 2] {
+            for size_factor in [4.0, 2.0] {
+                let m = &scene.mesh;
+                let options = MeshOptions {
+                    order,
+                    size_factor,
+                    size_min: m.size_min,
+                    size_max: m.size_max,
+                    algorithm: m.algorithm,
+                };
+                let mesh = mesh_geo(&scene.geometry, &options, false, false).unwrap_or_else(|e| panic!("{e}"));
+                let (problem, joint) = scene.problem(mesh).unwrap_or_else(|e| panic!("{e}"));
+                let joint = joint.expect("a joint");
+                let uplift = joint.uplift.as_ref().map_or(0.0, |up| up.force(0.0));
+                let disc = problem.discretise();
+                let settings = scene.continuation(&problem, &disc.topology);
+                let sr = strength_reduction(&problem, &disc, &joint, &settings, 2e-3).unwrap_or_else(|e| panic!("{e}"));
+                let exact = 0.8391 * (weight - uplift) / thrust;
+                println!(
+                    "U = {uplift:.4e}, P{order} size {size_factor}: FS_SR in [{:.4}, {:.4}] after {} solves; F (W − U)/T = {exact:.4}",
+                    sr.held, sr.failed, sr.solves
+                );
+                assert!(
+                    sr.held <= exact * (1.0 + 1e-9) && sr.failed >= exact * (1.0 - 1e-9),
+                    "P{order}: bracket {sr:?} misses {exact}"
+                );
+                assert!(sr.held >= 0.995 * exact, "P{order}: FS_SR {} more than 0.5 % below {exact}", sr.held);
+            }
         }
     }
 }

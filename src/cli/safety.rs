@@ -1,0 +1,537 @@
+//! `damfem safety`: the dam-safety analysis of a scene (docs/method.md §1.9). The adaptive
+//! loop of `damfem adapt` refines until η_tot ≤ `--tol-relative` ‖σ_h‖; on its last mesh the
+//! joint gives N, T, U, the contact and crack lengths, the resultant and the middle-third
+//! check, the heel and toe normal stresses averaged over a stated length, FS_LE and FS_SR.
+
+use super::adapt::run_sequence;
+use super::common::{output_dir, stem, validate_overrides, Input, Output};
+use super::output::{Units, UNITS};
+use crate::adapt::Step;
+use crate::contact::{reduce_strength, ContactSolution, JointLine, Resultant, StrengthReduction};
+use crate::elasticity::{Discretisation, Problem};
+use crate::io::atomic::write_output;
+use crate::io::plot::{write_linear_figure, Figure, Series};
+use crate::mesh::Mesh;
+use crate::scene::Scene;
+use crate::solve::NewtonOptions;
+use anyhow::{Context, Result};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// The default tolerance on η_tot / ‖σ_h‖.
+const TOL_RELATIVE: f64 = 0.01;
+
+/// The relative width of the FS_SR bracket.
+const STRENGTH_TOLERANCE: f64 = 2e-3;
+
+/// The heel and toe stresses are averaged over this fraction of the joint by default.
+const AVERAGE_FRACTION: f64 = 0.1;
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    #[command(flatten)]
+    input: Input,
+    #[command(flatten)]
+    output: Output,
+    /// Refine until eta_tot <= TOL ||sigma_h||; overrides adapt.tol_relative (default 0.01)
+    #[arg(long, allow_negative_numbers = true)]
+    tol_relative: Option<f64>,
+    /// Most meshes of the adaptive run; overrides adapt.steps (default 8)
+    #[arg(long)]
+    max_steps: Option<usize>,
+    /// Length [m] from the heel and from the toe over which the normal stress is averaged
+    /// (default: a tenth of the joint)
+    #[arg(long, allow_negative_numbers = true)]
+    average_length: Option<f64>,
+}
+
+/// One step of the adaptive run as the report shows it.
+#[derive(Serialize, Clone, Copy)]
+struct StepRow {
+    step: usize,
+    unknowns: usize,
+    /// η_tot / ‖σ_h‖.
+    eta_relative: f64,
+    crack_length: f64,
+    resultant_position: Option<f64>,
+    sliding_safety_factor: Option<f64>,
+}
+
+/// The mean effective normal stress σ'^n \[Pa\] (tension positive) over `length` \[m\] at the heel
+/// and at the toe.
+#[derive(Serialize)]
+struct BaseStresses {
+    length: f64,
+    heel: f64,
+    toe: f64,
+}
+
+/// What `safety.json` records.
+#[derive(Serialize)]
+struct Report {
+    units: Units,
+    scene: PathBuf,
+    order: usize,
+    /// The adaptive run: its tolerance on η_tot / ‖σ_h‖, whether the last mesh met it, and
+    /// every step.
+    tol_relative: f64,
+    tolerance_met: bool,
+    steps: Vec<StepRow>,
+    unknowns: usize,
+    /// η_tot of the last mesh \[Pa m\] and η_tot / ‖σ_h‖.
+    eta_tot: f64,
+    eta_relative: f64,
+    joint_line: JointLine,
+    contact_length: f64,
+    crack_length: f64,
+    /// N, T, U, the resultant's point, position, eccentricity and the middle-third check; None
+    /// when nothing presses on the joint.
+    resultant: Option<Resultant>,
+    base_stresses: BaseStresses,
+    /// FS_LE and FS_SR's bracket \[held, failed\], or why they are not computed.
+    sliding_safety_factor: Option<f64>,
+    strength_reduction: Option<StrengthReduction>,
+    safety_factor_note: Option<String>,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    let progress = args.input.progress();
+    let mut scene = args.input.scene()?;
+    let tol_relative = args.tol_relative.or(scene.adapt.tol_relative).unwrap_or(TOL_RELATIVE);
+    scene.adapt.tol_relative = Some(tol_relative);
+    scene.adapt.steps = args.max_steps.unwrap_or(scene.adapt.steps);
+    scene.adapt.compare_uniform = false;
+    let overrides = [
+        ("--tol-relative", "adapt.tol_relative", args.tol_relative.is_some()),
+        ("--max-steps", "adapt.steps", args.max_steps.is_some()),
+    ];
+    validate_overrides(&scene, &overrides)?;
+    scene.check_adaptive()?;
+    anyhow::ensure!(
+        scene.geometry.extension().is_some_and(|e| e == "geo"),
+        "{}: the safety analysis refines the mesh adaptively, so it needs a .geo file, not a mesh",
+        scene.geometry.display()
+    );
+    let names: Vec<String> = scene.combinations.keys().cloned().collect();
+    let cases: Vec<(Option<&str>, Scene)> = if names.is_empty() {
+        vec![(None, scene.clone())]
+    } else {
+        names.iter().map(|n| Ok((Some(n.as_str()), scene.combination(n)?))).collect::<Result<_>>()?
+    };
+    // every case is checked before anything is written
+    let mut lines = Vec::new();
+    for (_, case) in &cases {
+        let line = joint_line(case, &args.input)?;
+        lines.push((line, average_length(args.average_length, &line)?));
+    }
+    let dir = args.output.dir(&scene)?;
+    if names.is_empty() {
+        let (report, table) = analyse(&cases[0].1, &args, lines[0], &dir)?;
+        write_files(&dir, &report, &table)?;
+        if !args.input.quiet {
+            println!("{}", text_table(&table));
+        }
+        progress.say(&format!("results in {} (safety.json, report.md, joint.csv, base_stresses.png)", dir.display()));
+        return Ok(());
+    }
+    let mut reports = Vec::new();
+    for ((name, case), line) in cases.iter().zip(lines) {
+        let name = name.expect("a combination");
+        progress.say(&format!("combination {name}"));
+        let sub = output_dir(dir.join(name))?;
+        let (report, table) = analyse(case, &args, line, &sub).with_context(|| format!("combination {name}"))?;
+        write_files(&sub, &report, &table)?;
+        reports.push(Combination { name: name.to_string(), report });
+    }
+    let rows = combination_rows(&reports);
+    write_output(
+        &dir.join("safety.json"),
+        serde_json::to_string_pretty(&Combinations { units: UNITS, combinations: &reports })?.as_bytes(),
+    )?;
+    write_output(&dir.join("report.md"), combinations_markdown(&scene, &rows).as_bytes())?;
+    if !args.input.quiet {
+        println!("{}", text_columns(&rows));
+    }
+    progress.say(&format!("results in {} (safety.json, report.md; one directory per combination)", dir.display()));
+    Ok(())
+}
+
+/// One combination's report, as the combined `safety.json` lists it.
+#[derive(Serialize)]
+struct Combination {
+    name: String,
+    #[serde(flatten)]
+    report: Report,
+}
+
+/// What `safety.json` records of a scene with load combinations.
+#[derive(Serialize)]
+struct Combinations<'a> {
+    units: Units,
+    combinations: &'a [Combination],
+}
+
+/// The analysis of `scene` into `dir`: the adaptive run on the joint `line` (with the
+/// averaging length), then the safety quantities of its last mesh; returns the report and its
+/// table.
+fn analyse(
+    scene: &Scene,
+    args: &Args,
+    (line, average): (JointLine, f64),
+    dir: &Path,
+) -> Result<(Report, Vec<[String; 3]>)> {
+    let progress = args.input.progress();
+    let tol_relative = scene.adapt.tol_relative.unwrap_or(TOL_RELATIVE);
+    let name = stem(&scene.source);
+    let mut rows = Vec::new();
+    let mut last: Option<(Mesh, ContactSolution)> = None;
+    let mut keep = |step: &Step| -> Result<()> {
+        let c = step.contact.context("the step has no contact solution")?;
+        let r = step.record;
+        rows.push(StepRow {
+            step: r.step,
+            unknowns: r.unknowns,
+            eta_relative: r.eta.tot / r.stress_norm,
+            crack_length: c.crack_from_heel(&line),
+            resultant_position: c.resultant(&line).map(|f| f.position),
+            sliding_safety_factor: c.sliding_safety_factor(),
+        });
+        last = Some((step.problem.mesh.clone(), c.clone()));
+        Ok(())
+    };
+    let (history, _) = run_sequence(scene, &args.input, dir, &name, "", &mut keep, false)?;
+    let (mesh, solution) = last.context("the adaptive run made no step")?;
+    let record = history.last().context("the adaptive run made no step")?;
+    let (problem, joint) = scene.problem(mesh)?;
+    let joint = joint.context("the scene has no joint")?;
+    let disc = problem.discretise();
+    let law = joint.law;
+    let (strength, note) = if !law.has_friction() {
+        (None, Some(FRICTIONLESS.to_string()))
+    } else {
+        let newton = NewtonOptions { trace: args.input.newton_trace(), ..scene.newton_options() };
+        let (sr, _) = progress.stage(
+            "strength",
+            || Ok(reduce_strength(&problem, &disc, &joint, &solution, &newton, STRENGTH_TOLERANCE)),
+            |s: &StrengthReduction| format!("FS_SR in [{:.4}, {:.4}] after {} solves", s.held, s.failed, s.solves),
+        )?;
+        let unbounded = (!sr.failed.is_finite()).then(|| format!("{} {:.0}", UNBOUNDED, sr.held));
+        (Some(sr), unbounded)
+    };
+    let eta_relative = record.eta.tot / record.stress_norm;
+    let report = Report {
+        units: UNITS,
+        scene: scene.source.clone(),
+        order: problem.mesh.order,
+        tol_relative,
+        tolerance_met: eta_relative <= tol_relative,
+        steps: rows.clone(),
+        unknowns: record.unknowns,
+        eta_tot: record.eta.tot,
+        eta_relative,
+        joint_line: line,
+        contact_length: solution.contact_length(),
+        crack_length: solution.crack_from_heel(&line),
+        resultant: solution.resultant(&line),
+        base_stresses: base_stresses(&solution, &problem, &disc, &line, average),
+        sliding_safety_factor: solution.sliding_safety_factor(),
+        strength_reduction: strength,
+        safety_factor_note: note,
+    };
+    if !report.tolerance_met {
+        progress.say(&format!(
+            "warning: eta_tot / ||sigma_h|| = {eta_relative:.3e} after {} meshes is above --tol-relative {}: \
+             raise --max-steps",
+            history.len(),
+            tol_relative
+        ));
+    }
+    if let Some(note) = &report.safety_factor_note {
+        progress.say(&format!("warning: {note}"));
+    }
+    let table = table(&report);
+    let joint = joint_rows(&solution, &line);
+    write_output(&dir.join("joint.csv"), joint_csv(&joint).as_bytes())?;
+    write_linear_figure(&dir.join("base_stresses"), &base_figure(&joint, &report)).context("writing the figure")?;
+    Ok((report, table))
+}
+
+/// What `safety.json` says without friction.
+const FRICTIONLESS: &str = "the joint is frictionless (no [contact] friction, cohesion or threshold): \
+     it has no sliding resistance of its own, so FS_LE and FS_SR are not computed";
+
+/// What `safety.json` says when the joint holds at every reduction.
+const UNBOUNDED: &str = "the joint still held with its strength divided by";
+
+/// The straight joint of the scene on its first mesh, refused with a reason when there is none.
+fn joint_line(scene: &Scene, input: &Input) -> Result<JointLine> {
+    let (problem, joint) = scene.problem(input.mesh(scene)?)?;
+    anyhow::ensure!(
+        joint.is_some(),
+        "{}: the safety analysis needs a joint: give the dam–rock curve role = \"contact\"",
+        scene.source.display()
+    );
+    scene.joint_line(&problem).with_context(|| {
+        format!(
+            "{}: the safety analysis needs a straight joint whose heel is known: the contact curves on one line, \
+             and a hydrostatic curve (or [uplift] heel) at its upstream end",
+            scene.source.display()
+        )
+    })
+}
+
+/// `--average-length`, or a tenth of the joint; it must lie in (0, L/2].
+fn average_length(given: Option<f64>, line: &JointLine) -> Result<f64> {
+    let length = given.unwrap_or(AVERAGE_FRACTION * line.length);
+    anyhow::ensure!(
+        length > 0.0 && length <= 0.5 * line.length,
+        "--average-length {length}: must be positive and at most half the joint ({:.3} m)",
+        0.5 * line.length
+    );
+    Ok(length)
+}
+
+/// The mean σ'^n over `length` at the heel and at the toe.
+fn base_stresses(
+    solution: &ContactSolution,
+    problem: &Problem,
+    disc: &Discretisation,
+    line: &JointLine,
+    length: f64,
+) -> BaseStresses {
+    let mean = |window| solution.mean_normal_stress(problem, disc, line, window);
+    BaseStresses { length, heel: mean([0.0, length]), toe: mean([line.length - length, line.length]) }
+}
+
+/// The results as (quantity, value, unit) rows.
+fn table(r: &Report) -> Vec<[String; 3]> {
+    let row = |name: &str, value: String, unit: &str| [name.to_string(), value, unit.to_string()];
+    let force = |v: f64| format!("{v:.4e}");
+    let mut rows = vec![
+        row("mesh: unknowns, eta_tot / ||sigma_h||", format!("{}, {:.2e}", r.unknowns, r.eta_relative), ""),
+        row("eta_tot of the last mesh", format!("{:.4e}", r.eta_tot), "Pa m"),
+        row("joint length L", format!("{:.4}", r.joint_line.length), "m"),
+        row("contact length", format!("{:.4}", r.contact_length), "m"),
+        row("crack length from the heel", format!("{:.4}", r.crack_length), "m"),
+    ];
+    match &r.resultant {
+        Some(f) => rows.extend([
+            row("normal force N", force(f.normal_force), "N/m"),
+            row("tangential force T", force(f.tangential_force), "N/m"),
+            row("uplift force U", force(f.uplift_force), "N/m"),
+            row("resultant from the heel s_R", format!("{:.4}", f.position), "m"),
+            row("eccentricity e = s_R - L/2", format!("{:.4}", f.eccentricity), "m"),
+            row("middle third |e| <= L/6", (if f.middle_third { "yes" } else { "no" }).into(), ""),
+        ]),
+        None => rows.push(row("resultant", "nothing presses on the joint".into(), "")),
+    }
+    let b = &r.base_stresses;
+    let mpa = |v: f64| format!("{:.4}", v / 1e6);
+    rows.push(row(&format!("heel normal stress (mean over {:.3} m)", b.length), mpa(b.heel), "MPa"));
+    rows.push(row(&format!("toe normal stress (mean over {:.3} m)", b.length), mpa(b.toe), "MPa"));
+    let none = || "not computed".to_string();
+    rows.push(row("FS_LE", r.sliding_safety_factor.map_or_else(none, |f| format!("{f:.4}")), ""));
+    rows.push(row("FS_SR", r.strength_reduction.as_ref().map_or_else(none, bracket), ""));
+    rows
+}
+
+/// FS_SR's bracket \[held, failed\], or "> held" if the joint never failed.
+fn bracket(s: &StrengthReduction) -> String {
+    match s.failed.is_finite() {
+        true => format!("[{:.4}, {:.4}]", s.held, s.failed),
+        false => format!("> {:.0}", s.held),
+    }
+}
+
+/// The rows as aligned columns.
+fn text_table(rows: &[[String; 3]]) -> String {
+    let width = |k: usize| rows.iter().map(|r| r[k].chars().count()).max().unwrap_or(0);
+    let (w0, w1) = (width(0), width(1));
+    rows.iter()
+        .map(|[a, b, c]| format!("{a:<w0$}  {b:>w1$}  {c}").trim_end().to_string())
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// `safety.json` and `report.md` of one analysis in `dir`.
+fn write_files(dir: &Path, report: &Report, table: &[[String; 3]]) -> Result<()> {
+    write_output(&dir.join("safety.json"), serde_json::to_string_pretty(report)?.as_bytes())?;
+    write_output(&dir.join("report.md"), markdown(report, table).as_bytes())?;
+    Ok(())
+}
+
+/// The header and one row per combination: the headline numbers of each report.
+fn combination_rows(reports: &[Combination]) -> Vec<Vec<String>> {
+    let header = [
+        "combination",
+        "crack [m]",
+        "N [N/m]",
+        "T [N/m]",
+        "U [N/m]",
+        "s_R [m]",
+        "e [m]",
+        "middle third",
+        "heel [MPa]",
+        "toe [MPa]",
+        "FS_LE",
+        "FS_SR",
+        "eta_tot/||sigma_h||",
+    ];
+    let mut rows = vec![header.map(String::from).to_vec()];
+    let optional = |v: Option<f64>, format: fn(f64) -> String| v.map_or("-".to_string(), format);
+    for Combination { name, report: r } in reports {
+        let f = r.resultant;
+        rows.push(vec![
+            name.clone(),
+            format!("{:.4}", r.crack_length),
+            optional(f.map(|f| f.normal_force), |v| format!("{v:.4e}")),
+            optional(f.map(|f| f.tangential_force), |v| format!("{v:.4e}")),
+            optional(f.map(|f| f.uplift_force), |v| format!("{v:.4e}")),
+            optional(f.map(|f| f.position), |v| format!("{v:.4}")),
+            optional(f.map(|f| f.eccentricity), |v| format!("{v:.4}")),
+            f.map_or("-", |f| if f.middle_third { "yes" } else { "no" }).to_string(),
+            format!("{:.4}", r.base_stresses.heel / 1e6),
+            format!("{:.4}", r.base_stresses.toe / 1e6),
+            optional(r.sliding_safety_factor, |v| format!("{v:.4}")),
+            r.strength_reduction.as_ref().map_or("-".to_string(), bracket),
+            format!("{:.2e}", r.eta_relative),
+        ]);
+    }
+    rows
+}
+
+/// The rows as columns aligned on the right (the first on the left).
+fn text_columns(rows: &[Vec<String>]) -> String {
+    let widths: Vec<usize> =
+        (0..rows[0].len()).map(|k| rows.iter().map(|r| r[k].chars().count()).max().unwrap_or(0)).collect();
+    let line = |row: &Vec<String>| {
+        let cells = row.iter().zip(&widths).enumerate().map(|(k, (cell, &w))| match k {
+            0 => format!("{cell:<w$}"),
+            _ => format!("{cell:>w$}"),
+        });
+        cells.collect::<Vec<_>>().join("  ")
+    };
+    rows.iter().map(line).collect::<Vec<_>>().join("\n")
+}
+
+/// `report.md` of a scene with combinations: one row per combination, linked to its report.
+fn combinations_markdown(scene: &Scene, rows: &[Vec<String>]) -> String {
+    let mut md = format!("# Dam safety: {}, load combinations\n\n", scene.source.display());
+    md += "Stresses are positive in tension. Each combination's report, joint stresses and figure are in \
+           its own directory.\n\n";
+    let cells = |row: &[String]| row.iter().map(|c| c.replace('|', "\\|")).collect::<Vec<_>>().join(" | ");
+    md += &format!("| {} |\n|{}\n", cells(&rows[0]), "---|".repeat(rows[0].len()));
+    for row in &rows[1..] {
+        md += &format!("| [{}]({}/report.md) | {} |\n", row[0], row[0], cells(&row[1..]));
+    }
+    md
+}
+
+/// One contact face along the joint: its midpoint x, its distance s from the heel, and the
+/// face means of σ'^n = −p_c, σ^n = σ'^n − p_u, σ^t and p_u \[Pa\], and its status.
+struct JointRow {
+    x: [f64; 2],
+    s: f64,
+    effective: f64,
+    total: f64,
+    tangential: f64,
+    uplift: f64,
+    status: f64,
+}
+
+/// The faces of the joint sorted from the heel.
+fn joint_rows(c: &ContactSolution, line: &JointLine) -> Vec<JointRow> {
+    let mut rows: Vec<JointRow> = c
+        .faces
+        .iter()
+        .enumerate()
+        .map(|(k, f)| {
+            let x = c.nitsche.position(k, 0.5);
+            JointRow {
+                x,
+                s: line.distance(x),
+                // + 0.0: no −0 where the joint is open
+                effective: -f.pressure + 0.0,
+                total: -f.pressure - f.uplift,
+                tangential: f.tangential_traction,
+                uplift: f.uplift,
+                status: f.status(),
+            }
+        })
+        .collect();
+    rows.sort_by(|a, b| a.s.total_cmp(&b.s));
+    rows
+}
+
+fn joint_csv(rows: &[JointRow]) -> String {
+    let mut csv =
+        String::from("x,y,s,effective_normal_stress,normal_stress,tangential_stress,uplift_pressure,status\n");
+    for r in rows {
+        csv += &format!(
+            "{:e},{:e},{:e},{:e},{:e},{:e},{:e},{}\n",
+            r.x[0], r.x[1], r.s, r.effective, r.total, r.tangential, r.uplift, r.status
+        );
+    }
+    csv
+}
+
+/// σ'^n, σ^n, σ^t and −p_u \[MPa\] against the distance from the heel \[m\].
+fn base_figure(rows: &[JointRow], report: &Report) -> Figure {
+    let series = |label: &str, value: fn(&JointRow) -> f64, dashed: bool| Series {
+        label: label.into(),
+        points: rows.iter().map(|r| (r.s, value(r) / 1e6)).collect(),
+        dashed,
+    };
+    let mut all = vec![series("effective normal stress σ'ⁿ = −p_c", |r| r.effective, false)];
+    if report.resultant.is_some_and(|f| f.uplift_force > 0.0) {
+        all.push(series("total normal stress σⁿ = σ'ⁿ − p_u", |r| r.total, false));
+        all.push(series("uplift −p_u", |r| -r.uplift, true));
+    }
+    if report.sliding_safety_factor.is_some() {
+        all.push(series("tangential stress σᵗ", |r| r.tangential, false));
+    }
+    Figure {
+        title: "stresses along the joint (tension positive)".into(),
+        x_label: "distance from the heel s [m]".into(),
+        y_label: "stress [MPa]".into(),
+        series: all,
+    }
+}
+
+/// `report.md`: the results table, the convergence of the adaptive run, the figure.
+fn markdown(r: &Report, table: &[[String; 3]]) -> String {
+    let mut md = format!("# Dam safety: {}\n\n", r.scene.display());
+    md += &format!(
+        "P{} elements, refined adaptively until η_tot ≤ {} ‖σ_h‖ (adaptive steps: {}{}). Stresses are \
+         positive in tension; the heel and toe stresses are means of σ'ⁿ = −p_c over {:.3} m of the joint.\n\n",
+        r.order,
+        r.tol_relative,
+        r.steps.len(),
+        if r.tolerance_met { "" } else { "; the tolerance was NOT met" },
+        r.base_stresses.length
+    );
+    md += "| quantity | value | unit |\n|---|---|---|\n";
+    let cell = |text: &str| text.replace('|', "\\|");
+    for [a, b, c] in table {
+        md += &format!("| {} | {} | {} |\n", cell(a), cell(b), c);
+    }
+    if let Some(note) = &r.safety_factor_note {
+        md += &format!("\n{note}.\n");
+    }
+    md += "\n## Adaptive run\n\n| step | unknowns | η_tot / ‖σ_h‖ | crack [m] | s_R [m] | FS_LE |\n|---|---|---|---|---|---|\n";
+    let optional = |v: Option<f64>| v.map_or("–".to_string(), |v| format!("{v:.4}"));
+    for s in &r.steps {
+        md += &format!(
+            "| {} | {} | {:.2e} | {:.4} | {} | {} |\n",
+            s.step,
+            s.unknowns,
+            s.eta_relative,
+            s.crack_length,
+            optional(s.resultant_position),
+            optional(s.sliding_safety_factor)
+        );
+    }
+    md += "\n## Stresses along the joint\n\n![stresses along the joint](base_stresses.png)\n\n\
+           The values per contact face are in `joint.csv`.\n";
+    md
+}

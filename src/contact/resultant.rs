@@ -1,0 +1,88 @@
+//! The joint as a dam engineer reads it (docs/method.md §1.9): a straight joint from its heel
+//! to its toe, the resultant of the contact pressure on it, its position and eccentricity, and
+//! the middle-third check.
+//!
+//! With s the distance from the heel and L the joint length, N = ∫ p_c ds, T = ∫ t^t ds,
+//! U = ∫ p_u ds, and the resultant of the contact pressure acts at
+//!
+//!   x_R = ∫ x p_c ds / N,   s_R = (x_R − x_heel)·τ_joint,   e = s_R − L/2,
+//!
+//! inside the middle third when |e| ≤ L/6: a linear base pressure N/L (1 ± 6e/L) is then
+//! compressive over the whole base, the resultant-location criterion for usual loads of the US
+//! Army Corps of Engineers (EM 1110-2-2100, Stability Analysis of Concrete Structures, 2005),
+//! which CADAM also applies.
+
+use serde::Serialize;
+
+/// A straight joint from its heel (the upstream end) to its toe.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct JointLine {
+    pub heel: [f64; 2],
+    /// The unit vector from the heel to the toe.
+    pub along: [f64; 2],
+    /// The joint length L \[m\].
+    pub length: f64,
+}
+
+impl JointLine {
+    /// The joint from `heel` to `toe`.
+    pub fn new(heel: [f64; 2], toe: [f64; 2]) -> Self {
+        let length = (toe[0] - heel[0]).hypot(toe[1] - heel[1]);
+        JointLine { heel, along: [(toe[0] - heel[0]) / length, (toe[1] - heel[1]) / length], length }
+    }
+
+    /// The distance s from the heel of the point x of the joint.
+    pub fn distance(&self, x: [f64; 2]) -> f64 {
+        (x[0] - self.heel[0]) * self.along[0] + (x[1] - self.heel[1]) * self.along[1]
+    }
+
+    /// The point at the distance s from the heel.
+    pub fn point(&self, s: f64) -> [f64; 2] {
+        [self.heel[0] + s * self.along[0], self.heel[1] + s * self.along[1]]
+    }
+}
+
+/// The resultant of the joint traction on a straight joint.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Resultant {
+    /// N = ∫ p_c ds \[N/m\], compression positive: the effective normal force (W − U on a
+    /// horizontal joint).
+    pub normal_force: f64,
+    /// T = ∫ t^t ds \[N/m\] along τ = (−ν_y, ν_x).
+    pub tangential_force: f64,
+    /// U = ∫ p_u ds \[N/m\] (0 without uplift).
+    pub uplift_force: f64,
+    /// The point x_R where N acts.
+    pub point: [f64; 2],
+    /// Its distance s_R from the heel \[m\].
+    pub position: f64,
+    /// e = s_R − L/2 \[m\], positive towards the toe.
+    pub eccentricity: f64,
+    /// |e| ≤ L/6.
+    pub middle_third: bool,
+    /// L \[m\].
+    pub length: f64,
+}
+
+impl Resultant {
+    /// The resultant of N, T and U with the first moment M = ∫ x p_c ds of the contact
+    /// pressure, on `line`; None when N ≤ 0 (nothing presses on the joint).
+    pub fn new(line: &JointLine, forces: [f64; 3], moment: [f64; 2]) -> Option<Self> {
+        let [normal_force, tangential_force, uplift_force] = forces;
+        (normal_force > 0.0).then(|| {
+            let point = [moment[0] / normal_force, moment[1] / normal_force];
+            let position = line.distance(point);
+            let eccentricity = position - 0.5 * line.length;
+            Resultant {
+                normal_force,
+                tangential_force,
+                uplift_force,
+                point,
+                position,
+                eccentricity,
+                middle_third: eccentricity.abs() <= line.length / 6.0,
+                length: line.length,
+            }
+        })
+    }
+}
