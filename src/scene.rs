@@ -356,7 +356,10 @@ impl Scene {
         let context = |message: String| self.invalid(format!("combinations.{name}: {message}"));
         let overlay = self.combinations.get(name).ok_or_else(|| {
             let names: Vec<&str> = self.combinations.keys().map(String::as_str).collect();
-            context(format!("no such combination; the scene has: {}", if names.is_empty() { "none".into() } else { names.join(", ") }))
+            context(format!(
+                "no such combination; the scene has: {}",
+                if names.is_empty() { "none".into() } else { names.join(", ") }
+            ))
         })?;
         if let Some(key) = overlay.keys().find(|k| !Self::COMBINED.contains(&k.as_str())) {
             return Err(context(format!(

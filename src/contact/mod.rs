@@ -26,8 +26,8 @@ use crate::solve::{newton, newton_until, LayerSchur, NewtonError, NewtonOptions,
 pub use law::JointLaw;
 use nitsche::{ContactFace, Nitsche, NitscheParameters};
 use projection::{negative_part, Smoothing};
-use std::sync::OnceLock;
 pub use resultant::{JointLine, Resultant};
+use std::sync::OnceLock;
 pub use uplift::Uplift;
 
 /// A contact boundary: the curves of Γ_C, the joint law and the Nitsche parameters.
