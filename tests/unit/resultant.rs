@@ -47,7 +47,8 @@ fn the_resultant_of_a_linear_pressure_is_exact() {
             if p0 > 0.0 {
                 assert!(r.middle_third, "|e| = 1/18 < 1/6");
             }
-            assert_eq!(solution.crack_from_heel(&line), 0.0, "closed to the heel");
+            let crack = solution.crack_from_heel(&line);
+            assert!(crack.abs() <= 1e-12, "closed to the heel, not open on {crack} m");
         }
         let line = JointLine::new([0.0, 0.0], [1.0, 0.0]);
         for window in [[0.0, 0.25], [0.3, 0.7], [0.9, 1.0]] {

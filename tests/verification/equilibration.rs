@@ -140,7 +140,8 @@ fn graded_solves_are_equilibrated_to_their_representation() {
 /// J⁻¹(x − x₀), which loses ε |x| / h_T; it now takes them on the reference edge. Measured:
 /// 3.9·10⁻¹⁴ at step 0 to 3.3·10⁻¹³ at step 11 (the patch compatibility; the other checks
 /// ≤ 1.8·10⁻¹⁴), about 60 s in release mode.
-/// Parameters: geo/scene_a.toml, p = 2, 12 adaptive steps with the default settings.
+/// Parameters: geo/scene_a.toml, p = 2, 12 adaptive steps with the default settings (the
+/// smallest-size stall may end the run after 11; measured so with the Schur-complement steps).
 #[test]
 fn scene_a_p2_adaptive_run_stays_equilibrated() {
     let mut scene = Scene::load(Path::new("geo/scene_a.toml")).expect("scene");
@@ -154,7 +155,7 @@ fn scene_a_p2_adaptive_run_stays_equilibrated() {
     };
     let settings = AdaptSettings { steps: 12, ..Default::default() };
     let mut worst: Vec<f64> = Vec::new();
-    adapt::run(&settings, &mut mesher, &scene, |step| {
+    let history = adapt::run(&settings, &mut mesher, &scene, |step| {
         let contact = step.contact.expect("Scene A has a contact curve");
         let state = Linearisation::new(step.problem, step.disc, &contact.nitsche, contact.smoothing, &contact.x_prev);
         let u = step.problem.displacement(step.disc, step.x);
@@ -166,6 +167,8 @@ fn scene_a_p2_adaptive_run_stays_equilibrated() {
     .expect("adaptive run");
     let shown: Vec<String> = worst.iter().map(|w| format!("{w:.1e}")).collect();
     eprintln!("worst per step: {shown:?}");
-    assert_eq!(worst.len(), 12, "steps");
+    // twelve meshes, unless the cells at the junction reach the smallest size first
+    let stalled = history.last().is_some_and(|r| r.stall.is_some());
+    assert!(worst.len() == 12 || (stalled && worst.len() >= 10), "{} steps, stalled: {stalled}", worst.len());
     assert!(worst.iter().all(|&w| w <= 1e-12), "{shown:?}");
 }
