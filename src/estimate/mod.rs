@@ -36,7 +36,7 @@ pub enum EstimateError {
 pub const EQUILIBRATION_TOLERANCE: f64 = 1e-8;
 
 /// How many times [`checks::representation_bound`] an estimate accepts: the violations of
-/// converged solves measured on graded meshes reach 25 times it (docs/method.md §5.2).
+/// converged solves measured on graded meshes reach 27 times it (docs/method.md §5.2).
 pub const REPRESENTATION_FACTOR: f64 = 300.0;
 
 /// The largest relative violation an estimate of the iterate `u` accepts:
