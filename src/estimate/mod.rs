@@ -33,7 +33,7 @@ pub enum EstimateError {
 /// on any mesh (see [`equilibration_tolerance`] for graded ones). Discrete solutions and full
 /// Newton steps stay below it on the adaptive runs of docs/method.md §5.2 (up to 1.8·10⁻⁹); a
 /// damped step leaves 10⁻⁵ and more.
-pub const EQUILIBRATION_TOLERANCE: f64 = 1e-8;
+pub const EQUILIBRATION_TOLERANCE: f64 = 1e-10;
 
 /// How many times [`checks::representation_bound`] an estimate accepts: the violations of
 /// converged solves measured on graded meshes reach 27 times it (docs/method.md §5.2).
