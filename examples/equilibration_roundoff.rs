@@ -14,20 +14,30 @@
 //!    ε max|u_h| (λ + 2μ) / (h_min max|σ(u_h)|): a double u_h resolves nodal differences only
 //!    to ε |u_h|, so the residual of the discrete equation cannot fall below ε E |u_h| per node.
 //! 5. The patch problems on thin cells: the size of σ_h and η_flux against the stress.
+//! 6. With `--hertz`: the adaptive runs of geo/hertz.toml (size factor 2; P2, 5 steps; P1,
+//!    6 steps), and the P1 run with the plane and the top moved down by 0.5 (|u_h| from 0.05
+//!    to 0.55, the same contact): per step the worst check against
+//!    `estimate::checks::representation_bound` (which weighs the cells of Γ_C by γ₀).
 //!
-//! Run: `cargo run --release --example equilibration_roundoff` (a few seconds).
+//! Run: `cargo run --release --example equilibration_roundoff` (a few seconds; `-- --hertz`
+//! adds about three minutes).
 
+use damfem::adapt::geo::GeoMesher;
+use damfem::adapt::{self, AdaptSettings, Refinement};
+use damfem::contact::Linearisation;
 use damfem::elasticity::stress::cell_mean_stress;
 use damfem::elasticity::{BodyForce, Discretisation, Problem};
-use damfem::estimate::checks::{check, Equilibration};
+use damfem::estimate::checks::{check, representation_bound, Equilibration};
 use damfem::estimate::estimators::estimate;
 use damfem::estimate::reconstruction::reconstruct;
 use damfem::mesh::structured::{rectangle, BOTTOM, LEFT, RIGHT, TOP};
 use damfem::mesh::{Mesh, Topology};
+use damfem::scene::Scene;
 use damfem::solve::Cholesky;
 use damfem::verify::meshes::graded;
 use damfem::verify::refine::elevate_to_p2;
 use damfem::verify::v1;
+use std::path::Path;
 use std::sync::Arc;
 
 /// a + b = s + e exactly (TwoSum).
@@ -185,9 +195,47 @@ fn graded_mesh(ratio: f64, order: usize) -> Mesh {
     }
 }
 
+/// Table 6: one adaptive run of Hertz at degree `order`, its plane and top moved down by
+/// `shift`.
+fn hertz(order: usize, steps: usize, shift: f64) {
+    let mut scene = Scene::load(Path::new("geo/hertz.toml")).expect("geo/hertz.toml");
+    scene.mesh.order = order;
+    scene.mesh.size_factor = 2.0;
+    scene.contact.gap += shift;
+    scene.boundary.get_mut("top").expect("the top of geo/hertz.toml").value[1] -= shift;
+    let mut mesher = GeoMesher {
+        geometry: scene.geometry.clone(),
+        options: scene.mesh_options(),
+        refinement: Refinement::Adaptive,
+        verbose: false,
+        allow_system_calls: false,
+    };
+    let settings = AdaptSettings { steps, ..Default::default() };
+    adapt::run(&settings, &mut mesher, &scene, |step| {
+        let contact = step.contact.expect("Hertz has a contact curve");
+        let state = Linearisation::new(step.problem, step.disc, &contact.nitsche, contact.smoothing, &contact.x_prev);
+        let u = step.problem.displacement(step.disc, step.x);
+        let worst = step.estimate.equilibration.worst(order);
+        let bound = representation_bound(step.problem, &u, Some(&state));
+        println!(
+            "  P{order} shift {shift}: {:>7} unknowns, worst {worst:.1e}, bound {bound:.1e}, worst / bound {:.2}",
+            step.disc.dofs.n_free,
+            worst / bound
+        );
+        Ok(())
+    })
+    .expect("adaptive run");
+}
+
 fn main() {
     solve_and_refine();
     exact_linear();
     graded_solve();
     thin_patches();
+    if std::env::args().any(|a| a == "--hertz") {
+        println!("6. Hertz adaptive runs (size factor 2): worst check against the representation bound");
+        hertz(2, 5, 0.0);
+        hertz(1, 6, 0.0);
+        hertz(1, 5, 0.5);
+    }
 }

@@ -82,6 +82,8 @@ pub struct ContactFace {
 /// Shape data of the cell basis at one point of a face.
 pub struct FacePoint {
     pub x: [f64; 2],
+    /// The gap g at the point, from the cell's origin x₀ as g(x₀) + ∇g·(x − x₀).
+    pub gap: f64,
     /// σ^n(φ_i e_a) = (σ(φ_i e_a)n)·ν = λ ∂_a φ_i (n·ν) + μ((∇φ_i·n) ν_a + (∇φ_i·ν) n_a) at index
     /// 2i + a.
     pub sigma_n: Vec<f64>,
@@ -156,7 +158,12 @@ impl Nitsche {
         let nu = face.direction;
         let (sigma_n, u_n) = along(nu);
         let (sigma_t, u_t) = along([-nu[1], nu[0]]);
-        FacePoint { x: face.map.to_physical(xi), sigma_n, u_n, sigma_t, u_t }
+        // g(x₀) + ∇g·Jξ from the cell's origin x₀: without the rounding ε|x| of the point itself
+        let j = face.map.jacobian;
+        let offset = [j[0][0] * xi[0] + j[0][1] * xi[1], j[1][0] * xi[0] + j[1][1] * xi[1]];
+        let gap = &self.parameters.gap;
+        let gap = gap.at(face.map.origin) + gap.gradient[0] * offset[0] + gap.gradient[1] * offset[1];
+        FacePoint { x: face.map.to_physical(xi), gap, sigma_n, u_n, sigma_t, u_t }
     }
 
     /// P_γ(u_h) = σ^n(u_h) + p_u − γ(u_h^n − g) at a face point, for local nodal displacements
@@ -165,7 +172,7 @@ impl Nitsche {
         let gamma = self.faces[k].gamma;
         let sigma_n = dot(&point.sigma_n, u);
         let u_n = dot(&point.u_n, u);
-        sigma_n + self.uplift_at(point.x) - gamma * (u_n - self.parameters.gap.at(point.x))
+        sigma_n + self.uplift_at(point.x) - gamma * (u_n - point.gap)
     }
 
     /// The uplift p_u at a point of the joint (0 without uplift).

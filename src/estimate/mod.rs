@@ -31,9 +31,9 @@ pub enum EstimateError {
 
 /// The largest relative violation of an equilibration condition that an estimate accepts
 /// on any mesh (see [`equilibration_tolerance`] for graded ones). Discrete solutions and full
-/// Newton steps stay below it on the adaptive runs of docs/method.md §5.2 (up to 1.8·10⁻⁹); a
+/// Newton steps stay below it on the adaptive runs of docs/method.md §5.2 (up to 1.5·10⁻¹¹); a
 /// damped step leaves 10⁻⁵ and more.
-pub const EQUILIBRATION_TOLERANCE: f64 = 1e-8;
+pub const EQUILIBRATION_TOLERANCE: f64 = 1e-10;
 
 /// How many times [`checks::representation_bound`] an estimate accepts: the violations of
 /// converged solves measured on graded meshes reach 25 times it (docs/method.md §5.2).
@@ -43,7 +43,7 @@ pub const REPRESENTATION_FACTOR: f64 = 300.0;
 /// max([`EQUILIBRATION_TOLERANCE`], [`REPRESENTATION_FACTOR`] × the representation bound).
 /// The second term, ε |u_h| / (h |∇u_h|) up to material factors (γ₀ times that on Γ_C), is
 /// what a double u_h leaves on cells much smaller than |u_h| / |∇u_h|; it exceeds the first
-/// only on cells about 10⁵ times smaller than that (10³ on Γ_C with γ₀ = 100;
+/// only on cells about 10³ times smaller than that (10 on Γ_C with γ₀ = 100;
 /// docs/method.md §5.2).
 pub fn equilibration_tolerance(problem: &Problem, u: &[[f64; 2]], contact: Option<&Linearisation>) -> f64 {
     EQUILIBRATION_TOLERANCE.max(REPRESENTATION_FACTOR * checks::representation_bound(problem, u, contact))
