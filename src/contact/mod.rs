@@ -512,11 +512,12 @@ pub fn strength_reduction(
     let start = solve_by_continuation(problem, disc, joint, settings)?;
     let (mut held, mut x, mut solves) = (1.0, start.x.clone(), 1);
     let mut failed = f64::INFINITY;
+    // one contact problem for every k: the same faces, stiffness and factorisation
+    let joint = ContactJoint { uplift: start.nitsche.uplift.clone(), ..joint.clone() };
+    let mut contact = ContactProblem::new(problem, disc, &joint, Smoothing { delta: settings.delta });
     while failed - held > tolerance * held {
         let k = if failed.is_finite() { 0.5 * (held + failed) } else { 1.25 * held };
-        let (law, uplift) = (joint.law.reduced(k), start.nitsche.uplift.clone());
-        let reduced = ContactJoint { law, uplift, ..joint.clone() };
-        let contact = ContactProblem::new(problem, disc, &reduced, Smoothing { delta: settings.delta });
+        contact.nitsche.law = joint.law.reduced(k);
         solves += 1;
         match newton(&contact, x.clone(), &settings.newton) {
             Ok(report) => (held, x) = (k, report.x),
