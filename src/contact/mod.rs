@@ -652,10 +652,11 @@ pub fn reduce_strength(
 ) -> StrengthReduction {
     let (mut held, mut x, mut solves) = (1.0, start.x.clone(), 1);
     let mut failed = f64::INFINITY;
+    // one contact problem for every k: the same faces, stiffness and factorisation
+    let mut contact = ContactProblem::new(problem, disc, &joint.as_solved(start), start.smoothing);
     while failed - held > tolerance * held {
         let k = if failed.is_finite() { 0.5 * (held + failed) } else { 1.25 * held };
-        let reduced = ContactJoint { law: joint.law.reduced(k), ..joint.as_solved(start) };
-        let contact = ContactProblem::new(problem, disc, &reduced, start.smoothing);
+        contact.nitsche.law = joint.law.reduced(k);
         solves += 1;
         match newton(&contact, x.clone(), newton_options) {
             Ok(report) => (held, x) = (k, report.x),

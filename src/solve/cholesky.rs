@@ -33,7 +33,7 @@ impl Cholesky {
     /// Symbolic analysis of `pattern` with the dofs `last` eliminated last, in this order, and
     /// the others in the approximate minimum degree order of the whole pattern; supernodal,
     /// so that [`Cholesky::trailing_block`] can read the factor.
-    pub fn analyse_with_last(pattern: &SparsePattern, last: &[usize]) -> Result<Self, SolveError> {
+    pub(super) fn analyse_with_last(pattern: &SparsePattern, last: &[usize]) -> Result<Self, SolveError> {
         let n = pattern.n();
         let (mut amd_order, mut amd_inverse) = (vec![0usize; n], vec![0usize; n]);
         let mut buffer = workspace(amd::order_maybe_unsorted_scratch::<usize>(n, pattern.nnz()))?;
