@@ -11,6 +11,15 @@ pub fn max_nodal_error(points: &[[f64; 2]], u_h: &[[f64; 2]], u: impl Fn([f64; 2
     points.iter().zip(u_h).map(|(&x, v)| (v[0] - u(x)[0]).abs().max((v[1] - u(x)[1]).abs())).fold(0.0, f64::max)
 }
 
+/// The mesh gmsh makes of `scene`'s geometry at degree `order`, its sizes times `size_factor`.
+pub fn mesh_scene(scene: &damfem::scene::Scene, order: usize, size_factor: f64) -> damfem::mesh::Mesh {
+    use damfem::io::gmsh::{mesh_geo, MeshOptions};
+    let m = &scene.mesh;
+    let options =
+        MeshOptions { order, size_factor, size_min: m.size_min, size_max: m.size_max, algorithm: m.algorithm };
+    mesh_geo(&scene.geometry, &options, false, false).unwrap_or_else(|e| panic!("{e}"))
+}
+
 /// A scene of the repository meshed by gmsh and solved as `damfem solve` solves it.
 pub struct SolvedScene {
     pub problem: damfem::elasticity::Problem,
@@ -22,14 +31,9 @@ pub struct SolvedScene {
 /// Solves the scene `path` (relative to the crate) with a contact joint at degree `order`, its
 /// mesh sizes times `size_factor`.
 pub fn solve_scene(path: &str, order: usize, size_factor: f64) -> SolvedScene {
-    use damfem::io::gmsh::{mesh_geo, MeshOptions};
     let scene = damfem::scene::Scene::load(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(path))
         .unwrap_or_else(|e| panic!("{e}"));
-    let m = &scene.mesh;
-    let options =
-        MeshOptions { order, size_factor, size_min: m.size_min, size_max: m.size_max, algorithm: m.algorithm };
-    let mesh = mesh_geo(&scene.geometry, &options, false, false).unwrap_or_else(|e| panic!("{e}"));
-    let (problem, joint) = scene.problem(mesh).unwrap_or_else(|e| panic!("{e}"));
+    let (problem, joint) = scene.problem(mesh_scene(&scene, order, size_factor)).unwrap_or_else(|e| panic!("{e}"));
     let joint = joint.expect("a contact joint");
     let disc = problem.discretise();
     let solution =

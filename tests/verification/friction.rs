@@ -381,20 +381,11 @@ fn a_tampered_tangential_traction_fails_the_checks() {
 /// and P2, the file's mesh sizes × 2.
 #[test]
 fn eta_tot_bounds_the_residual_on_the_frictional_dam() {
-    use damfem::io::gmsh::{mesh_geo, MeshOptions};
     use damfem::scene::Scene;
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("geo/scene_a_friction.toml");
     let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
     for order in [1, 2] {
-        let m = &scene.mesh;
-        let options = MeshOptions {
-            order,
-            size_factor: 2.0 * m.size_factor,
-            size_min: m.size_min,
-            size_max: m.size_max,
-            algorithm: m.algorithm,
-        };
-        let mesh = mesh_geo(&scene.geometry, &options, false, false).unwrap_or_else(|e| panic!("{e}"));
+        let mesh = common::mesh_scene(&scene, order, 2.0 * scene.mesh.size_factor);
         let (problem, joint) = scene.problem(mesh).unwrap_or_else(|e| panic!("{e}"));
         let joint = joint.expect("a joint");
         let disc = problem.discretise();

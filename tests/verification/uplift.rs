@@ -7,7 +7,6 @@ use damfem::contact::resultant::JointLine;
 use damfem::contact::uplift::Uplift;
 use damfem::contact::{solve_by_continuation, ContactJoint, Continuation, JointLaw};
 use damfem::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};
-use damfem::io::gmsh::{mesh_geo, MeshOptions};
 use damfem::mesh::structured::{unit_square, BOTTOM, LEFT, RIGHT, TOP};
 use damfem::scene::Scene;
 use damfem::solve::NewtonOptions;
@@ -131,15 +130,7 @@ fn strength_reduction_finds_the_exact_sliding_factor() {
     for scene in [with_uplift, without_uplift] {
         for order in [1, 2] {
             for size_factor in [4.0, 2.0] {
-                let m = &scene.mesh;
-                let options = MeshOptions {
-                    order,
-                    size_factor,
-                    size_min: m.size_min,
-                    size_max: m.size_max,
-                    algorithm: m.algorithm,
-                };
-                let mesh = mesh_geo(&scene.geometry, &options, false, false).unwrap_or_else(|e| panic!("{e}"));
+                let mesh = common::mesh_scene(&scene, order, size_factor);
                 let (problem, joint) = scene.problem(mesh).unwrap_or_else(|e| panic!("{e}"));
                 let joint = joint.expect("a joint");
                 let uplift = joint.uplift.as_ref().map_or(0.0, |up| up.force(0.0));
