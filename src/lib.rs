@@ -19,14 +19,16 @@
 //!  solve                sparse Cholesky / LU (faer), symbolic factorisation reused; Newton,
 //!    │                  its steps by the dense Schur complement on the contact layer
 //!    ▼
-//!  contact::ContactSolution   the iterate, its linearisation point and smoothing, face states
+//!  contact::ContactSolution   the iterate, its linearisation point and smoothing, face states;
+//!    │                  the joint's N, T, U, resultant, crack and base stresses (resultant)
 //!    ▼
 //!  estimate             AFW patch problems → σ_h1 + σ_h2 + σ_h3 → η_osc … η_lin, checks
 //!    ▼
 //!  adapt                Newton stopped by η_lin, δ by η_reg; marking, gmsh remeshing with a
 //!    │                  size field from η_T, the displacement moved to the new mesh
 //!    ▼
-//!  io::vtu / io::pvd    ParaView files; cli writes summaries, histories and plots
+//!  io::vtu / io::pvd    ParaView files; cli writes summaries, histories, plots and the
+//!                       dam-safety report (`damfem safety`, per load combination)
 //! ```
 //!
 //! Data flows one way: a module never calls a module above it; `cli` drives the pipeline and

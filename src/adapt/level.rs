@@ -172,6 +172,8 @@ pub fn contact_level(
     };
     let (mut solve_seconds, mut estimates, mut n_reg) = (clock.elapsed().as_secs_f64(), EstimateCount::default(), 0);
     let mut crack_solves = 0;
+    // the δ at which the crack was last settled, and how
+    let mut settled: Option<(f64, Crack)> = None;
     loop {
         contact.set_delta(delta);
         let smoothing = contact.smoothing;
@@ -208,17 +210,24 @@ pub fn contact_level(
         x = report.x.clone();
         stages.push(Stage { delta, report });
         if regularisation_small(&global, settings.gamma_reg) {
-            // with the crack filled by the reservoir: its fixed point at this δ; if it moved,
-            // the level goes on from the new solution, so that the last iterate is estimated
+            // with the crack filled by the reservoir: its fixed point at this δ, once; if it
+            // moved, the level goes on from the new solution, so that the last iterate is
+            // estimated (a crack settled by its bracket stays: it would not settle again)
             let mut crack = None;
             if contact.nitsche.uplift.as_ref().is_some_and(|up| up.crack_filled) {
-                let (settled, more, found) = settle_crack(&mut contact, x, newton)?;
-                crack_solves += found.iterations - 1;
-                x = settled;
-                if !more.is_empty() {
-                    stages.extend(more);
-                    continue;
-                }
+                let found = match settled.filter(|(at, _)| *at == delta) {
+                    Some((_, found)) => found,
+                    None => {
+                        let (solution, more, found) = settle_crack(&mut contact, x, newton)?;
+                        crack_solves += found.iterations - 1;
+                        (x, settled) = (solution, Some((delta, found)));
+                        if !more.is_empty() {
+                            stages.extend(more);
+                            continue;
+                        }
+                        found
+                    }
+                };
                 crack = Some(Crack { iterations: crack_solves + 1, ..found });
             }
             let n_lin = stages.iter().map(|s| s.report.iterations.len()).sum();

@@ -4,7 +4,7 @@
 //! check, the heel and toe normal stresses averaged over a stated length, FS_LE and FS_SR.
 
 use super::adapt::run_sequence;
-use super::common::{output_dir, stem, validate_overrides, Input, Output};
+use super::common::{output_dir, stem, validate_overrides, Input, Output, Progress};
 use super::output::{Units, UNITS};
 use crate::adapt::Step;
 use crate::contact::{reduce_strength, ContactSolution, JointLine, Resultant, StrengthReduction};
@@ -96,22 +96,7 @@ struct Report {
 
 pub fn run(args: Args) -> Result<()> {
     let progress = args.input.progress();
-    let mut scene = args.input.scene()?;
-    let tol_relative = args.tol_relative.or(scene.adapt.tol_relative).unwrap_or(TOL_RELATIVE);
-    scene.adapt.tol_relative = Some(tol_relative);
-    scene.adapt.steps = args.max_steps.unwrap_or(scene.adapt.steps);
-    scene.adapt.compare_uniform = false;
-    let overrides = [
-        ("--tol-relative", "adapt.tol_relative", args.tol_relative.is_some()),
-        ("--max-steps", "adapt.steps", args.max_steps.is_some()),
-    ];
-    validate_overrides(&scene, &overrides)?;
-    scene.check_adaptive()?;
-    anyhow::ensure!(
-        scene.geometry.extension().is_some_and(|e| e == "geo"),
-        "{}: the safety analysis refines the mesh adaptively, so it needs a .geo file, not a mesh",
-        scene.geometry.display()
-    );
+    let scene = scene(&args)?;
     let names: Vec<String> = scene.combinations.keys().cloned().collect();
     let cases: Vec<(Option<&str>, Scene)> = if names.is_empty() {
         vec![(None, scene.clone())]
@@ -143,16 +128,42 @@ pub fn run(args: Args) -> Result<()> {
         write_files(&sub, &report, &table)?;
         reports.push(Combination { name: name.to_string(), report });
     }
-    let rows = combination_rows(&reports);
-    write_output(
-        &dir.join("safety.json"),
-        serde_json::to_string_pretty(&Combinations { units: UNITS, combinations: &reports })?.as_bytes(),
-    )?;
-    write_output(&dir.join("report.md"), combinations_markdown(&scene, &rows).as_bytes())?;
-    if !args.input.quiet {
+    write_combinations(&dir, &scene, &reports, args.input.quiet)?;
+    progress.say(&format!("results in {} (safety.json, report.md; one directory per combination)", dir.display()));
+    Ok(())
+}
+
+/// The scene with the flags' tolerance and steps for the adaptive run, checked.
+fn scene(args: &Args) -> Result<Scene> {
+    let mut scene = args.input.scene()?;
+    let tol_relative = args.tol_relative.or(scene.adapt.tol_relative).unwrap_or(TOL_RELATIVE);
+    scene.adapt.tol_relative = Some(tol_relative);
+    scene.adapt.steps = args.max_steps.unwrap_or(scene.adapt.steps);
+    scene.adapt.compare_uniform = false;
+    let overrides = [
+        ("--tol-relative", "adapt.tol_relative", args.tol_relative.is_some()),
+        ("--max-steps", "adapt.steps", args.max_steps.is_some()),
+    ];
+    validate_overrides(&scene, &overrides)?;
+    scene.check_adaptive()?;
+    anyhow::ensure!(
+        scene.geometry.extension().is_some_and(|e| e == "geo"),
+        "{}: the safety analysis refines the mesh adaptively, so it needs a .geo file, not a mesh",
+        scene.geometry.display()
+    );
+    Ok(scene)
+}
+
+/// `safety.json` and `report.md` of the combinations in `dir`, and their table on stdout
+/// unless `quiet`.
+fn write_combinations(dir: &Path, scene: &Scene, reports: &[Combination], quiet: bool) -> Result<()> {
+    let rows = combination_rows(reports);
+    let json = serde_json::to_string_pretty(&Combinations { units: UNITS, combinations: reports })?;
+    write_output(&dir.join("safety.json"), json.as_bytes())?;
+    write_output(&dir.join("report.md"), combinations_markdown(scene, &rows).as_bytes())?;
+    if !quiet {
         println!("{}", text_columns(&rows));
     }
-    progress.say(&format!("results in {} (safety.json, report.md; one directory per combination)", dir.display()));
     Ok(())
 }
 
@@ -205,18 +216,20 @@ fn analyse(
     let (problem, joint) = scene.problem(mesh)?;
     let joint = joint.context("the scene has no joint")?;
     let disc = problem.discretise();
-    let law = joint.law;
-    let (strength, note) = if !law.has_friction() {
-        (None, Some(FRICTIONLESS.to_string()))
-    } else {
-        let newton = NewtonOptions { trace: args.input.newton_trace(), ..scene.newton_options() };
-        let (sr, _) = progress.stage(
-            "strength",
-            || Ok(reduce_strength(&problem, &disc, &joint, &solution, &newton, STRENGTH_TOLERANCE)),
-            |s: &StrengthReduction| format!("FS_SR in [{:.4}, {:.4}] after {} solves", s.held, s.failed, s.solves),
-        )?;
-        let unbounded = (!sr.failed.is_finite()).then(|| format!("{} {:.0}", UNBOUNDED, sr.held));
-        (Some(sr), unbounded)
+    let (strength, note) = match joint.law.has_friction() {
+        false => (None, Some(FRICTIONLESS.to_string())),
+        true => {
+            let newton = NewtonOptions { trace: args.input.newton_trace(), ..scene.newton_options() };
+            let sr = progress
+                .stage(
+                    "strength",
+                    || Ok(reduce_strength(&problem, &disc, &joint, &solution, &newton, STRENGTH_TOLERANCE)),
+                    describe_strength,
+                )?
+                .0;
+            let unbounded = (!sr.failed.is_finite()).then(|| format!("{} {:.0}", UNBOUNDED, sr.held));
+            (Some(sr), unbounded)
+        }
     };
     let eta_relative = record.eta.tot / record.stress_norm;
     let report = Report {
@@ -225,7 +238,7 @@ fn analyse(
         order: problem.mesh.order,
         tol_relative,
         tolerance_met: eta_relative <= tol_relative,
-        steps: rows.clone(),
+        steps: rows,
         unknowns: record.unknowns,
         eta_tot: record.eta.tot,
         eta_relative,
@@ -238,22 +251,32 @@ fn analyse(
         strength_reduction: strength,
         safety_factor_note: note,
     };
-    if !report.tolerance_met {
-        progress.say(&format!(
-            "warning: eta_tot / ||sigma_h|| = {eta_relative:.3e} after {} meshes is above --tol-relative {}: \
-             raise --max-steps",
-            history.len(),
-            tol_relative
-        ));
-    }
-    if let Some(note) = &report.safety_factor_note {
-        progress.say(&format!("warning: {note}"));
-    }
+    warn(&report, &progress);
     let table = table(&report);
     let joint = joint_rows(&solution, &line);
     write_output(&dir.join("joint.csv"), joint_csv(&joint).as_bytes())?;
     write_linear_figure(&dir.join("base_stresses"), &base_figure(&joint, &report)).context("writing the figure")?;
     Ok((report, table))
+}
+
+/// The progress line of FS_SR.
+fn describe_strength(s: &StrengthReduction) -> String {
+    format!("FS_SR in [{:.4}, {:.4}] after {} solves", s.held, s.failed, s.solves)
+}
+
+/// The warnings of a report: the tolerance not met, no safety factor.
+fn warn(r: &Report, progress: &Progress) {
+    if !r.tolerance_met {
+        progress.say(&format!(
+            "warning: eta_tot / ||sigma_h|| = {:.3e} after {} meshes is above --tol-relative {}: raise --max-steps",
+            r.eta_relative,
+            r.steps.len(),
+            r.tol_relative
+        ));
+    }
+    if let Some(note) = &r.safety_factor_note {
+        progress.say(&format!("warning: {note}"));
+    }
 }
 
 /// What `safety.json` says without friction.
