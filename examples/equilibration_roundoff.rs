@@ -22,7 +22,6 @@
 //! Run: `cargo run --release --example equilibration_roundoff` (a few seconds; `-- --hertz`
 //! adds about three minutes).
 
-use damfem::adapt::geo::GeoMesher;
 use damfem::adapt::{self, AdaptSettings, Refinement};
 use damfem::contact::Linearisation;
 use damfem::elasticity::stress::cell_mean_stress;
@@ -34,8 +33,7 @@ use damfem::mesh::structured::{rectangle, BOTTOM, LEFT, RIGHT, TOP};
 use damfem::mesh::{Mesh, Topology};
 use damfem::scene::Scene;
 use damfem::solve::Cholesky;
-use damfem::verify::meshes::graded;
-use damfem::verify::refine::elevate_to_p2;
+use damfem::verify::meshes::graded_unit_square;
 use damfem::verify::v1;
 use std::path::Path;
 use std::sync::Arc;
@@ -137,7 +135,7 @@ fn exact_linear() {
     println!("3. exact discrete solution (linear, dyadic) on meshes graded towards (0.5, 0.5)");
     for order in [1, 2] {
         for ratio in [1e2, 1e4, 1e6] {
-            let mesh = graded_mesh(ratio, order);
+            let mesh = graded_unit_square(ratio, order);
             for c in [0.0, 1.0, 100.0] {
                 let exact = move |x: [f64; 2]| [0.5 * x[0] + 0.25 * x[1] + c, 0.125 * x[0] - 0.5 * x[1] + c];
                 let mut problem = v1::problem(mesh.clone(), &[BOTTOM, RIGHT, TOP, LEFT]);
@@ -156,7 +154,7 @@ fn graded_solve() {
     println!("4. V1 solved on meshes graded towards (0.5, 0.5): checks against eps max|u| (lambda + 2 mu) / (h_min max|sigma(u)|)");
     for order in [1, 2] {
         for ratio in [1e2, 1e4, 1e6, 1e7, 1e8] {
-            let problem = v1::problem(graded_mesh(ratio, order), &[BOTTOM]);
+            let problem = v1::problem(graded_unit_square(ratio, order), &[BOTTOM]);
             let disc = problem.discretise();
             let x = problem.solve_linear(&disc).expect("solve");
             let u = problem.displacement(&disc, &x);
@@ -185,16 +183,6 @@ fn thin_patches() {
     }
 }
 
-/// The 4 × 4 unit square graded by `ratio` towards its centre, at degree `order`.
-fn graded_mesh(ratio: f64, order: usize) -> Mesh {
-    let mesh = graded(&rectangle(0.0, 1.0, 0.0, 1.0, 4, 4, 1), [0.5, 0.5], ratio);
-    if order == 2 {
-        elevate_to_p2(&mesh)
-    } else {
-        mesh
-    }
-}
-
 /// Table 6: one adaptive run of Hertz at degree `order`, its plane and top moved down by
 /// `shift`.
 fn hertz(order: usize, steps: usize, shift: f64) {
@@ -203,13 +191,7 @@ fn hertz(order: usize, steps: usize, shift: f64) {
     scene.mesh.size_factor = 2.0;
     scene.contact.gap += shift;
     scene.boundary.get_mut("top").expect("the top of geo/hertz.toml").value[1] -= shift;
-    let mut mesher = GeoMesher {
-        geometry: scene.geometry.clone(),
-        options: scene.mesh_options(),
-        refinement: Refinement::Adaptive,
-        verbose: false,
-        allow_system_calls: false,
-    };
+    let mut mesher = scene.mesher(Refinement::Adaptive);
     let settings = AdaptSettings { steps, ..Default::default() };
     adapt::run(&settings, &mut mesher, &scene, |step| {
         let contact = step.contact.expect("Hertz has a contact curve");

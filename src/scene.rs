@@ -6,7 +6,8 @@
 //! `Gamma_N`, `Gamma_C`, or `dirichlet`, `neumann`, `contact`, any case) and the default
 //! material [`Scene::DEFAULT_MATERIAL`] to every region.
 
-use crate::adapt::{AdaptError, AdaptSettings, Model};
+use crate::adapt::geo::GeoMesher;
+use crate::adapt::{AdaptError, AdaptSettings, Model, Refinement};
 use crate::contact::nitsche::{Gap, NitscheParameters};
 use crate::contact::uplift::{Drains, Uplift};
 use crate::contact::{ContactJoint, Continuation, JointLaw, JointLine};
@@ -538,6 +539,18 @@ impl Scene {
             size_min: m.size_min,
             size_max: m.size_max,
             algorithm: m.algorithm,
+        }
+    }
+
+    /// The adaptive loop's mesher of this scene's geometry with its `[mesh]` options and the
+    /// `refinement`, quiet and without shell commands.
+    pub fn mesher(&self, refinement: Refinement) -> GeoMesher {
+        GeoMesher {
+            geometry: self.geometry.clone(),
+            options: self.mesh_options(),
+            refinement,
+            verbose: false,
+            allow_system_calls: false,
         }
     }
 

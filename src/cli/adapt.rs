@@ -149,11 +149,9 @@ pub fn run_sequence(
         progress.say(&format!("{prefix}removed {removed} step files of an earlier run from {}", dir.display()));
     }
     let mut mesher = GeoMesher {
-        geometry: scene.geometry.clone(),
-        options: scene.mesh_options(),
-        refinement: scene.adapt.refinement,
         verbose: input.verbose,
         allow_system_calls: input.allow_system_calls,
+        ..scene.mesher(scene.adapt.refinement)
     };
     let mut writer =
         StepWriter { dir, name, scene, effectivity, history: Vec::new(), vtu: Vec::new(), headline: Vec::new() };

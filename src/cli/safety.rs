@@ -7,7 +7,7 @@ use super::adapt::run_sequence;
 use super::common::{output_dir, stem, validate_overrides, Input, Output, Progress};
 use super::output::{Units, UNITS};
 use crate::adapt::Step;
-use crate::contact::{reduce_strength, ContactSolution, JointLine, Resultant, StrengthReduction};
+use crate::contact::{reduce_strength, ContactSolution, JointLine, Resultant, StrengthReduction, STRENGTH_TOLERANCE};
 use crate::elasticity::{Discretisation, Problem};
 use crate::io::atomic::write_output;
 use crate::io::plot::{write_linear_figure, Figure, Series};
@@ -20,9 +20,6 @@ use std::path::{Path, PathBuf};
 
 /// The default tolerance on η_tot / ‖σ_h‖.
 const TOL_RELATIVE: f64 = 0.01;
-
-/// The relative width of the FS_SR bracket.
-const STRENGTH_TOLERANCE: f64 = 2e-3;
 
 /// The heel and toe stresses are averaged over this fraction of the joint by default.
 const AVERAGE_FRACTION: f64 = 0.1;

@@ -5,7 +5,7 @@ use super::common::{stem, validate_overrides, Input, Output};
 use super::output::{write_results, EstimateSummary, Results, Summary, Units, UNITS};
 use crate::contact::{
     solve_by_continuation, strength_reduction, ContactError, ContactJoint, Continuation, Solution, Stage,
-    StrengthReduction,
+    StrengthReduction, STRENGTH_TOLERANCE,
 };
 use crate::elasticity::stress::cell_mean_stress;
 use crate::elasticity::{Discretisation, Problem};
@@ -17,9 +17,6 @@ use crate::verify::dual_norm::{effectivity, Effectivity};
 use anyhow::Result;
 use serde::Serialize;
 use std::path::Path;
-
-/// The relative width of the FS_SR bracket that `--strength-reduction` stops at.
-const STRENGTH_TOLERANCE: f64 = 2e-3;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {

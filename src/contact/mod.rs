@@ -612,6 +612,10 @@ pub fn settle_crack(
     unreachable!("the loop returns by its last iteration")
 }
 
+/// The relative width of the FS_SR bracket at which `damfem solve --strength-reduction` and
+/// `damfem safety` stop.
+pub const STRENGTH_TOLERANCE: f64 = 2e-3;
+
 /// The sliding safety factor by strength reduction: the largest k for which the joint with
 /// its strength divided by k (F/k, c/k, s/k) still holds the body.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]

@@ -22,16 +22,6 @@ fn scene(name: &str, order: usize) -> Scene {
     scene
 }
 
-fn mesher(scene: &Scene, refinement: Refinement) -> GeoMesher {
-    GeoMesher {
-        geometry: scene.geometry.clone(),
-        options: scene.mesh_options(),
-        refinement,
-        verbose: false,
-        allow_system_calls: false,
-    }
-}
-
 /// Runs `steps` adaptive steps on `scene`, giving every step's mesh to `inspect`.
 fn run(
     settings: AdaptSettings,
@@ -58,7 +48,7 @@ fn physical_groups_survive_every_remesh() {
     let scene = scene("scene_a", 1);
     let lengths = [("base", 32.0), ("toe", 8.0), ("upstream", 50.0), ("crest", 5.0), ("downstream", 35f64.hypot(50.0))];
     let mut seen = Vec::new();
-    let history = run(steps(4), &mut mesher(&scene, Refinement::Adaptive), &scene, |mesh, record| {
+    let history = run(steps(4), &mut scene.mesher(Refinement::Adaptive), &scene, |mesh, record| {
         assert_eq!(mesh.group_names(1), ["base", "toe", "downstream", "crest", "upstream"], "step {}", record.step);
         assert_eq!(mesh.group_names(2), ["concrete"]);
         for (name, length) in lengths {
@@ -84,7 +74,7 @@ fn the_size_factor_scales_the_first_mesh_only() {
     let mut scene = scene("scene_a", 1);
     scene.mesh.size_factor = 4.0;
     let mut cells = Vec::new();
-    run(steps(3), &mut mesher(&scene, Refinement::Adaptive), &scene, |mesh, _| cells.push(mesh.n_cells()))
+    run(steps(3), &mut scene.mesher(Refinement::Adaptive), &scene, |mesh, _| cells.push(mesh.n_cells()))
         .expect("adaptive run");
     assert!(cells.windows(2).all(|w| w[1] > w[0]), "cells per step {cells:?}");
 }
@@ -106,7 +96,7 @@ fn refinement_concentrates_at_the_junction_and_the_end_of_the_contact_zone() {
     // the Γ_D/Γ_C junction at (32, 0) and the contact end at x ≈ 30.4 are the singular points
     let scene = scene("scene_a", 1);
     let (mut first, mut last) = (None, None);
-    run(steps(6), &mut mesher(&scene, Refinement::Adaptive), &scene, |mesh, _| {
+    run(steps(6), &mut scene.mesher(Refinement::Adaptive), &scene, |mesh, _| {
         let density = relative_density(mesh, [31.0, 0.0], 2.0);
         first.get_or_insert(density);
         last = Some(density);
@@ -135,7 +125,7 @@ impl Mesher for FailingMesher {
 #[test]
 fn a_failed_remesh_stops_the_run_after_the_steps_already_done() {
     let scene = scene("scene_a", 1);
-    let mut mesher = FailingMesher { inner: mesher(&scene, Refinement::Adaptive), at: 2 };
+    let mut mesher = FailingMesher { inner: scene.mesher(Refinement::Adaptive), at: 2 };
     let mut seen = Vec::new();
     let result = run(steps(5), &mut mesher, &scene, |_, record| seen.push(record.step));
     assert_eq!(seen, [0, 1]);
@@ -163,7 +153,7 @@ impl Model for Limited {
 fn a_newton_failure_is_reported_with_its_history() {
     let scene = scene("scene_a", 1);
     let model = Limited { scene: scene.clone(), max_iter: 2 };
-    let result = run(steps(3), &mut mesher(&scene, Refinement::Adaptive), &model, |_, _| panic!("no step succeeds"));
+    let result = run(steps(3), &mut scene.mesher(Refinement::Adaptive), &model, |_, _| panic!("no step succeeds"));
     let message = result.expect_err("two Newton steps are too few from zero").to_string();
     assert!(message.contains("at delta = ") && message.contains("Newton did not converge in 2 step(s)"), "{message}");
 }
@@ -189,7 +179,7 @@ fn warm_starts_need_few_newton_steps_and_delta_moves_mostly_on_the_first_mesh() 
     let scene = scene("scene_a", 2);
     let settings = AdaptSettings { steps: 3, delta0: 1.0, ..Default::default() };
     let mut p_max = None;
-    let history = adapt::run(&settings, &mut mesher(&scene, Refinement::Adaptive), &scene, |step| {
+    let history = adapt::run(&settings, &mut scene.mesher(Refinement::Adaptive), &scene, |step| {
         p_max.get_or_insert_with(|| first_iterate_p_max(&scene, step, settings.delta0));
         Ok(())
     })
@@ -223,7 +213,7 @@ fn warm_starts_need_few_newton_steps_and_delta_moves_mostly_on_the_first_mesh() 
 #[test]
 fn eta_lin_follows_the_newton_residual() {
     let scene = scene("scene_a", 2);
-    let mesh = mesher(&scene, Refinement::Adaptive).mesh(0, None).expect("mesh");
+    let mesh = scene.mesher(Refinement::Adaptive).mesh(0, None).expect("mesh");
     let (problem, joint) = scene.problem(mesh).expect("problem");
     let joint = joint.expect("Scene A has a contact curve");
     let disc = problem.discretise();
@@ -249,7 +239,7 @@ fn eta_lin_follows_the_newton_residual() {
 #[test]
 fn without_contact_each_step_is_one_linear_solve() {
     let scene = scene("unit_square", 1);
-    let history = run(steps(3), &mut mesher(&scene, Refinement::Adaptive), &scene, |_, _| {}).expect("adaptive run");
+    let history = run(steps(3), &mut scene.mesher(Refinement::Adaptive), &scene, |_, _| {}).expect("adaptive run");
     for r in &history {
         assert_eq!((r.n_lin, r.n_reg, r.delta), (0, 0, None));
         assert_eq!([r.eta.disc, r.eta.reg, r.eta.lin], [0.0; 3]);
@@ -266,7 +256,7 @@ fn rate(scene: &Scene, refinement: Refinement, n: usize) -> f64 {
 
 /// [`rate`] and the history of the run.
 fn slope_and_history(scene: &Scene, refinement: Refinement, n: usize) -> (f64, Vec<StepRecord>) {
-    let history = run(steps(n), &mut mesher(scene, refinement), scene, |_, _| {}).expect("adaptive run");
+    let history = run(steps(n), &mut scene.mesher(refinement), scene, |_, _| {}).expect("adaptive run");
     let tail = &history[history.len().saturating_sub(4)..];
     let slope = loglog_slope(&tail.iter().map(|r| (r.unknowns as f64, r.eta.tot)).collect::<Vec<_>>());
     let last = tail.len() - 1;
@@ -351,7 +341,7 @@ fn adaptive_p2_reaches_the_optimal_rate_on_hertz() {
 /// `scene`, with the unknowns and whether the reference converged to 2 %.
 fn effectivity_along(scene: &Scene, n: usize) -> Vec<(usize, f64, bool)> {
     let mut indices = Vec::new();
-    adapt::run(&steps(n), &mut mesher(scene, Refinement::Adaptive), scene, |step| {
+    adapt::run(&steps(n), &mut scene.mesher(Refinement::Adaptive), scene, |step| {
         let u = step.problem.displacement(step.disc, step.x);
         let (_, joint) = scene.problem(step.problem.mesh.clone()).expect("problem");
         let e = effectivity(step.problem, &u, joint.as_ref(), step.record.eta.tot).expect("reference");

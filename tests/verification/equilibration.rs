@@ -1,6 +1,5 @@
 //! Equilibration of the reconstruction on thin and graded cells.
 
-use damfem::adapt::geo::GeoMesher;
 use damfem::adapt::{self, AdaptSettings, Refinement};
 use damfem::contact::Linearisation;
 use damfem::elasticity::{BodyForce, Problem};
@@ -8,11 +7,10 @@ use damfem::estimate::checks::{check, representation_bound, Equilibration};
 use damfem::estimate::estimate_iterate;
 use damfem::estimate::reconstruction::reconstruct;
 use damfem::mesh::structured::{rectangle, BOTTOM, LEFT, RIGHT, TOP};
-use damfem::mesh::{Mesh, Topology};
+use damfem::mesh::Topology;
 use damfem::scene::Scene;
 use damfem::solve::Cholesky;
-use damfem::verify::meshes::graded;
-use damfem::verify::refine::elevate_to_p2;
+use damfem::verify::meshes::graded_unit_square;
 use damfem::verify::v1;
 use std::path::Path;
 use std::sync::Arc;
@@ -61,16 +59,6 @@ fn dyadic_linear(c: f64) -> impl Fn([f64; 2]) -> [f64; 2] + Copy + Send + Sync +
     move |x| [0.5 * x[0] + 0.25 * x[1] + c, 0.125 * x[0] - 0.5 * x[1] + c]
 }
 
-/// The 4 × 4 unit square graded by `ratio` towards its centre, at degree `order`.
-fn graded_square(ratio: f64, order: usize) -> Mesh {
-    let mesh = graded(&rectangle(0.0, 1.0, 0.0, 1.0, 4, 4, 1), [0.5, 0.5], ratio);
-    if order == 2 {
-        elevate_to_p2(&mesh)
-    } else {
-        mesh
-    }
-}
-
 /// Source: docs/method.md §4.1 (graded cells) and §5.2; the displacement gradient is taken
 /// from nodal differences, Σ (u_k − u_0) ⊗ ∇φ_k.
 /// Goal: when u_h is the exact discrete solution, the estimator's own arithmetic keeps every
@@ -85,7 +73,7 @@ fn graded_square(ratio: f64, order: usize) -> Mesh {
 fn graded_cells_are_equilibrated_to_round_off() {
     for order in [1, 2] {
         for ratio in [1e4, 1e6] {
-            let mesh = graded_square(ratio, order);
+            let mesh = graded_unit_square(ratio, order);
             for c in [0.0, 1.0, 100.0] {
                 let exact = dyadic_linear(c);
                 let mut problem = v1::problem(mesh.clone(), &[BOTTOM, RIGHT, TOP, LEFT]);
@@ -117,7 +105,7 @@ fn graded_cells_are_equilibrated_to_round_off() {
 fn graded_solves_are_equilibrated_to_their_representation() {
     for order in [1, 2] {
         for ratio in [1e2, 1e4, 1e6, 1e7, 1e8] {
-            let problem = v1::problem(graded_square(ratio, order), &[BOTTOM]);
+            let problem = v1::problem(graded_unit_square(ratio, order), &[BOTTOM]);
             let disc = problem.discretise();
             let x = problem.solve_linear(&disc).expect("solve");
             let bound = representation_bound(&problem, &problem.displacement(&disc, &x), None);
@@ -146,13 +134,7 @@ fn graded_solves_are_equilibrated_to_their_representation() {
 fn scene_a_p2_adaptive_run_stays_equilibrated() {
     let mut scene = Scene::load(Path::new("geo/scene_a.toml")).expect("scene");
     scene.mesh.order = 2;
-    let mut mesher = GeoMesher {
-        geometry: scene.geometry.clone(),
-        options: scene.mesh_options(),
-        refinement: Refinement::Adaptive,
-        verbose: false,
-        allow_system_calls: false,
-    };
+    let mut mesher = scene.mesher(Refinement::Adaptive);
     let settings = AdaptSettings { steps: 12, ..Default::default() };
     let mut worst: Vec<f64> = Vec::new();
     let history = adapt::run(&settings, &mut mesher, &scene, |step| {
@@ -188,13 +170,7 @@ fn hertz_adaptive_runs_stay_within_the_representation_bound() {
         let mut scene = Scene::load(Path::new("geo/hertz.toml")).expect("scene");
         scene.mesh.order = order;
         scene.mesh.size_factor = 2.0;
-        let mut mesher = GeoMesher {
-            geometry: scene.geometry.clone(),
-            options: scene.mesh_options(),
-            refinement: Refinement::Adaptive,
-            verbose: false,
-            allow_system_calls: false,
-        };
+        let mut mesher = scene.mesher(Refinement::Adaptive);
         let settings = AdaptSettings { steps: 5, ..Default::default() };
         let mut ratios = Vec::new();
         adapt::run(&settings, &mut mesher, &scene, |step| {
