@@ -6,17 +6,17 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 /// A fresh directory under the system temp dir, removed when dropped.
-struct TempDir(PathBuf);
+pub(crate) struct TempDir(pub(crate) PathBuf);
 
 impl TempDir {
-    fn new(name: &str) -> TempDir {
+    pub(crate) fn new(name: &str) -> TempDir {
         let dir = std::env::temp_dir().join(format!("damfem-cli-{}-{name}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).unwrap();
         TempDir(dir)
     }
 
-    fn join(&self, name: &str) -> PathBuf {
+    pub(crate) fn join(&self, name: &str) -> PathBuf {
         self.0.join(name)
     }
 }
@@ -28,32 +28,32 @@ impl Drop for TempDir {
 }
 
 /// Runs the binary with `args`.
-fn damfem<S: AsRef<OsStr>>(args: &[S]) -> Output {
+pub(crate) fn damfem<S: AsRef<OsStr>>(args: &[S]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_damfem")).args(args).output().expect("cannot run damfem")
 }
 
 /// A file of the repository.
-fn repo(path: &str) -> PathBuf {
+pub(crate) fn repo(path: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(path)
 }
 
 /// A fixture of tests/data/cli.
-fn fixture(name: &str) -> PathBuf {
+pub(crate) fn fixture(name: &str) -> PathBuf {
     repo("tests/data/cli").join(name)
 }
 
-fn stderr(out: &Output) -> String {
+pub(crate) fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
 
 /// Asserts a successful run, showing stderr otherwise.
-fn assert_ok(out: &Output) {
+pub(crate) fn assert_ok(out: &Output) {
     assert!(out.status.success(), "{:?}: {}", out.status, stderr(out));
 }
 
 /// Asserts a failed run whose stderr is one "error:" line, continued only by indented lines
 /// (a TOML error's excerpt), containing every keyword; returns it.
-fn assert_error(out: &Output, keywords: &[&str]) -> String {
+pub(crate) fn assert_error(out: &Output, keywords: &[&str]) -> String {
     let text = stderr(out);
     assert!(!out.status.success(), "expected a failure, stderr: {text}");
     assert!(!text.contains("panicked"), "panic: {text}");
@@ -67,7 +67,7 @@ fn assert_error(out: &Output, keywords: &[&str]) -> String {
 }
 
 /// Asserts that `dir` holds no file at all (results, temporaries), if it exists.
-fn assert_nothing_written(dir: &Path) {
+pub(crate) fn assert_nothing_written(dir: &Path) {
     if let Ok(entries) = std::fs::read_dir(dir) {
         let names: Vec<_> = entries.map(|e| e.unwrap().file_name()).collect();
         assert!(names.is_empty(), "{} holds {names:?}", dir.display());
@@ -75,7 +75,7 @@ fn assert_nothing_written(dir: &Path) {
 }
 
 /// Files of `dir` whose names start with '.' (hidden temporaries).
-fn hidden_files(dir: &Path) -> Vec<String> {
+pub(crate) fn hidden_files(dir: &Path) -> Vec<String> {
     std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
@@ -84,7 +84,7 @@ fn hidden_files(dir: &Path) -> Vec<String> {
 }
 
 /// Runs `damfem solve -q <scene> -o <tmp>/out` and asserts it fails with `keywords`, writing nothing.
-fn assert_solve_fails(name: &str, scene: &Path, keywords: &[&str]) -> String {
+pub(crate) fn assert_solve_fails(name: &str, scene: &Path, keywords: &[&str]) -> String {
     let tmp = TempDir::new(name);
     let out_dir = tmp.join("out");
     let out = damfem(&["solve".as_ref(), "-q".as_ref(), scene.as_os_str(), "-o".as_ref(), out_dir.as_os_str()]);
@@ -94,7 +94,7 @@ fn assert_solve_fails(name: &str, scene: &Path, keywords: &[&str]) -> String {
 }
 
 /// Reads summary.json of `dir` and checks that it describes a non-empty, finite solution.
-fn check_summary(dir: &Path) -> serde_json::Value {
+pub(crate) fn check_summary(dir: &Path) -> serde_json::Value {
     let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();
     let s: serde_json::Value = serde_json::from_str(&text).unwrap();
     for key in ["nodes", "cells", "unknowns", "free_unknowns"] {
@@ -605,168 +605,10 @@ fn adapt_refuses_the_keys_of_solve() {
     }
 }
 
-/// Writes geo/scene_a_friction.toml with `edit` applied into `tmp`, the geometry by absolute path.
-fn frictional_scene(tmp: &TempDir, edit: impl Fn(String) -> String) -> PathBuf {
-    let text = std::fs::read_to_string(repo("geo/scene_a_friction.toml")).unwrap();
-    let geometry = format!("geometry = {:?}", repo("geo/scene_a_friction.geo").display().to_string());
-    let scene = tmp.join("scene.toml");
-    std::fs::write(&scene, edit(text.replace("geometry = \"scene_a_friction.geo\"", &geometry))).unwrap();
-    scene
-}
-
-// Friction keys out of range are refused, naming the key; a flag gets the same check.
-#[test]
-fn friction_keys_out_of_range() {
-    let tmp = TempDir::new("friction-keys");
-    for (line, expected) in [
-        ("friction = -0.5", vec!["contact.friction = -0.5", "non-negative"]),
-        ("friction = nan", vec!["contact.friction = NaN", "finite number"]),
-        ("cohesion = -1e5", vec!["contact.cohesion = -100000", "non-negative"]),
-        ("threshold = 1e5", vec!["contact.threshold", "exclusive"]),
-    ] {
-        let scene = frictional_scene(&tmp, |t| t.replace("friction = 0.8391", line));
-        let scene = if line.starts_with("threshold") {
-            frictional_scene(&tmp, |t| t.replace("[contact]", &format!("[contact]\n{line}")))
-        } else {
-            scene
-        };
-        assert_solve_fails("friction-key", &scene, &expected);
-    }
-    let scene = frictional_scene(&tmp, |t| t);
-    let out_dir = tmp.join("out");
-    let out =
-        damfem(&["solve".as_ref(), scene.as_os_str(), "--friction=-1".as_ref(), "-o".as_ref(), out_dir.as_os_str()]);
-    assert_error(&out, &["friction = -1", "non-negative"]);
-    assert_nothing_written(&out_dir);
-}
-
-// A joint that cannot hold the loads is refused before Newton, with the forces that say why.
-#[test]
-fn a_joint_too_weak_for_the_loads_has_no_equilibrium() {
-    let tmp = TempDir::new("friction-weak");
-    let scene = frictional_scene(&tmp, |t| t.replace("friction = 0.8391", "friction = 0.5"));
-    assert_solve_fails("friction-weak-solve", &scene, &["no equilibrium", "N/m", "contact.friction"]);
-}
-
-// The estimator covers friction: `--estimate` on the frictional dam writes the η values and
-// checks the equilibration of the reconstruction, tangential traces included.
-#[test]
-fn the_estimator_covers_a_frictional_joint() {
-    let tmp = TempDir::new("friction-estimate");
-    let scene = frictional_scene(&tmp, |t| t);
-    let out_dir = tmp.join("out");
-    let args = [
-        "solve",
-        "-q",
-        scene.to_str().unwrap(),
-        "--estimate",
-        "--check-equilibration",
-        "-o",
-        out_dir.to_str().unwrap(),
-    ];
-    assert_ok(&damfem(&args));
-    let summary = check_summary(&out_dir);
-    let estimate = &summary["estimate"];
-    assert!(estimate["global"]["tot"].as_f64().unwrap() > 0.0, "{estimate}");
-    let worst = estimate["equilibration"]["contact"].as_f64().unwrap();
-    assert!(worst < 1e-10, "contact traces equilibrated to {worst}");
-}
-
-// Bad [uplift] values are refused, naming the key: a non-finite level, a tailwater above the
-// headwater, drains outside the joint.
-#[test]
-fn uplift_keys_out_of_range() {
-    let tmp = TempDir::new("uplift-keys");
-    for (section, expected) in [
-        ("headwater = nan", vec!["uplift.headwater = NaN", "finite"]),
-        ("headwater = 40.0\ntailwater = 45.0", vec!["uplift.tailwater = 45", "above uplift.headwater = 40"]),
-        (
-            "headwater = 45.0\ndrains = { x = 55.0, efficiency = 0.5 }",
-            vec!["uplift.drains.x = 55", "outside the joint"],
-        ),
-        ("headwater = 45.0\ndrains = { x = 5.0, efficiency = 1.5 }", vec!["uplift.drains", "efficiency within [0, 1]"]),
-    ] {
-        let scene = frictional_scene(&tmp, |t| format!("{t}\n[uplift]\n{section}\n"));
-        assert_solve_fails("uplift-key", &scene, &expected);
-    }
-    let scene = frictional_scene(&tmp, |t| {
-        format!("{}\n[uplift]\nheadwater = 45.0\n", t.replace("role = \"contact\"", "role = \"dirichlet\""))
-    });
-    assert_solve_fails("uplift-no-joint", &scene, &["[uplift] needs a joint", "contact"]);
-}
-
-// A load combination overrides the water levels and the pseudo-static acceleration of the
-// scene: the joint forces follow statics exactly, N + U = W and T = −(the thrust + a_x W), with
-// the thrust ρ_w g H_w²/2 of the combination's reservoir level.
-#[test]
-fn combinations_override_water_levels_and_acceleration() {
-    let tmp = TempDir::new("combinations");
-    let scene = frictional_scene(&tmp, |t| {
-        format!(
-            "{t}\n[uplift]\nheadwater = 45.0\ndrains = {{ x = 5.0, efficiency = 0.6667 }}\ncrack = \"ignore\"\n\n\
-             [combinations.usual]\nboundary.upstream.hydrostatic.level = 45.0\n\n\
-             [combinations.flood]\nboundary.upstream.hydrostatic.level = 50.0\nuplift.headwater = 50.0\n\n\
-             [combinations.earthquake]\nboundary.upstream.hydrostatic.level = 45.0\nloads.acceleration = [0.1, 0.0]\n"
-        )
-    });
-    let weight = 2400.0 * 9.81 * (40.0 + 5.0) / 2.0 * 50.0;
-    for (name, level, a_x) in [("usual", 45.0_f64, 0.0), ("flood", 50.0, 0.0), ("earthquake", 45.0, 0.1)] {
-        let out = tmp.join(name);
-        let args = ["solve", "-q", scene.to_str().unwrap(), "--combination", name, "--size-factor", "2", "-o"];
-        assert_ok(&damfem(&[&args[..], &[out.to_str().unwrap()]].concat()));
-        let c = &check_summary(&out)["contact"];
-        let force = |key: &str| c[key].as_f64().unwrap_or_else(|| panic!("{key} in {c}"));
-        let thrust = 1000.0 * 9.81 * level * level / 2.0;
-        let (n, t, u) = (force("normal_force"), force("tangential_force"), force("uplift_force"));
-        assert!((n + u - weight).abs() <= 1e-8 * weight, "{name}: N + U = {} against W = {weight}", n + u);
-        let expected = -(thrust + a_x * weight);
-        assert!((t - expected).abs() <= 1e-8 * expected.abs(), "{name}: T = {t} against {expected}");
-    }
-}
-
-// A combination is checked like the scene: an unknown key, a NaN level, a tailwater above the
-// headwater, or a table it may not override is refused when the scene is read, naming the
-// combination; an unknown --combination lists the scene's.
-#[test]
-fn bad_combinations_are_refused() {
-    let tmp = TempDir::new("bad-combinations");
-    let uplift = "\n[uplift]\nheadwater = 45.0\ncrack = \"ignore\"\n";
-    for (combination, expected) in [
-        ("uplift.headwatr = 50.0", vec!["combinations.bad", "headwatr"]),
-        ("boundary.upstream.hydrostatic.level = nan", vec!["combinations.bad", "level = NaN", "finite"]),
-        ("uplift.tailwater = 60.0", vec!["combinations.bad", "tailwater = 60", "above uplift.headwater = 45"]),
-        ("mesh.size_factor = 0.5", vec!["combinations.bad", "'mesh' cannot be combined"]),
-    ] {
-        let scene = frictional_scene(&tmp, |t| format!("{t}{uplift}\n[combinations.bad]\n{combination}\n"));
-        assert_solve_fails("bad-combination", &scene, &expected);
-    }
-    let scene = frictional_scene(&tmp, |t| format!("{t}{uplift}\n[combinations.usual]\n[combinations.flood]\n"));
-    assert_refused(
-        "unknown-combination",
-        "solve",
-        &scene,
-        &["--combination", "storm"],
-        &["--combination storm", "combinations.storm: no such combination", "flood, usual"],
-    );
-}
-
-// --strength-reduction needs a frictional joint, and says so before writing anything.
-#[test]
-fn strength_reduction_needs_friction() {
-    let tmp = TempDir::new("strength-frictionless");
-    let out = tmp.join("out");
-    let scene = repo("geo/scene_a.toml");
-    let args =
-        [OsStr::new("solve"), scene.as_os_str(), OsStr::new("--strength-reduction"), OsStr::new("-o"), out.as_os_str()];
-    let result = damfem(&args);
-    assert_error(&result, &["--strength-reduction", "frictional joint"]);
-    assert!(!out.exists(), "no output directory");
-}
-
 /// Runs `damfem <command> -q <input> -o <tmp>/out [extra]` (no `-o` for `check`) and asserts
 /// that it fails with one error line holding `keywords`, and leaves no output directory;
 /// returns the line.
-fn assert_refused(name: &str, command: &str, input: &Path, extra: &[&str], keywords: &[&str]) -> String {
+pub(crate) fn assert_refused(name: &str, command: &str, input: &Path, extra: &[&str], keywords: &[&str]) -> String {
     let tmp = TempDir::new(name);
     let out_dir = tmp.join("out");
     let mut args = vec![OsStr::new(command), OsStr::new("-q"), input.as_os_str()];
@@ -1251,293 +1093,4 @@ fn verbose_shows_newton_steps_quiet_shows_nothing_and_json_states_units() {
         let printed = format!("{}{}", String::from_utf8_lossy(&out.stdout), stderr(&out));
         assert!(printed.is_empty(), "{command}: {printed}");
     }
-}
-
-/// ∫ s p(s) ds and ∫ p(s) ds of the piecewise linear p through the points (s, p).
-fn linear_moments(points: &[(f64, f64)]) -> (f64, f64) {
-    points.windows(2).fold((0.0, 0.0), |(m, f), w| {
-        let ((a, pa), (b, pb)) = (w[0], w[1]);
-        (m + (b - a) / 6.0 * (a * (2.0 * pa + pb) + b * (pa + 2.0 * pb)), f + 0.5 * (b - a) * (pa + pb))
-    })
-}
-
-/// Scene A's section (vertical upstream face, base 40 m, crest 5 m, height 50 m, ρ = 2400):
-/// the weight W [N/m] and its lever arm x̄ from the heel [m].
-fn scene_a_weight() -> (f64, f64) {
-    let (rectangle, triangle) = (5.0 * 50.0, 35.0 * 50.0 / 2.0);
-    let x_bar = (rectangle * 2.5 + triangle * (5.0 + 35.0 / 3.0)) / (rectangle + triangle);
-    (2400.0 * 9.81 * (rectangle + triangle), x_bar)
-}
-
-// The joint's headline numbers of `solve` against statics. Source: the equilibrium of the dam
-// held by its joint alone (geo/scene_a_friction.toml, flood level 70 m; geo/scene_a_uplift.toml,
-// reservoir at 45 m with uplift, drains 5 m from the heel, 2/3 effective, the crack filled):
-// with no Dirichlet condition the rigid rotations are test functions, so the moments about the
-// heel balance, N s_R = W x̄ + M_water − ∫ s p_u ds, and N = W − U. Goal: `summary.json`
-// reports the crack from the heel, N, T, U and the resultant (position, eccentricity, middle
-// third), and these satisfy the balance to 10⁻⁶; the stderr lines show them. Parameters: the
-// scenes' P2 meshes; p_u by hand from the diagram of docs/method.md §1.8 with the reported crack.
-#[test]
-fn solve_reports_the_joint_resultant_in_equilibrium() {
-    let (weight, x_bar) = scene_a_weight();
-    let water = 1000.0 * 9.81;
-    for (name, level) in [("scene_a_friction", 70.0_f64), ("scene_a_uplift", 45.0)] {
-        let tmp = TempDir::new(&format!("resultant-{name}"));
-        let scene = repo(&format!("geo/{name}.toml"));
-        let out = damfem(&[OsStr::new("solve"), scene.as_os_str(), OsStr::new("-o"), tmp.0.as_os_str()]);
-        assert_ok(&out);
-        let summary = check_summary(&tmp.0);
-        let c = &summary["contact"];
-        let number = |v: &serde_json::Value| v.as_f64().unwrap_or_else(|| panic!("{c}"));
-        let r = &c["resultant"];
-        let (n, s_r, crack) = (number(&r["normal_force"]), number(&r["position"]), number(&c["crack_length"]));
-        // the upstream face from y = 0 to 50 under ρ_w g (level − y)₊
-        let wet = level.min(50.0);
-        let (m_water, _) = linear_moments(&[(0.0, water * level), (wet, water * (level - wet))]);
-        let (m_uplift, uplift) = if name == "scene_a_uplift" {
-            let (h_u, l, s_d, e) = (water * level, 40.0, 5.0, 0.6667);
-            let fixed_point = number(&c["crack"]["length"]);
-            assert!((crack - fixed_point).abs() <= 2e-6 * l, "crack {crack} against its fixed point {fixed_point}");
-            let at_drains = (1.0 - e) * h_u * (l - s_d) / (l - fixed_point);
-            linear_moments(&[(0.0, h_u), (fixed_point, h_u), (s_d, at_drains), (l, 0.0)])
-        } else {
-            assert!(c["uplift_force"].is_null() && crack > 0.0, "{c}");
-            (0.0, 0.0)
-        };
-        let expected = (weight * x_bar + m_water - m_uplift) / (weight - uplift);
-        println!(
-            "{name}: crack {crack:.4} m, N = {n:.6e}, U = {uplift:.6e}, s_R = {s_r:.6} m (statics {expected:.6} m)"
-        );
-        assert!((n - (weight - uplift)).abs() <= 1e-6 * weight, "{name}: N = {n} against W − U = {}", weight - uplift);
-        assert!((s_r - expected).abs() <= 1e-6 * 40.0, "{name}: s_R = {s_r} against {expected}");
-        assert_eq!(number(&r["uplift_force"]), c["uplift_force"].as_f64().unwrap_or(0.0));
-        let e = number(&r["eccentricity"]);
-        assert!((e - (s_r - 20.0)).abs() <= 1e-12 && r["middle_third"] == (e.abs() <= 40.0 / 6.0), "{r}");
-        assert_eq!(c["joint_line"]["heel"], serde_json::json!([0.0, 0.0]), "{c}");
-        let text = String::from_utf8_lossy(&out.stdout);
-        assert!(text.contains(&format!("crack {crack:.4} m open from the heel, resultant at {s_r:.4} m")), "{text}");
-    }
-}
-
-// `adapt` iterates the crack–uplift fixed point on every mesh and writes `summary.json` of the
-// last step; its history has the crack and the resultant of every step. Source:
-// geo/scene_a_uplift.toml (crack = "full"). Goal: every step's crack settled to 10⁻⁶ L, the
-// history's crack and resultant per step (JSON and CSV) and summary.json's equal to the last
-// step's, and the last step's closing lines. Parameters: P1, mesh sizes × 2, three meshes.
-#[test]
-fn adapt_settles_the_crack_and_records_the_joint_per_step() {
-    let tmp = TempDir::new("adapt-uplift");
-    let scene = repo("geo/scene_a_uplift.toml");
-    let args = ["adapt", "--order", "1", "--size-factor", "2", "--steps", "3", "-o"];
-    let mut args: Vec<&OsStr> = args.iter().map(OsStr::new).collect();
-    args.extend([tmp.0.as_os_str(), scene.as_os_str()]);
-    let out = damfem(&args);
-    assert_ok(&out);
-    let summary = check_summary(&tmp.0);
-    let history: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(tmp.join("history.json")).unwrap()).unwrap();
-    let steps = history["steps"].as_array().unwrap();
-    assert_eq!(steps.len(), 3);
-    for step in steps {
-        let (crack, position) =
-            (step["crack_length"].as_f64().unwrap(), step["resultant"]["position"].as_f64().unwrap());
-        assert!(crack > 0.0 && crack < 10.0 && (position - 20.8).abs() < 0.1, "{step}");
-    }
-    let c = &summary["contact"];
-    let settled = &c["crack"];
-    assert!(settled["change"].as_f64().unwrap() <= 1e-6 * 40.0, "{settled}");
-    assert!(settled["iterations"].as_u64().unwrap() >= 1, "{settled}");
-    assert_eq!(summary["step"], 2);
-    assert_eq!(c["crack_length"], steps[2]["crack_length"]);
-    assert_eq!(c["resultant"], steps[2]["resultant"]);
-    let csv = std::fs::read_to_string(tmp.join("history.csv")).unwrap();
-    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
-    let last: Vec<&str> = csv.lines().last().unwrap().split(',').collect();
-    let column = |name: &str| last[header.iter().position(|h| *h == name).unwrap()].parse::<f64>().unwrap();
-    assert_eq!(column("crack_length"), steps[2]["crack_length"].as_f64().unwrap());
-    assert_eq!(column("resultant_position"), steps[2]["resultant"]["position"].as_f64().unwrap());
-    let text = String::from_utf8_lossy(&out.stdout);
-    assert!(text.contains("last step: crack ") && text.contains("U = "), "{text}");
-}
-
-/// Runs `damfem safety <scene> -o <dir>` on meshes twice as coarse as the file's, with `extra`
-/// flags.
-fn safety_coarse(scene: &Path, dir: &Path, extra: &[&str]) -> Output {
-    let mut args: Vec<&OsStr> = ["safety", "--size-factor", "2"].iter().map(OsStr::new).collect();
-    args.extend(extra.iter().map(OsStr::new));
-    args.extend([scene.as_os_str(), OsStr::new("-o"), dir.as_os_str()]);
-    damfem(&args)
-}
-
-// `damfem safety` on the frictional dam with uplift. Source: geo/scene_a_uplift.toml (c = 0,
-// horizontal joint: FS_LE = F N/|T| and FS_SR = F N/|T| with the crack of k = 1, N = W − U);
-// docs/method.md §1.9. Goal: the adaptive run meets its tolerance; safety.json states its
-// units and gives N = W − U (to 10⁻⁵: the regularisation at the adaptive δ), FS_LE = F N/|T|, FS_SR's bracket around it within 0.5 %, the
-// crack and resultant of summary.json, compressive heel and toe means over L/10; joint.csv
-// runs from the heel to the toe, open (status 0) under full reservoir pressure ρ_w g 45 m up to
-// the crack; report.md and the figure exist; the table goes to stdout, progress to stderr, and
-// -q prints nothing. Parameters: P1, mesh sizes × 2, --tol-relative 0.005.
-#[test]
-fn safety_reports_the_dam_with_uplift() {
-    let tmp = TempDir::new("safety-uplift");
-    let scene = repo("geo/scene_a_uplift.toml");
-    let out = safety_coarse(&scene, &tmp.0, &["--tol-relative", "0.005"]);
-    assert_ok(&out);
-    let json = |name: &str| -> serde_json::Value {
-        serde_json::from_str(&std::fs::read_to_string(tmp.join(name)).unwrap()).unwrap()
-    };
-    let (report, summary) = (json("safety.json"), json("summary.json"));
-    let number = |v: &serde_json::Value| v.as_f64().unwrap_or_else(|| panic!("{report}"));
-    assert!(report["units"]["force"].as_str().unwrap().starts_with("N/m"), "{report}");
-    assert_eq!(report["tolerance_met"], true);
-    assert!(number(&report["eta_relative"]) <= 0.005);
-    let r = &report["resultant"];
-    let (n, t, u) = (number(&r["normal_force"]), number(&r["tangential_force"]), number(&r["uplift_force"]));
-    let (weight, _) = scene_a_weight();
-    // p_c is the plain projection's, the solve's traction the smoothing's at the adaptive δ
-    assert!((n + u - weight).abs() <= 1e-5 * weight, "N + U = {} against W = {weight}", n + u);
-    let fs_le = number(&report["sliding_safety_factor"]);
-    assert!((fs_le - 0.8391 * n / t.abs()).abs() <= 1e-6 * fs_le, "FS_LE {fs_le}");
-    let sr = &report["strength_reduction"];
-    let (held, failed) = (number(&sr["held"]), number(&sr["failed"]));
-    assert!(held <= fs_le * (1.0 + 1e-6) && failed >= fs_le * (1.0 - 1e-6) && held >= 0.995 * fs_le, "{sr}");
-    assert_eq!(report["crack_length"], summary["contact"]["crack_length"]);
-    assert_eq!(report["resultant"], summary["contact"]["resultant"]);
-    let base = &report["base_stresses"];
-    assert_eq!(number(&base["length"]), 4.0);
-    assert!(number(&base["heel"]) < 0.0 && number(&base["toe"]) < 0.0, "{base}");
-    let crack = number(&report["crack_length"]);
-    let csv = std::fs::read_to_string(tmp.join("joint.csv")).unwrap();
-    let rows: Vec<Vec<f64>> = csv.lines().skip(1).map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect();
-    assert!(rows.windows(2).all(|w| w[0][2] < w[1][2]) && rows[0][2] > 0.0 && rows.last().unwrap()[2] < 40.0);
-    for row in rows.iter().take_while(|row| row[2] < crack - 1.0) {
-        let full = 1000.0 * 9.81 * 45.0;
-        assert!(row[7] == 0.0 && (row[6] - full).abs() <= 1e-12 * full, "open under full pressure: {row:?}");
-    }
-    let md = std::fs::read_to_string(tmp.join("report.md")).unwrap();
-    assert!(md.contains("| FS_SR |") && md.contains("base_stresses.png"), "{md}");
-    assert!(tmp.join("base_stresses.png").is_file() && tmp.join("base_stresses.svg").is_file());
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(stdout.contains("FS_SR") && stdout.contains("crack length from the heel"), "{stdout}");
-    assert!(stderr(&out).contains("strength ") && !stderr(&out).contains("FS_LE"), "{}", stderr(&out));
-}
-
-// `damfem safety` on a frictionless joint reports the rest and says why FS is missing.
-// Source: geo/scene_a.toml (frictionless base, anchored toe). Goal: exit 0, FS_LE and FS_SR
-// null with the reason in safety.json, a warning on stderr, the resultant reported; with -q
-// nothing on stdout or stderr. Parameters: P1, mesh sizes × 2, two meshes at most.
-#[test]
-fn safety_without_friction_reports_no_safety_factor() {
-    let tmp = TempDir::new("safety-frictionless");
-    let scene = repo("geo/scene_a.toml");
-    let out = safety_coarse(&scene, &tmp.0, &["--order", "1", "--max-steps", "2"]);
-    assert_ok(&out);
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(tmp.join("safety.json")).unwrap()).unwrap();
-    assert!(report["sliding_safety_factor"].is_null() && report["strength_reduction"].is_null(), "{report}");
-    assert!(report["safety_factor_note"].as_str().unwrap().contains("frictionless"), "{report}");
-    assert!(report["resultant"]["normal_force"].as_f64().unwrap() > 0.0, "{report}");
-    assert!(stderr(&out).contains("warning: the joint is frictionless"), "{}", stderr(&out));
-    let quiet = safety_coarse(&scene, &tmp.join("quiet"), &["--order", "1", "--max-steps", "2", "-q"]);
-    assert_ok(&quiet);
-    assert!(quiet.stdout.is_empty() && quiet.stderr.is_empty(), "{}", stderr(&quiet));
-}
-
-// Bad input to `damfem safety`: an unknown key, a NaN level, a tailwater above the headwater,
-// drains outside the joint, the same in a load combination, a key a combination cannot change,
-// a three-component acceleration, a scene without a joint, and out-of-range flags each give one
-// error line, exit 1 and no output directory.
-#[test]
-fn safety_refuses_bad_input() {
-    let tmp = TempDir::new("safety-bad");
-    let count = std::cell::Cell::new(0);
-    let uplift = |section: &str| {
-        let scene = frictional_scene(&tmp, |t| format!("{t}\n[uplift]\n{section}\n"));
-        count.set(count.get() + 1);
-        let kept = tmp.join(&format!("scene-{}.toml", count.get()));
-        std::fs::rename(&scene, &kept).unwrap();
-        kept
-    };
-    for (scene, extra, keywords) in [
-        (uplift("headwater = 45.0\nlevel = 3.0"), vec![], vec!["unknown field", "level"]),
-        (uplift("headwater = nan"), vec![], vec!["uplift.headwater = NaN", "finite"]),
-        (uplift("headwater = 40.0\ntailwater = 45.0"), vec![], vec!["uplift.tailwater = 45", "above"]),
-        (uplift("headwater = 45.0\ndrains = { x = 55.0, efficiency = 0.5 }"), vec![], vec!["drains.x = 55", "outside"]),
-        (
-            uplift("headwater = 45.0\n[combinations.flood]\nfoo = 1"),
-            vec![],
-            vec!["combinations.flood", "'foo' cannot be combined"],
-        ),
-        (
-            uplift("headwater = 45.0\n[combinations.flood.uplift]\nlevel = 3.0"),
-            vec![],
-            vec!["combinations.flood", "level"],
-        ),
-        (
-            uplift("headwater = 45.0\n[combinations.flood.uplift]\nheadwater = nan"),
-            vec![],
-            vec!["combinations.flood.uplift.headwater = NaN", "finite"],
-        ),
-        (
-            uplift("headwater = 45.0\n[combinations.flood.uplift]\ntailwater = 50.0"),
-            vec![],
-            vec!["combinations.flood: uplift.tailwater = 50", "above"],
-        ),
-        (
-            uplift("headwater = 45.0\n[combinations.quake.loads]\nacceleration = [0.1, 0.0, 0.0]"),
-            vec![],
-            vec!["combinations.quake.loads.acceleration has 3 components"],
-        ),
-        (repo("geo/unit_square.toml"), vec![], vec!["needs a joint", "contact"]),
-        (
-            repo("geo/scene_a_uplift.toml"),
-            vec!["--average-length", "30"],
-            vec!["--average-length 30", "half the joint"],
-        ),
-        (repo("geo/scene_a_uplift.toml"), vec!["--tol-relative", "0"], vec!["--tol-relative", "positive"]),
-        (repo("geo/scene_a_uplift.toml"), vec!["--max-steps", "0"], vec!["--max-steps", "at least 1"]),
-    ] {
-        assert_refused("safety-input", "safety", &scene, &extra, &keywords);
-    }
-}
-
-// Load combinations. Source: geo/scene_a_uplift.toml with [combinations.usual] (no change),
-// [combinations.drains_blocked] (drain efficiency 0) and [combinations.earthquake] (a
-// pseudo-static acceleration of 0.05 g downstream). Goal: one row per combination on stdout and
-// in safety.json, each combination's files in its own directory; horizontal equilibrium of the
-// earthquake, T = −(the thrust + 0.05 W), to 10⁻⁶; the blocked drains raise U and lower FS_LE.
-// Parameters: P1, mesh sizes × 2, one mesh per combination.
-#[test]
-fn safety_runs_every_load_combination() {
-    let tmp = TempDir::new("safety-combinations");
-    let text = std::fs::read_to_string(repo("geo/scene_a_uplift.toml")).unwrap();
-    let geometry = format!("geometry = {:?}", repo("geo/scene_a_friction.geo").display().to_string());
-    let scene = tmp.join("dam.toml");
-    let combinations = "\n[combinations.usual]\n\
-        [combinations.drains_blocked.uplift]\ndrains = { x = 5.0, efficiency = 0.0 }\n\
-        [combinations.earthquake.loads]\nacceleration = [0.05, 0.0]\n";
-    std::fs::write(&scene, text.replace("geometry = \"scene_a_friction.geo\"", &geometry) + combinations).unwrap();
-    let out = safety_coarse(&scene, &tmp.join("out"), &["--order", "1", "--max-steps", "1"]);
-    assert_ok(&out);
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let lines: Vec<&str> = stdout.lines().collect();
-    assert_eq!(lines.len(), 4, "{stdout}");
-    for (line, name) in lines[1..].iter().zip(["drains_blocked", "earthquake", "usual"]) {
-        assert!(line.starts_with(name), "{stdout}");
-        assert!(tmp.join("out").join(name).join("report.md").is_file(), "{name}");
-    }
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(tmp.join("out/safety.json")).unwrap()).unwrap();
-    let case =
-        |name: &str| report["combinations"].as_array().unwrap().iter().find(|c| c["name"] == name).unwrap().clone();
-    let number = |c: &serde_json::Value, key: &str| c["resultant"][key].as_f64().unwrap_or_else(|| panic!("{c}"));
-    let (weight, _) = scene_a_weight();
-    let thrust = 1000.0 * 9.81 * 45.0 * 45.0 / 2.0;
-    let t = number(&case("earthquake"), "tangential_force");
-    assert!((t + thrust + 0.05 * weight).abs() <= 1e-6 * thrust, "T = {t} against {}", -(thrust + 0.05 * weight));
-    let (usual, blocked) = (case("usual"), case("drains_blocked"));
-    assert!(number(&blocked, "uplift_force") > number(&usual, "uplift_force"), "{blocked}");
-    let fs = |c: &serde_json::Value| c["sliding_safety_factor"].as_f64().unwrap();
-    assert!(fs(&blocked) < fs(&usual), "FS_LE {} against {}", fs(&blocked), fs(&usual));
-    assert!(std::fs::read_to_string(tmp.join("out/report.md")).unwrap().contains("[earthquake](earthquake/report.md)"));
 }

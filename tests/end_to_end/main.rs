@@ -3,4 +3,5 @@
 
 mod adapt;
 mod cli;
+mod joint;
 mod tutorial;
