@@ -21,6 +21,9 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 mod checks;
+mod joints;
+
+pub use joints::JointSection;
 
 /// A scene that cannot be read or does not fit its mesh.
 #[derive(Debug, thiserror::Error)]
@@ -211,29 +214,37 @@ pub struct ContactSection {
 impl ContactSection {
     /// The joint law of the friction keys.
     pub fn law(&self) -> JointLaw {
-        match (self.threshold, self.friction, self.cohesion) {
-            (Some(threshold), _, _) => JointLaw::Tresca { threshold },
-            (None, friction, 0.0) if friction > 0.0 => JointLaw::Coulomb { friction },
-            (None, 0.0, 0.0) => JointLaw::Frictionless,
-            (None, friction, cohesion) => JointLaw::MohrCoulomb { friction, cohesion },
-        }
+        law_of(self.threshold, self.friction, self.cohesion)
     }
 
     /// The first friction key out of range, as "key = value must …".
     fn check_law(&self) -> Result<(), String> {
-        let keys =
-            [("friction", self.friction), ("cohesion", self.cohesion), ("threshold", self.threshold.unwrap_or(0.0))];
-        if let Some((key, value)) = keys.iter().find(|(_, v)| !(v.is_finite() && *v >= 0.0)) {
-            return Err(format!("contact.{key} = {value} must be a non-negative number"));
-        }
-        match self.threshold {
-            Some(_) if self.friction > 0.0 || self.cohesion > 0.0 => Err(format!(
-                "contact.threshold (Tresca) and contact.friction = {} or contact.cohesion = {} are exclusive: \
-                 give a Tresca threshold, or a Coulomb friction coefficient with an optional cohesion",
-                self.friction, self.cohesion
-            )),
-            _ => Ok(()),
-        }
+        check_law("contact", self.threshold, self.friction, self.cohesion)
+    }
+}
+
+/// The joint law of the friction keys `threshold` (Tresca), `friction` and `cohesion`.
+fn law_of(threshold: Option<f64>, friction: f64, cohesion: f64) -> JointLaw {
+    match (threshold, friction, cohesion) {
+        (Some(threshold), _, _) => JointLaw::Tresca { threshold },
+        (None, friction, 0.0) if friction > 0.0 => JointLaw::Coulomb { friction },
+        (None, 0.0, 0.0) => JointLaw::Frictionless,
+        (None, friction, cohesion) => JointLaw::MohrCoulomb { friction, cohesion },
+    }
+}
+
+/// The first friction key of the table `table` out of range, as "table.key = value must …".
+fn check_law(table: &str, threshold: Option<f64>, friction: f64, cohesion: f64) -> Result<(), String> {
+    let keys = [("friction", friction), ("cohesion", cohesion), ("threshold", threshold.unwrap_or(0.0))];
+    if let Some((key, value)) = keys.iter().find(|(_, v)| !(v.is_finite() && *v >= 0.0)) {
+        return Err(format!("{table}.{key} = {value} must be a non-negative number"));
+    }
+    match threshold {
+        Some(_) if friction > 0.0 || cohesion > 0.0 => Err(format!(
+            "{table}.threshold (Tresca) and {table}.friction = {friction} or {table}.cohesion = {cohesion} are \
+             exclusive: give a Tresca threshold, or a Coulomb friction coefficient with an optional cohesion"
+        )),
+        _ => Ok(()),
     }
 }
 
@@ -303,6 +314,9 @@ pub struct Scene {
     pub loads: LoadSection,
     #[serde(default)]
     pub contact: ContactSection,
+    /// Joints between two meshed bodies by physical-curve name.
+    #[serde(default)]
+    pub joints: BTreeMap<String, JointSection>,
     pub uplift: Option<UpliftSection>,
     #[serde(default)]
     pub adapt: AdaptSettings,
@@ -393,6 +407,7 @@ impl Scene {
             boundary: BTreeMap::new(),
             loads: LoadSection::default(),
             contact: ContactSection::default(),
+            joints: BTreeMap::new(),
             uplift: None,
             adapt: AdaptSettings::default(),
             output: OutputSection::default(),
@@ -463,6 +478,7 @@ impl Scene {
             return Err(self.invalid(format!("contact.delta = {} must be non-negative", c.delta.unwrap_or(0.0))));
         }
         self.check_sizes()?;
+        self.check_joints()?;
         self.adapt.validate().map_err(|message| self.invalid(message))?;
         for (name, m) in &self.materials {
             m.validate().map_err(|message| SceneError::Material {
@@ -586,7 +602,7 @@ impl Scene {
         };
         Continuation {
             delta,
-            delta_start: delta.max(c.delta_start.unwrap_or(if c.law().has_friction() { 0.1 } else { 0.0 }) * scale),
+            delta_start: delta.max(c.delta_start.unwrap_or(if self.law().has_friction() { 0.1 } else { 0.0 }) * scale),
             newton: self.newton_options(),
         }
     }
@@ -618,13 +634,21 @@ impl Scene {
     fn joint(&self, mesh: &Mesh) -> Result<Option<ContactJoint>, SceneError> {
         let tags = self.contact_tags(mesh)?;
         let law = self.contact.law();
-        Ok((!tags.is_empty()).then(|| ContactJoint { tags, law, parameters: self.nitsche_parameters(), uplift: None }))
+        Ok((!tags.is_empty()).then(|| ContactJoint {
+            tags,
+            masters: Vec::new(),
+            law,
+            parameters: self.nitsche_parameters(),
+            uplift: None,
+        }))
     }
 
     /// The elasticity problem of this scene on `mesh` and its contact joint (None without
-    /// curves of role "contact").
-    pub fn problem(&self, mesh: Mesh) -> Result<(Problem, Option<ContactJoint>), SceneError> {
+    /// curves of role "contact" or joints). The nodes of every joint curve are split between
+    /// its two sides first.
+    pub fn problem(&self, mut mesh: Mesh) -> Result<(Problem, Option<ContactJoint>), SceneError> {
         self.check_boundaries(&mesh)?;
+        let interfaces = self.split_joints(&mut mesh)?;
         let roles = self.roles(&mesh)?;
         let g = self.loads.gravity;
         let mut dirichlet = Vec::new();
@@ -658,7 +682,10 @@ impl Scene {
         let materials = self.cell_materials(&mesh)?;
         let body_force = self.loads.body_force();
         let problem = Problem { mesh, materials, dirichlet, neumann, body_force };
-        let mut joint = self.joint(&problem.mesh)?;
+        let mut joint = match self.two_body_joint(&interfaces) {
+            Some(joint) => Some(joint),
+            None => self.joint(&problem.mesh)?,
+        };
         let friction = joint.as_ref().is_some_and(|j| j.law.has_friction());
         if problem.dirichlet.is_empty() && !friction {
             return Err(self.invalid(format!(
@@ -668,7 +695,7 @@ impl Scene {
         }
         let topology = Topology::new(&problem.mesh);
         let facets = joint.as_ref().map_or_else(Vec::new, |j| contact_facets(&problem.mesh, &topology, &j.tags));
-        let direction = self.nitsche_parameters().direction;
+        let direction = if interfaces.is_empty() { self.nitsche_parameters().direction } else { None };
         if let Some(tag) = facing_away(&problem.mesh, &facets, direction) {
             let name = problem.mesh.groups.iter().find(|g| g.dim == 1 && g.tag == tag).map_or("?", |g| &g.name);
             return Err(self.invalid(format!(
@@ -684,7 +711,9 @@ impl Scene {
         if let (Some(j), Some(section)) = (joint.as_mut(), &self.uplift) {
             j.uplift = Some(self.uplift_diagram(&problem, &facets, section)?);
         }
-        let supports = contact_supports(&problem.mesh, &facets, direction, friction);
+        // a joint between two bodies supports neither against a rigid motion of both
+        let rigid_facets = if interfaces.is_empty() { &facets[..] } else { &[] };
+        let supports = contact_supports(&problem.mesh, rigid_facets, direction, friction);
         if let Some(motion) = problem.free_rigid_motion(&supports) {
             return Err(self.invalid(format!(
                 "the Dirichlet and contact conditions leave a rigid motion free ({motion}); {how} that blocks it"

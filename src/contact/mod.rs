@@ -20,7 +20,7 @@ pub mod uplift;
 
 use crate::elasticity::{Discretisation, Problem};
 use crate::fem::dofs::FIXED;
-use crate::fem::sparse::{vector_dofs, LinearSystem, SparsePattern};
+use crate::fem::sparse::{LinearSystem, SparsePattern};
 use crate::mesh::Mesh;
 use crate::solve::{newton, newton_until, LayerSchur, NewtonError, NewtonOptions, NewtonReport, NonlinearSystem};
 pub use law::JointLaw;
@@ -33,8 +33,11 @@ pub use uplift::Uplift;
 /// A contact boundary: the curves of Γ_C, the joint law and the Nitsche parameters.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ContactJoint {
-    /// Physical tags of the curves of Γ_C.
+    /// Physical tags of the curves of Γ_C (on a joint between two bodies, the slave sides).
     pub tags: Vec<i32>,
+    /// On joints between two bodies, the physical tags of the master sides' curves (any
+    /// order); empty: a rigid foundation.
+    pub masters: Vec<i32>,
     pub law: JointLaw,
     pub parameters: NitscheParameters,
     /// The pore-water pressure in the joint, if any.
@@ -44,7 +47,7 @@ pub struct ContactJoint {
 impl ContactJoint {
     /// A frictionless joint on the curves `tags`.
     pub fn frictionless(tags: Vec<i32>, parameters: NitscheParameters) -> Self {
-        ContactJoint { tags, law: JointLaw::Frictionless, parameters, uplift: None }
+        ContactJoint { tags, masters: Vec::new(), law: JointLaw::Frictionless, parameters, uplift: None }
     }
 
     /// The contact faces of the joint on the mesh of `problem`.
@@ -64,6 +67,8 @@ pub struct ContactProblem<'a> {
     pub disc: &'a Discretisation,
     pub nitsche: Nitsche,
     pub smoothing: Smoothing,
+    /// The pattern of K with the couplings of two-body faces (None: the discretisation's).
+    coupled: Option<SparsePattern>,
     /// K over the free dofs and b = f + g_N − K_fc g_D.
     bulk: LinearSystem,
     /// K factorised once with its Schur complement on the dofs of the cells along Γ_C, made
@@ -116,9 +121,16 @@ impl FaceState {
 impl<'a> ContactProblem<'a> {
     /// Assembles the bulk terms once; the faces are those of `joint`.
     pub fn new(problem: &'a Problem, disc: &'a Discretisation, joint: &ContactJoint, smoothing: Smoothing) -> Self {
-        let bulk = problem.assemble(disc);
         let nitsche = joint.faces(problem, disc);
-        ContactProblem { problem, disc, nitsche, smoothing, bulk, schur: OnceLock::new() }
+        let coupled = (!joint.masters.is_empty()).then(|| {
+            let mesh = &problem.mesh;
+            let pairs: Vec<Vec<usize>> = (nitsche.faces.iter())
+                .filter_map(|f| f.opposite.as_ref().map(|o| [mesh.cell(f.cell), mesh.cell(o.cell)].concat()))
+                .collect();
+            SparsePattern::with_couplings(mesh, &disc.dofs, &pairs)
+        });
+        let bulk = problem.assemble_on(disc, coupled.as_ref().unwrap_or(&disc.pattern));
+        ContactProblem { problem, disc, nitsche, smoothing, coupled, bulk, schur: OnceLock::new() }
     }
 
     /// Sets the regularisation δ of the projection.
@@ -126,12 +138,13 @@ impl<'a> ContactProblem<'a> {
         self.smoothing = Smoothing { delta };
     }
 
-    /// The free dofs of the cells that own a contact face, sorted: the face terms touch no others.
+    /// The free dofs of the cells that own a contact face (and, on a joint between two
+    /// bodies, of the master cells they face), sorted: the face terms touch no others.
     pub fn layer(&self) -> Vec<usize> {
         let (free, mut dofs) = (&self.disc.dofs.free, Vec::new());
-        let mut layer: Vec<usize> = (self.nitsche.faces.iter())
-            .flat_map(|face| {
-                vector_dofs(self.problem.mesh.cell(face.cell), &mut dofs);
+        let mut layer: Vec<usize> = (0..self.nitsche.faces.len())
+            .flat_map(|k| {
+                self.nitsche.face_dofs(&self.problem.mesh, k, &mut dofs);
                 dofs.iter().map(|&g| free[g]).filter(|&f| f != FIXED).collect::<Vec<_>>()
             })
             .collect();
@@ -212,9 +225,9 @@ pub fn open_from_heel(faces: &[FaceState], line: &JointLine) -> f64 {
     faces.iter().filter_map(|f| f.closed.map(nearest)).fold(line.length, f64::min).max(0.0)
 }
 
-/// Local dofs of the cell owning face k and the displacement there.
+/// The dofs of face k ([`Nitsche::face_dofs`]) and the displacement there.
 fn local(mesh: &Mesh, nitsche: &Nitsche, k: usize, u_full: &[f64], dofs: &mut Vec<usize>) -> Vec<f64> {
-    vector_dofs(mesh.cell(nitsche.faces[k].cell), dofs);
+    nitsche.face_dofs(mesh, k, dofs);
     dofs.iter().map(|&g| u_full[g]).collect()
 }
 
@@ -266,7 +279,7 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 
 impl NonlinearSystem for ContactProblem<'_> {
     fn pattern(&self) -> &SparsePattern {
-        &self.disc.pattern
+        self.coupled.as_ref().unwrap_or(&self.disc.pattern)
     }
 
     /// Friction couples the normal traction into the tangential rows (docs/method.md §1.5).
@@ -276,7 +289,8 @@ impl NonlinearSystem for ContactProblem<'_> {
 
     fn evaluate(&self, x: &[f64], residual: &mut [f64], mut jacobian: Option<&mut [f64]>) {
         // bulk: F = K x − b, J = K
-        self.disc.pattern.multiply(&self.bulk.values, x, residual);
+        let pattern = self.pattern();
+        pattern.multiply(&self.bulk.values, x, residual);
         for (r, b) in residual.iter_mut().zip(&self.bulk.rhs) {
             *r -= b;
         }
@@ -300,7 +314,7 @@ impl NonlinearSystem for ContactProblem<'_> {
                 if let Some(j) = jacobian.as_deref_mut() {
                     for (c, &gc) in dofs.iter().enumerate() {
                         if free[gc] != FIXED {
-                            j[self.disc.pattern.position(row, free[gc])] += j_local[i * n + c];
+                            j[pattern.position(row, free[gc])] += j_local[i * n + c];
                         }
                     }
                 }
@@ -309,7 +323,7 @@ impl NonlinearSystem for ContactProblem<'_> {
     }
 
     fn schur(&self) -> Option<&LayerSchur> {
-        let build = || LayerSchur::new(&self.disc.pattern, &self.bulk.values, self.layer());
+        let build = || LayerSchur::new(self.pattern(), &self.bulk.values, self.layer());
         self.schur.get_or_init(build).as_ref()
     }
 

@@ -25,7 +25,8 @@ use crate::elasticity::Material;
 use crate::fem::affine::AffineMap;
 use crate::fem::lagrange;
 use crate::fem::quadrature::{gauss_segment, Rule1d};
-use crate::mesh::{Mesh, Segment, Topology};
+use crate::fem::sparse::vector_dofs;
+use crate::mesh::{distance, Mesh, Segment, Topology};
 
 /// Normal gap to the foundation, g(x) = g₀ + ∇g · x (u^n ≤ g).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -77,6 +78,18 @@ pub struct ContactFace {
     pub gamma: f64,
     pub lambda: f64,
     pub mu: f64,
+    /// On a joint between two bodies, this face is the piece of the slave facet `facet` that
+    /// faces one master cell, `opposite`.
+    pub opposite: Option<Opposite>,
+}
+
+/// The master side of a piece of a slave face (docs/method.md §1.10): the master cell and the
+/// reference coordinates, in it, of the points that the piece's ends project onto along ν.
+#[derive(Debug, Clone)]
+pub struct Opposite {
+    pub cell: usize,
+    pub map: AffineMap,
+    pub ends: [[f64; 2]; 2],
 }
 
 /// Shape data of the cell basis at one point of a face.
@@ -106,10 +119,18 @@ pub struct Nitsche {
 }
 
 impl Nitsche {
-    /// Contact faces: the boundary facets of the curves of `joint`.
+    /// Contact faces: the boundary facets of the curves of `joint`; on a joint between two
+    /// bodies, the pieces of the slave facets that face one master cell each ([`pieces`]).
     pub fn new(mesh: &Mesh, topology: &Topology, materials: &[Material], joint: &ContactJoint) -> Self {
         let parameters = joint.parameters;
-        let faces = mesh.facets_tagged(&joint.tags).map(|f| face(mesh, topology, materials, f, &parameters)).collect();
+        let slave = mesh.facets_tagged(&joint.tags).map(|f| face(mesh, topology, materials, f, &parameters));
+        let faces = if joint.masters.is_empty() {
+            slave.collect()
+        } else {
+            let master: Vec<(usize, usize)> =
+                mesh.facets_tagged(&joint.masters).map(|f| (f, topology.facet_cell(f))).collect();
+            slave.flat_map(|face| pieces(mesh, topology, &face, &master)).collect()
+        };
         Nitsche {
             parameters,
             law: joint.law,
@@ -120,9 +141,21 @@ impl Nitsche {
         }
     }
 
-    /// Number of local dofs of the owning cell.
+    /// Number of local dofs of a face: those of the owning cell, and of the master cell on a
+    /// joint between two bodies.
     pub fn n_local(&self) -> usize {
-        2 * lagrange::n_basis(self.order)
+        let cells = if self.faces.first().is_some_and(|f| f.opposite.is_some()) { 2 } else { 1 };
+        2 * cells * lagrange::n_basis(self.order)
+    }
+
+    /// The global dofs of face `k` (index 2i + a of the local vectors): its cell's, then the
+    /// master cell's.
+    pub fn face_dofs(&self, mesh: &Mesh, k: usize, dofs: &mut Vec<usize>) {
+        let face = &self.faces[k];
+        vector_dofs(mesh.cell(face.cell), dofs);
+        if let Some(opposite) = &face.opposite {
+            dofs.extend(mesh.cell(opposite.cell).iter().flat_map(|&n| [2 * n, 2 * n + 1]));
+        }
     }
 
     /// The physical point at parameter s ∈ [0, 1] of face `k`.
@@ -156,13 +189,31 @@ impl Nitsche {
             (sigma, value)
         };
         let nu = face.direction;
-        let (sigma_n, u_n) = along(nu);
-        let (sigma_t, u_t) = along([-nu[1], nu[0]]);
+        let tau = [-nu[1], nu[0]];
+        let (mut sigma_n, mut u_n) = along(nu);
+        let (mut sigma_t, mut u_t) = along(tau);
         // g(x₀) + ∇g·Jξ from the cell's origin x₀: without the rounding ε|x| of the point itself
-        let j = face.map.jacobian;
-        let offset = [j[0][0] * xi[0] + j[0][1] * xi[1], j[1][0] * xi[0] + j[1][1] * xi[1]];
+        let offset = linear(&face.map, xi);
         let gap = &self.parameters.gap;
-        let gap = gap.at(face.map.origin) + gap.gradient[0] * offset[0] + gap.gradient[1] * offset[1];
+        let mut gap = gap.at(face.map.origin) + gap.gradient[0] * offset[0] + gap.gradient[1] * offset[1];
+        if let Some(opposite) = &face.opposite {
+            // the jump [v] = v¹(x) − v²(y) at the point y of the master cell facing x:
+            // −φ²_j(y) ν_a and −φ²_j(y) τ_a; σ^n(v) and σ^t(v) are the slave's
+            let eta = Segment::new(opposite.ends[0], opposite.ends[1]).point(s);
+            lagrange::values(self.order, eta, &mut phi[..nb]);
+            for j in 0..nb {
+                for a in 0..2 {
+                    u_n.push(-phi[j] * nu[a]);
+                    u_t.push(-phi[j] * tau[a]);
+                }
+            }
+            sigma_n.resize(4 * nb, 0.0);
+            sigma_t.resize(4 * nb, 0.0);
+            // g = (y − x)·ν, from the two cells' origins
+            let [y, x] = [linear(&opposite.map, eta), offset];
+            let o = [opposite.map.origin[0] - face.map.origin[0], opposite.map.origin[1] - face.map.origin[1]];
+            gap += (o[0] + y[0] - x[0]) * nu[0] + (o[1] + y[1] - x[1]) * nu[1];
+        }
         FacePoint { x: face.map.to_physical(xi), gap, sigma_n, u_n, sigma_t, u_t }
     }
 
@@ -389,6 +440,82 @@ impl Nitsche {
     }
 }
 
+/// Jξ: the point of reference coordinates ξ relative to the map's origin.
+fn linear(map: &AffineMap, xi: [f64; 2]) -> [f64; 2] {
+    let j = map.jacobian;
+    [j[0][0] * xi[0] + j[0][1] * xi[1], j[1][0] * xi[0] + j[1][1] * xi[1]]
+}
+
+/// The pieces of the slave face `face` that face one master facet each (`master`: facet and
+/// its cell). A point x(s) = A + s(B − A) of the slave facet faces the point where the ray
+/// x(s) + t ν meets a master facet C D, at r(s) = r₀ + s(r₁ − r₀) along it (affine in s): the
+/// piece is where r ∈ [0, 1], kept if that master facet faces ν (n²·ν < 0) and lies within
+/// |t| ≤ h_F + h_{F'}. On the matching sides of a split interface each slave facet faces one
+/// master facet; a part of a slave facet that faces none carries no contact term.
+fn pieces(mesh: &Mesh, topology: &Topology, face: &ContactFace, master: &[(usize, usize)]) -> Vec<ContactFace> {
+    let ends = |f: usize| [mesh.points[mesh.facet(f)[0]], mesh.points[mesh.facet(f)[1]]];
+    let [a, b] = ends(face.facet);
+    let nu = face.direction;
+    let h = mesh.facet_length(face.facet);
+    let mut pieces: Vec<(f64, ContactFace)> = Vec::new();
+    for &(f, cell) in master {
+        let normal = topology.outward_normal(mesh, f);
+        if normal[0] * nu[0] + normal[1] * nu[1] >= 0.0 {
+            continue;
+        }
+        let [c, d] = ends(f);
+        // x + t ν = C + r (D − C): t ν − r (D − C) = C − x, by Cramer's rule
+        let e = [d[0] - c[0], d[1] - c[1]];
+        let det = -nu[0] * e[1] + nu[1] * e[0];
+        if det.abs() <= 1e-12 * distance(c, d) {
+            continue;
+        }
+        let solve = |x: [f64; 2]| {
+            let rhs = [c[0] - x[0], c[1] - x[1]];
+            let t = (-rhs[0] * e[1] + rhs[1] * e[0]) / det;
+            let r = (nu[0] * rhs[1] - nu[1] * rhs[0]) / det;
+            (t, r)
+        };
+        let [(t0, r0), (t1, r1)] = [a, b].map(solve);
+        if r1 == r0 || t0.abs().max(t1.abs()) > h + distance(c, d) {
+            continue;
+        }
+        let s_at = |r: f64| (r - r0) / (r1 - r0);
+        let (lo, hi) = (s_at(0.0).min(s_at(1.0)).max(0.0), s_at(0.0).max(s_at(1.0)).min(1.0));
+        if hi - lo <= 1e-12 {
+            continue;
+        }
+        let local = |node: usize| reference_of(mesh, cell, node);
+        let [rc, rd] = [local(mesh.facet(f)[0]), local(mesh.facet(f)[1])];
+        let at = |s: f64| {
+            let r = r0 + s * (r1 - r0);
+            [rc[0] + r * (rd[0] - rc[0]), rc[1] + r * (rd[1] - rc[1])]
+        };
+        let slave = Segment::new(face.ends[0], face.ends[1]);
+        pieces.push((
+            lo,
+            ContactFace {
+                ends: [slave.point(lo), slave.point(hi)],
+                length: (hi - lo) * h,
+                opposite: Some(Opposite {
+                    cell,
+                    map: AffineMap::new(mesh.cell_vertices(cell)),
+                    ends: [at(lo), at(hi)],
+                }),
+                ..face.clone()
+            },
+        ));
+    }
+    pieces.sort_by(|p, q| p.0.total_cmp(&q.0));
+    pieces.into_iter().map(|(_, piece)| piece).collect()
+}
+
+/// The reference coordinates of the vertex `node` in cell `cell`.
+fn reference_of(mesh: &Mesh, cell: usize, node: usize) -> [f64; 2] {
+    let local = mesh.cell(cell)[..3].iter().position(|&v| v == node).expect("facet vertex belongs to its cell");
+    lagrange::reference_nodes(1)[local]
+}
+
 fn face(
     mesh: &Mesh,
     topology: &Topology,
@@ -415,6 +542,7 @@ fn face(
         gamma: parameters.gamma0 * materials[cell].young / length,
         lambda,
         mu,
+        opposite: None,
     }
 }
 

@@ -160,13 +160,18 @@ impl Problem {
 
     /// Assembles K and F over the free dofs, with Dirichlet values moved to the right.
     pub fn assemble(&self, disc: &Discretisation) -> LinearSystem {
-        let mut system = LinearSystem::zeros(&disc.pattern);
-        self.add_stiffness_and_body_force(disc, &mut system);
+        self.assemble_on(disc, &disc.pattern)
+    }
+
+    /// [`Problem::assemble`] on `pattern`, a pattern of `disc`'s dofs that holds its own.
+    pub fn assemble_on(&self, disc: &Discretisation, pattern: &SparsePattern) -> LinearSystem {
+        let mut system = LinearSystem::zeros(pattern);
+        self.add_stiffness_and_body_force(disc, pattern, &mut system);
         self.add_tractions(disc, &mut system);
         system
     }
 
-    fn add_stiffness_and_body_force(&self, disc: &Discretisation, system: &mut LinearSystem) {
+    fn add_stiffness_and_body_force(&self, disc: &Discretisation, pattern: &SparsePattern, system: &mut LinearSystem) {
         let p = self.mesh.order;
         let stiff_tab = Tabulation::new(p, 2 * p - 2);
         let load_tab = Tabulation::new(p, load_degree(p));
@@ -182,7 +187,7 @@ impl Problem {
             }
         };
         let dofs_of = |c: usize, out: &mut Vec<usize>| vector_dofs(self.mesh.cell(c), out);
-        system.assemble(&disc.pattern, &disc.dofs, self.mesh.n_cells(), 2 * nb, dofs_of, kernel);
+        system.assemble(pattern, &disc.dofs, self.mesh.n_cells(), 2 * nb, dofs_of, kernel);
     }
 
     fn add_tractions(&self, disc: &Discretisation, system: &mut LinearSystem) {

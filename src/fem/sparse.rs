@@ -24,7 +24,27 @@ pub struct SparsePattern {
 impl SparsePattern {
     /// Pattern coupling the free dofs of the nodes of each cell of `mesh`.
     pub fn new(mesh: &Mesh, dofs: &DofMap) -> Self {
-        let neighbours = node_neighbours(mesh);
+        Self::from_neighbours(node_neighbours(mesh), dofs)
+    }
+
+    /// Pattern coupling the free dofs of the nodes of each cell of `mesh` and of each node
+    /// set of `couplings` (the two cells that a two-body contact term joins).
+    pub fn with_couplings(mesh: &Mesh, dofs: &DofMap, couplings: &[Vec<usize>]) -> Self {
+        let mut neighbours = node_neighbours(mesh);
+        for group in couplings {
+            for &n in group {
+                neighbours[n].extend(group);
+            }
+        }
+        for list in &mut neighbours {
+            list.sort_unstable();
+            list.dedup();
+        }
+        Self::from_neighbours(neighbours, dofs)
+    }
+
+    /// Pattern coupling the free dofs of each node with those of its sorted `neighbours`.
+    fn from_neighbours(neighbours: Vec<Vec<usize>>, dofs: &DofMap) -> Self {
         let columns: Vec<Vec<usize>> = (0..dofs.n_dofs())
             .into_par_iter()
             .filter(|&dof| dofs.free[dof] != FIXED)

@@ -80,6 +80,38 @@ pub fn unit_square(n: usize, order: usize) -> Mesh {
     rectangle(0.0, 1.0, 0.0, 1.0, n, n, order)
 }
 
+/// Physical tags of [`two_blocks`]: the surfaces, and the two sides of the joint between them.
+pub const LOWER: i32 = 1;
+pub const UPPER: i32 = 2;
+pub const JOINT: i32 = 5;
+pub const JOINT_LOWER: i32 = 6;
+
+/// Two blocks with their own nodes, stacked along y = `y_joint`: the lower one (surface
+/// [`LOWER`]) is [0, 1] × [0, y_joint] with `nx_lower` × `ny` squares, the upper one ([`UPPER`])
+/// [0, 1] × [y_joint, 1] with `nx_upper` × `ny`. The joint's sides are curves [`JOINT`] (the
+/// upper block's bottom) and [`JOINT_LOWER`] (the lower block's top); the outer sides keep
+/// [`BOTTOM`], [`RIGHT`], [`TOP`] and [`LEFT`]. `nx_lower ≠ nx_upper` gives non-matching sides.
+pub fn two_blocks(nx_lower: usize, nx_upper: usize, ny: usize, y_joint: f64, order: usize) -> Mesh {
+    let mut lower = rectangle(0.0, 1.0, 0.0, y_joint, nx_lower, ny, order);
+    let upper = rectangle(0.0, 1.0, y_joint, 1.0, nx_upper, ny, order);
+    lower.cell_tags.fill(LOWER);
+    for tag in lower.facet_tags.iter_mut().filter(|t| **t == TOP) {
+        *tag = JOINT_LOWER;
+    }
+    let offset = lower.n_points();
+    lower.points.extend(&upper.points);
+    lower.cell_nodes.extend(upper.cell_nodes.iter().map(|n| n + offset));
+    lower.cell_tags.extend(std::iter::repeat_n(UPPER, upper.n_cells()));
+    lower.facet_nodes.extend(upper.facet_nodes.iter().map(|n| n + offset));
+    lower.facet_tags.extend(upper.facet_tags.iter().map(|&t| if t == BOTTOM { JOINT } else { t }));
+    lower.groups = [(2, LOWER, "lower"), (2, UPPER, "upper"), (1, JOINT, "joint"), (1, JOINT_LOWER, "joint:lower")]
+        .into_iter()
+        .map(|(dim, tag, name)| PhysicalGroup { dim, tag, name: name.to_string() })
+        .chain(upper.groups.into_iter().filter(|g| g.dim == 1))
+        .collect();
+    lower
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -74,7 +74,8 @@ fn stick_and_slip_are_exact() {
                         let problem = problem(4, order, a, b, shear);
                         let disc = problem.discretise();
                         let parameters = NitscheParameters { theta, ..Default::default() };
-                        let joint = ContactJoint { tags: vec![BOTTOM], law, parameters, uplift: None };
+                        let joint =
+                            ContactJoint { tags: vec![BOTTOM], masters: Vec::new(), law, parameters, uplift: None };
                         let settings = Continuation { delta, delta_start: 1e-2, newton: NewtonOptions::default() };
                         let solution = solve_by_continuation(&problem, &disc, &joint, &settings)
                             .unwrap_or_else(|e| panic!("{law:?} {case} P{order} θ = {theta} δ = {delta}: {e}"));
@@ -118,6 +119,7 @@ fn incline(alpha: f64, n: usize, order: usize) -> Problem {
 fn incline_joint(friction: f64) -> ContactJoint {
     ContactJoint {
         tags: vec![BOTTOM],
+        masters: Vec::new(),
         law: JointLaw::Coulomb { friction },
         parameters: Default::default(),
         uplift: None,
@@ -200,7 +202,7 @@ fn the_jacobian_is_the_derivative_of_the_residual() {
                 let problem = problem(2, order, 0.05, 0.01, 0.015);
                 let disc = problem.discretise();
                 let parameters = NitscheParameters { theta, gamma0: 1.0, ..Default::default() };
-                let joint = ContactJoint { tags: vec![BOTTOM], law, parameters, uplift: None };
+                let joint = ContactJoint { tags: vec![BOTTOM], masters: Vec::new(), law, parameters, uplift: None };
                 let contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 1e-3 });
                 let n = disc.dofs.n_free;
                 let mut rng = Rng::new(17);
@@ -267,8 +269,13 @@ fn the_estimator_vanishes_at_the_exact_stick_and_slip_solutions() {
             for order in [1, 2] {
                 let problem = problem(4, order, a, b, shear);
                 let disc = problem.discretise();
-                let joint =
-                    ContactJoint { tags: vec![BOTTOM], law, parameters: NitscheParameters::default(), uplift: None };
+                let joint = ContactJoint {
+                    tags: vec![BOTTOM],
+                    masters: Vec::new(),
+                    law,
+                    parameters: NitscheParameters::default(),
+                    uplift: None,
+                };
                 let settings = Continuation { delta: 0.0, delta_start: 1e-2, newton: NewtonOptions::default() };
                 let solution = solve_by_continuation(&problem, &disc, &joint, &settings).expect("Newton converges");
                 let state = solution.linearisation(&problem, &disc);
@@ -480,6 +487,7 @@ fn solve_manufactured(n: usize, order: usize) -> (f64, f64, f64, f64) {
     let disc = problem.discretise();
     let joint = ContactJoint {
         tags: vec![BOTTOM],
+        masters: Vec::new(),
         law: JointLaw::Coulomb { friction: m::F },
         parameters: Default::default(),
         uplift: None,

@@ -14,4 +14,5 @@ mod estimator_components;
 mod friction;
 mod hertz;
 mod stability;
+mod two_body;
 mod uplift;

@@ -50,7 +50,13 @@ fn uniform_uplift_lowers_the_contact_pressure_by_exactly_p_u() {
                 };
                 let disc = problem.discretise();
                 let parameters = NitscheParameters { theta, ..Default::default() };
-                let joint = ContactJoint { tags: vec![BOTTOM], law, parameters, uplift: Some(uplift.clone()) };
+                let joint = ContactJoint {
+                    tags: vec![BOTTOM],
+                    masters: Vec::new(),
+                    law,
+                    parameters,
+                    uplift: Some(uplift.clone()),
+                };
                 let settings = Continuation { delta: 0.0, delta_start: 1e-2, newton: NewtonOptions::default() };
                 let solution =
                     solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("{e}"));

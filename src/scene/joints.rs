@@ -1,0 +1,136 @@
+//! `[joints.<curve>]`: joints between two meshed bodies (docs/method.md §1.10). The curve is
+//! shared by two physical surfaces; its nodes are split between them
+//! ([`crate::mesh::interface`]), and the two sides meet by two-body Nitsche contact.
+
+use super::{Role, Scene, SceneError};
+use crate::contact::nitsche::NitscheParameters;
+use crate::contact::{ContactJoint, JointLaw};
+use crate::mesh::interface::{self, Interface};
+use crate::mesh::{Mesh, Topology};
+use serde::Deserialize;
+
+/// One `[joints.<curve>]` table.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct JointSection {
+    /// γ₀ in γ = γ₀ E / h_F, E and h_F of the slave side.
+    pub gamma0: f64,
+    /// θ: 1 symmetric, 0 incomplete, −1 skew-symmetric.
+    pub theta: f64,
+    /// Coulomb friction coefficient F = tan φ (0: frictionless).
+    pub friction: f64,
+    /// Cohesion c \[Pa\] of a Mohr–Coulomb joint, on its closed part.
+    pub cohesion: f64,
+    /// Tresca threshold s \[Pa\] (exclusive with `friction` and `cohesion`).
+    pub threshold: Option<f64>,
+    /// The physical surface on the slave side (its faces carry the quadrature); default: the
+    /// side of smaller physical tag.
+    pub slave: Option<String>,
+}
+
+impl Default for JointSection {
+    fn default() -> Self {
+        JointSection { gamma0: 100.0, theta: 0.0, friction: 0.0, cohesion: 0.0, threshold: None, slave: None }
+    }
+}
+
+impl JointSection {
+    /// The joint law of the friction keys.
+    pub fn law(&self) -> JointLaw {
+        super::law_of(self.threshold, self.friction, self.cohesion)
+    }
+
+    /// The first key out of range, as "joints.<name>.key = value must …".
+    fn check(&self, name: &str) -> Result<(), String> {
+        if self.gamma0.is_nan() || self.gamma0 <= 0.0 {
+            return Err(format!("joints.{name}.gamma0 = {} must be positive", self.gamma0));
+        }
+        if ![1.0, 0.0, -1.0].contains(&self.theta) {
+            return Err(format!("joints.{name}.theta = {} must be 1, 0 or -1", self.theta));
+        }
+        super::check_law(&format!("joints.{name}"), self.threshold, self.friction, self.cohesion)
+    }
+}
+
+impl Scene {
+    /// The `[joints]` checks that need no mesh: each table's values; one law and one set of
+    /// Nitsche parameters for every joint; no joint curve with a `[boundary]` role; no rigid
+    /// contact or uplift beside joints (not supported yet).
+    pub(super) fn check_joints(&self) -> Result<(), SceneError> {
+        for (name, joint) in &self.joints {
+            joint.check(name).map_err(|message| self.invalid(message))?;
+            if self.boundary.contains_key(name) {
+                return Err(self.invalid(format!(
+                    "curve '{name}' is both a joint ([joints.{name}]) and a boundary curve ([boundary.{name}]); \
+                     remove one of the two tables"
+                )));
+            }
+        }
+        let Some((first, joint)) = self.joints.iter().next() else { return Ok(()) };
+        let same = |j: &JointSection| {
+            JointSection { slave: None, ..j.clone() } == JointSection { slave: None, ..joint.clone() }
+        };
+        if let Some((other, _)) = self.joints.iter().find(|(_, j)| !same(j)) {
+            return Err(self.invalid(format!(
+                "joints.{first} and joints.{other} have different laws or Nitsche parameters; the joints of a \
+                 scene share them: give both tables the same gamma0, theta, friction, cohesion and threshold"
+            )));
+        }
+        if let Some((name, _)) = self.boundary.iter().find(|(_, b)| b.role == Role::Contact) {
+            return Err(self.invalid(format!(
+                "boundary '{name}' has role contact beside [joints]: a rigid foundation and joints between meshed \
+                 bodies in one scene are not supported yet"
+            )));
+        }
+        if self.uplift.is_some() {
+            return Err(self.invalid("[uplift] on a joint between two meshed bodies is not supported yet".into()));
+        }
+        Ok(())
+    }
+
+    /// Splits the nodes of every joint curve of `mesh` between its two sides; the interfaces.
+    pub(super) fn split_joints(&self, mesh: &mut Mesh) -> Result<Vec<Interface>, SceneError> {
+        let mut interfaces = Vec::new();
+        for (name, joint) in &self.joints {
+            let curve = self.group_tag(mesh, 1, name, "joint")?;
+            let sides = interface::sides(mesh, &Topology::new(mesh), curve).map_err(|m| self.invalid(m))?;
+            let slave = match &joint.slave {
+                None => sides[0],
+                Some(surface) => {
+                    let tag = self.group_tag(mesh, 2, surface, "slave")?;
+                    if !sides.contains(&tag) {
+                        let side =
+                            |t: i32| mesh.groups.iter().find(|g| g.dim == 2 && g.tag == t).map_or("?", |g| &g.name);
+                        return Err(self.invalid(format!(
+                            "joints.{name}.slave = '{surface}' is not a side of the joint: the curve separates '{}' \
+                             from '{}'",
+                            side(sides[0]),
+                            side(sides[1])
+                        )));
+                    }
+                    tag
+                }
+            };
+            interfaces.push(interface::split(mesh, curve, slave).map_err(|m| self.invalid(m))?);
+        }
+        Ok(interfaces)
+    }
+
+    /// The law of the scene's joints, or of `[contact]` without joints.
+    pub fn law(&self) -> JointLaw {
+        self.joints.values().next().map_or_else(|| self.contact.law(), JointSection::law)
+    }
+
+    /// The two-body contact joint of `interfaces` (None without joints).
+    pub(super) fn two_body_joint(&self, interfaces: &[Interface]) -> Option<ContactJoint> {
+        let section = self.joints.values().next()?;
+        let parameters = NitscheParameters { gamma0: section.gamma0, theta: section.theta, ..Default::default() };
+        Some(ContactJoint {
+            tags: interfaces.iter().map(|i| i.slave_curve).collect(),
+            masters: interfaces.iter().map(|i| i.master_curve).collect(),
+            law: section.law(),
+            parameters,
+            uplift: None,
+        })
+    }
+}

@@ -1,0 +1,239 @@
+//! Verification of two-body Nitsche contact across a joint (docs/method.md §1.10): the patch test
+//! on matching and non-matching sides, the optimal rate on non-matching sides, and the limit
+//! of a very stiff foundation.
+
+use crate::common;
+
+use damfem::contact::nitsche::NitscheParameters;
+use damfem::contact::projection::Smoothing;
+use damfem::contact::{continuation, ContactJoint, ContactProblem};
+use damfem::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction, VectorFn};
+use damfem::fem::norms::errors;
+use damfem::mesh::structured::{rectangle, two_blocks, BOTTOM, JOINT, JOINT_LOWER, LEFT, LOWER, RIGHT, TOP};
+use damfem::solve::NewtonOptions;
+use std::sync::Arc;
+
+/// The joint between the blocks of [`two_blocks`], the upper block's side the slave.
+fn joint(theta: f64) -> ContactJoint {
+    let parameters = NitscheParameters { theta, ..Default::default() };
+    ContactJoint { masters: vec![JOINT_LOWER], ..ContactJoint::frictionless(vec![JOINT], parameters) }
+}
+
+/// The materials of the cells of `mesh`: `lower` in the lower block, `upper` in the upper one.
+fn materials(mesh: &damfem::mesh::Mesh, lower: Material, upper: Material) -> Vec<Material> {
+    mesh.cell_tags.iter().map(|&t| if t == LOWER { lower } else { upper }).collect()
+}
+
+/// Newton from u = 0 at δ = 10⁻¹² (relative to the stresses of these cases, ~10⁻²): the
+/// free unknowns.
+fn solve(problem: &Problem, joint: &ContactJoint) -> Vec<f64> {
+    let disc = problem.discretise();
+    let mut contact = ContactProblem::new(problem, &disc, joint, Smoothing { delta: 1e-12 });
+    let x0 = vec![0.0; disc.dofs.n_free];
+    let (x, _) =
+        continuation(&mut contact, 1e-12, 1e-3, x0, &NewtonOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    x
+}
+
+/// Two-body patch test. Source: docs/method.md §1.10: two stacked
+/// blocks of different materials pressed together (bonded-equivalent compression).
+/// Goal: u_h = u to round-off on matching and on non-matching sides, for θ = 1, 0, −1, P1 and
+/// P2: the exact solution lies in V_h on each block and satisfies the Nitsche equations.
+/// Parameters: lower block E₂ = 3, ν₂ = 0.3 on [0,1] × [0,½], upper block E₁ = 1, ν₁ = 0.2;
+/// u = 0 at y = 0 and u = (0, −b), b = 10⁻², at y = 1; uniaxial strain ε_yy,i = −p/(λ_i + 2μ_i),
+/// p = b / Σ_i ½/(λ_i + 2μ_i); lateral tractions ±(λ_i ε_yy,i, 0) that keep ε_xx = 0.
+#[test]
+fn two_body_patch_test_is_exact_on_matching_and_non_matching_sides() {
+    let b = 1e-2;
+    let (lower, upper) =
+        (Material { young: 3.0, poisson: 0.3, density: 0.0 }, Material { young: 1.0, poisson: 0.2, density: 0.0 });
+    let modulus = |m: Material| {
+        let (lambda, mu) = m.lame();
+        (lambda, lambda + 2.0 * mu)
+    };
+    let ((l2, m2), (l1, m1)) = (modulus(lower), modulus(upper));
+    let p = b / (0.5 / m2 + 0.5 / m1);
+    let (e2, e1) = (-p / m2, -p / m1);
+    let exact = move |x: [f64; 2]| if x[1] <= 0.5 { e2 * x[1] } else { 0.5 * e2 + e1 * (x[1] - 0.5) };
+    // σ_xx on each block, from the cell's side of y = ½
+    let sigma_xx = move |y: f64| if y < 0.5 { l2 * e2 } else { l1 * e1 };
+    let side = |sign: f64| -> VectorFn { Arc::new(move |x: [f64; 2]| [sign * sigma_xx(x[1]), 0.0]) };
+    for order in [1, 2] {
+        for (nx_lower, nx_upper) in [(4, 4), (3, 5)] {
+            for theta in [1.0, 0.0, -1.0] {
+                let mesh = two_blocks(nx_lower, nx_upper, 2, 0.5, order);
+                let problem = Problem {
+                    materials: materials(&mesh, lower, upper),
+                    dirichlet: vec![
+                        Dirichlet { tag: BOTTOM, fix: [true; 2], value: Arc::new(|_| [0.0; 2]) },
+                        Dirichlet { tag: TOP, fix: [true; 2], value: Arc::new(move |_| [0.0, -b]) },
+                    ],
+                    neumann: vec![
+                        Neumann { tag: LEFT, traction: Traction::Field(side(-1.0)) },
+                        Neumann { tag: RIGHT, traction: Traction::Field(side(1.0)) },
+                    ],
+                    body_force: BodyForce::None,
+                    mesh,
+                };
+                let x = solve(&problem, &joint(theta));
+                let u = problem.displacement(&problem.discretise(), &x);
+                let error = (problem.mesh.points.iter().zip(&u))
+                    .map(|(x, v)| v[0].abs().max((v[1] - exact(*x)).abs()))
+                    .fold(0.0, f64::max);
+                println!(
+                    "P{order}, {nx_lower} | {nx_upper} cells along the joint, θ = {theta}: max nodal error {error:.2e}"
+                );
+                assert!(error < 1e-12 * b / 1e-2, "P{order} {nx_lower}|{nx_upper} θ = {theta}: error {error:.3e}");
+            }
+        }
+    }
+}
+
+/// A smooth solution closed across the joint: u = (c sin πx q², v(y) + d cos πx q²), q = y − ½,
+/// v(y) = −a sin y. At y = ½, σ_xy = 0 (frictionless) and σ_yy = (λ+2μ) v'(½) < 0 (pressed),
+/// and [u] = 0. Returns u, ∇u, σ and f = −∇·σ for the Lamé coefficients (λ, μ).
+struct Smooth {
+    lambda: f64,
+    mu: f64,
+}
+
+impl Smooth {
+    const A: f64 = 1e-2;
+    const C: f64 = 5e-3;
+    const D: f64 = 5e-3;
+
+    fn u(x: [f64; 2]) -> [f64; 2] {
+        let (s, c, q) = Self::trig(x);
+        [Self::C * s * q * q, -Self::A * x[1].sin() + Self::D * c * q * q]
+    }
+
+    fn trig(x: [f64; 2]) -> (f64, f64, f64) {
+        let pi = std::f64::consts::PI;
+        ((pi * x[0]).sin(), (pi * x[0]).cos(), x[1] - 0.5)
+    }
+
+    /// ∂_j u_i at [i][j].
+    fn grad(x: [f64; 2]) -> [[f64; 2]; 2] {
+        let pi = std::f64::consts::PI;
+        let (s, c, q) = Self::trig(x);
+        let (cc, d, a) = (Self::C, Self::D, Self::A);
+        [[cc * pi * c * q * q, 2.0 * cc * s * q], [-d * pi * s * q * q, -a * x[1].cos() + 2.0 * d * c * q]]
+    }
+
+    fn sigma(&self, x: [f64; 2]) -> [[f64; 2]; 2] {
+        let g = Self::grad(x);
+        let div = g[0][0] + g[1][1];
+        let shear = self.mu * (g[0][1] + g[1][0]);
+        [[self.lambda * div + 2.0 * self.mu * g[0][0], shear], [shear, self.lambda * div + 2.0 * self.mu * g[1][1]]]
+    }
+
+    /// f = −∇·σ, differentiated by hand from `grad`.
+    fn f(&self, x: [f64; 2]) -> [f64; 2] {
+        let pi = std::f64::consts::PI;
+        let (s, c, q) = Self::trig(x);
+        let (cc, d, a, l, m) = (Self::C, Self::D, Self::A, self.lambda, self.mu);
+        let fx = (l + 2.0 * m) * (-cc * pi * pi * s * q * q)
+            + l * (-2.0 * d * pi * s * q)
+            + m * (2.0 * cc * s - 2.0 * d * pi * s * q);
+        let fy = m * (2.0 * cc * pi * c * q - d * pi * pi * c * q * q)
+            + l * (2.0 * cc * pi * c * q)
+            + (l + 2.0 * m) * (a * x[1].sin() + 2.0 * d * c);
+        [-fx, -fy]
+    }
+}
+
+/// Two-body convergence on non-matching sides. Source: docs/method.md §1.10.
+/// Goal: the L² and H¹ errors of the smooth closed solution of [`Smooth`] converge at the optimal
+/// rates p + 1 and p when the joint's two sides have 2n and 3n faces.
+/// Parameters: E = 1, ν = 0.2 in both blocks, γ₀ = 100, θ = 0; exact Dirichlet data at y = 0
+/// and y = 1, exact tractions on x = 0 and x = 1; P1 on n = 4 … 32, P2 on n = 2 … 16.
+#[test]
+fn two_body_non_matching_sides_converge_at_the_optimal_rate() {
+    let material = Material { young: 1.0, poisson: 0.2, density: 0.0 };
+    let (lambda, mu) = material.lame();
+    let exact = Arc::new(Smooth { lambda, mu });
+    for (order, sizes) in [(1, [4, 8, 16, 32]), (2, [2, 4, 8, 16])] {
+        let (mut h, mut l2, mut h1) = (Vec::new(), Vec::new(), Vec::new());
+        for n in sizes {
+            let mesh = two_blocks(2 * n, 3 * n, 2 * n, 0.5, order);
+            let traction = |sign: f64| -> VectorFn {
+                let e = exact.clone();
+                Arc::new(move |x: [f64; 2]| e.sigma(x)[0].map(|s| sign * s))
+            };
+            let body = exact.clone();
+            let problem = Problem {
+                materials: vec![material; mesh.n_cells()],
+                dirichlet: [BOTTOM, TOP]
+                    .map(|tag| Dirichlet { tag, fix: [true; 2], value: Arc::new(Smooth::u) })
+                    .to_vec(),
+                neumann: vec![
+                    Neumann { tag: LEFT, traction: Traction::Field(traction(-1.0)) },
+                    Neumann { tag: RIGHT, traction: Traction::Field(traction(1.0)) },
+                ],
+                body_force: BodyForce::Field(Arc::new(move |x| body.f(x))),
+                mesh,
+            };
+            let x = solve(&problem, &joint(0.0));
+            let u = problem.displacement(&problem.discretise(), &x);
+            let (e0, e1) = errors(&problem.mesh, &u, Smooth::u, Smooth::grad);
+            println!("P{order}, n = {n} (2n | 3n faces along the joint): |e|_L2 = {e0:.3e}, |e|_H1 = {e1:.3e}");
+            (h.push(1.0 / n as f64), l2.push(e0), h1.push(e1));
+        }
+        let (rate0, rate1) = (common::fitted_rate(&h, &l2), common::fitted_rate(&h, &h1));
+        println!("P{order}: fitted rates L2 {rate0:.3}, H1 {rate1:.3}");
+        let p = order as f64;
+        assert!(rate1 >= p - 0.1, "P{order} H1 rate {rate1:.3} < {}", p - 0.1);
+        assert!(rate0 >= p + 1.0 - 0.2, "P{order} L2 rate {rate0:.3} < {}", p + 0.8);
+    }
+}
+
+/// The two-body solution tends to the rigid-foundation one. Source: docs/method.md §1.10 (the
+/// consistency check). Goal: as the lower block's modulus E₂ grows, the upper block's
+/// displacement tends to that of the same block on a rigid foundation, at the rate E₂⁻¹ (the
+/// foundation's compliance).
+/// Parameters: upper block [0,1] × [½,1], E₁ = 1, ν₁ = 0.2, pressed at its top by
+/// u = (0, −b (1 − x)), b = 10⁻², so that its right part lifts off; lower block ν₂ = 0.2,
+/// E₂ = 10², 10³, 10⁴, fixed at y = 0; P2, 8 × 4 cells per block, γ₀ = 100, θ = 0.
+#[test]
+fn a_very_stiff_foundation_tends_to_the_rigid_one() {
+    let b = 1e-2;
+    let (order, n) = (2, 8);
+    let upper = Material { young: 1.0, poisson: 0.2, density: 0.0 };
+    let press: damfem::elasticity::VectorFn = Arc::new(move |x: [f64; 2]| [0.0, -b * (1.0 - x[0])]);
+    let rigid = {
+        let mesh = rectangle(0.0, 1.0, 0.5, 1.0, n, n / 2, order);
+        let problem = Problem {
+            materials: vec![upper; mesh.n_cells()],
+            dirichlet: vec![Dirichlet { tag: TOP, fix: [true; 2], value: press.clone() }],
+            neumann: vec![],
+            body_force: BodyForce::None,
+            mesh,
+        };
+        let joint = ContactJoint::frictionless(vec![BOTTOM], NitscheParameters::default());
+        problem.displacement(&problem.discretise(), &solve(&problem, &joint))
+    };
+    let (mut compliance, mut difference) = (Vec::new(), Vec::new());
+    for young in [1e2, 1e3, 1e4] {
+        let mesh = two_blocks(n, n, n / 2, 0.5, order);
+        let offset = mesh.n_points() - rigid.len();
+        let lower = Material { young, ..upper };
+        let problem = Problem {
+            materials: materials(&mesh, lower, upper),
+            dirichlet: vec![
+                Dirichlet { tag: BOTTOM, fix: [true; 2], value: Arc::new(|_| [0.0; 2]) },
+                Dirichlet { tag: TOP, fix: [true; 2], value: press.clone() },
+            ],
+            neumann: vec![],
+            body_force: BodyForce::None,
+            mesh,
+        };
+        let u = problem.displacement(&problem.discretise(), &solve(&problem, &joint(0.0)));
+        let max = (u[offset..].iter().zip(&rigid)).map(|(a, r)| (a[0] - r[0]).hypot(a[1] - r[1])).fold(0.0, f64::max);
+        println!("E2/E1 = {young:.0e}: max |u − u_rigid| over the upper block = {max:.3e} (b = {b:.0e})");
+        (compliance.push(1.0 / young), difference.push(max));
+    }
+    let rate = common::fitted_rate(&compliance, &difference);
+    println!("fitted rate in 1/E2: {rate:.3}");
+    assert!(difference[2] < 1e-3 * b, "the stiffest foundation is {:.3e} from the rigid one", difference[2]);
+    assert!((rate - 1.0).abs() < 0.1, "rate {rate:.3} in 1/E2, expected 1");
+}
