@@ -6,7 +6,8 @@
 
 use super::afw::{self, COMPONENTS};
 use super::face::FaceProjection;
-use super::reconstruction::{contact_rule, tractions, Reconstruction};
+use super::facets::contact_facets;
+use super::reconstruction::Reconstruction;
 use crate::contact::Linearisation;
 use crate::elasticity::problem::{load_degree, traction_rule};
 use crate::elasticity::stress::cell_mean_stress;
@@ -121,7 +122,7 @@ pub fn check(
     contact: Option<&Linearisation>,
 ) -> Equilibration {
     let traces = Traces::new(problem, topology, rec);
-    let contact = contact.map_or(Worst::default(), |c| contact_traces(problem, u, rec, c));
+    let contact = contact.map_or(Worst::default(), |c| contact_traces(problem, topology, u, rec, c));
     let checks = [
         divergence(problem, rec),
         traces.relative(traces.continuity()),
@@ -151,7 +152,11 @@ pub fn representation_bound(problem: &Problem, u: &[[f64; 2]], contact: Option<&
     let mesh = &problem.mesh;
     let mut weight = vec![1.0; mesh.n_cells()];
     if let Some(state) = contact {
-        state.nitsche.faces.iter().for_each(|face| weight[face.cell] = state.nitsche.parameters.gamma0.max(1.0));
+        let gamma0 = state.nitsche.parameters.gamma0.max(1.0);
+        for face in &state.nitsche.faces {
+            weight[face.cell] = gamma0;
+            face.opposite.iter().for_each(|opposite| weight[opposite.cell] = gamma0);
+        }
     }
     let stress = cell_mean_stress(problem, u).into_iter().flatten().fold(0.0_f64, |m, v| m.max(v.abs()));
     let defect = (0..mesh.n_cells())
@@ -361,31 +366,35 @@ fn reference_point(cell: &[usize], a: usize, b: usize, s: f64) -> [f64; 2] {
     [xa[0] + s * (xb[0] - xa[0]), xa[1] + s * (xb[1] - xa[1])]
 }
 
-/// max over contact faces and i = 1, 2, 3 of ‖σ_hi n − Π_F^p t_i n‖_F.
-fn contact_traces(problem: &Problem, u: &[[f64; 2]], rec: &Reconstruction, state: &Linearisation) -> Worst {
+/// max over the facets of Γ_C (on both sides of a joint) and i = 1, 2, 3 of
+/// ‖σ_hi n − Π_F^p t_i‖_F, t_i the facet's datum ([`ContactFacet::samples`]).
+fn contact_traces(
+    problem: &Problem,
+    topology: &Topology,
+    u: &[[f64; 2]],
+    rec: &Reconstruction,
+    state: &Linearisation,
+) -> Worst {
     let mesh = &problem.mesh;
     let mut worst = Worst::default();
-    for (k, face) in state.nitsche.faces.iter().enumerate() {
-        let local = |field: &[[f64; 2]]| -> Vec<f64> { mesh.cell(face.cell).iter().flat_map(|&n| field[n]).collect() };
-        let (uk, u_prev) = (local(u), local(&state.u_prev));
-        let rule = contact_rule(state, k, &uk, &u_prev);
+    for facet in contact_facets(mesh, topology, state) {
+        let samples = facet.samples(mesh, state, u);
+        let rule: Vec<(f64, f64)> = samples.iter().map(|p| (p.r, p.weight)).collect();
         let projection = FaceProjection::new(mesh.order, &rule);
-        let t: Vec<[[f64; 2]; 3]> = rule.iter().map(|&(s, _)| tractions(state, k, s, &uk, &u_prev)).collect();
         for i in 0..3 {
             let mut defect = 0.0;
             for j in 0..2 {
-                let w: Vec<f64> = rule
+                let w: Vec<f64> = samples
                     .iter()
-                    .map(|&(s, _)| {
-                        let xi = Segment::new(face.ends[0], face.ends[1]).point(s);
-                        let tau = afw::evaluate(mesh.order, rec.cell(i, face.cell), xi);
-                        tau[2 * j] * face.normal[0] + tau[2 * j + 1] * face.normal[1]
+                    .map(|p| {
+                        let tau = afw::evaluate(mesh.order, rec.cell(i, facet.cell), facet.reference_point(mesh, p.r));
+                        tau[2 * j] * facet.normal[0] + tau[2 * j + 1] * facet.normal[1]
                     })
                     .collect();
-                let g: Vec<f64> = t.iter().map(|ti| ti[i][j]).collect();
+                let g: Vec<f64> = samples.iter().map(|p| p.t[i][j]).collect();
                 defect += projection.trace_defect(&w, &g).powi(2);
             }
-            worst = worst.max(defect.sqrt(), face.map.to_physical(Segment::new(face.ends[0], face.ends[1]).point(0.5)));
+            worst = worst.max(defect.sqrt(), facet.midpoint(mesh));
         }
     }
     worst

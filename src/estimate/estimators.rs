@@ -16,7 +16,8 @@
 
 use super::afw::{self, COMPONENTS};
 use super::face::FaceProjection;
-use super::reconstruction::{tractions, Reconstruction};
+use super::facets::contact_facets;
+use super::reconstruction::Reconstruction;
 use crate::contact::Linearisation;
 use crate::elasticity::kernels::{displacement_gradient, stress};
 use crate::elasticity::{BodyForce, Problem, Traction};
@@ -98,7 +99,7 @@ pub fn estimate(
             e.reg[c] = volume_norm(problem, rec.cell(1, c), c, None);
             e.lin[c] = volume_norm(problem, rec.cell(2, c), c, None);
         }
-        contact_faces(problem, u, rec, state, &mut e);
+        contact_facet_terms(problem, topology, u, rec, state, &mut e);
     }
     for c in 0..n {
         e.tot[c] = e.osc[c] + e.flux[c] + e.neu[c] + e.disc[c] + e.reg[c] + e.lin[c];
@@ -218,34 +219,37 @@ fn neumann(problem: &Problem, topology: &Topology) -> Vec<f64> {
     eta
 }
 
-/// Contact-face parts of η_disc, η_reg and η_lin.
-fn contact_faces(problem: &Problem, u: &[[f64; 2]], rec: &Reconstruction, state: &Linearisation, e: &mut Estimators) {
+/// The parts of η_disc, η_reg and η_lin on the facets of Γ_C (on both sides of a joint):
+/// h_F^{1/2} ‖t₁ − Π_F^p t₁‖_F and h_F^{1/2} ‖σ_hi n‖_F, i = 2, 3, added to the facet's cell.
+fn contact_facet_terms(
+    problem: &Problem,
+    topology: &Topology,
+    u: &[[f64; 2]],
+    rec: &Reconstruction,
+    state: &Linearisation,
+    e: &mut Estimators,
+) {
     let mesh = &problem.mesh;
-    let nitsche = state.nitsche;
-    for (k, face) in nitsche.faces.iter().enumerate() {
-        let local = |field: &[[f64; 2]]| -> Vec<f64> { mesh.cell(face.cell).iter().flat_map(|&n| field[n]).collect() };
-        let (uk, u_prev) = (local(u), local(&state.u_prev));
-        let rule = super::reconstruction::contact_rule(state, k, &uk, &u_prev);
+    for facet in contact_facets(mesh, topology, state) {
+        let samples = facet.samples(mesh, state, u);
+        let rule: Vec<(f64, f64)> = samples.iter().map(|p| (p.r, p.weight)).collect();
         let projection = FaceProjection::new(mesh.order, &rule);
-        let t1: Vec<[f64; 2]> = rule.iter().map(|&(s, _)| tractions(state, k, s, &uk, &u_prev)[0]).collect();
-        let root_h = face.length.sqrt();
-        let component = |j: usize| t1.iter().map(|t| t[j]).collect::<Vec<_>>();
-        e.disc[face.cell] +=
-            root_h * projection.oscillation(&component(0)).hypot(projection.oscillation(&component(1)));
+        let root_h = facet.length.sqrt();
+        let t1 = |j: usize| samples.iter().map(|p| p.t[0][j]).collect::<Vec<_>>();
+        e.disc[facet.cell] += root_h * projection.oscillation(&t1(0)).hypot(projection.oscillation(&t1(1)));
         for (i, eta) in [(1, &mut e.reg), (2, &mut e.lin)] {
-            let traction: Vec<[f64; 2]> = rule
+            let traction: Vec<[f64; 2]> = samples
                 .iter()
-                .map(|&(s, _)| {
-                    let xi = Segment::new(face.ends[0], face.ends[1]).point(s);
-                    let t = afw::evaluate(mesh.order, rec.cell(i, face.cell), xi);
-                    [t[0] * face.normal[0] + t[1] * face.normal[1], t[2] * face.normal[0] + t[3] * face.normal[1]]
+                .map(|p| {
+                    let t = afw::evaluate(mesh.order, rec.cell(i, facet.cell), facet.reference_point(mesh, p.r));
+                    [t[0] * facet.normal[0] + t[1] * facet.normal[1], t[2] * facet.normal[0] + t[3] * facet.normal[1]]
                 })
                 .collect();
             let norm = (0..2)
                 .map(|j| projection.norm(&traction.iter().map(|v| v[j]).collect::<Vec<_>>()).powi(2))
                 .sum::<f64>()
                 .sqrt();
-            eta[face.cell] += root_h * norm;
+            eta[facet.cell] += root_h * norm;
         }
     }
 }

@@ -5,6 +5,7 @@ pub mod afw;
 pub mod checks;
 pub mod estimators;
 pub mod face;
+pub mod facets;
 pub mod patch;
 pub mod reconstruction;
 

@@ -13,9 +13,9 @@
 //! ∇·σ_h = −Π^{p−1} f. Patches are solved in parallel.
 
 use super::afw::{self, cell_integrals, face_moments, CellIntegrals, COMPONENTS};
+use super::facets::{contact_facets, ContactFacet};
 use super::patch::{self, FaceKind, PatchFace, PatchInput};
 use super::EstimateError;
-use crate::contact::nitsche::Nitsche;
 use crate::contact::projection::Smoothing;
 use crate::contact::Linearisation;
 use crate::elasticity::kernels::{displacement_gradient, stress};
@@ -106,6 +106,8 @@ struct Context<'a> {
     topology: &'a Topology,
     u: &'a [[f64; 2]],
     contact: Option<&'a Linearisation<'a>>,
+    /// The facets of Γ_C on every side ([`contact_facets`]).
+    facets: Vec<ContactFacet>,
     maps: Vec<AffineMap>,
     integrals: Vec<CellIntegrals>,
     /// The volume data of every cell for each of its vertices, from [`volume_data`].
@@ -131,9 +133,11 @@ pub fn reconstruct(
     let order = mesh.order;
     let maps: Vec<AffineMap> = (0..mesh.n_cells()).map(|c| AffineMap::new(mesh.cell_vertices(c))).collect();
     let integrals = maps.par_iter().map(|m| cell_integrals(order, m)).collect();
-    let edge_role = edge_roles(problem, topology, contact.map(|c| c.nitsche));
+    let facets = contact.map_or_else(Vec::new, |c| contact_facets(mesh, topology, c));
+    let edge_role = edge_roles(problem, topology, &facets);
     let cases = if contact.is_some() { 3 } else { 1 };
-    let mut ctx = Context { problem, topology, u, contact, maps, integrals, volume: Vec::new(), edge_role, cases };
+    let mut ctx =
+        Context { problem, topology, u, contact, facets, maps, integrals, volume: Vec::new(), edge_role, cases };
     let volume = (0..mesh.n_cells()).into_par_iter().map(|c| volume_data(&ctx, c)).collect();
     ctx.volume = volume;
     let results: Vec<_> = (0..topology.vertices.len())
@@ -172,7 +176,7 @@ pub fn reconstruct(
 }
 
 /// Role of every edge.
-fn edge_roles(problem: &Problem, topology: &Topology, nitsche: Option<&Nitsche>) -> Vec<Role> {
+fn edge_roles(problem: &Problem, topology: &Topology, facets: &[ContactFacet]) -> Vec<Role> {
     let mesh = &problem.mesh;
     let mut role = vec![Role::Free; topology.n_edges()];
     for f in 0..mesh.n_facets() {
@@ -184,10 +188,8 @@ fn edge_roles(problem: &Problem, topology: &Topology, nitsche: Option<&Nitsche>)
             role[e] = Role::Neumann(i);
         }
     }
-    if let Some(n) = nitsche {
-        for (k, face) in n.faces.iter().enumerate() {
-            role[topology.facet_edges[face.facet]] = Role::Contact(k);
-        }
+    for (k, facet) in facets.iter().enumerate() {
+        role[facet.edge] = Role::Contact(k);
     }
     role
 }
@@ -415,27 +417,24 @@ pub(crate) fn contact_rule(c: &Linearisation, k: usize, u: &[f64], u_prev: &[f64
     c.nitsche.split_rule(k, &cuts)
 }
 
-/// ∫_F ψ_a t n_i q_m for the three cases on contact face k, with the quadrature split at
-/// every kink of t₁, t₂ and t₃.
+/// ∫_F ψ_a t_i q_m for the three cases on contact facet k, with the samples of its datum
+/// ([`ContactFacet::samples`]).
 fn contact_moments(ctx: &Context, k: usize, a: usize, ends: [usize; 2], data: &mut [Vec<f64>]) {
-    let c = ctx.contact.expect("a contact face implies a contact state");
+    let c = ctx.contact.expect("a contact facet implies a contact state");
     let mesh = &ctx.problem.mesh;
-    let face = &c.nitsche.faces[k];
-    let local = |field: &[[f64; 2]]| -> Vec<f64> { mesh.cell(face.cell).iter().flat_map(|&n| field[n]).collect() };
-    let (u, u_prev) = (local(ctx.u), local(&c.u_prev));
-    // the Nitsche face runs from facet node 0 to facet node 1
-    let reversed = mesh.facet(face.facet)[0] != ends[0];
+    let facet = &ctx.facets[k];
+    let reversed = facet.ends[0] != ends[0];
     let mut q = [0.0; 3];
-    for (s_face, w) in contact_rule(c, k, &u, &u_prev) {
-        let s = if reversed { 1.0 - s_face } else { s_face };
+    for sample in facet.samples(mesh, c, ctx.u) {
+        let s = if reversed { 1.0 - sample.r } else { sample.r };
         let psi = if ends[0] == a { 1.0 - s } else { s };
-        let [t1, t2, t3] = tractions(c, k, s_face, &u, &u_prev);
+        let [t1, t2, t3] = sample.t;
         let t = [[t1[0] + t2[0] + t3[0], t1[1] + t2[1] + t3[1]], t2, t3];
         lagrange::segment_values(mesh.order, s, &mut q);
         for (case, out) in data.iter_mut().enumerate() {
             for m in 0..=mesh.order {
                 for i in 0..2 {
-                    out[m * 2 + i] += psi * t[case][i] * q[m] * w;
+                    out[m * 2 + i] += psi * t[case][i] * q[m] * sample.weight;
                 }
             }
         }

@@ -15,4 +15,5 @@ mod friction;
 mod hertz;
 mod stability;
 mod two_body;
+mod two_body_estimate;
 mod uplift;

@@ -1,0 +1,179 @@
+//! The facets of Γ_C on both sides of a joint, each with the traction it carries
+//! (docs/method.md §5.6).
+//!
+//! On a rigid foundation every contact face of the Nitsche terms is a whole boundary facet F,
+//! and F carries t = t₁ + t₂ + t₃ of that face. On a joint between two bodies a contact face
+//! is a piece of a slave facet that faces one master cell: the slave facet carries t on each of
+//! its pieces, and the master facet F_m carries, at the point y(x) that faces x, the opposite
+//! traction t^m(y) = −t(x) dx/dy, so that ∫_{F_m} t^m·v dy = −∫ t·v(y(x)) dx, the master part
+//! of the jump term ∫ t·[v]. Parts of a slave facet that face no master carry nothing. The
+//! reconstruction, the equilibration checks and the estimators see only facets and their
+//! samples, so one body and two bodies take the same path.
+
+use super::reconstruction::{contact_rule, tractions};
+use crate::contact::Linearisation;
+use crate::fem::quadrature::gauss_segment_cached;
+use crate::mesh::{distance, Mesh, Segment, Topology};
+use std::collections::HashMap;
+
+/// A facet of Γ_C, on the slave side or on the master side of a joint.
+pub struct ContactFacet {
+    /// Its edge in the topology and the cell that owns it.
+    pub edge: usize,
+    pub cell: usize,
+    /// Its end nodes; the facet parameter r ∈ [0, 1] runs from the first to the second.
+    pub ends: [usize; 2],
+    /// |F| and the outward unit normal of `cell`.
+    pub length: f64,
+    pub normal: [f64; 2],
+    pieces: Vec<Piece>,
+}
+
+/// A contact face seen from a facet: r = r₀ + s (r₁ − r₀) at its parameter s, and the datum
+/// `sign` · t / dy_dx in the facet's measure dy = dy_dx · dx.
+struct Piece {
+    face: usize,
+    r: [f64; 2],
+    sign: f64,
+    dy_dx: f64,
+}
+
+/// A point of a facet's rule: its parameter r, its weight in the facet's measure (× |F|), and
+/// the facet's datum (t₁, t₂, t₃) there.
+pub struct Sample {
+    pub r: f64,
+    pub weight: f64,
+    pub t: [[f64; 2]; 3],
+}
+
+/// The facets of Γ_C of `state`: one per contact face on a rigid foundation; on a joint, the
+/// slave facets with their pieces and the master facets with the pieces that face them.
+pub fn contact_facets(mesh: &Mesh, topology: &Topology, state: &Linearisation) -> Vec<ContactFacet> {
+    let mut facets: Vec<ContactFacet> = Vec::new();
+    let mut index: HashMap<usize, usize> = HashMap::new();
+    let mut add = |facet: ContactFacet, piece: Piece| {
+        let k = *index.entry(facet.edge).or_insert_with(|| {
+            facets.push(facet);
+            facets.len() - 1
+        });
+        facets[k].pieces.push(piece);
+    };
+    for (k, face) in state.nitsche.faces.iter().enumerate() {
+        let ends = mesh.facet(face.facet);
+        let slave = new_facet(mesh, topology.facet_edges[face.facet], face.cell, [ends[0], ends[1]]);
+        let r = face.ends.map(|xi| parameter(mesh, face.cell, slave.ends, xi));
+        let Some(opposite) = &face.opposite else {
+            add(slave, Piece { face: k, r, sign: 1.0, dy_dx: 1.0 });
+            continue;
+        };
+        let (edge, ends) = cell_edge_through(mesh, topology, opposite.cell, opposite.ends);
+        let master = new_facet(mesh, edge, opposite.cell, ends);
+        let r_master = opposite.ends.map(|xi| parameter(mesh, opposite.cell, master.ends, xi));
+        let dy_dx = (r_master[1] - r_master[0]).abs() * master.length / face.length;
+        add(slave, Piece { face: k, r, sign: 1.0, dy_dx: 1.0 });
+        add(master, Piece { face: k, r: r_master, sign: -1.0, dy_dx });
+    }
+    facets
+}
+
+fn new_facet(mesh: &Mesh, edge: usize, cell: usize, ends: [usize; 2]) -> ContactFacet {
+    let (a, b) = (mesh.points[ends[0]], mesh.points[ends[1]]);
+    let inside = mesh.cell(cell)[..3].iter().find(|&&v| v != ends[0] && v != ends[1]).map(|&v| mesh.points[v]);
+    let normal = Segment::new(a, b).outward_normal(inside.expect("a triangle has a vertex off each edge"));
+    ContactFacet { edge, cell, ends, length: distance(a, b), normal, pieces: Vec::new() }
+}
+
+/// The reference coordinates of vertex `node` in `cell`.
+pub fn reference_vertex(mesh: &Mesh, cell: usize, node: usize) -> [f64; 2] {
+    const VERTICES: [[f64; 2]; 3] = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
+    VERTICES[mesh.cell(cell)[..3].iter().position(|&v| v == node).expect("the facet is the cell's")]
+}
+
+/// The facet parameter of the reference point ξ of `cell` on the facet with nodes `ends`,
+/// taken in reference coordinates (exact for ξ on the facet, with no rounding of |x|).
+fn parameter(mesh: &Mesh, cell: usize, ends: [usize; 2], xi: [f64; 2]) -> f64 {
+    let [a, b] = ends.map(|n| reference_vertex(mesh, cell, n));
+    let d = [b[0] - a[0], b[1] - a[1]];
+    ((xi[0] - a[0]) * d[0] + (xi[1] - a[1]) * d[1]) / (d[0] * d[0] + d[1] * d[1])
+}
+
+/// The edge of `cell` that holds the reference points `xi`, and its end nodes.
+fn cell_edge_through(mesh: &Mesh, topology: &Topology, cell: usize, xi: [[f64; 2]; 2]) -> (usize, [usize; 2]) {
+    // local edge i joins vertices i + 1 and i + 2; off it, the barycentric coordinate λ_i = 0
+    let lambda = |i: usize, p: [f64; 2]| [1.0 - p[0] - p[1], p[0], p[1]][i];
+    let i = (0..3).min_by(|&i, &j| {
+        lambda(i, xi[0])
+            .abs()
+            .max(lambda(i, xi[1]).abs())
+            .total_cmp(&lambda(j, xi[0]).abs().max(lambda(j, xi[1]).abs()))
+    });
+    let i = i.expect("a triangle has three edges");
+    let vertices = mesh.cell(cell);
+    (topology.cell_edges[cell][i], [vertices[(i + 1) % 3], vertices[(i + 2) % 3]])
+}
+
+impl ContactFacet {
+    /// The reference point of `cell` at facet parameter r.
+    pub fn reference_point(&self, mesh: &Mesh, r: f64) -> [f64; 2] {
+        let [a, b] = self.ends.map(|n| reference_vertex(mesh, self.cell, n));
+        Segment::new(a, b).point(r)
+    }
+
+    /// The physical midpoint, where a violation on the facet is reported.
+    pub fn midpoint(&self, mesh: &Mesh) -> [f64; 2] {
+        Segment::new(mesh.points[self.ends[0]], mesh.points[self.ends[1]]).point(0.5)
+    }
+
+    /// The facet's rule with its datum (t₁, t₂, t₃): every piece's rule (split at the kinks of
+    /// t), and a Gauss rule of `order` + 1 points with t = 0 on the parts no piece covers, so that
+    /// the rule integrates P_{2p} over the whole facet.
+    pub fn samples(&self, mesh: &Mesh, state: &Linearisation, u: &[[f64; 2]]) -> Vec<Sample> {
+        let mut samples = Vec::new();
+        let mut covered = Vec::new();
+        let mut dofs = Vec::new();
+        for piece in &self.pieces {
+            state.nitsche.face_dofs(mesh, piece.face, &mut dofs);
+            let local = |field: &[[f64; 2]]| -> Vec<f64> { dofs.iter().map(|&g| field[g / 2][g % 2]).collect() };
+            let (uk, u_prev) = (local(u), local(&state.u_prev));
+            let scale = piece.sign / piece.dy_dx;
+            for (s, w) in contact_rule(state, piece.face, &uk, &u_prev) {
+                let t = tractions(state, piece.face, s, &uk, &u_prev).map(|t| t.map(|ti| scale * ti));
+                samples.push(Sample { r: piece.r[0] + s * (piece.r[1] - piece.r[0]), weight: w * piece.dy_dx, t });
+            }
+            covered.push([piece.r[0].min(piece.r[1]), piece.r[0].max(piece.r[1])]);
+        }
+        let rule = gauss_segment_cached(mesh.order + 1);
+        for [lo, hi] in uncovered(covered) {
+            for (&s, &w) in rule.points.iter().zip(&rule.weights) {
+                samples.push(Sample { r: lo + s * (hi - lo), weight: w * (hi - lo) * self.length, t: [[0.0; 2]; 3] });
+            }
+        }
+        samples
+    }
+}
+
+/// The parts of [0, 1] that the intervals leave uncovered, longer than round-off.
+fn uncovered(mut intervals: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
+    intervals.sort_by(|a, b| a[0].total_cmp(&b[0]));
+    let mut gaps = Vec::new();
+    let mut reached = 0.0_f64;
+    for [lo, hi] in intervals.into_iter().chain([[1.0, 1.0]]) {
+        if lo - reached > 1e-12 {
+            gaps.push([reached, lo]);
+        }
+        reached = reached.max(hi);
+    }
+    gaps
+}
+
+#[cfg(test)]
+mod tests {
+    use super::uncovered;
+
+    #[test]
+    fn uncovered_parts_are_the_gaps_between_the_pieces() {
+        assert_eq!(uncovered(vec![[0.5, 1.0], [0.0, 0.25]]), vec![[0.25, 0.5]]);
+        assert!(uncovered(vec![[0.0, 0.5], [0.5, 1.0]]).is_empty());
+        assert_eq!(uncovered(Vec::new()), vec![[0.0, 1.0]]);
+    }
+}
