@@ -248,12 +248,12 @@ fn riesz_on(
     assert_eq!(u_h.len(), coarse.n_points(), "u_h must hold one value per node of the coarse mesh");
     assert_eq!(problem.materials.len(), coarse.n_cells(), "one material per coarse cell");
     let topology = Topology::new(coarse);
-    let faces = contact.map(|c| ContactFaces::new(problem, &topology, c));
+    let faces = contact.map(|c| ContactFaces::new(problem, &topology, c, &fine));
 
     let mut load = volume_residual(problem, u_h, &fine);
     neumann_residual(problem, &topology, &fine, &mut load);
     if let Some(faces) = &faces {
-        faces.add_residual(&fine, u_h, &mut load);
+        faces.add_residual(coarse, &topology, &fine, u_h, &mut load);
     }
 
     // Dirichlet nodes of each component on the fine mesh
@@ -378,66 +378,129 @@ fn neumann_residual(problem: &Problem, topology: &Topology, fine: &Refinement, l
     }
 }
 
-/// The coarse contact faces with their Nitsche data.
+/// The coarse contact faces with their Nitsche data, and the coarse facets of Γ_C (on a joint
+/// between two bodies, the slave facets and the master facets).
 struct ContactFaces {
     nitsche: Nitsche,
-    /// Face index of each coarse boundary facet (None off Γ_C).
-    face_of_facet: Vec<Option<usize>>,
-    /// End points of each coarse face, in the order of its parameter s ∈ [0, 1].
-    ends: Vec<[[f64; 2]; 2]>,
-    /// Coarse nodes of the cell owning each face.
-    cell_nodes: Vec<Vec<usize>>,
+    /// (h_F, the cell that owns it) of each coarse boundary facet on Γ_C (None elsewhere).
+    facet_of_gamma: Vec<Option<(f64, usize)>>,
+    /// The fine facets of each coarse boundary facet.
+    children: Vec<Vec<usize>>,
+    /// Coarse dofs of each face: its cell's, then the master cell's on a joint.
+    face_dofs: Vec<Vec<usize>>,
     rule: Rule1d,
 }
 
+/// A side of a contact face: the coarse facet it lies on and the physical points of the
+/// face's ends s = 0, 1 on it, and whether the jump takes it with + (slave) or − (master).
+struct Side {
+    facet: usize,
+    ends: [[f64; 2]; 2],
+    sign: f64,
+}
+
 impl ContactFaces {
-    fn new(problem: &Problem, topology: &Topology, data: &ContactJoint) -> Self {
+    fn new(problem: &Problem, topology: &Topology, data: &ContactJoint, fine: &Refinement) -> Self {
         let coarse = &problem.mesh;
         let nitsche = Nitsche::new(coarse, topology, &problem.materials, data);
-        let mut face_of_facet = vec![None; coarse.n_facets()];
-        let ends = nitsche
-            .faces
-            .iter()
-            .enumerate()
-            .map(|(k, face)| {
-                face_of_facet[face.facet] = Some(k);
-                [face.map.to_physical(face.ends[0]), face.map.to_physical(face.ends[1])]
-            })
-            .collect();
-        let cell_nodes = nitsche.faces.iter().map(|face| coarse.cell(face.cell).to_vec()).collect();
-        ContactFaces { nitsche, face_of_facet, ends, cell_nodes, rule: gauss_segment(4) }
+        let mut facet_of_gamma = vec![None; coarse.n_facets()];
+        let facet_of_edge: std::collections::HashMap<usize, usize> =
+            (0..coarse.n_facets()).map(|f| (topology.facet_edges[f], f)).collect();
+        let mut face_dofs = Vec::new();
+        for (k, face) in nitsche.faces.iter().enumerate() {
+            facet_of_gamma[face.facet] = Some((coarse.facet_length(face.facet), face.cell));
+            if let Some(master) = Self::master_facet(coarse, topology, &facet_of_edge, &nitsche, k) {
+                facet_of_gamma[master] = Some((coarse.facet_length(master), topology.facet_cell(master)));
+            }
+            let mut dofs = Vec::new();
+            nitsche.face_dofs(coarse, k, &mut dofs);
+            face_dofs.push(dofs);
+        }
+        let mut children = vec![Vec::new(); coarse.n_facets()];
+        for (f, &parent) in fine.facet_parents.iter().enumerate() {
+            children[parent].push(f);
+        }
+        ContactFaces { nitsche, facet_of_gamma, children, face_dofs, rule: gauss_segment(4) }
     }
 
-    /// The coarse face of fine facet `f`, with the coarse parameters of its two ends.
-    fn parent_face(&self, fine: &Refinement, f: usize) -> Option<(usize, [f64; 2])> {
-        let k = self.face_of_facet[fine.facet_parents[f]]?;
-        let [a, b] = self.ends[k];
-        let d = [b[0] - a[0], b[1] - a[1]];
-        let dd = d[0] * d[0] + d[1] * d[1];
-        let nodes = fine.mesh.facet(f);
-        let s = |x: [f64; 2]| ((x[0] - a[0]) * d[0] + (x[1] - a[1]) * d[1]) / dd;
-        Some((k, [s(fine.mesh.points[nodes[0]]), s(fine.mesh.points[nodes[1]])]))
+    /// The coarse master facet that face k faces on a joint: the edge of the master cell that
+    /// holds the reference points of the face's ends.
+    fn master_facet(
+        coarse: &Mesh,
+        topology: &Topology,
+        facet_of_edge: &std::collections::HashMap<usize, usize>,
+        nitsche: &Nitsche,
+        k: usize,
+    ) -> Option<usize> {
+        let opposite = nitsche.faces[k].opposite.as_ref()?;
+        let [p, q] = opposite.ends.map(|xi| opposite.map.to_physical(xi));
+        let nodes = coarse.cell(opposite.cell);
+        let on = |i: usize| {
+            let (a, b) = (coarse.points[nodes[(i + 1) % 3]], coarse.points[nodes[(i + 2) % 3]]);
+            let cross = |x: [f64; 2]| ((b[0] - a[0]) * (x[1] - a[1]) - (b[1] - a[1]) * (x[0] - a[0])).abs();
+            cross(p).max(cross(q))
+        };
+        let i = (0..3).min_by(|&i, &j| on(i).total_cmp(&on(j)))?;
+        facet_of_edge.get(&topology.cell_edges[opposite.cell][i]).copied()
     }
 
-    /// Adds (t(u_h), φ_i e_a)_{Γ_C} on the fine contact facets, t(u_h) = [P_γ(u_h)]_{R⁻} ν +
-    /// Π_S(P^t_γ(u_h)) τ the exact traction, integrated on pieces between its kinks.
-    fn add_residual(&self, fine: &Refinement, u_h: &[[f64; 2]], load: &mut [[f64; 2]]) {
-        let mut dofs = Vec::with_capacity(12);
+    /// The sides of face k: its slave facet, and the master facet on a joint.
+    fn sides(&self, coarse: &Mesh, topology: &Topology, k: usize) -> Vec<Side> {
+        let face = &self.nitsche.faces[k];
+        let mut sides = vec![Side { facet: face.facet, ends: face.ends.map(|xi| face.map.to_physical(xi)), sign: 1.0 }];
+        if let Some(opposite) = &face.opposite {
+            let facet_of_edge = (0..coarse.n_facets()).map(|f| (topology.facet_edges[f], f)).collect();
+            let master = Self::master_facet(coarse, topology, &facet_of_edge, &self.nitsche, k)
+                .expect("the master cell of a piece has the facet it faces");
+            sides.push(Side { facet: master, ends: opposite.ends.map(|xi| opposite.map.to_physical(xi)), sign: -1.0 });
+        }
+        sides
+    }
+
+    /// Adds ⟨t(u_h), [φ_i e_a]⟩ = ∫ t(u_h)·(φ_i e_a)(x) − t(u_h)·(φ_i e_a)(y(x)) dx over every
+    /// contact face (the second term on a joint between two bodies only, y(x) the master point
+    /// facing x), t(u_h) = [P_γ(u_h)]_{R⁻} ν + Π_S(P^t_γ(u_h)) τ the exact traction: each face
+    /// is cut at the ends of the fine facets of both sides and at the kinks of t(u_h), and each
+    /// piece integrated by 4 Gauss points.
+    fn add_residual(
+        &self,
+        coarse: &Mesh,
+        topology: &Topology,
+        fine: &Refinement,
+        u_h: &[[f64; 2]],
+        load: &mut [[f64; 2]],
+    ) {
         let mut phi = [0.0; 3];
-        for f in 0..fine.mesh.n_facets() {
-            let Some((k, [s0, s1])) = self.parent_face(fine, f) else { continue };
-            vector_dofs(&self.cell_nodes[k], &mut dofs);
-            let u: Vec<f64> = dofs.iter().map(|&g| u_h[g / 2][g % 2]).collect();
-            let coarse = |t: f64| s0 + t * (s1 - s0);
-            let kinks = self.nitsche.kinks(k, &u, Smoothing::NONE).into_iter().map(|s| (s - s0) / (s1 - s0));
-            let nodes = fine.mesh.facet(f);
-            let length = fine.mesh.facet_length(f);
-            for (t, w) in split_rule(&self.rule, kinks.filter(|t| *t > 0.0 && *t < 1.0).collect()) {
-                let value = self.nitsche.traction(k, &self.nitsche.point(k, coarse(t)), &u, Smoothing::NONE);
-                lagrange::segment_values(2, t, &mut phi);
-                for (&n, &ph) in nodes.iter().zip(&phi) {
-                    for (l, v) in load[n].iter_mut().zip(value) {
-                        *l += w * length * v * ph;
+        for k in 0..self.nitsche.faces.len() {
+            let u: Vec<f64> = self.face_dofs[k].iter().map(|&g| u_h[g / 2][g % 2]).collect();
+            let length = self.nitsche.faces[k].length;
+            // the fine facets of each side with the face parameters of their ends
+            let sides: Vec<(f64, Vec<(usize, [f64; 2])>)> = (self.sides(coarse, topology, k).into_iter())
+                .map(|side| {
+                    let [a, b] = side.ends;
+                    let d = [b[0] - a[0], b[1] - a[1]];
+                    let s = |x: [f64; 2]| ((x[0] - a[0]) * d[0] + (x[1] - a[1]) * d[1]) / (d[0] * d[0] + d[1] * d[1]);
+                    let facets = (self.children[side.facet].iter())
+                        .map(|&f| (f, fine.mesh.facet(f)[..2].iter().map(|&n| s(fine.mesh.points[n]))))
+                        .map(|(f, mut ends)| (f, [ends.next().unwrap_or(0.0), ends.next().unwrap_or(0.0)]))
+                        .filter(|(_, [s0, s1])| s0.max(*s1) > 0.0 && s0.min(*s1) < 1.0)
+                        .collect();
+                    (side.sign, facets)
+                })
+                .collect();
+            let mut cuts: Vec<f64> = self.nitsche.kinks(k, &u, Smoothing::NONE);
+            cuts.extend(sides.iter().flat_map(|(_, facets)| facets.iter().flat_map(|(_, ends)| *ends)));
+            cuts.retain(|s| *s > 0.0 && *s < 1.0);
+            for (s, w) in split_rule(&self.rule, cuts) {
+                let value = self.nitsche.traction(k, &self.nitsche.point(k, s), &u, Smoothing::NONE);
+                for (sign, facets) in &sides {
+                    let inside = |[s0, s1]: [f64; 2]| s0.min(s1) <= s && s <= s0.max(s1);
+                    let Some(&(f, [s0, s1])) = facets.iter().find(|(_, ends)| inside(*ends)) else { continue };
+                    lagrange::segment_values(2, (s - s0) / (s1 - s0), &mut phi);
+                    for (&n, &ph) in fine.mesh.facet(f).iter().zip(&phi) {
+                        for (l, v) in load[n].iter_mut().zip(value) {
+                            *l += sign * w * length * v * ph;
+                        }
                     }
                 }
             }
@@ -446,8 +509,8 @@ impl ContactFaces {
 
     /// h_F⁻¹ ∫ φ_i φ_j on fine facet f (3 × 3, row-major), if it lies on Γ_C.
     fn face_mass(&self, fine: &Refinement, f: usize) -> Option<[f64; 9]> {
-        let k = self.face_of_facet[fine.facet_parents[f]]?;
-        let scale = fine.mesh.facet_length(f) / self.nitsche.faces[k].length;
+        let (h, _) = self.facet_of_gamma[fine.facet_parents[f]]?;
+        let scale = fine.mesh.facet_length(f) / h;
         let mut m = [0.0; 9];
         let mut phi = [0.0; 3];
         for (&t, &w) in self.rule.points.iter().zip(&self.rule.weights) {
@@ -535,7 +598,7 @@ fn cell_contributions(coarse: &Mesh, fine: &Refinement, r: &[[f64; 2]], faces: O
     if let Some(faces) = faces {
         for f in 0..mesh.n_facets() {
             let Some(m) = faces.face_mass(fine, f) else { continue };
-            let k = faces.face_of_facet[fine.facet_parents[f]].expect("face mass only on Γ_C");
+            let (_, cell) = faces.facet_of_gamma[fine.facet_parents[f]].expect("face mass only on Γ_C");
             let nodes = mesh.facet(f);
             let mut sum = 0.0;
             for (i, &ni) in nodes.iter().enumerate() {
@@ -543,7 +606,7 @@ fn cell_contributions(coarse: &Mesh, fine: &Refinement, r: &[[f64; 2]], faces: O
                     sum += m[3 * i + j] * (r[ni][0] * r[nj][0] + r[ni][1] * r[nj][1]);
                 }
             }
-            out[faces.nitsche.faces[k].cell] += sum;
+            out[cell] += sum;
         }
     }
     out
