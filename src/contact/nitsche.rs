@@ -88,6 +88,8 @@ pub struct ContactFace {
 #[derive(Debug, Clone)]
 pub struct Opposite {
     pub cell: usize,
+    /// The master facet (boundary facet index) that the piece faces.
+    pub facet: usize,
     pub map: AffineMap,
     pub ends: [[f64; 2]; 2],
 }
@@ -499,6 +501,7 @@ fn pieces(mesh: &Mesh, topology: &Topology, face: &ContactFace, master: &[(usize
                 length: (hi - lo) * h,
                 opposite: Some(Opposite {
                     cell,
+                    facet: f,
                     map: AffineMap::new(mesh.cell_vertices(cell)),
                     ends: [at(lo), at(hi)],
                 }),

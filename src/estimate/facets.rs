@@ -66,8 +66,8 @@ pub fn contact_facets(mesh: &Mesh, topology: &Topology, state: &Linearisation) -
             add(slave, Piece { face: k, r, sign: 1.0, dy_dx: 1.0 });
             continue;
         };
-        let (edge, ends) = cell_edge_through(mesh, topology, opposite.cell, opposite.ends);
-        let master = new_facet(mesh, edge, opposite.cell, ends);
+        let ends = mesh.facet(opposite.facet);
+        let master = new_facet(mesh, topology.facet_edges[opposite.facet], opposite.cell, [ends[0], ends[1]]);
         let r_master = opposite.ends.map(|xi| parameter(mesh, opposite.cell, master.ends, xi));
         let dy_dx = (r_master[1] - r_master[0]).abs() * master.length / face.length;
         add(slave, Piece { face: k, r, sign: 1.0, dy_dx: 1.0 });
@@ -95,21 +95,6 @@ fn parameter(mesh: &Mesh, cell: usize, ends: [usize; 2], xi: [f64; 2]) -> f64 {
     let [a, b] = ends.map(|n| reference_vertex(mesh, cell, n));
     let d = [b[0] - a[0], b[1] - a[1]];
     ((xi[0] - a[0]) * d[0] + (xi[1] - a[1]) * d[1]) / (d[0] * d[0] + d[1] * d[1])
-}
-
-/// The edge of `cell` that holds the reference points `xi`, and its end nodes.
-fn cell_edge_through(mesh: &Mesh, topology: &Topology, cell: usize, xi: [[f64; 2]; 2]) -> (usize, [usize; 2]) {
-    // local edge i joins vertices i + 1 and i + 2; off it, the barycentric coordinate λ_i = 0
-    let lambda = |i: usize, p: [f64; 2]| [1.0 - p[0] - p[1], p[0], p[1]][i];
-    let i = (0..3).min_by(|&i, &j| {
-        lambda(i, xi[0])
-            .abs()
-            .max(lambda(i, xi[1]).abs())
-            .total_cmp(&lambda(j, xi[0]).abs().max(lambda(j, xi[1]).abs()))
-    });
-    let i = i.expect("a triangle has three edges");
-    let vertices = mesh.cell(cell);
-    (topology.cell_edges[cell][i], [vertices[(i + 1) % 3], vertices[(i + 2) % 3]])
 }
 
 impl ContactFacet {

@@ -253,7 +253,7 @@ fn riesz_on(
     let mut load = volume_residual(problem, u_h, &fine);
     neumann_residual(problem, &topology, &fine, &mut load);
     if let Some(faces) = &faces {
-        faces.add_residual(coarse, &topology, &fine, u_h, &mut load);
+        faces.add_residual(&fine, u_h, &mut load);
     }
 
     // Dirichlet nodes of each component on the fine mesh
@@ -386,17 +386,24 @@ struct ContactFaces {
     facet_of_gamma: Vec<Option<(f64, usize)>>,
     /// The fine facets of each coarse boundary facet.
     children: Vec<Vec<usize>>,
-    /// Coarse dofs of each face: its cell's, then the master cell's on a joint.
+    /// Per face: its coarse dofs (its cell's, then the master cell's on a joint) and its sides.
     face_dofs: Vec<Vec<usize>>,
+    sides: Vec<Vec<Side>>,
     rule: Rule1d,
 }
 
-/// A side of a contact face: the coarse facet it lies on and the physical points of the
-/// face's ends s = 0, 1 on it, and whether the jump takes it with + (slave) or − (master).
+/// A side of a contact face: the coarse facet it lies on, the physical points of the face's
+/// ends s = 0, 1 on it, and the sign of that side in the jump: + for the slave, − the master.
 struct Side {
     facet: usize,
     ends: [[f64; 2]; 2],
     sign: f64,
+}
+
+/// A fine facet of a side with the face parameters s of its two end nodes.
+struct FineFacet {
+    facet: usize,
+    s: [f64; 2],
 }
 
 impl ContactFaces {
@@ -404,57 +411,41 @@ impl ContactFaces {
         let coarse = &problem.mesh;
         let nitsche = Nitsche::new(coarse, topology, &problem.materials, data);
         let mut facet_of_gamma = vec![None; coarse.n_facets()];
-        let facet_of_edge: std::collections::HashMap<usize, usize> =
-            (0..coarse.n_facets()).map(|f| (topology.facet_edges[f], f)).collect();
-        let mut face_dofs = Vec::new();
+        let (mut face_dofs, mut sides) = (Vec::new(), Vec::new());
         for (k, face) in nitsche.faces.iter().enumerate() {
-            facet_of_gamma[face.facet] = Some((coarse.facet_length(face.facet), face.cell));
-            if let Some(master) = Self::master_facet(coarse, topology, &facet_of_edge, &nitsche, k) {
-                facet_of_gamma[master] = Some((coarse.facet_length(master), topology.facet_cell(master)));
+            let mut face_sides =
+                vec![Side { facet: face.facet, ends: face.ends.map(|xi| face.map.to_physical(xi)), sign: 1.0 }];
+            if let Some(opposite) = &face.opposite {
+                let ends = opposite.ends.map(|xi| opposite.map.to_physical(xi));
+                face_sides.push(Side { facet: opposite.facet, ends, sign: -1.0 });
+            }
+            for side in &face_sides {
+                facet_of_gamma[side.facet] = Some((coarse.facet_length(side.facet), topology.facet_cell(side.facet)));
             }
             let mut dofs = Vec::new();
             nitsche.face_dofs(coarse, k, &mut dofs);
             face_dofs.push(dofs);
+            sides.push(face_sides);
         }
         let mut children = vec![Vec::new(); coarse.n_facets()];
         for (f, &parent) in fine.facet_parents.iter().enumerate() {
             children[parent].push(f);
         }
-        ContactFaces { nitsche, facet_of_gamma, children, face_dofs, rule: gauss_segment(4) }
+        ContactFaces { nitsche, facet_of_gamma, children, face_dofs, sides, rule: gauss_segment(4) }
     }
 
-    /// The coarse master facet that face k faces on a joint: the edge of the master cell that
-    /// holds the reference points of the face's ends.
-    fn master_facet(
-        coarse: &Mesh,
-        topology: &Topology,
-        facet_of_edge: &std::collections::HashMap<usize, usize>,
-        nitsche: &Nitsche,
-        k: usize,
-    ) -> Option<usize> {
-        let opposite = nitsche.faces[k].opposite.as_ref()?;
-        let [p, q] = opposite.ends.map(|xi| opposite.map.to_physical(xi));
-        let nodes = coarse.cell(opposite.cell);
-        let on = |i: usize| {
-            let (a, b) = (coarse.points[nodes[(i + 1) % 3]], coarse.points[nodes[(i + 2) % 3]]);
-            let cross = |x: [f64; 2]| ((b[0] - a[0]) * (x[1] - a[1]) - (b[1] - a[1]) * (x[0] - a[0])).abs();
-            cross(p).max(cross(q))
+    /// The fine facets of `side` that meet the face, with the face parameters of their ends.
+    fn fine_facets(&self, fine: &Refinement, side: &Side) -> Vec<FineFacet> {
+        let [a, b] = side.ends;
+        let d = [b[0] - a[0], b[1] - a[1]];
+        let s = |n: usize| {
+            let x = fine.mesh.points[n];
+            ((x[0] - a[0]) * d[0] + (x[1] - a[1]) * d[1]) / (d[0] * d[0] + d[1] * d[1])
         };
-        let i = (0..3).min_by(|&i, &j| on(i).total_cmp(&on(j)))?;
-        facet_of_edge.get(&topology.cell_edges[opposite.cell][i]).copied()
-    }
-
-    /// The sides of face k: its slave facet, and the master facet on a joint.
-    fn sides(&self, coarse: &Mesh, topology: &Topology, k: usize) -> Vec<Side> {
-        let face = &self.nitsche.faces[k];
-        let mut sides = vec![Side { facet: face.facet, ends: face.ends.map(|xi| face.map.to_physical(xi)), sign: 1.0 }];
-        if let Some(opposite) = &face.opposite {
-            let facet_of_edge = (0..coarse.n_facets()).map(|f| (topology.facet_edges[f], f)).collect();
-            let master = Self::master_facet(coarse, topology, &facet_of_edge, &self.nitsche, k)
-                .expect("the master cell of a piece has the facet it faces");
-            sides.push(Side { facet: master, ends: opposite.ends.map(|xi| opposite.map.to_physical(xi)), sign: -1.0 });
-        }
-        sides
+        (self.children[side.facet].iter())
+            .map(|&f| FineFacet { facet: f, s: [s(fine.mesh.facet(f)[0]), s(fine.mesh.facet(f)[1])] })
+            .filter(|f| f.s[0].max(f.s[1]) > 0.0 && f.s[0].min(f.s[1]) < 1.0)
+            .collect()
     }
 
     /// Adds ⟨t(u_h), [φ_i e_a]⟩ = ∫ t(u_h)·(φ_i e_a)(x) − t(u_h)·(φ_i e_a)(y(x)) dx over every
@@ -462,44 +453,24 @@ impl ContactFaces {
     /// facing x), t(u_h) = [P_γ(u_h)]_{R⁻} ν + Π_S(P^t_γ(u_h)) τ the exact traction: each face
     /// is cut at the ends of the fine facets of both sides and at the kinks of t(u_h), and each
     /// piece integrated by 4 Gauss points.
-    fn add_residual(
-        &self,
-        coarse: &Mesh,
-        topology: &Topology,
-        fine: &Refinement,
-        u_h: &[[f64; 2]],
-        load: &mut [[f64; 2]],
-    ) {
+    fn add_residual(&self, fine: &Refinement, u_h: &[[f64; 2]], load: &mut [[f64; 2]]) {
         let mut phi = [0.0; 3];
-        for k in 0..self.nitsche.faces.len() {
+        for (k, sides) in self.sides.iter().enumerate() {
             let u: Vec<f64> = self.face_dofs[k].iter().map(|&g| u_h[g / 2][g % 2]).collect();
             let length = self.nitsche.faces[k].length;
-            // the fine facets of each side with the face parameters of their ends
-            let sides: Vec<(f64, Vec<(usize, [f64; 2])>)> = (self.sides(coarse, topology, k).into_iter())
-                .map(|side| {
-                    let [a, b] = side.ends;
-                    let d = [b[0] - a[0], b[1] - a[1]];
-                    let s = |x: [f64; 2]| ((x[0] - a[0]) * d[0] + (x[1] - a[1]) * d[1]) / (d[0] * d[0] + d[1] * d[1]);
-                    let facets = (self.children[side.facet].iter())
-                        .map(|&f| (f, fine.mesh.facet(f)[..2].iter().map(|&n| s(fine.mesh.points[n]))))
-                        .map(|(f, mut ends)| (f, [ends.next().unwrap_or(0.0), ends.next().unwrap_or(0.0)]))
-                        .filter(|(_, [s0, s1])| s0.max(*s1) > 0.0 && s0.min(*s1) < 1.0)
-                        .collect();
-                    (side.sign, facets)
-                })
-                .collect();
+            let facets: Vec<Vec<FineFacet>> = sides.iter().map(|side| self.fine_facets(fine, side)).collect();
             let mut cuts: Vec<f64> = self.nitsche.kinks(k, &u, Smoothing::NONE);
-            cuts.extend(sides.iter().flat_map(|(_, facets)| facets.iter().flat_map(|(_, ends)| *ends)));
+            cuts.extend(facets.iter().flatten().flat_map(|f| f.s));
             cuts.retain(|s| *s > 0.0 && *s < 1.0);
             for (s, w) in split_rule(&self.rule, cuts) {
                 let value = self.nitsche.traction(k, &self.nitsche.point(k, s), &u, Smoothing::NONE);
-                for (sign, facets) in &sides {
-                    let inside = |[s0, s1]: [f64; 2]| s0.min(s1) <= s && s <= s0.max(s1);
-                    let Some(&(f, [s0, s1])) = facets.iter().find(|(_, ends)| inside(*ends)) else { continue };
-                    lagrange::segment_values(2, (s - s0) / (s1 - s0), &mut phi);
-                    for (&n, &ph) in fine.mesh.facet(f).iter().zip(&phi) {
+                for (side, facets) in sides.iter().zip(&facets) {
+                    let inside = |f: &&FineFacet| f.s[0].min(f.s[1]) <= s && s <= f.s[0].max(f.s[1]);
+                    let Some(f) = facets.iter().find(inside) else { continue };
+                    lagrange::segment_values(2, (s - f.s[0]) / (f.s[1] - f.s[0]), &mut phi);
+                    for (&n, &ph) in fine.mesh.facet(f.facet).iter().zip(&phi) {
                         for (l, v) in load[n].iter_mut().zip(value) {
-                            *l += sign * w * length * v * ph;
+                            *l += side.sign * w * length * v * ph;
                         }
                     }
                 }
