@@ -201,11 +201,9 @@ impl Nitsche {
             // −φ²_j(y) ν_a and −φ²_j(y) τ_a; σ^n(v) and σ^t(v) are the slave's
             let eta = Segment::new(opposite.ends[0], opposite.ends[1]).point(s);
             lagrange::values(self.order, eta, &mut phi[..nb]);
-            for j in 0..nb {
-                for a in 0..2 {
-                    u_n.push(-phi[j] * nu[a]);
-                    u_t.push(-phi[j] * tau[a]);
-                }
+            for phi_j in &phi[..nb] {
+                u_n.extend(nu.map(|nu_a| -phi_j * nu_a));
+                u_t.extend(tau.map(|tau_a| -phi_j * tau_a));
             }
             sigma_n.resize(4 * nb, 0.0);
             sigma_t.resize(4 * nb, 0.0);

@@ -177,7 +177,9 @@ fn two_body_non_matching_sides_converge_at_the_optimal_rate() {
             let u = problem.displacement(&problem.discretise(), &x);
             let (e0, e1) = errors(&problem.mesh, &u, Smooth::u, Smooth::grad);
             println!("P{order}, n = {n} (2n | 3n faces along the joint): |e|_L2 = {e0:.3e}, |e|_H1 = {e1:.3e}");
-            (h.push(1.0 / n as f64), l2.push(e0), h1.push(e1));
+            h.push(1.0 / n as f64);
+            l2.push(e0);
+            h1.push(e1);
         }
         let (rate0, rate1) = (common::fitted_rate(&h, &l2), common::fitted_rate(&h, &h1));
         println!("P{order}: fitted rates L2 {rate0:.3}, H1 {rate1:.3}");
@@ -230,7 +232,8 @@ fn a_very_stiff_foundation_tends_to_the_rigid_one() {
         let u = problem.displacement(&problem.discretise(), &solve(&problem, &joint(0.0)));
         let max = (u[offset..].iter().zip(&rigid)).map(|(a, r)| (a[0] - r[0]).hypot(a[1] - r[1])).fold(0.0, f64::max);
         println!("E2/E1 = {young:.0e}: max |u − u_rigid| over the upper block = {max:.3e} (b = {b:.0e})");
-        (compliance.push(1.0 / young), difference.push(max));
+        compliance.push(1.0 / young);
+        difference.push(max);
     }
     let rate = common::fitted_rate(&compliance, &difference);
     println!("fitted rate in 1/E2: {rate:.3}");
