@@ -87,6 +87,8 @@ pub struct ContactFace {
 /// reference coordinates, in it, of the points that the piece's ends project onto along ν.
 #[derive(Debug, Clone)]
 pub struct Opposite {
+    /// The master facet and its cell.
+    pub facet: usize,
     pub cell: usize,
     pub map: AffineMap,
     pub ends: [[f64; 2]; 2],
@@ -496,6 +498,7 @@ fn pieces(mesh: &Mesh, topology: &Topology, face: &ContactFace, master: &[(usize
                 ends: [slave.point(lo), slave.point(hi)],
                 length: (hi - lo) * h,
                 opposite: Some(Opposite {
+                    facet: f,
                     cell,
                     map: AffineMap::new(mesh.cell_vertices(cell)),
                     ends: [at(lo), at(hi)],
