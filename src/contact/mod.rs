@@ -1,4 +1,5 @@
-//! Frictionless unilateral contact on Γ_C with a rigid foundation, by Nitsche's method.
+//! Unilateral contact on Γ_C with a rigid foundation, or across a joint between two meshed
+//! bodies (docs/method.md §1.10), by Nitsche's method.
 //!
 //! A [`ContactJoint`] is the one description of a contact boundary, built by the scene: where
 //! (the physical tags of Γ_C), which law, and the Nitsche parameters. On a mesh it becomes the

@@ -1,5 +1,7 @@
 //! Nitsche terms of unilateral contact with a rigid foundation on Γ_C, with the joint's
-//! tangential law (friction, §1.7) and uplift (§1.8).
+//! tangential law (friction, §1.7) and uplift (§1.8); across a joint between two bodies
+//! (§1.10) the same terms with the jump [v] = v¹ − v²∘Π in place of v, on the pieces of the
+//! slave facets that face one master cell each, σ^n and σ^t being the slave's.
 //!
 //! The contact direction ν is the outward normal n of each face unless the foundation's normal
 //! is prescribed (a constant ν, for curved bodies on a flat foundation). With v^n = v·ν,
@@ -122,7 +124,7 @@ pub struct Nitsche {
 
 impl Nitsche {
     /// Contact faces: the boundary facets of the curves of `joint`; on a joint between two
-    /// bodies, the pieces of the slave facets that face one master cell each ([`pieces`]).
+    /// bodies, the pieces of the slave facets that face one master cell each.
     pub fn new(mesh: &Mesh, topology: &Topology, materials: &[Material], joint: &ContactJoint) -> Self {
         let parameters = joint.parameters;
         let slave = mesh.facets_tagged(&joint.tags).map(|f| face(mesh, topology, materials, f, &parameters));
