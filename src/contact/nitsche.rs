@@ -1,6 +1,6 @@
 //! Nitsche terms of unilateral contact with a rigid foundation on Γ_C, with the joint's
 //! tangential law (friction, §1.7) and uplift (§1.8); across a joint between two bodies
-//! (§1.10) the same terms with the jump [v] = v¹ − v²∘Π in place of v, on the pieces of the
+//! (§1.10) the same terms with the jump \[v\] = v¹ − v²∘Π in place of v, on the pieces of the
 //! slave facets that face one master cell each, σ^n and σ^t being the slave's.
 //!
 //! The contact direction ν is the outward normal n of each face unless the foundation's normal
