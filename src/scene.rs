@@ -610,6 +610,7 @@ impl Scene {
     /// The `[contact]` keys that only `damfem solve` reads: the adaptive loop chooses δ itself
     /// (`[adapt] delta0`), so it refuses them rather than ignore them.
     pub fn check_adaptive(&self) -> Result<(), SceneError> {
+        self.check_estimable("the adaptive loop (damfem adapt, damfem safety)")?;
         let c = &self.contact;
         let set = [
             ("contact.delta", c.delta.is_some()),
@@ -686,6 +687,13 @@ impl Scene {
             Some(joint) => Some(joint),
             None => self.joint(&problem.mesh)?,
         };
+        if joint.is_none() && self.contact.law().has_friction() {
+            return Err(self.invalid(format!(
+                "[contact] has a joint law ({:?}) but no curve has role contact and there is no [joints] table, so \
+                 every interface is bonded; give the joint's curve a [joints.<curve>] table with the law",
+                self.contact.law()
+            )));
+        }
         let friction = joint.as_ref().is_some_and(|j| j.law.has_friction());
         if problem.dirichlet.is_empty() && !friction {
             return Err(self.invalid(format!(

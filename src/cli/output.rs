@@ -138,8 +138,10 @@ fn estimate_fields(e: &Estimate, output: &OutputSection) -> Vec<Field> {
     fields
 }
 
-/// Facet fields of Γ_C: mean pressure, mean normal displacement, status (−1 not a contact
-/// facet, 0 open, 1 closed: stick with friction, 2 slip), the regularisation error; with
+/// Facet fields of Γ_C, on both sides of a joint between two bodies (the normal displacement
+/// and the slip are there the jumps [u]·ν and [u]·τ): mean pressure, mean normal displacement,
+/// status (−1 not a contact facet, 0 open, 1 closed: stick with friction, 2 slip), the
+/// regularisation error; with
 /// friction the mean tangential traction and slip; with uplift the mean pore pressure and the
 /// mean effective normal stress σ'^n = −p_c.
 fn contact_fields(n_facets: usize, contact: &ContactSolution) -> Vec<Field> {
@@ -162,12 +164,13 @@ fn contact_fields(n_facets: usize, contact: &ContactSolution) -> Vec<Field> {
             ("effective_normal_stress", |f| -f.pressure),
         ]);
     }
+    let states = contact.facet_states();
     columns
         .into_iter()
         .map(|(name, value)| {
             let mut field = vec![if name == "contact_status" { -1.0 } else { 0.0 }; n_facets];
-            for (face, state) in contact.nitsche.faces.iter().zip(&contact.faces) {
-                field[face.facet] = value(state);
+            for (facet, state) in &states {
+                field[*facet] = value(state);
             }
             Field::scalar(name, field)
         })

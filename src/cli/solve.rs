@@ -95,7 +95,10 @@ pub fn run(args: Args) -> Result<()> {
     // 1. Scene and mesh
     let mut scene = input.scene()?;
     override_contact(&args, &mut scene)?;
-    if args.strength_reduction && !scene.contact.law().has_friction() {
+    if args.estimate || args.check_equilibration || args.effectivity {
+        scene.check_estimable("--estimate")?;
+    }
+    if args.strength_reduction && !scene.law().has_friction() {
         anyhow::bail!("--strength-reduction needs a frictional joint: give --friction, --cohesion or --threshold");
     }
     let dir = args.output.dir(&scene)?;
@@ -303,6 +306,20 @@ fn override_contact(args: &Args, scene: &mut Scene) -> Result<()> {
     c.threshold = args.threshold.or(c.threshold);
     if args.semismooth {
         c.projection = ProjectionKind::Semismooth;
+    }
+    let rigid_only = [
+        ("--gamma0", args.gamma0.is_some()),
+        ("--theta", args.theta.is_some()),
+        ("--friction", args.friction.is_some()),
+        ("--cohesion", args.cohesion.is_some()),
+        ("--threshold", args.threshold.is_some()),
+    ];
+    if let (Some(joint), Some((flag, _))) = (scene.joints.keys().next(), rigid_only.iter().find(|(_, given)| *given)) {
+        anyhow::bail!(
+            "{flag} sets a [contact] key, which applies to curves of role contact only; set the joint's key in \
+             [joints.{joint}] of {}",
+            scene.source.display()
+        );
     }
     let overrides = [
         ("--gamma0", "contact.gamma0", args.gamma0.is_some()),

@@ -1,4 +1,5 @@
-//! Frictionless unilateral contact on Γ_C with a rigid foundation, by Nitsche's method.
+//! Unilateral contact on Γ_C with a rigid foundation, or across a joint between two meshed
+//! bodies (docs/method.md §1.10), by Nitsche's method.
 //!
 //! A [`ContactJoint`] is the one description of a contact boundary, built by the scene: where
 //! (the physical tags of Γ_C), which law, and the Nitsche parameters. On a mesh it becomes the
@@ -106,6 +107,37 @@ pub struct FaceState {
 }
 
 impl FaceState {
+    /// The state of the union of `parts` (of one facet): lengths and moments summed, means
+    /// weighted by length, the largest regularisation error, closed from the first closed part
+    /// to the last.
+    pub fn merged<'s>(parts: impl IntoIterator<Item = &'s FaceState>) -> FaceState {
+        let mut sum = FaceState::default();
+        for part in parts {
+            let w = part.length;
+            sum.length += w;
+            sum.pressure += part.pressure * w;
+            sum.normal_displacement += part.normal_displacement * w;
+            sum.tangential_traction += part.tangential_traction * w;
+            sum.slip += part.slip * w;
+            sum.uplift += part.uplift * w;
+            sum.contact_length += part.contact_length;
+            sum.stick_length += part.stick_length;
+            sum.slip_length += part.slip_length;
+            sum.regularisation_error = sum.regularisation_error.max(part.regularisation_error);
+            sum.pressure_moment = [0, 1].map(|i| sum.pressure_moment[i] + part.pressure_moment[i]);
+            sum.closed = match (sum.closed, part.closed) {
+                (Some([first, _]), Some([_, last])) => Some([first, last]),
+                (closed, None) | (None, closed) => closed,
+            };
+        }
+        let length = sum.length.max(f64::MIN_POSITIVE);
+        for mean in [&mut sum.pressure, &mut sum.normal_displacement, &mut sum.tangential_traction, &mut sum.slip] {
+            *mean /= length;
+        }
+        sum.uplift /= length;
+        sum
+    }
+
     /// 0 open, 1 closed (stick, with friction), 2 slip (more of the face slips than sticks).
     pub fn status(&self) -> f64 {
         if self.contact_length == 0.0 {
@@ -396,6 +428,20 @@ pub struct ContactSolution {
 }
 
 impl ContactSolution {
+    /// The state of every boundary facet that carries a contact face, by facet index: the
+    /// pieces of a slave facet merged ([`FaceState::merged`]) and, on a joint between two
+    /// bodies, each master facet with the pieces that face it (the same jump and pressure).
+    pub fn facet_states(&self) -> std::collections::BTreeMap<usize, FaceState> {
+        let mut parts: std::collections::BTreeMap<usize, Vec<&FaceState>> = Default::default();
+        for (face, state) in self.nitsche.faces.iter().zip(&self.faces) {
+            parts.entry(face.facet).or_default().push(state);
+            if let Some(opposite) = &face.opposite {
+                parts.entry(opposite.facet).or_default().push(state);
+            }
+        }
+        parts.into_iter().map(|(facet, states)| (facet, FaceState::merged(states))).collect()
+    }
+
     /// Total number of Newton steps over all stages.
     pub fn newton_steps(&self) -> usize {
         self.stages.iter().map(|s| s.report.iterations.len()).sum()

@@ -1,5 +1,7 @@
 //! Nitsche terms of unilateral contact with a rigid foundation on Γ_C, with the joint's
-//! tangential law (friction, §1.7) and uplift (§1.8).
+//! tangential law (friction, §1.7) and uplift (§1.8); across a joint between two bodies
+//! (§1.10) the same terms with the jump \[v\] = v¹ − v²∘Π in place of v, on the pieces of the
+//! slave facets that face one master cell each, σ^n and σ^t being the slave's.
 //!
 //! The contact direction ν is the outward normal n of each face unless the foundation's normal
 //! is prescribed (a constant ν, for curved bodies on a flat foundation). With v^n = v·ν,
@@ -87,6 +89,8 @@ pub struct ContactFace {
 /// reference coordinates, in it, of the points that the piece's ends project onto along ν.
 #[derive(Debug, Clone)]
 pub struct Opposite {
+    /// The master facet and its cell.
+    pub facet: usize,
     pub cell: usize,
     /// The master facet (boundary facet index) that the piece faces.
     pub facet: usize,
@@ -122,7 +126,7 @@ pub struct Nitsche {
 
 impl Nitsche {
     /// Contact faces: the boundary facets of the curves of `joint`; on a joint between two
-    /// bodies, the pieces of the slave facets that face one master cell each ([`pieces`]).
+    /// bodies, the pieces of the slave facets that face one master cell each.
     pub fn new(mesh: &Mesh, topology: &Topology, materials: &[Material], joint: &ContactJoint) -> Self {
         let parameters = joint.parameters;
         let slave = mesh.facets_tagged(&joint.tags).map(|f| face(mesh, topology, materials, f, &parameters));
@@ -203,11 +207,9 @@ impl Nitsche {
             // −φ²_j(y) ν_a and −φ²_j(y) τ_a; σ^n(v) and σ^t(v) are the slave's
             let eta = Segment::new(opposite.ends[0], opposite.ends[1]).point(s);
             lagrange::values(self.order, eta, &mut phi[..nb]);
-            for j in 0..nb {
-                for a in 0..2 {
-                    u_n.push(-phi[j] * nu[a]);
-                    u_t.push(-phi[j] * tau[a]);
-                }
+            for phi_j in &phi[..nb] {
+                u_n.extend(nu.map(|nu_a| -phi_j * nu_a));
+                u_t.extend(tau.map(|tau_a| -phi_j * tau_a));
             }
             sigma_n.resize(4 * nb, 0.0);
             sigma_t.resize(4 * nb, 0.0);
@@ -500,6 +502,7 @@ fn pieces(mesh: &Mesh, topology: &Topology, face: &ContactFace, master: &[(usize
                 ends: [slave.point(lo), slave.point(hi)],
                 length: (hi - lo) * h,
                 opposite: Some(Opposite {
+                    facet: f,
                     cell,
                     facet: f,
                     map: AffineMap::new(mesh.cell_vertices(cell)),

@@ -34,9 +34,8 @@ pub fn sides(mesh: &Mesh, topology: &Topology, curve: i32) -> Result<[i32; 2], S
         let [a, b] = topology.edge_cells[topology.facet_edges[f]];
         if b == NONE {
             return Err(format!(
-                "curve '{name}' is not shared by two surfaces: part of it lies on the outer boundary of '{}'; a \
-                 joint is a curve between two meshed surfaces (for a rigid foundation give the curve role = \
-                 \"contact\" in [boundary] instead)",
+                "curve '{name}' is not shared by two surfaces: part of it bounds '{}' only; a joint lies between \
+                 two meshed surfaces (a rigid foundation is role = \"contact\")",
                 group_name(mesh, 2, mesh.cell_tags[a])
             ));
         }

@@ -87,14 +87,13 @@ impl Scene {
         Ok(())
     }
 
-    /// The error of contact on the interface of `cells`.
+    /// The error of contact on the interface of `cells`: role contact is a rigid foundation.
     fn interior_contact(&self, mesh: &Mesh, name: &str, cells: [usize; 2]) -> SceneError {
         let [a, b] = cells.map(|c| surface_name(mesh, mesh.cell_tags[c]));
-        let instead = if self.boundary.is_empty() { "rename the physical curve" } else { "remove its role" };
+        let bonded = if self.boundary.is_empty() { "rename the curve" } else { "remove its role" };
         self.invalid(format!(
-            "curve '{name}' has role contact but lies between two meshed surfaces ({a} and {b}); contact between \
-             two bodies is not supported yet: {instead} to keep the interface bonded, or mesh one side only \
-             for a rigid foundation"
+            "curve '{name}' has role contact (a rigid foundation) but lies between {a} and {b}: give it a \
+             [joints.{name}] table for a joint, or {bonded} for a bonded interface"
         ))
     }
 
@@ -129,11 +128,13 @@ impl Scene {
     /// traction-free.
     fn unassigned_curves(&self, mesh: &Mesh, topology: &Topology) -> Result<Vec<String>, SceneError> {
         let roled: Vec<i32> = self.roles(mesh)?.iter().map(|(t, _, _)| *t).collect();
+        // a joint's two sides, `<curve>` and `<curve>:<surface>` once split
+        let joint = |name: &str| self.joints.keys().any(|j| name.split(':').next() == Some(j.as_str()));
         let on_boundary = |f: usize| topology.is_boundary_edge(topology.facet_edges[f]);
         let mut warnings: Vec<String> = mesh
             .groups
             .iter()
-            .filter(|g| g.dim == 1 && !roled.contains(&g.tag))
+            .filter(|g| g.dim == 1 && !roled.contains(&g.tag) && !joint(&g.name))
             .filter(|g| (0..mesh.n_facets()).any(|f| mesh.facet_tags[f] == g.tag && on_boundary(f)))
             .map(|g| format!("boundary curve '{}' has no role: it is taken as free (traction-free)", g.name))
             .collect();

@@ -85,7 +85,36 @@ impl Scene {
         if self.uplift.is_some() {
             return Err(self.invalid("[uplift] on a joint between two meshed bodies is not supported yet".into()));
         }
+        let (c, d) = (&self.contact, super::ContactSection::default());
+        let rigid_keys = [
+            ("gamma0", c.gamma0 != d.gamma0),
+            ("theta", c.theta != d.theta),
+            ("friction", c.friction != d.friction),
+            ("cohesion", c.cohesion != d.cohesion),
+            ("threshold", c.threshold.is_some()),
+            ("gap", c.gap != d.gap),
+            ("gap_gradient", c.gap_gradient != d.gap_gradient),
+            ("direction", c.direction.is_some()),
+        ];
+        if let Some((key, _)) = rigid_keys.iter().find(|(_, set)| *set) {
+            return Err(self.invalid(format!(
+                "contact.{key} is set, but it applies to curves of role contact only; a joint takes its law and \
+                 Nitsche parameters from [joints.{first}]"
+            )));
+        }
         Ok(())
+    }
+
+    /// The commands that estimate the error refuse joints between two meshed bodies: the
+    /// estimator does not cover them, and an η that is not a bound is never reported.
+    pub fn check_estimable(&self, command: &str) -> Result<(), SceneError> {
+        match self.joints.keys().next() {
+            Some(name) => Err(self.invalid(format!(
+                "{command} needs the error estimator, which does not cover joints between two meshed bodies \
+                 ([joints.{name}]) yet; use `damfem solve` without --estimate"
+            ))),
+            None => Ok(()),
+        }
     }
 
     /// Splits the nodes of every joint curve of `mesh` between its two sides; the interfaces.

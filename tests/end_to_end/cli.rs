@@ -622,13 +622,13 @@ pub(crate) fn assert_refused(name: &str, command: &str, input: &Path, extra: &[&
 }
 
 // Contact on the interface between two meshed surfaces (a dam on a meshed rock block) is
-// refused, saying to remove the role for a bonded interface; with a bare geometry, to rename
-// the curve.
+// refused, saying to give the curve a [joints] table for a joint or to remove the role for a
+// bonded interface; with a bare geometry, to rename the curve.
 #[test]
 fn contact_between_two_meshed_bodies() {
     let scene = fixture("interior_contact.toml");
     let message = assert_refused("interior-contact", "solve", &scene, &[], &["interior_contact.toml", "'joint'"]);
-    for words in ["'concrete' and 'rock'", "not supported", "remove its role", "bonded"] {
+    for words in ["'concrete' and 'rock'", "[joints.joint]", "remove its role", "bonded"] {
         assert!(message.contains(words), "{words:?} not in {message}");
     }
     let tmp = TempDir::new("interior-contact-bare");
@@ -636,7 +636,7 @@ fn contact_between_two_meshed_bodies() {
     let body = std::fs::read_to_string(repo("geo/scene_b.geo")).unwrap();
     let body = body.replace("\"joint\"", "\"Gamma_C\"").replace("\"rock_bottom\"", "\"Gamma_D\"");
     std::fs::write(&geo, body).unwrap();
-    assert_refused("interior-contact-bare-out", "check", &geo, &[], &["'Gamma_C'", "rename the physical curve"]);
+    assert_refused("interior-contact-bare-out", "check", &geo, &[], &["'Gamma_C'", "rename the curve"]);
 }
 
 // Non-finite scene numbers and vectors with three components are refused with their key.

@@ -5,3 +5,4 @@ mod adapt;
 mod cli;
 mod joint;
 mod tutorial;
+mod two_body;

@@ -6,7 +6,7 @@ use crate::common;
 
 use damfem::contact::nitsche::NitscheParameters;
 use damfem::contact::projection::Smoothing;
-use damfem::contact::{continuation, ContactJoint, ContactProblem};
+use damfem::contact::{continuation, ContactJoint, ContactProblem, JointLaw};
 use damfem::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction, VectorFn};
 use damfem::fem::norms::errors;
 use damfem::mesh::structured::{rectangle, two_blocks, BOTTOM, JOINT, JOINT_LOWER, LEFT, LOWER, RIGHT, TOP};
@@ -27,11 +27,16 @@ fn materials(mesh: &damfem::mesh::Mesh, lower: Material, upper: Material) -> Vec
 /// Newton from u = 0 at δ = 10⁻¹² (relative to the stresses of these cases, ~10⁻²): the
 /// free unknowns.
 fn solve(problem: &Problem, joint: &ContactJoint) -> Vec<f64> {
+    solve_at(problem, joint, 1e-12)
+}
+
+/// Newton along the δ path from 10⁻³ down to `delta` (0: the plain projection), from u = 0.
+fn solve_at(problem: &Problem, joint: &ContactJoint, delta: f64) -> Vec<f64> {
     let disc = problem.discretise();
-    let mut contact = ContactProblem::new(problem, &disc, joint, Smoothing { delta: 1e-12 });
+    let mut contact = ContactProblem::new(problem, &disc, joint, Smoothing { delta });
     let x0 = vec![0.0; disc.dofs.n_free];
     let (x, _) =
-        continuation(&mut contact, 1e-12, 1e-3, x0, &NewtonOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+        continuation(&mut contact, delta, 1e-3, x0, &NewtonOptions::default()).unwrap_or_else(|e| panic!("{e}"));
     x
 }
 
@@ -84,6 +89,83 @@ fn two_body_patch_test_is_exact_on_matching_and_non_matching_sides() {
                     "P{order}, {nx_lower} | {nx_upper} cells along the joint, θ = {theta}: max nodal error {error:.2e}"
                 );
                 assert!(error < 1e-12 * b / 1e-2, "P{order} {nx_lower}|{nx_upper} θ = {theta}: error {error:.3e}");
+            }
+        }
+    }
+}
+
+/// Stick and slip across a frictional joint between two blocks. Source: docs/method.md §1.10
+/// with §1.7 (the stick and slip cases of a rigid foundation, the foundation made a second
+/// block). Goal: u_h = u to round-off, P1 and P2, matching and non-matching sides: in stick with
+/// the upper block held by the joint alone (K singular: the sparse LU path), in slip with the
+/// upper block pressed and sheared at its top (the Schur path).
+/// Parameters: the blocks of the patch test; the layer strains ε_yy,i = −p/(λ_i+2μ_i) and shears
+/// γ_i = σ_xy/μ_i, lateral tractions ±(σ_xx,i, σ_xy) that keep ε_xx = 0.
+/// Stick: Tresca s = 0.6·10⁻², top traction (σ_xy, −p) = (0.3, −1)·10⁻²; u = (γ₂ y, ε₂ y) below
+/// and continuous above. Slip: Coulomb F = 0.3, top u = (b, −b), b = 10⁻²; p = b / Σ_i
+/// ½/(λ_i+2μ_i), σ_xy = F p, and the upper block slips by b − (γ₁ + γ₂)/2 (0.146 b).
+#[test]
+fn two_body_stick_and_slip_are_exact() {
+    let (lower, upper) =
+        (Material { young: 3.0, poisson: 0.3, density: 0.0 }, Material { young: 1.0, poisson: 0.2, density: 0.0 });
+    let ((l2, mu2), (l1, mu1)) = (lower.lame(), upper.lame());
+    let (m2, m1) = (l2 + 2.0 * mu2, l1 + 2.0 * mu1);
+    let b = 1e-2;
+    for stick in [true, false] {
+        let (law, p, shear) = if stick {
+            (JointLaw::Tresca { threshold: 0.6 * b }, b, 0.3 * b)
+        } else {
+            let p = b / (0.5 / m2 + 0.5 / m1);
+            (JointLaw::Coulomb { friction: 0.3 }, p, 0.3 * p)
+        };
+        let (e2, e1, g2, g1) = (-p / m2, -p / m1, shear / mu2, shear / mu1);
+        let slip = if stick { 0.0 } else { b - 0.5 * (g1 + g2) };
+        // the exact displacement of a node of the lower (false) or upper (true) block
+        let exact = move |x: [f64; 2], above: bool| {
+            let (y, q) = (x[1].min(0.5), (x[1] - 0.5).max(0.0));
+            [g2 * y + g1 * q + if above { slip } else { 0.0 }, e2 * y + e1 * q]
+        };
+        let sigma_xx = move |y: f64| if y < 0.5 { l2 * e2 } else { l1 * e1 };
+        let side = |sign: f64| -> VectorFn { Arc::new(move |x: [f64; 2]| [sign * sigma_xx(x[1]), sign * shear]) };
+        for order in [1, 2] {
+            for (nx_lower, nx_upper) in [(4, 4), (3, 5)] {
+                let mesh = two_blocks(nx_lower, nx_upper, 2, 0.5, order);
+                let fixed = Dirichlet { tag: BOTTOM, fix: [true; 2], value: Arc::new(|_| [0.0; 2]) };
+                let mut neumann = vec![
+                    Neumann { tag: LEFT, traction: Traction::Field(side(-1.0)) },
+                    Neumann { tag: RIGHT, traction: Traction::Field(side(1.0)) },
+                ];
+                let mut dirichlet = vec![fixed];
+                if stick {
+                    neumann.push(Neumann { tag: TOP, traction: Traction::Constant([shear, -p]) });
+                } else {
+                    dirichlet.push(Dirichlet { tag: TOP, fix: [true; 2], value: Arc::new(move |_| [b, -b]) });
+                }
+                let problem = Problem {
+                    materials: materials(&mesh, lower, upper),
+                    dirichlet,
+                    neumann,
+                    body_force: BodyForce::None,
+                    mesh,
+                };
+                let x = solve_at(&problem, &ContactJoint { law, ..joint(0.0) }, 0.0);
+                let u = problem.displacement(&problem.discretise(), &x);
+                let mesh = &problem.mesh;
+                let mut above = vec![false; mesh.n_points()];
+                for c in (0..mesh.n_cells()).filter(|&c| mesh.cell_tags[c] != LOWER) {
+                    mesh.cell(c).iter().for_each(|&n| above[n] = true);
+                }
+                let error = (0..mesh.n_points())
+                    .map(|n| {
+                        let e = exact(mesh.points[n], above[n]);
+                        (u[n][0] - e[0]).abs().max((u[n][1] - e[1]).abs())
+                    })
+                    .fold(0.0, f64::max);
+                let case = if stick { "stick" } else { "slip" };
+                println!(
+                    "{case}, P{order}, {nx_lower} | {nx_upper} cells along the joint: max nodal error {error:.2e}"
+                );
+                assert!(error < 1e-13, "{case} P{order} {nx_lower}|{nx_upper}: error {error:.3e}");
             }
         }
     }
@@ -177,7 +259,9 @@ fn two_body_non_matching_sides_converge_at_the_optimal_rate() {
             let u = problem.displacement(&problem.discretise(), &x);
             let (e0, e1) = errors(&problem.mesh, &u, Smooth::u, Smooth::grad);
             println!("P{order}, n = {n} (2n | 3n faces along the joint): |e|_L2 = {e0:.3e}, |e|_H1 = {e1:.3e}");
-            (h.push(1.0 / n as f64), l2.push(e0), h1.push(e1));
+            h.push(1.0 / n as f64);
+            l2.push(e0);
+            h1.push(e1);
         }
         let (rate0, rate1) = (common::fitted_rate(&h, &l2), common::fitted_rate(&h, &h1));
         println!("P{order}: fitted rates L2 {rate0:.3}, H1 {rate1:.3}");
@@ -230,7 +314,8 @@ fn a_very_stiff_foundation_tends_to_the_rigid_one() {
         let u = problem.displacement(&problem.discretise(), &solve(&problem, &joint(0.0)));
         let max = (u[offset..].iter().zip(&rigid)).map(|(a, r)| (a[0] - r[0]).hypot(a[1] - r[1])).fold(0.0, f64::max);
         println!("E2/E1 = {young:.0e}: max |u − u_rigid| over the upper block = {max:.3e} (b = {b:.0e})");
-        (compliance.push(1.0 / young), difference.push(max));
+        compliance.push(1.0 / young);
+        difference.push(max);
     }
     let rate = common::fitted_rate(&compliance, &difference);
     println!("fitted rate in 1/E2: {rate:.3}");

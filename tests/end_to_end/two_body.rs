@@ -1,0 +1,132 @@
+//! End-to-end tests of joints between two meshed bodies (`[joints.<curve>]`,
+//! docs/method.md §1.10) through the `damfem` binary: geo/dam_on_rock.toml against the bonded
+//! geo/scene_b.toml, and the refusals.
+
+use super::cli::{assert_ok, assert_refused, check_summary, damfem, repo, TempDir};
+use std::path::PathBuf;
+
+/// Writes geo/dam_on_rock.toml with `edit` applied into `tmp` as `name`, the geometry by
+/// absolute path.
+fn dam_on_rock(tmp: &TempDir, name: &str, edit: impl Fn(String) -> String) -> PathBuf {
+    let text = std::fs::read_to_string(repo("geo/dam_on_rock.toml")).unwrap();
+    let geometry = format!("geometry = {:?}", repo("geo/dam_on_rock.geo").display().to_string());
+    let scene = tmp.join(name);
+    std::fs::write(&scene, edit(text.replace("geometry = \"dam_on_rock.geo\"", &geometry))).unwrap();
+    scene
+}
+
+// The dam on its rock block with a frictionless joint. Source: geo/dam_on_rock.toml.
+// Goal: `damfem solve` runs; the joint carries no shear (T = 0, frictionless) and presses
+// (N > 0); the boundary VTU holds the joint's pressure; the dam slides on the rock, so its
+// crest moves downstream more than on the bonded interface of geo/scene_b.toml.
+// Parameters: P2, gmsh's sizes × 2.
+#[test]
+fn dam_on_rock_solves_with_its_joint() {
+    let tmp = TempDir::new("two-body-dam");
+    let run = |scene: &str, dir: &str| {
+        let out_dir = tmp.join(dir);
+        let out = damfem(&[
+            "solve",
+            "-q",
+            repo(scene).to_str().unwrap(),
+            "--size-factor",
+            "2",
+            "-o",
+            out_dir.to_str().unwrap(),
+        ]);
+        assert_ok(&out);
+        (check_summary(&out_dir), String::from_utf8_lossy(&out.stdout).into_owned())
+    };
+    let (joint, _) = run("geo/dam_on_rock.toml", "joint");
+    let (bonded, _) = run("geo/scene_b.toml", "bonded");
+    let contact = &joint["contact"];
+    let (n, t) = (contact["normal_force"].as_f64().unwrap(), contact["tangential_force"].as_f64().unwrap());
+    println!("joint: N = {n:.4e} N/m, T = {t:.4e} N/m");
+    assert!(n > 0.0 && t == 0.0, "N = {n}, T = {t}");
+    let boundary = std::fs::read_to_string(tmp.join("joint/dam_on_rock_boundary.vtu")).unwrap();
+    assert!(boundary.contains("contact_pressure"));
+    let (u_joint, u_bonded) =
+        (joint["max_displacement"].as_f64().unwrap(), bonded["max_displacement"].as_f64().unwrap());
+    println!("max |u|: joint {u_joint:.4e} m, bonded {u_bonded:.4e} m");
+    assert!(u_joint > u_bonded, "the joint lets the dam move more: {u_joint} vs {u_bonded}");
+}
+
+// Bad input on joints, each one error line, exit 1 and no output: a joint on the outer
+// boundary, a curve both a joint and a boundary curve, a joint law key out of range, a
+// [contact] law key beside joints, a law on a bonded interface, a slave that is not a side, an
+// unknown joint curve, contact on the interface without a joint, and the commands that
+// estimate the error.
+#[test]
+fn joints_refuse_bad_input() {
+    let tmp = TempDir::new("two-body-bad");
+    let count = std::cell::Cell::new(0);
+    let scene = |edit: &dyn Fn(String) -> String| {
+        count.set(count.get() + 1);
+        dam_on_rock(&tmp, &format!("scene-{}.toml", count.get()), edit)
+    };
+    let cases: Vec<(PathBuf, &str, Vec<&str>, Vec<&str>)> = vec![
+        (
+            scene(&|t| t.replace("\n[joints.joint]\n", "\n[joints.rock_bottom]\n")),
+            "solve",
+            vec![],
+            vec!["rock_bottom", "both a joint", "[boundary.rock_bottom]"],
+        ),
+        (
+            scene(&|t| t.replace("\n[joints.joint]\n", "\n[joints.ground]\n")),
+            "solve",
+            vec![],
+            vec!["curve 'ground' is not shared by two surfaces", "bounds 'rock' only"],
+        ),
+        (
+            scene(&|t| t.replace("theta = 0.0\nslave", "friction = -1.0\nslave")),
+            "solve",
+            vec![],
+            vec!["joints.joint.friction = -1", "non-negative"],
+        ),
+        (
+            scene(&|t| format!("{t}\n[contact]\nfriction = 0.6\n")),
+            "solve",
+            vec![],
+            vec!["contact.friction", "[joints.joint]"],
+        ),
+        (
+            repo("geo/scene_b.toml"),
+            "solve",
+            vec!["--friction", "0.6"],
+            vec!["no curve has role contact", "bonded", "[joints.<curve>]"],
+        ),
+        (
+            scene(&|t| t.replace("slave = \"concrete\"", "slave = \"water\"")),
+            "solve",
+            vec![],
+            vec!["slave 'water'", "rock"],
+        ),
+        (
+            scene(&|t| t.replace("\n[joints.joint]\n", "\n[joints.gallery]\n")),
+            "solve",
+            vec![],
+            vec!["joint 'gallery'", "physical curve"],
+        ),
+        (
+            scene(&|t| {
+                t.replace("\n[joints.joint]\n", "\n[boundary.joint]\nrole = \"contact\"\n\n[contact]\n")
+                    .replace("slave = \"concrete\"", "")
+            }),
+            "solve",
+            vec![],
+            vec!["role contact (a rigid foundation)", "[joints.joint] table"],
+        ),
+        (
+            repo("geo/dam_on_rock.toml"),
+            "solve",
+            vec!["--estimate"],
+            vec!["estimator", "joints between two meshed bodies"],
+        ),
+        (repo("geo/dam_on_rock.toml"), "solve", vec!["--gamma0", "10"], vec!["--gamma0", "[joints.joint]"]),
+        (repo("geo/dam_on_rock.toml"), "adapt", vec![], vec!["estimator", "[joints.joint]"]),
+        (repo("geo/dam_on_rock.toml"), "safety", vec![], vec!["estimator", "[joints.joint]"]),
+    ];
+    for (input, command, extra, keywords) in cases {
+        assert_refused("two-body-input", command, &input, &extra, &keywords);
+    }
+}
