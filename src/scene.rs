@@ -610,7 +610,6 @@ impl Scene {
     /// The `[contact]` keys that only `damfem solve` reads: the adaptive loop chooses δ itself
     /// (`[adapt] delta0`), so it refuses them rather than ignore them.
     pub fn check_adaptive(&self) -> Result<(), SceneError> {
-        self.check_estimable("the adaptive loop (damfem adapt, damfem safety)")?;
         let c = &self.contact;
         let set = [
             ("contact.delta", c.delta.is_some()),

@@ -95,9 +95,6 @@ pub fn run(args: Args) -> Result<()> {
     // 1. Scene and mesh
     let mut scene = input.scene()?;
     override_contact(&args, &mut scene)?;
-    if args.estimate || args.check_equilibration || args.effectivity {
-        scene.check_estimable("--estimate")?;
-    }
     if args.strength_reduction && !scene.law().has_friction() {
         anyhow::bail!("--strength-reduction needs a frictional joint: give --friction, --cohesion or --threshold");
     }

@@ -92,8 +92,6 @@ pub struct Opposite {
     /// The master facet and its cell.
     pub facet: usize,
     pub cell: usize,
-    /// The master facet (boundary facet index) that the piece faces.
-    pub facet: usize,
     pub map: AffineMap,
     pub ends: [[f64; 2]; 2],
 }
@@ -504,7 +502,6 @@ fn pieces(mesh: &Mesh, topology: &Topology, face: &ContactFace, master: &[(usize
                 opposite: Some(Opposite {
                     facet: f,
                     cell,
-                    facet: f,
                     map: AffineMap::new(mesh.cell_vertices(cell)),
                     ends: [at(lo), at(hi)],
                 }),

@@ -105,18 +105,6 @@ impl Scene {
         Ok(())
     }
 
-    /// The commands that estimate the error refuse joints between two meshed bodies: the
-    /// estimator does not cover them, and an η that is not a bound is never reported.
-    pub fn check_estimable(&self, command: &str) -> Result<(), SceneError> {
-        match self.joints.keys().next() {
-            Some(name) => Err(self.invalid(format!(
-                "{command} needs the error estimator, which does not cover joints between two meshed bodies \
-                 ([joints.{name}]) yet; use `damfem solve` without --estimate"
-            ))),
-            None => Ok(()),
-        }
-    }
-
     /// Splits the nodes of every joint curve of `mesh` between its two sides; the interfaces.
     pub(super) fn split_joints(&self, mesh: &mut Mesh) -> Result<Vec<Interface>, SceneError> {
         let mut interfaces = Vec::new();
