@@ -281,6 +281,8 @@ pub struct Step<'a> {
     pub disc: &'a Discretisation,
     pub x: &'a [f64],
     pub estimate: &'a Estimate,
+    /// The joint of the step's problem and its solution.
+    pub joint: Option<&'a ContactJoint>,
     pub contact: Option<&'a ContactSolution>,
 }
 
@@ -370,6 +372,7 @@ pub fn run(
             disc: &disc,
             x: level.solution.x(),
             estimate: &level.estimate,
+            joint: joint.as_ref(),
             contact,
         })?;
         history.push(record);

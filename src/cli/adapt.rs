@@ -292,8 +292,7 @@ impl StepWriter<'_> {
 
     /// η_tot of `step` against the sharp reference of its residual.
     fn i_eff(&self, step: &Step, u: &[[f64; 2]]) -> Result<f64> {
-        let (_, joint) = self.scene.problem(step.problem.mesh.clone())?;
-        let solved = joint.zip(step.contact).map(|(j, c)| j.as_solved(c));
+        let solved = step.joint.zip(step.contact).map(|(j, c)| j.as_solved(c));
         Ok(effectivity(step.problem, u, solved.as_ref(), step.record.eta.tot)?.i_eff)
     }
 
