@@ -6,7 +6,7 @@ use damfem::contact::nitsche::NitscheParameters;
 use damfem::contact::projection::Smoothing;
 use damfem::contact::{continuation, ContactJoint, ContactProblem, Linearisation};
 use damfem::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction, VectorFn};
-use damfem::estimate::estimate_iterate;
+use damfem::estimate::{estimate_iterate, Estimate};
 use damfem::mesh::structured::{two_blocks, BOTTOM, JOINT, JOINT_LOWER, LEFT, LOWER, RIGHT, TOP};
 use damfem::solve::NewtonOptions;
 use damfem::verify::dual_norm::{residual_dual_norm, sharp_reference, REFERENCE_AGREEMENT, REFERENCE_MAX_UNKNOWNS};
@@ -53,15 +53,20 @@ fn pressed_blocks(nx: [usize; 2], order: usize, tilt: f64) -> Problem {
     }
 }
 
-/// Newton to δ = 10⁻¹²: the free unknowns and those of the step before the last.
-fn solve(problem: &Problem, joint: &ContactJoint) -> (Vec<f64>, Vec<f64>) {
+/// Newton to δ = 10⁻¹² across the joint, and the estimate of the solution: the nodal
+/// displacement and the estimate.
+fn solve_and_estimate(problem: &Problem, joint: &ContactJoint) -> (Vec<[f64; 2]>, Estimate) {
     let disc = problem.discretise();
-    let mut contact = ContactProblem::new(problem, &disc, joint, Smoothing { delta: 1e-12 });
+    let smoothing = Smoothing { delta: 1e-12 };
+    let mut contact = ContactProblem::new(problem, &disc, joint, smoothing);
     let x0 = vec![0.0; disc.dofs.n_free];
     let (x, stages) =
         continuation(&mut contact, 1e-12, 1e-3, x0, &NewtonOptions::default()).unwrap_or_else(|e| panic!("{e}"));
-    let x_prev = stages.last().expect("one stage at least").report.x_prev.clone();
-    (x, x_prev)
+    let x_prev = &stages.last().expect("one stage at least").report.x_prev;
+    let nitsche = joint.faces(problem, &disc);
+    let state = Linearisation::new(problem, &disc, &nitsche, smoothing, x_prev);
+    let estimate = estimate_iterate(problem, &disc, &x, Some(&state)).unwrap_or_else(|e| panic!("{e}"));
+    (problem.displacement(&disc, &x), estimate)
 }
 
 /// The two-body patch test, estimated. Source: docs/method.md §5.6 (the bound across a joint).
@@ -77,11 +82,7 @@ fn two_body_patch_test_estimate_vanishes() {
         for nx in [[4, 4], [3, 5]] {
             let problem = pressed_blocks(nx, order, 0.0);
             let joint = joint();
-            let (x, x_prev) = solve(&problem, &joint);
-            let disc = problem.discretise();
-            let nitsche = joint.faces(&problem, &disc);
-            let state = Linearisation::new(&problem, &disc, &nitsche, Smoothing { delta: 1e-12 }, &x_prev);
-            let estimate = estimate_iterate(&problem, &disc, &x, Some(&state)).unwrap_or_else(|e| panic!("{e}"));
+            let (u, estimate) = solve_and_estimate(&problem, &joint);
             let eq = estimate.equilibration;
             let worst = eq.divergence.max(eq.normal_continuity).max(eq.contact).max(eq.compatibility);
             let global = estimate.estimators.global();
@@ -90,7 +91,6 @@ fn two_body_patch_test_estimate_vanishes() {
                 "P{order}, {} | {} faces: worst equilibration {worst:.1e}, η_flux {:.1e}, η_disc {:.1e}, η_tot {:.1e} (‖σ_h‖ {stress:.2e})",
                 nx[0], nx[1], global.flux, global.disc, global.tot
             );
-            let u = problem.displacement(&disc, &x);
             let residual = residual_dual_norm(&problem, &u, Some(&joint), 1).unwrap_or_else(|e| panic!("{e}"));
             println!("  dual norm of the residual (refined once): {residual:.1e}");
             assert!(worst < 1e-12, "P{order} {nx:?}: equilibration {worst:.2e}");
@@ -113,12 +113,7 @@ fn two_body_estimate_bounds_the_residual() {
         for nx in [[4, 4], [3, 5]] {
             let problem = pressed_blocks(nx, order, -1.5);
             let joint = joint();
-            let (x, x_prev) = solve(&problem, &joint);
-            let disc = problem.discretise();
-            let nitsche = joint.faces(&problem, &disc);
-            let state = Linearisation::new(&problem, &disc, &nitsche, Smoothing { delta: 1e-12 }, &x_prev);
-            let estimate = estimate_iterate(&problem, &disc, &x, Some(&state)).unwrap_or_else(|e| panic!("{e}"));
-            let u = problem.displacement(&disc, &x);
+            let (u, estimate) = solve_and_estimate(&problem, &joint);
             let sharp = sharp_reference(&problem, &u, Some(&joint), REFERENCE_AGREEMENT, REFERENCE_MAX_UNKNOWNS)
                 .unwrap_or_else(|e| panic!("{e}"));
             let reference = sharp.norm();
