@@ -609,8 +609,9 @@ const DEPENDENT_LOCAL: f64 = 1e-13;
 /// Householder QR of the column-major m × n matrix `a` (m ≥ n) in place: R in its upper
 /// triangle, the reflectors H_j = I − τ_j v_j v_jᵀ (v_j = (0, …, 0, 1, v_j below the
 /// diagonal)) under it, τ_j in `tau`. By hand because the patch matrices are small (at most
-/// 24 × 12 per cell and about 70 × 40 per patch), where nalgebra's QR with the explicit Q it
-/// needs costs about 2.5 times as much (docs/results.md, Error estimation).
+/// 24 × 12 per cell and about 70 × 40 per patch): reflectors applied to the few right-hand
+/// sides replace nalgebra's QR with the explicit Q it needs, and the estimate costs about 0.6
+/// times as much (docs/results.md, Error estimation).
 fn householder_qr(a: &mut [f64], m: usize, n: usize, tau: &mut [f64]) {
     for j in 0..n {
         let column = &mut a[j * m..(j + 1) * m];
