@@ -160,9 +160,9 @@ fn zeroed(m: &mut DMatrix<f64>, rows: usize, cols: usize) -> &mut DMatrix<f64> {
 ///
 /// With A = P Z stacked over the cells (and √s Kᵀ below it on patches with free rigid
 /// motions), the correction x = A λ of s = s₀ − x is the least-norm solution of Aᵀ x = r,
-/// r = Σ_T Zᵀ s₀ − b_G. It is taken from A = Q R as x = Q R⁻ᵀ r, never through λ (with
-/// A = diag(Q_T) [R_T] and [R_T] = Q₂ R, Q = diag(Q_T) Q₂ is applied by its reflectors): the
-/// normal equations AᵀA λ = r square the condition of A, which grows like the square of the
+/// r = Σ_T Zᵀ s₀ − b_G. It is taken from A = Q R as x = Q R⁻ᵀ r, never through λ (A is
+/// diag(Q_T) times the stacked R_T, whose QR is Q₂ R; Q = diag(Q_T) Q₂ is applied by its
+/// reflectors): the normal equations AᵀA λ = r square the condition of A, which grows like the square of the
 /// aspect ratio of the cells, and their Cholesky factorisation leaves a residual of
 /// ε κ(A) |A| |x| in the constraints (10⁻⁹ at aspect 100), where the QR factorisation
 /// leaves ε |A| |x|.
