@@ -1,4 +1,4 @@
-# damfem: two commands for a fresh Debian machine.
+# damfem: commands for a fresh Debian machine.
 #   make demo   installs what is missing, builds in release mode and runs the adaptive loop on Scene A into out/
 #   make test   installs what is missing and runs the whole test suite
 #   make bench-peers  also installs Debian's python3-getfem and times damfem against GetFEM on

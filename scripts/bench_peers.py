@@ -26,8 +26,9 @@ contact (no kink) they agree to 1e-11. The benchmark stops if they differ by mor
 1e-4 max|u|. Newton tolerances: damfem ||F|| <= 1e-10 ||b||; GetFEM min(|F|_1 / |b|_1,
 |du|_1 / |u|_1) <= 1e-10 (its max_res), with line search 'simplest' and MUMPS.
 
-usage: /usr/bin/python3 scripts/bench_peers.py [--large] [--repeat N] [--damfem PATH] [--out DIR]
-       /usr/bin/python3 scripts/bench_peers.py getfem MSH OUT.npz   (one GetFEM solve)
+usage: /usr/bin/python3 scripts/bench_peers.py [--large] [--sizes 1e4 1e5 5e5] [--repeat N]
+           [--flood H] [--contact-rule RULE] [--damfem PATH] [--out DIR]
+       /usr/bin/python3 scripts/bench_peers.py getfem MSH OUT.npz H RULE   (one GetFEM solve)
 """
 
 import argparse
@@ -49,7 +50,7 @@ SIZES = {"1e4": 0.89, "1e5": 0.275, "5e5": 0.123}
 
 # Scene A (geo/scene_a.toml): material, loads, contact
 E, NU, RHO, G = 3.0e10, 0.2, 2400.0, 9.81
-WATER, LEVEL = 1000.0, 70.0
+WATER, FLOOD = 1000.0, 70.0
 GAMMA0 = 100.0
 RTOL = 1e-10
 # largest accepted max|u_GetFEM - u_damfem| / max|u| (quadrature on the kink, see above)
@@ -70,9 +71,10 @@ def physical_curves(msh):
     return names
 
 
-def getfem_solve(msh, out):
-    """Solves Scene A on the order-1 mesh `msh` at P2 with GetFEM's Nitsche brick; saves the
-    node coordinates, the displacement, the Newton steps and the solve time in `out`."""
+def getfem_solve(msh, out, flood, rule):
+    """Solves Scene A with the water at `flood` [m] on the order-1 mesh `msh` at P2 with
+    GetFEM's Nitsche brick, integrating the contact term by `rule`; saves the node
+    coordinates, the displacement, the Newton steps and the solve time in `out`."""
     import getfem as gf
 
     gf.util_trace_level(0)
@@ -96,7 +98,7 @@ def getfem_solve(msh, out):
     mf0.set_fem(gf.Fem("FEM_PK(2,0)"))
     # the bulk rule is exact for the P2 stiffness and the hydrostatic load (degree 3 on a face)
     mim = gf.MeshIm(mesh, gf.Integ("IM_TRIANGLE(4)"))
-    mim_contact = gf.MeshIm(mesh, gf.Integ(CONTACT_RULE))
+    mim_contact = gf.MeshIm(mesh, gf.Integ(rule))
 
     md = gf.Model("real")
     md.add_fem_variable("u", mfp)
@@ -107,7 +109,7 @@ def getfem_solve(msh, out):
     md.add_source_term_brick(mim, "u", "f")
     # water pressure p = rho_w g (H_w - y)+ along -n
     md.add_source_term_generic_assembly_brick(
-        mim, f"(-{WATER * G}*pos_part({LEVEL}-X(2))*Normal).Test_u", upstream
+        mim, f"(-{WATER * G}*pos_part({flood}-X(2))*Normal).Test_u", upstream
     )
     # obstacle: the signed distance y to the rock, so the contact normal is (0, -1) and the gap u_y
     md.add_initialized_fem_data("obs", mf1, mf1.basic_dof_nodes()[1])
@@ -197,21 +199,26 @@ def fastest(runs):
     return min(runs, key=lambda run: run[0])
 
 
-def bench(label, factor, damfem, out, repeat):
-    """One size: mesh, solve `repeat` times with each code (keeping the fastest), compare;
+def bench(label, factor, args):
+    """One size: mesh, solve `args.repeat` times with each code (keeping the fastest), compare;
     returns the row of the table."""
+    damfem, out, repeat = args.damfem, args.out / label, args.repeat
     out.mkdir(parents=True, exist_ok=True)
     subprocess.run([damfem, "mesh", "-q", "--order", "1", "--size-factor", str(factor), SCENE,
                     "-o", out / "mesh"], check=True)
     msh = out / "mesh" / "scene_a.msh"
     scene = out / "scene_a_msh.toml"
-    scene.write_text(SCENE.read_text().replace('"scene_a.geo"', f'"{msh}"'))
+    text = SCENE.read_text()
+    assert f"level = {FLOOD}" in text, f"{SCENE} no longer holds the flood of {FLOOD} m"
+    text = text.replace('"scene_a.geo"', f'"{msh}"').replace(f"level = {FLOOD}", f"level = {args.flood}")
+    scene.write_text(text)
     d_runs, g_runs = [], []
     for _ in range(repeat):
         run = measured([damfem, "solve", "-q", "--order", "2", "--semismooth", scene, "-o", out / "damfem"])
         summary = json.loads((out / "damfem" / "summary.json").read_text())
         d_runs.append((summary["seconds"]["assemble"] + summary["seconds"]["solve"], *run))
-        run = measured([sys.executable, __file__, "getfem", msh, out / "getfem.npz"])
+        getfem = [sys.executable, __file__, "getfem", msh, out / "getfem.npz", str(args.flood), args.contact_rule]
+        run = measured(getfem)
         g = np.load(out / "getfem.npz")
         g_runs.append((float(g["seconds"]), *run))
     (g_solve, g_wall, g_cpu, g_memory), (d_solve, d_wall, d_cpu, d_memory) = fastest(g_runs), fastest(d_runs)
@@ -252,14 +259,17 @@ def table(rows):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--large", action="store_true", help="also the 5e5-unknown mesh")
+    parser.add_argument("--sizes", nargs="+", choices=list(SIZES), help="these sizes only")
+    parser.add_argument("--flood", type=float, default=FLOOD, help="water level [m] (default 70)")
+    parser.add_argument("--contact-rule", default=CONTACT_RULE, help="GetFEM's rule on the contact faces")
     parser.add_argument("--repeat", type=int, default=1, help="solves per code and size; the fastest is kept")
     parser.add_argument("--damfem", default=REPO / "target" / "release" / "damfem", type=Path)
     parser.add_argument("--out", default=REPO / "out" / "bench_peers", type=Path)
     args = parser.parse_args()
-    sizes = [s for s in SIZES if args.large or s != "5e5"]
+    sizes = args.sizes or [s for s in SIZES if args.large or s != "5e5"]
     rows = []
     for label in sizes:
-        rows.append(bench(label, SIZES[label], args.damfem, args.out / label, args.repeat))
+        rows.append(bench(label, SIZES[label], args))
         r = rows[-1]
         print(f"{r['unknowns']} unknowns: GetFEM {r['solve'][0]:.2f} s, damfem {r['solve'][1]:.2f} s",
               file=sys.stderr)
@@ -268,7 +278,7 @@ def main():
 
 
 if __name__ == "__main__":
-    if len(sys.argv) == 4 and sys.argv[1] == "getfem":
-        getfem_solve(Path(sys.argv[2]), Path(sys.argv[3]))
+    if len(sys.argv) == 6 and sys.argv[1] == "getfem":
+        getfem_solve(Path(sys.argv[2]), Path(sys.argv[3]), float(sys.argv[4]), sys.argv[5])
     else:
         main()
