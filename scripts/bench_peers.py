@@ -38,6 +38,7 @@ import os
 import re
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -152,15 +153,15 @@ def contact_face_lengths(mesh, mf0, region):
 
 def measured(args):
     """Runs `args` in a child and waits with wait4; returns (wall seconds, CPU seconds (user +
-    system, all threads), peak resident memory in MB)."""
-    start = time.perf_counter()
-    process = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-    _, status, usage = os.wait4(process.pid, 0)
-    seconds = time.perf_counter() - start
-    stderr = process.stderr.read().decode()
-    process.stderr.close()
-    if os.waitstatus_to_exitcode(status) != 0:
-        sys.exit(f"{' '.join(map(str, args))} failed:\n{stderr}")
+    system, all threads), peak resident memory in MiB)."""
+    with tempfile.TemporaryFile() as stderr:
+        start = time.perf_counter()
+        process = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=stderr)
+        _, status, usage = os.wait4(process.pid, 0)
+        seconds = time.perf_counter() - start
+        if os.waitstatus_to_exitcode(status) != 0:
+            stderr.seek(0)
+            sys.exit(f"{' '.join(map(str, args))} failed:\n{stderr.read().decode()}")
     return seconds, usage.ru_utime + usage.ru_stime, usage.ru_maxrss / 1024.0
 
 
@@ -204,8 +205,7 @@ def bench(label, factor, args):
     returns the row of the table."""
     damfem, out, repeat = args.damfem, args.out / label, args.repeat
     out.mkdir(parents=True, exist_ok=True)
-    subprocess.run([damfem, "mesh", "-q", "--order", "1", "--size-factor", str(factor), SCENE,
-                    "-o", out / "mesh"], check=True)
+    measured([damfem, "mesh", "-q", "--order", "1", "--size-factor", str(factor), SCENE, "-o", out / "mesh"])
     msh = out / "mesh" / "scene_a.msh"
     scene = out / "scene_a_msh.toml"
     text = SCENE.read_text()
@@ -251,7 +251,7 @@ def table(rows):
         gm, dm = r["memory"]
         lines.append(
             f"| {r['unknowns']} | {gs} / {ds} | {gt:.2f} s / {dt:.2f} s | {gt / dt:.2f} "
-            f"| {gw:.2f} s / {dw:.2f} s | {gc:.2f} s / {dc:.2f} s | {gc / dc:.2f} | {gm:.0f} / {dm:.0f} MB | {r['difference']:.1e} |"
+            f"| {gw:.2f} s / {dw:.2f} s | {gc:.2f} s / {dc:.2f} s | {gc / dc:.2f} | {gm:.0f} / {dm:.0f} MiB | {r['difference']:.1e} |"
         )
     return "\n".join(lines)
 
