@@ -104,6 +104,25 @@ fn adapt_estimates_the_flood_combination() {
     }
 }
 
+// `damfem solve` converges on the drains-blocked combination. Source:
+// geo/scene_a_combinations.toml, drains_blocked; docs/method.md §1.6 (with Coulomb's face
+// integrals inexact where both projections were smoothed, the residual depended on where the
+// cuts fell, and Newton stalled in the first stage, 100 steps at a relative residual of 1.18).
+// Goal: the solve succeeds and settles the crack at the heel. Parameters: P2, the file's mesh
+// sizes × 2, the scene's 100 Newton steps per stage.
+#[test]
+fn solve_converges_with_the_drains_blocked() {
+    let tmp = TempDir::new("solve-drains-blocked");
+    let scene = repo("geo/scene_a_combinations.toml");
+    let args = ["solve", "-q", "--combination", "drains_blocked", "--size-factor", "2", "-o"];
+    let mut args: Vec<&OsStr> = args.iter().map(OsStr::new).collect();
+    args.extend([tmp.0.as_os_str(), scene.as_os_str()]);
+    assert_ok(&damfem(&args));
+    let crack = &check_summary(&tmp.0)["contact"]["crack"];
+    let length = crack["length"].as_f64().unwrap();
+    assert!(length > 0.0 && length < 5.0 && crack["change"].as_f64().unwrap() <= 1e-6 * 40.0, "{crack}");
+}
+
 // Bad [uplift] values are refused, naming the key: a non-finite level, a tailwater above the
 // headwater, drains outside the joint.
 #[test]
