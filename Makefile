@@ -1,6 +1,8 @@
-# damfem: two commands for a fresh Debian machine.
+# damfem: commands for a fresh Debian machine.
 #   make demo   installs what is missing, builds in release mode and runs the adaptive loop on Scene A into out/
 #   make test   installs what is missing and runs the whole test suite
+#   make bench-peers  also installs Debian's python3-getfem and times damfem against GetFEM on
+#               Scene A at about 1e4 and 1e5 unknowns (LARGE=1: also 5e5); not part of make test
 # Each installation step runs only when something is missing, so a second run is fast.
 
 APT_PACKAGES := libgmsh-dev gmsh libclang-dev libgl1 libegl1 libegl-mesa0 libgl1-mesa-dri fonts-dejavu-core
@@ -8,7 +10,7 @@ VENV := .venv
 PYTHON := $(VENV)/bin/python
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: demo test rust deps apt-deps python-deps build
+.PHONY: demo test bench-peers getfem rust deps apt-deps python-deps build
 
 demo: rust deps build
 	./target/release/damfem adapt geo/scene_a.toml -o out/scene_a
@@ -21,6 +23,15 @@ demo: rust deps build
 test: rust deps build
 	cargo test --release
 	DAMFEM=$(CURDIR)/target/release/damfem $(PYTHON) -m pytest -q tests/python
+
+bench-peers: rust apt-deps getfem build
+	/usr/bin/python3 scripts/bench_peers.py $(if $(LARGE),--large)
+
+getfem:
+	@dpkg-query -W -f='$${Status}' python3-getfem 2>/dev/null | grep -q "install ok installed" || { \
+	  echo "installing Debian packages: python3-getfem"; \
+	  $(SUDO) apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends python3-getfem; }
 
 rust:
 	@command -v cargo >/dev/null 2>&1 || { \

@@ -44,9 +44,8 @@
 //! moderate aspect ratio (docs/method.md §4.1); its bound holds for iterates that solve the
 //! linearised problem of their last Newton step (every converged or full-step iterate), and
 //! an estimate whose reconstruction fails an equilibration check is refused, never reported.
-//! Known limits: Newton on Coulomb joints can stall (its line search keeps ‖F‖ monotone), and on
-//! a frictional joint under a full reservoir an adaptive estimate may be refused at the toe (a
-//! linearisation the estimator rebuilds differently from Newton's); both stop with an error.
+//! Known limit: Newton on Coulomb joints can stall (its line search keeps ‖F‖ monotone); it
+//! stops with an error.
 
 pub mod adapt;
 pub mod cli;

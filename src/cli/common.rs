@@ -1,6 +1,7 @@
 //! Options and steps shared by the subcommands.
 
 use crate::io::gmsh;
+use crate::mesh::midpoints::elevate_to_p2;
 use crate::mesh::Mesh;
 use crate::scene::{Scene, SceneError};
 use anyhow::{Context, Result};
@@ -14,7 +15,8 @@ pub struct Input {
     /// Scene file (.toml), or a bare geometry (.geo) or mesh (.msh) with roles taken from its
     /// physical curve names (Gamma_D, Gamma_N, Gamma_C, or dirichlet, neumann, contact)
     pub scene: PathBuf,
-    /// Element degree (1 or 2); overrides the scene's mesh.order
+    /// Element degree (1 or 2); overrides the scene's mesh.order, and raises a degree-1 .msh
+    /// to degree 2
     #[arg(long)]
     pub order: Option<usize>,
     /// Factor on gmsh's mesh sizes; overrides the scene's mesh.size_factor
@@ -63,9 +65,9 @@ impl Input {
             scene = scene.combination(name).with_context(|| format!("--combination {name}"))?;
         }
         let is_mesh = scene.geometry.extension().is_some_and(|e| e == "msh");
-        if is_mesh && (self.order.is_some() || self.size_factor.is_some()) {
+        if is_mesh && self.size_factor.is_some() {
             anyhow::bail!(
-                "--order and --size-factor apply to .geo geometries; {} is a mesh file with its own elements",
+                "--size-factor applies to .geo geometries; {} is a mesh file with its own sizes",
                 scene.geometry.display()
             );
         }
@@ -85,11 +87,11 @@ impl Input {
         self.verbose.then_some(newton_step_line as fn(usize, f64))
     }
 
-    /// Meshes the scene's geometry (or reads its .msh).
+    /// Meshes the scene's geometry (or reads its .msh, at the degree of `--order` if given).
     pub fn mesh(&self, scene: &Scene) -> Result<Mesh> {
         let geometry = &scene.geometry;
         let mesh = if geometry.extension().is_some_and(|e| e == "msh") {
-            gmsh::read_msh(geometry, self.verbose)?
+            at_order(gmsh::read_msh(geometry, self.verbose)?, self.order, geometry)?
         } else {
             gmsh::mesh_geo(geometry, &scene.mesh_options(), self.verbose, self.allow_system_calls)?
         };
@@ -99,6 +101,22 @@ impl Input {
     /// Progress reporter honouring `-q`.
     pub fn progress(&self) -> Progress {
         Progress { quiet: self.quiet }
+    }
+}
+
+/// The mesh of the file `path` at degree `order` (the file's if `None`): a degree-1 mesh is
+/// raised to degree 2 as gmsh raises it (a node at the middle of every straight edge, see
+/// [`elevate_to_p2`]); lowering, which would drop the file's midpoint nodes, is refused.
+fn at_order(mesh: Mesh, order: Option<usize>, path: &Path) -> Result<Mesh> {
+    match order {
+        None => Ok(mesh),
+        Some(order) if order == mesh.order => Ok(mesh),
+        Some(2) => Ok(elevate_to_p2(&mesh)),
+        Some(order) => anyhow::bail!(
+            "--order {order}: {} holds degree-{} triangles; a mesh file can be raised to degree 2, not lowered",
+            path.display(),
+            mesh.order
+        ),
     }
 }
 

@@ -49,6 +49,20 @@ impl JointLaw {
         *self != JointLaw::Frictionless
     }
 
+    /// The Gauss points per piece of a contact face that integrate the face terms of degree p
+    /// exactly (docs/method.md §1.6). Between the cuts P_γ has degree p, and the integrands are
+    /// a traction times test functions of degree ≤ p + 1 (ψ_a q_m of the reconstruction). The
+    /// normal traction q(P_γ) and a constant threshold's clamp q(S − P^t) have degree ≤ 2p: p + 2
+    /// points (exact to degree 2p + 3 ≥ 3p + 1). Coulomb's threshold −F q(P_γ) has degree 2p where
+    /// P_γ is smoothed, its clamp q(S − P^t) then degree 4p, and ⌈(5p + 2)/2⌉ points are exact to
+    /// degree 5p + 1.
+    pub fn face_points(&self, order: usize) -> usize {
+        match self {
+            JointLaw::Frictionless | JointLaw::Tresca { .. } => order + 2,
+            JointLaw::Coulomb { .. } | JointLaw::MohrCoulomb { .. } => (5 * order + 3) / 2,
+        }
+    }
+
     /// The largest shear force \[N/m\] a closed joint of `length` carries under the normal
     /// force N: s L (Tresca), F N (Coulomb), F N + c L (Mohr–Coulomb).
     pub fn capacity(&self, normal_force: f64, length: f64) -> f64 {

@@ -17,7 +17,8 @@
 //!
 //! γ|_F = γ₀ E / h_F. P_γ(u_h) is a polynomial of degree p along a straight face, so each face
 //! is split at the roots of P_γ(u_h) = b for every breakpoint b of the projection, and each
-//! piece is integrated with p + 2 Gauss points, exact for the polynomial integrands.
+//! piece is integrated with the Gauss rule of [`JointLaw::face_points`], exact for the
+//! polynomial integrands.
 
 use super::law::{JointLaw, Tangential};
 use super::projection::Smoothing;
@@ -26,7 +27,7 @@ use super::ContactJoint;
 use crate::elasticity::Material;
 use crate::fem::affine::AffineMap;
 use crate::fem::lagrange;
-use crate::fem::quadrature::{gauss_segment, Rule1d};
+use crate::fem::quadrature::gauss_segment_cached;
 use crate::fem::sparse::vector_dofs;
 use crate::mesh::{distance, Mesh, Segment, Topology};
 
@@ -119,7 +120,6 @@ pub struct Nitsche {
     pub uplift: Option<Uplift>,
     pub faces: Vec<ContactFace>,
     pub order: usize,
-    rule: Rule1d,
 }
 
 impl Nitsche {
@@ -135,14 +135,7 @@ impl Nitsche {
                 mesh.facets_tagged(&joint.masters).map(|f| (f, topology.facet_cell(f))).collect();
             slave.flat_map(|face| pieces(mesh, topology, &face, &master)).collect()
         };
-        Nitsche {
-            parameters,
-            law: joint.law,
-            uplift: joint.uplift.clone(),
-            faces,
-            order: mesh.order,
-            rule: gauss_segment(mesh.order + 2),
-        }
+        Nitsche { parameters, law: joint.law, uplift: joint.uplift.clone(), faces, order: mesh.order }
     }
 
     /// Number of local dofs of a face: those of the owning cell, and of the master cell on a
@@ -337,16 +330,17 @@ impl Nitsche {
         up.kinks(up.crack).into_iter().map(|s| (s - d0) / (d1 - d0)).filter(|t| *t > 0.0 && *t < 1.0).collect()
     }
 
-    /// The Gauss rule of p + 2 points on each piece between consecutive `cuts`: (s, weight·|F|).
+    /// The Gauss rule of [`JointLaw::face_points`] on each piece between consecutive `cuts`:
+    /// (s, weight·|F|).
     pub fn split_rule(&self, k: usize, cuts: &[f64]) -> Vec<(f64, f64)> {
         let length = self.faces[k].length;
+        let rule = gauss_segment_cached(self.law.face_points(self.order));
         cuts.windows(2)
             .filter(|w| w[1] > w[0])
             .flat_map(|w| {
-                self.rule
-                    .points
+                rule.points
                     .iter()
-                    .zip(&self.rule.weights)
+                    .zip(&rule.weights)
                     .map(move |(&s, &ws)| (w[0] + s * (w[1] - w[0]), ws * (w[1] - w[0]) * length))
             })
             .collect()

@@ -1,18 +1,37 @@
 //! Uplift: the pore-water pressure p_u in the joint (docs/method.md §1.8).
 //!
-//! Along a straight joint, with s the distance from the heel (upstream end) and L the joint
-//! length, H_u = ρ_w g (headwater − y_heel)₊ and H_d = ρ_w g (tailwater − y_toe)₊, the
-//! diagrams follow the US Army Corps of Engineers' guidance for gravity dams (EM 1110-2-2100,
-//! Stability Analysis of Concrete Structures, 2005; EM 1110-2-2200, Gravity Dam Design, 1995),
-//! which CADAM also implements. They are written here from that guidance's description and have
-//! not yet been compared value by value with either document:
+//! The diagrams are those of the US Army Corps of Engineers (EM 1110-2-2100, Stability Analysis
+//! of Concrete Structures, 2005, §3-3 and Appendix C; EM 1110-2-2200, Gravity Dam Design, 1995),
+//! which CADAM implements by default (Leclerc, Léger and Tinawi, CADAM User's Manual, 2001;
+//! CADAM3D's help shows the USACE cases: drains without cracking, cracking not extending beyond
+//! the drains, a crack extending beyond them). In their notation, along a base of length L from
+//! the heel (x = 0) to the toe, with γ_w = ρ_w g, H1 the headwater and H2 the tailwater head
+//! above the base, drains at x = X with effectiveness E (K = 1 − E) and a crack of length T open
+//! from the heel, the uplift is γ_w times the head
 //!
-//! - no drains: linear from H_u at the heel to H_d at the toe;
-//! - drains at s_d with efficiency E: linear from H_u to H_d + (1 − E)(H_u − H_d)(L − s_d)/L at
-//!   s_d, then linear to H_d;
-//! - a crack open from the heel to s_c (`crack = "full"`): H_u on [0, s_c], then the diagram
-//!   above on the uncracked ligament [s_c, L] (L − s_c in place of L); a crack that reaches
-//!   the drains makes them ineffective, linear from H_u at s_c to H_d.
+//! - no drains, no crack: linear from H1 at the heel to H2 at the toe;
+//! - drains: linear from H1 to H3 = H2 + K (H1 − H2)(L − X)/L at the drain line, then linear to
+//!   H2;
+//! - a crack short of the drains (T < X): H1 on [0, T] (the reservoir fills the crack), then
+//!   linear to H3 = H2 + K (H1 − H2)(L − X)/(L − T) at the drain line, then linear to H2;
+//! - a crack that reaches the drains (T ≥ X), or a crack without drains: H1 on [0, T], then
+//!   linear from H1 at T to H2 at the toe (the drains no longer count).
+//!
+//! Here s is the distance from the heel, s_d = X, s_c = T, E the efficiency, H_u = γ_w H1 =
+//! ρ_w g (headwater − y_heel)₊ and H_d = γ_w H2 = ρ_w g (tailwater − y_toe)₊ (the two ends of a
+//! straight, possibly inclined joint). The formulas are written here from the guideline's
+//! description of its figures; tests/verification/uplift.rs checks damfem's values at the heel,
+//! the drain line, the toe and between, for several X, E, tailwaters and cracks, against them,
+//! coded independently (not against the figures themselves). Where damfem differs from the
+//! guideline:
+//!
+//! - a drainage gallery above the tailwater: the guideline takes the gallery's floor in place
+//!   of H2 in H3; damfem has no gallery elevation (its drains discharge at the tailwater);
+//! - the crack: the guideline's T comes from beam theory (the length where the linear base
+//!   pressure would be tensile), damfem's s_c is the open length of the elastic solution with
+//!   the crack's own pressure (the fixed point of docs/method.md §1.8);
+//! - other agencies' rules (the US Bureau of Reclamation's H2 + (H1 − H2)/3 at the drain line,
+//!   without the factor (L − X)/L) are not offered.
 //!
 //! The pressure acts on the effective normal stress σ'^n = σ^n + p_u, which obeys the contact
 //! conditions; the joint carries the total traction (σ'^n − p_u) ν + σ^t τ.

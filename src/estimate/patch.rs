@@ -22,8 +22,9 @@
 //! The divergence and opposite-side rows act on each row of σ alone, with the same
 //! coefficients in both rows, and only weak symmetry couples the rows, so P is built from
 //! one orthonormal basis per cell for one row of σ and one for the symmetry rows. One
-//! Householder QR factorisation of the stacked P Z serves every right-hand side (total,
-//! regularisation, linearisation); see [`solve`] for why not the normal equations.
+//! orthogonal factorisation of the stacked P Z, in two levels (each cell's P Z = Q_T R_T,
+//! then the stacked R_T), serves every right-hand side (total, regularisation,
+//! linearisation); see [`solve`] for why not the normal equations.
 //!
 //! Rigid motions z that the patch leaves free make the rows dependent: Bᵀλ_z = 0 for the
 //! multipliers λ_z = (z on the faces, −Π^{p−1}z for the divergence, b for the symmetry) of
@@ -125,13 +126,13 @@ struct FaceRow {
 /// not allocate.
 pub struct Workspace {
     cells: Vec<Condensed>,
-    schur: DMatrix<f64>,
+    stacked: Stacked,
     reduced: DMatrix<f64>,
 }
 
 impl Default for Workspace {
     fn default() -> Self {
-        Workspace { cells: Vec::new(), schur: empty(), reduced: empty() }
+        Workspace { cells: Vec::new(), stacked: Stacked::default(), reduced: empty() }
     }
 }
 
@@ -159,8 +160,9 @@ fn zeroed(m: &mut DMatrix<f64>, rows: usize, cols: usize) -> &mut DMatrix<f64> {
 ///
 /// With A = P Z stacked over the cells (and √s Kᵀ below it on patches with free rigid
 /// motions), the correction x = A λ of s = s₀ − x is the least-norm solution of Aᵀ x = r,
-/// r = Σ_T Zᵀ s₀ − b_G. It is taken from A = Q R as x = Q R⁻ᵀ r, never through λ: the
-/// normal equations AᵀA λ = r square the condition of A, which grows like the square of the
+/// r = Σ_T Zᵀ s₀ − b_G. It is taken from A = Q R as x = Q R⁻ᵀ r, never through λ (A is
+/// diag(Q_T) times the stacked R_T, whose QR is Q₂ R; Q = diag(Q_T) Q₂ is applied by its
+/// reflectors): the normal equations AᵀA λ = r square the condition of A, which grows like the square of the
 /// aspect ratio of the cells, and their Cholesky factorisation leaves a residual of
 /// ε κ(A) |A| |x| in the constraints (10⁻⁹ at aspect 100), where the QR factorisation
 /// leaves ε |A| |x|.
@@ -169,58 +171,110 @@ pub fn solve(input: &PatchInput, work: &mut Workspace) -> Result<PatchSolution, 
     let rows = face_rows(input);
     let data = compatible_data(input, &rows);
     let width = input.width();
-    let Workspace { cells, schur, reduced } = work;
+    let Workspace { cells, stacked, reduced } = work;
     cells.resize_with(cells.len().max(input.cells.len()), Condensed::default);
     let cells = &mut cells[..input.cells.len()];
-    let n_cells = cells.len();
     let kernel = rigid_kernel(input, &rows);
-    let stacked = zeroed(schur, n_cells * width + kernel.ncols(), rows.len());
     zeroed(reduced, rows.len(), cases);
+    let mut norm_squared = 0.0;
     for (t, cell) in cells.iter_mut().enumerate() {
         cell.condense(input, t, &rows, &data)?;
+        norm_squared += cell.pz.norm_squared();
         for (a, &r) in cell.rows.iter().enumerate() {
-            stacked.view_mut((t * width, r), (width, 1)).copy_from_slice(column(&cell.pz, a));
             for case in 0..cases {
                 reduced[(r, case)] += cell.trace[(a, case)];
             }
         }
+        cell.factor_pz();
     }
     for (r, row) in rows.iter().enumerate() {
         for case in 0..cases {
             reduced[(r, case)] -= row.rhs[case];
         }
     }
-    if kernel.ncols() > 0 {
-        // s = tr AᵀA / tr KᵀK
-        let s = (stacked.norm_squared() / kernel.norm_squared()).sqrt();
-        stacked.view_mut((n_cells * width, 0), (kernel.ncols(), rows.len())).copy_from(&(kernel.transpose() * s));
-    }
-    let qr = std::mem::replace(stacked, empty()).qr();
-    let r = qr.r();
-    let largest = r.diagonal().amax();
-    if !(0..rows.len()).all(|j| r[(j, j)].abs() > DEPENDENT * largest) {
-        return Err("the patch constraints are not independent".into());
-    }
-    if !r.tr_solve_upper_triangular_mut(reduced) {
-        return Err("the patch constraints are not independent".into());
-    }
-    let x = qr.q() * &*reduced;
-    let sigma = (0..cases)
-        .map(|case| {
-            let mut out = vec![0.0; n_cells * width];
-            for (t, cell) in cells.iter().enumerate() {
-                let block = &mut out[t * width..(t + 1) * width];
-                block.iter_mut().zip(x.view((t * width, case), (width, 1)).iter()).for_each(|(v, x)| *v = -x);
-                cell.project(block);
-                block.iter_mut().zip(column(&cell.s0, case)).for_each(|(v, s)| *v += s);
-                for part in block.chunks_exact_mut(input.n_basis) {
-                    from_orthonormal(&input.cells[t].orthonormal, part);
-                }
+    // A = diag(Q_T) [R_T], with √s Kᵀ below, s = tr AᵀA / tr KᵀK
+    let scale = (kernel.ncols() > 0).then(|| (norm_squared / kernel.norm_squared()).sqrt());
+    stacked.stack(cells, kernel.transpose() * scale.unwrap_or(0.0), rows.len());
+    stacked.factor()?;
+    let mut y = vec![0.0; stacked.n_rows];
+    let mut sigma = vec![vec![0.0; cells.len() * width]; cases];
+    for (case, out) in sigma.iter_mut().enumerate() {
+        y.fill(0.0);
+        y[..rows.len()].copy_from_slice(column(reduced, case));
+        stacked.least_norm(&mut y);
+        let mut offset = 0;
+        for (t, cell) in cells.iter().enumerate() {
+            let block = &mut out[t * width..(t + 1) * width];
+            block.fill(0.0);
+            block[..cell.rows.len()].iter_mut().zip(&y[offset..]).for_each(|(v, y)| *v = -y);
+            offset += cell.rows.len();
+            householder_apply(cell.pz.as_slice(), width, &cell.tau, block);
+            cell.project(block);
+            block.iter_mut().zip(column(&cell.s0, case)).for_each(|(v, s)| *v += s);
+            for part in block.chunks_exact_mut(input.n_basis) {
+                from_orthonormal(&input.cells[t].orthonormal, part);
             }
-            out
-        })
-        .collect();
+        }
+    }
     Ok(PatchSolution { sigma, compatibility: data.defect })
+}
+
+/// The stacked upper triangles R_T of the cells' P Z = Q_T R_T (each on the columns of its
+/// face rows) and the rows √s Kᵀ, factored in place as Q R.
+#[derive(Default)]
+pub struct Stacked {
+    a: Vec<f64>,
+    tau: Vec<f64>,
+    n_rows: usize,
+    n_cols: usize,
+}
+
+impl Stacked {
+    fn stack(&mut self, cells: &[Condensed], kernel_rows: DMatrix<f64>, n_cols: usize) {
+        let n_rows = cells.iter().map(|c| c.rows.len()).sum::<usize>() + kernel_rows.nrows();
+        (self.n_rows, self.n_cols) = (n_rows, n_cols);
+        self.a.clear();
+        self.a.resize(n_rows * n_cols, 0.0);
+        let mut offset = 0;
+        for cell in cells {
+            let (h, g) = (cell.pz.nrows(), cell.rows.len());
+            for (b, &r) in cell.rows.iter().enumerate() {
+                let column = &mut self.a[r * n_rows + offset..];
+                column[..=b].copy_from_slice(&cell.pz.as_slice()[b * h..b * h + b + 1]);
+            }
+            offset += g;
+        }
+        for j in 0..n_cols {
+            for i in 0..kernel_rows.nrows() {
+                self.a[j * n_rows + offset + i] = kernel_rows[(i, j)];
+            }
+        }
+    }
+
+    /// Q R of the stacked rows; fails if R has a diagonal entry below [`DEPENDENT`] times the
+    /// largest.
+    fn factor(&mut self) -> Result<(), String> {
+        let (m, n) = (self.n_rows, self.n_cols);
+        self.tau.resize(n, 0.0);
+        householder_qr(&mut self.a, m, n, &mut self.tau);
+        let diagonal = |j: usize| self.a[j * m + j].abs();
+        let largest = (0..n).map(diagonal).fold(0.0, f64::max);
+        if (0..n).all(|j| diagonal(j) > DEPENDENT * largest) {
+            Ok(())
+        } else {
+            Err("the patch constraints are not independent".into())
+        }
+    }
+
+    /// y ← Q R⁻ᵀ y (y holds r in its first n_cols entries): the least-norm x with Aᵀx = r.
+    fn least_norm(&self, y: &mut [f64]) {
+        let m = self.n_rows;
+        for i in 0..self.n_cols {
+            let sum = dot(&self.a[i * m..i * m + i], &y[..i]);
+            y[i] = (y[i] - sum) / self.a[i * m + i];
+        }
+        householder_apply(&self.a, m, &self.tau, y);
+    }
 }
 
 /// Below this, a diagonal entry of R relative to the largest marks dependent constraints.
@@ -295,6 +349,8 @@ struct Condensed {
     /// The face rows on their row of σ (2 n_basis × rows), and P Z (4 n_basis × rows).
     z: DMatrix<f64>,
     pz: DMatrix<f64>,
+    /// The Householder factors of P Z = Q_T R_T, in place of P Z ([`householder_qr`]).
+    tau: Vec<f64>,
     /// Zᵀ s₀, with s₀ per case (4 n_basis × cases).
     trace: DMatrix<f64>,
     s0: DMatrix<f64>,
@@ -313,6 +369,7 @@ impl Default for Condensed {
             skew: empty(),
             z: empty(),
             pz: empty(),
+            tau: Vec::new(),
             trace: empty(),
             s0: empty(),
         }
@@ -351,6 +408,14 @@ impl Condensed {
             }
         }
         Ok(())
+    }
+
+    /// P Z = Q_T R_T in place, so that the patch factors only the stacked R_T (at most
+    /// 4(p + 1) rows per cell instead of 4 n_basis).
+    fn factor_pz(&mut self) {
+        let (m, n) = self.pz.shape();
+        self.tau.resize(n, 0.0);
+        householder_qr(self.pz.as_mut_slice(), m, n, &mut self.tau);
     }
 
     /// v ← P v, P = P₁ ⊕ P₁ − Q_S Q_Sᵀ, applied twice: x = P Z λ leaves the range of P by
@@ -540,6 +605,48 @@ fn orthonormalise(w: &mut DMatrix<f64>, r: &mut DMatrix<f64>) -> Option<()> {
 
 /// Below this, a diagonal entry of R relative to the largest marks dependent local rows.
 const DEPENDENT_LOCAL: f64 = 1e-13;
+
+/// Householder QR of the column-major m × n matrix `a` (m ≥ n) in place: R in its upper
+/// triangle, the reflectors H_j = I − τ_j v_j v_jᵀ (v_j = (0, …, 0, 1, v_j below the
+/// diagonal)) under it, τ_j in `tau`. By hand because the patch matrices are small (at most
+/// 24 × 12 per cell and about 70 × 40 per patch): reflectors applied to the few right-hand
+/// sides replace nalgebra's QR with the explicit Q it needs, and the estimate costs about 0.6
+/// times as much (docs/results.md, Error estimation).
+fn householder_qr(a: &mut [f64], m: usize, n: usize, tau: &mut [f64]) {
+    for j in 0..n {
+        let column = &mut a[j * m..(j + 1) * m];
+        let (alpha, below) = (column[j], &mut column[j + 1..]);
+        let sigma = dot(below, below);
+        if sigma == 0.0 {
+            tau[j] = 0.0;
+            continue;
+        }
+        let norm = (alpha * alpha + sigma).sqrt();
+        let beta = if alpha > 0.0 { -norm } else { norm };
+        let scale = 1.0 / (alpha - beta);
+        below.iter_mut().for_each(|x| *x *= scale);
+        column[j] = beta;
+        tau[j] = (beta - alpha) / beta;
+        let (left, right) = a.split_at_mut((j + 1) * m);
+        for c in right.chunks_exact_mut(m) {
+            reflect(&left[j * m + j + 1..], tau[j], &mut c[j..]);
+        }
+    }
+}
+
+/// x ← Q x = H_0 ⋯ H_{n−1} x for the factors of [`householder_qr`] (n = `tau.len()`).
+fn householder_apply(a: &[f64], m: usize, tau: &[f64], x: &mut [f64]) {
+    for j in (0..tau.len()).rev() {
+        reflect(&a[j * m + j + 1..(j + 1) * m], tau[j], &mut x[j..]);
+    }
+}
+
+/// x ← (I − τ v vᵀ) x for v = (1, `below`).
+fn reflect(below: &[f64], tau: f64, x: &mut [f64]) {
+    let s = tau * (x[0] + dot(below, &x[1..]));
+    x[0] -= s;
+    x[1..].iter_mut().zip(below).for_each(|(x, v)| *x -= s * v);
+}
 
 /// v ← L⁻¹ v for the lower triangle of `l`.
 fn forward_substitute(l: &DMatrix<f64>, v: &mut [f64]) {

@@ -8,6 +8,7 @@
 //! The mesh knows nothing of finite elements: it only describes the domain.
 
 pub mod interface;
+pub mod midpoints;
 pub mod segment;
 pub mod structured;
 pub mod topology;

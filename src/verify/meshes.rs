@@ -76,7 +76,7 @@ pub fn graded(mesh: &Mesh, point: [f64; 2], ratio: f64) -> Mesh {
 pub fn graded_unit_square(ratio: f64, order: usize) -> Mesh {
     let mesh = graded(&crate::mesh::structured::rectangle(0.0, 1.0, 0.0, 1.0, 4, 4, 1), [0.5, 0.5], ratio);
     if order == 2 {
-        super::refine::elevate_to_p2(&mesh)
+        crate::mesh::midpoints::elevate_to_p2(&mesh)
     } else {
         mesh
     }

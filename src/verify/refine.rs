@@ -1,5 +1,4 @@
-//! Uniform red refinement, local newest-vertex bisection and P1 → P2 elevation of triangle
-//! meshes.
+//! Uniform red refinement and local newest-vertex bisection of triangle meshes.
 //!
 //! Red refinement cuts every triangle into four through its edge midpoints m01, m12, m20:
 //!
@@ -23,8 +22,8 @@
 //! The fine mesh is nested in the coarse one: each fine cell lies in its parent coarse cell
 //! and each fine boundary facet in its parent facet, which [`Refinement`] records.
 
+use crate::mesh::midpoints::Midpoints;
 use crate::mesh::Mesh;
-use std::collections::HashMap;
 
 /// A refined mesh and where its cells and facets come from.
 #[derive(Debug, Clone)]
@@ -34,26 +33,6 @@ pub struct Refinement {
     pub cell_parents: Vec<usize>,
     /// The coarse boundary facet containing each fine boundary facet.
     pub facet_parents: Vec<usize>,
-}
-
-/// Midpoint nodes created on demand, one per unordered node pair.
-struct Midpoints {
-    index: HashMap<(usize, usize), usize>,
-}
-
-impl Midpoints {
-    fn new() -> Self {
-        Midpoints { index: HashMap::new() }
-    }
-
-    /// The node at the middle of a–b, appended to `points` on first request.
-    fn get(&mut self, a: usize, b: usize, points: &mut Vec<[f64; 2]>) -> usize {
-        *self.index.entry((a.min(b), a.max(b))).or_insert_with(|| {
-            let (pa, pb) = (points[a], points[b]);
-            points.push([0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1])]);
-            points.len() - 1
-        })
-    }
 }
 
 /// One level of uniform red refinement (4 cells per cell, 2 facets per facet).
@@ -162,7 +141,7 @@ pub fn bisect(refined: &Refinement, marked: &[bool]) -> Refinement {
         let mut next = Vec::with_capacity(cells.len());
         let mut next_tags = Vec::with_capacity(cells.len());
         for ((cell @ [a, b, c], parent, split), tag) in cells.into_iter().zip(tags) {
-            if split || midpoints.index.contains_key(&(b.min(c), b.max(c))) {
+            if split || midpoints.find(b, c).is_some() {
                 let m = midpoints.get(b, c, &mut points);
                 next.extend([([m, a, b], parent, false), ([m, c, a], parent, false)]);
                 next_tags.extend([tag, tag]);
@@ -171,9 +150,8 @@ pub fn bisect(refined: &Refinement, marked: &[bool]) -> Refinement {
                 next_tags.push(tag);
             }
         }
-        let hanging = |&[a, b, c]: &[usize; 3]| {
-            [(a, b), (b, c), (c, a)].iter().any(|&(p, q)| midpoints.index.contains_key(&(p.min(q), p.max(q))))
-        };
+        let hanging =
+            |&[a, b, c]: &[usize; 3]| [(a, b), (b, c), (c, a)].iter().any(|&(p, q)| midpoints.find(p, q).is_some());
         let mut any = false;
         for (cell, _, split) in next.iter_mut() {
             *split = hanging(cell);
@@ -189,8 +167,8 @@ pub fn bisect(refined: &Refinement, marked: &[bool]) -> Refinement {
     let mut stack: Vec<(usize, usize, usize)> =
         (0..mesh.n_facets()).rev().map(|f| (mesh.facet(f)[0], mesh.facet(f)[1], f)).collect();
     while let Some((a, b, f)) = stack.pop() {
-        match midpoints.index.get(&(a.min(b), a.max(b))) {
-            Some(&m) => stack.extend([(m, b, f), (a, m, f)]),
+        match midpoints.find(a, b) {
+            Some(m) => stack.extend([(m, b, f), (a, m, f)]),
             None => {
                 facet_nodes.extend([a, b]);
                 facet_tags.push(mesh.facet_tags[f]);
@@ -224,42 +202,11 @@ pub fn refine_levels(mesh: &Mesh, levels: usize) -> Refinement {
     current
 }
 
-/// The degree-2 mesh with the same cells: edge midpoints appended after the existing nodes
-/// (a degree-2 mesh is returned unchanged).
-pub fn elevate_to_p2(mesh: &Mesh) -> Mesh {
-    if mesh.order == 2 {
-        return mesh.clone();
-    }
-    assert_eq!(mesh.order, 1, "order must be 1 or 2");
-    let mut points = mesh.points.clone();
-    let mut mid = Midpoints::new();
-    let mut cell_nodes = Vec::with_capacity(2 * mesh.cell_nodes.len());
-    for c in 0..mesh.n_cells() {
-        let n = mesh.cell(c);
-        cell_nodes.extend_from_slice(n);
-        let m = [mid.get(n[0], n[1], &mut points), mid.get(n[1], n[2], &mut points), mid.get(n[2], n[0], &mut points)];
-        cell_nodes.extend(m);
-    }
-    let mut facet_nodes = Vec::with_capacity(3 * mesh.n_facets());
-    for f in 0..mesh.n_facets() {
-        let n = mesh.facet(f);
-        facet_nodes.extend([n[0], n[1], mid.get(n[0], n[1], &mut points)]);
-    }
-    Mesh {
-        points,
-        order: 2,
-        cell_nodes,
-        cell_tags: mesh.cell_tags.clone(),
-        facet_nodes,
-        facet_tags: mesh.facet_tags.clone(),
-        groups: mesh.groups.clone(),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::fem::affine::AffineMap;
+    use crate::mesh::midpoints::elevate_to_p2;
     use crate::mesh::structured::{rectangle, BOTTOM, LEFT, RIGHT, TOP};
     use crate::mesh::Topology;
 

@@ -401,8 +401,8 @@ fn effectivity_study() {
 /// closed base slipping) the estimator-driven loop still reaches the optimal rates: N^{−1/2} at P1
 /// and N^{−1} at P2, refining where the joint opens and where stick turns to slip.
 /// Parameters: geo/scene_a_friction.toml; P1: 5 adaptive steps from meshes twice as coarse as
-/// the file's (measured −0.497 over 1 864 … 117 516 unknowns); P2: 6 steps from the file's mesh
-/// (measured −1.074 over 5 622 … 42 740); slopes over the last four steps.
+/// the file's (measured −0.496 over 1 952 … 115 656 unknowns); P2: 6 steps from the file's mesh
+/// (measured −1.096 over 5 506 … 40 228); slopes over the last four steps.
 #[test]
 fn adaptive_refinement_reaches_the_optimal_rates_on_the_frictional_dam() {
     for (order, size_factor, steps, optimal) in [(1, 2.0, 5, -0.5), (2, 1.0, 6, -1.0)] {

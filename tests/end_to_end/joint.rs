@@ -76,6 +76,53 @@ fn the_estimator_covers_a_frictional_joint() {
     assert!(worst < 1e-10, "contact traces equilibrated to {worst}");
 }
 
+// The flood combination is estimated. Source: geo/scene_a_combinations.toml, flood (the
+// reservoir at the crest, 50 m, on the face and in the joint); docs/method.md §1.6 (Coulomb's
+// face integrals exact where both projections are smoothed, so that the estimator integrates
+// what Newton did) and §1.8. Goal: `damfem adapt` estimates its first mesh (its first full
+// Newton step at the first δ used to be refused at the toe); the crack settles past the drains
+// at 5 m, which then no longer count, so U = ρ_w g 50 m (s_c + (L − s_c)/2) to 10⁻⁹; every
+// equilibration check holds to 10⁻¹⁰. Parameters: P2, the file's mesh sizes, one mesh.
+#[test]
+fn adapt_estimates_the_flood_combination() {
+    let tmp = TempDir::new("adapt-flood");
+    let scene = repo("geo/scene_a_combinations.toml");
+    let args = ["adapt", "-q", "--combination", "flood", "--steps", "1", "-o"];
+    let mut args: Vec<&OsStr> = args.iter().map(OsStr::new).collect();
+    args.extend([tmp.0.as_os_str(), scene.as_os_str()]);
+    assert_ok(&damfem(&args));
+    let summary = check_summary(&tmp.0);
+    let c = &summary["contact"];
+    let crack = c["crack"]["length"].as_f64().unwrap();
+    assert!(crack > 5.0 && crack < 10.0, "{}", c["crack"]);
+    let expected = 1000.0 * 9.81 * 50.0 * (crack + 0.5 * (40.0 - crack));
+    let uplift = c["uplift_force"].as_f64().unwrap();
+    assert!((uplift - expected).abs() <= 1e-9 * expected, "U = {uplift} against {expected}");
+    let worst = summary["estimate"]["equilibration"].as_object().unwrap();
+    for (check, value) in worst {
+        assert!(value.as_f64().unwrap() < 1e-10, "{check}: {value}");
+    }
+}
+
+// `damfem solve` converges on the drains-blocked combination. Source:
+// geo/scene_a_combinations.toml, drains_blocked; docs/method.md §1.6 (with Coulomb's face
+// integrals inexact where both projections were smoothed, the residual depended on where the
+// cuts fell, and Newton stalled in the first stage, 100 steps at a relative residual of 1.18).
+// Goal: the solve succeeds and settles the crack at the heel. Parameters: P2, the file's mesh
+// sizes × 2, the scene's 100 Newton steps per stage.
+#[test]
+fn solve_converges_with_the_drains_blocked() {
+    let tmp = TempDir::new("solve-drains-blocked");
+    let scene = repo("geo/scene_a_combinations.toml");
+    let args = ["solve", "-q", "--combination", "drains_blocked", "--size-factor", "2", "-o"];
+    let mut args: Vec<&OsStr> = args.iter().map(OsStr::new).collect();
+    args.extend([tmp.0.as_os_str(), scene.as_os_str()]);
+    assert_ok(&damfem(&args));
+    let crack = &check_summary(&tmp.0)["contact"]["crack"];
+    let length = crack["length"].as_f64().unwrap();
+    assert!(length > 0.0 && length < 5.0 && crack["change"].as_f64().unwrap() <= 1e-6 * 40.0, "{crack}");
+}
+
 // Bad [uplift] values are refused, naming the key: a non-finite level, a tailwater above the
 // headwater, drains outside the joint.
 #[test]

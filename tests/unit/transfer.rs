@@ -3,9 +3,9 @@
 
 use damfem::fem::affine::AffineMap;
 use damfem::fem::transfer::{interpolate, Locator};
+use damfem::mesh::midpoints::elevate_to_p2;
 use damfem::mesh::structured::{rectangle, unit_square};
 use damfem::mesh::Mesh;
-use damfem::verify::refine::elevate_to_p2;
 use damfem::verify::rng::Rng;
 
 /// A P1 mesh of the unit square with n × n squares whose interior vertices are moved by up to

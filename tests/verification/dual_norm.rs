@@ -17,11 +17,11 @@ use damfem::fem::affine::AffineMap;
 use damfem::fem::norms::errors;
 use damfem::fem::quadrature::gauss_segment;
 use damfem::fem::tabulate::Tabulation;
+use damfem::mesh::midpoints::elevate_to_p2;
 use damfem::mesh::structured::{rectangle, unit_square, BOTTOM, LEFT, RIGHT, TOP};
 use damfem::mesh::{Mesh, Topology};
 use damfem::solve::{newton, Cholesky, NewtonOptions};
 use damfem::verify::dual_norm::{residual_dual_norm, residual_riesz};
-use damfem::verify::refine::elevate_to_p2;
 use std::sync::Arc;
 
 // ---------------------------------------------------------------------------------------

@@ -522,3 +522,99 @@ fn h1_rates_with_a_stick_slip_transition() {
         assert!(rate >= min_rate, "P{order}: H1 rate {rate} < {min_rate}");
     }
 }
+
+/// The local displacement of the cell that owns contact face k.
+fn face_local(contact: &damfem::contact::ContactProblem, k: usize, u_full: &[f64]) -> Vec<f64> {
+    let mut dofs = Vec::new();
+    damfem::fem::sparse::vector_dofs(contact.problem.mesh.cell(contact.nitsche.faces[k].cell), &mut dofs);
+    dofs.iter().map(|&g| u_full[g]).collect()
+}
+
+/// −∫_F t_lin · φ_i on face k over `rule` (θ = 0): the linearised traction t(u_prev) +
+/// t'(u_prev)(u − u_prev) tested by the local basis.
+fn linearised_face_residual(
+    nitsche: &damfem::contact::nitsche::Nitsche,
+    smoothing: damfem::contact::projection::Smoothing,
+    k: usize,
+    (u, u_prev): (&[f64], &[f64]),
+    rule: &[(f64, f64)],
+) -> Vec<f64> {
+    let mut out = vec![0.0; nitsche.n_local()];
+    for &(s, w) in rule {
+        let point = nitsche.point(k, s);
+        let t = nitsche.linearised_traction(k, &point, u, u_prev, smoothing);
+        for (i, r) in out.iter_mut().enumerate() {
+            // φ_i e_a = (φ_i e_a · ν) ν + (φ_i e_a · τ) τ
+            let nu = nitsche.faces[k].direction;
+            let (t_n, t_t) = (t[0] * nu[0] + t[1] * nu[1], t[1] * nu[0] - t[0] * nu[1]);
+            *r -= (t_n * point.u_n[i] + t_t * point.u_t[i]) * w;
+        }
+    }
+    out
+}
+
+/// Newton's face integrals are exact where the normal traction and the clamp are both smoothed.
+/// Source: docs/method.md §1.6 and §5.2: the reconstruction integrates the linearised traction
+/// on its own split of each face (at the kinks of u^{k−1} and of u^k), so the bound needs the
+/// same integrals as the Newton step, which splits at the kinks of u^{k−1} only. Goal: on every
+/// contact face, R_F(u^{k−1}) + J_F(u^{k−1})(u^k − u^{k−1}) equals −∫_F t_lin · φ_i computed
+/// with every piece between the cuts of both iterates cut again into 32, to 10⁻¹² of its
+/// largest entry, for every law, P1 and P2, at points where |P_γ| < δ and |S ∓ P^t| < δ
+/// (there Coulomb's tangential traction has degree 4p along the face). Parameters: the
+/// stick–slip problem (slip data) on a 4 × 4 grid, θ = 0, γ₀ = 1, u^{k−1} a seeded random
+/// displacement of size 10⁻², δ = max |P_γ(u^{k−1})|, u^k − u^{k−1} another random field.
+#[test]
+fn the_face_integrals_are_exact_where_both_projections_are_smoothed() {
+    use damfem::contact::projection::Smoothing;
+    use damfem::contact::ContactProblem;
+    use damfem::verify::rng::Rng;
+    for law in LAWS {
+        for order in [1, 2] {
+            let problem = problem(4, order, 0.05, 0.01, 0.015);
+            let disc = problem.discretise();
+            let parameters = NitscheParameters { gamma0: 1.0, ..Default::default() };
+            let joint = ContactJoint { tags: vec![BOTTOM], masters: Vec::new(), law, parameters, uplift: None };
+            let mut contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 1.0 });
+            let mut rng = Rng::new(17);
+            let mut random = || (0..disc.dofs.n_free).map(|_| 1e-2 * rng.symmetric()).collect::<Vec<f64>>();
+            let (x_prev, x) = (random(), random());
+            contact.set_delta(contact.max_abs_p_gamma(&x_prev));
+            let (nitsche, smoothing) = (&contact.nitsche, contact.smoothing);
+            let (u_full, u_prev_full) = (disc.dofs.expand(&x), disc.dofs.expand(&x_prev));
+            let (mut both, mut worst) = (0, 0.0f64);
+            let n = nitsche.n_local();
+            for k in 0..nitsche.faces.len() {
+                let (u, u_prev) = (face_local(&contact, k, &u_full), face_local(&contact, k, &u_prev_full));
+                let (mut r, mut j) = (vec![0.0; n], vec![0.0; n * n]);
+                nitsche.face_terms(k, &u_prev, smoothing, &mut r, Some(&mut j));
+                let newton: Vec<f64> =
+                    (0..n).map(|i| r[i] + (0..n).map(|c| j[i * n + c] * (u[c] - u_prev[c])).sum::<f64>()).collect();
+                let mut cuts = nitsche.kinks(k, &u, smoothing);
+                cuts.extend(nitsche.kinks(k, &u_prev, smoothing));
+                cuts.sort_by(f64::total_cmp);
+                let fine: Vec<f64> = cuts
+                    .windows(2)
+                    .flat_map(|w| (0..32).map(move |i| w[0] + (w[1] - w[0]) * i as f64 / 32.0))
+                    .collect();
+                let fine = [fine, vec![1.0]].concat();
+                let reference =
+                    linearised_face_residual(nitsche, smoothing, k, (&u, &u_prev), &nitsche.split_rule(k, &fine));
+                let size = reference.iter().map(|v| v.abs()).fold(0.0, f64::max);
+                let error = newton.iter().zip(&reference).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+                worst = worst.max(error / size);
+                for (s, _) in nitsche.quadrature(k, &u_prev, smoothing) {
+                    let point = nitsche.point(k, s);
+                    let p_n = nitsche.p_gamma(k, &point, &u_prev);
+                    let (p_t, t) =
+                        (nitsche.p_tangential(k, &point, &u_prev), nitsche.tangential(k, &point, &u_prev, smoothing));
+                    let clamped =
+                        (t.threshold - p_t).abs() < smoothing.delta || (p_t + t.threshold).abs() < smoothing.delta;
+                    both += usize::from(p_n.abs() < smoothing.delta && clamped);
+                }
+            }
+            println!("{law:?} P{order}: {both} points with both smoothed, largest relative difference {worst:.1e}");
+            assert!(both > 0, "{law:?} P{order}: no point where both projections are smoothed");
+            assert!(worst <= 1e-12, "{law:?} P{order}: Newton's face integrals differ by {worst:e}");
+        }
+    }
+}

@@ -241,3 +241,94 @@ fn the_crack_of_a_textbook_section_against_the_cracked_base_analysis() {
     }
     assert!((cracks[1] - cracks[0]).abs() <= 0.01 * cracks[1], "the crack moves with the mesh: {cracks:?}");
 }
+
+/// The uplift head [m] of the USACE diagrams (EM 1110-2-2100, Appendix C; EM 1110-2-2200,
+/// §3-3), in their notation, at the distance x from the heel of a base of length L: H1 the
+/// headwater and H2 the tailwater head above the base, drains at X with effectiveness E
+/// (K = 1 − E), a crack of length T from the heel with the full head H1 inside. The drain line
+/// carries H3 = H2 + K (H1 − H2)(L − X)/(L − T) while T < X; a crack that reaches the drains
+/// leaves the line from H1 at T to H2 at L.
+fn usace_head(x: f64, (h1, h2, l): (f64, f64, f64), drains: Option<(f64, f64)>, t: f64) -> f64 {
+    let line = |x0: f64, h0: f64, x1: f64, h1: f64| h0 + (h1 - h0) * (x - x0) / (x1 - x0);
+    if x <= t {
+        return h1;
+    }
+    match drains.filter(|&(x_d, _)| t < x_d) {
+        Some((x_d, e)) => {
+            let h3 = h2 + (1.0 - e) * (h1 - h2) * (l - x_d) / (l - t);
+            if x <= x_d {
+                line(t, h1, x_d, h3)
+            } else {
+                line(x_d, h3, l, h2)
+            }
+        }
+        None => line(t, h1, l, h2),
+    }
+}
+
+/// The uplift diagrams value by value against the guideline. Source: USACE EM 1110-2-2100
+/// (2005), Appendix C, and EM 1110-2-2200 (1995), §3-3, the diagrams CADAM implements
+/// (`usace_head` above, written from them independently of src/contact/uplift.rs). Goal:
+/// damfem's p_u of a scene equals ρ_w g × the guideline's head at the heel, the drain line, the
+/// toe and two points between, to 10⁻¹² of ρ_w g H1, and its U the diagram's integral, for
+/// drains (X, E) = (5 m, 2/3), (10 m, 1/2), (20 m, 1/4) and none, tailwater none and 8 m above
+/// the base, cracks T = 0, 2.5 m (short of every drain line) and 12 m (past the first two).
+/// Parameters: geo/scene_a_uplift.toml (base y = 0, L = 40 m, heel at x = 0, headwater 45 m)
+/// with its [uplift] table replaced, P1, the file's mesh sizes × 4.
+#[test]
+fn the_uplift_diagrams_are_the_guidelines() {
+    let repo = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(repo.join("geo/scene_a_uplift.toml")).unwrap();
+    let geometry = format!("geometry = {:?}", repo.join("geo/scene_a_friction.geo").display().to_string());
+    let text = text.replace("geometry = \"scene_a_friction.geo\"", &geometry);
+    let dir = std::env::temp_dir().join(format!("damfem-uplift-diagrams-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let gamma_w = 1000.0 * 9.81;
+    let (h1, l) = (45.0, 40.0);
+    for tailwater in [None, Some(8.0)] {
+        for drains in [Some((5.0, 2.0 / 3.0)), Some((10.0, 0.5)), Some((20.0, 0.25)), None] {
+            let mut table = String::from("[uplift]\nheadwater = 45.0\ncrack = \"full\"\n");
+            if let Some(t) = tailwater {
+                table += &format!("tailwater = {t:?}\n");
+            }
+            if let Some((x, e)) = drains {
+                table += &format!("drains = {{ x = {x:?}, efficiency = {e:?} }}\n");
+            }
+            let start = text.find("[uplift]").unwrap();
+            let end = text.find("[output]").unwrap();
+            let path = dir.join("scene.toml");
+            std::fs::write(&path, format!("{}{table}\n{}", &text[..start], &text[end..])).unwrap();
+            let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+            let (_, joint) = scene.problem(common::mesh_scene(&scene, 1, 4.0)).unwrap();
+            let uplift = joint.unwrap().uplift.unwrap();
+            assert_eq!(uplift.line.heel, [0.0, 0.0]);
+            let heads = (h1, tailwater.unwrap_or(0.0), l);
+            for t in [0.0, 2.5, 12.0] {
+                let x_d = drains.map_or(l / 2.0, |d| d.0);
+                for x in [0.0, x_d, l, 0.5 * (t + x_d), 0.5 * (x_d + l)] {
+                    let (damfem, guideline) = (uplift.pressure(x, t), gamma_w * usace_head(x, heads, drains, t));
+                    assert!(
+                        (damfem - guideline).abs() <= 1e-12 * gamma_w * h1,
+                        "tailwater {tailwater:?}, drains {drains:?}, crack {t}: p_u({x}) = {damfem}, guideline {guideline}"
+                    );
+                }
+                // U: the piecewise linear head integrated by the trapezoid rule on a fine grid
+                // that holds the kinks T and X
+                let n = 8000;
+                let integral: f64 = (0..n)
+                    .map(|i| {
+                        let (a, b) = (l * i as f64 / n as f64, l * (i + 1) as f64 / n as f64);
+                        0.5 * (b - a) * (usace_head(a, heads, drains, t) + usace_head(b, heads, drains, t))
+                    })
+                    .sum();
+                let force = uplift.force(t);
+                assert!(
+                    (force - gamma_w * integral).abs() <= 1e-10 * force,
+                    "tailwater {tailwater:?}, drains {drains:?}, crack {t}: U = {force}, guideline {}",
+                    gamma_w * integral
+                );
+            }
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

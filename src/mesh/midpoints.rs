@@ -1,0 +1,69 @@
+//! Edge midpoint nodes, and the degree-2 mesh they make of a degree-1 mesh.
+
+use super::Mesh;
+use std::collections::HashMap;
+
+/// Midpoint nodes created on demand, one per unordered node pair.
+pub struct Midpoints {
+    index: HashMap<(usize, usize), usize>,
+}
+
+impl Default for Midpoints {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Midpoints {
+    pub fn new() -> Self {
+        Midpoints { index: HashMap::new() }
+    }
+
+    /// The node at the middle of a–b if it was created.
+    pub fn find(&self, a: usize, b: usize) -> Option<usize> {
+        self.index.get(&(a.min(b), a.max(b))).copied()
+    }
+
+    /// The node at the middle of a–b, appended to `points` on first request.
+    pub fn get(&mut self, a: usize, b: usize, points: &mut Vec<[f64; 2]>) -> usize {
+        *self.index.entry((a.min(b), a.max(b))).or_insert_with(|| {
+            let (pa, pb) = (points[a], points[b]);
+            points.push([0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1])]);
+            points.len() - 1
+        })
+    }
+}
+
+/// The degree-2 mesh with the same cells: edge midpoints appended after the existing nodes
+/// (a degree-2 mesh is returned unchanged). Every midpoint sits at the middle of its straight
+/// edge, on the boundary too, as gmsh places them with `Mesh.SecondOrderLinear`: a curved
+/// boundary stays the polygon of the degree-1 mesh.
+pub fn elevate_to_p2(mesh: &Mesh) -> Mesh {
+    if mesh.order == 2 {
+        return mesh.clone();
+    }
+    assert_eq!(mesh.order, 1, "order must be 1 or 2");
+    let mut points = mesh.points.clone();
+    let mut mid = Midpoints::new();
+    let mut cell_nodes = Vec::with_capacity(2 * mesh.cell_nodes.len());
+    for c in 0..mesh.n_cells() {
+        let n = mesh.cell(c);
+        cell_nodes.extend_from_slice(n);
+        let m = [mid.get(n[0], n[1], &mut points), mid.get(n[1], n[2], &mut points), mid.get(n[2], n[0], &mut points)];
+        cell_nodes.extend(m);
+    }
+    let mut facet_nodes = Vec::with_capacity(3 * mesh.n_facets());
+    for f in 0..mesh.n_facets() {
+        let n = mesh.facet(f);
+        facet_nodes.extend([n[0], n[1], mid.get(n[0], n[1], &mut points)]);
+    }
+    Mesh {
+        points,
+        order: 2,
+        cell_nodes,
+        cell_tags: mesh.cell_tags.clone(),
+        facet_nodes,
+        facet_tags: mesh.facet_tags.clone(),
+        groups: mesh.groups.clone(),
+    }
+}
