@@ -686,6 +686,11 @@ impl Scene {
             Some(joint) => Some(joint),
             None => self.joint(&problem.mesh)?,
         };
+        if self.uplift.is_some() && joint.is_none() {
+            return Err(self.invalid(
+                "[uplift] needs a joint: give a boundary curve role = \"contact\" for the pressure to act on".into(),
+            ));
+        }
         if joint.is_none() && self.contact.law().has_friction() {
             return Err(self.invalid(format!(
                 "[contact] has a joint law ({:?}) but no curve has role contact and there is no [joints] table, so \
@@ -709,11 +714,6 @@ impl Scene {
                 "contact.direction = {:?} points into the body on the contact curve '{name}' (ν·n ≤ 0 on one of its faces)",
                 self.contact.direction.unwrap_or_default()
             )));
-        }
-        if self.uplift.is_some() && joint.is_none() {
-            return Err(self.invalid(
-                "[uplift] needs a joint: give a boundary curve role = \"contact\" for the pressure to act on".into(),
-            ));
         }
         if let (Some(j), Some(section)) = (joint.as_mut(), &self.uplift) {
             j.uplift = Some(self.uplift_diagram(&problem, &facets, section)?);
