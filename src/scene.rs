@@ -687,13 +687,6 @@ impl Scene {
             Some(joint) => Some(joint),
             None => self.joint(&problem.mesh)?,
         };
-        if joint.is_none() && self.contact.law().has_friction() {
-            return Err(self.invalid(format!(
-                "[contact] has a joint law ({:?}) but no curve has role contact and there is no [joints] table, so \
-                 every interface is bonded; give the joint's curve a [joints.<curve>] table with the law",
-                self.contact.law()
-            )));
-        }
         let friction = joint.as_ref().is_some_and(|j| j.law.has_friction());
         if problem.dirichlet.is_empty() && !friction {
             return Err(self.invalid(format!(
@@ -716,6 +709,13 @@ impl Scene {
                 "[uplift] needs a joint: give a boundary curve role = \"contact\" for the pressure to act on".into(),
             ));
         }
+        if joint.is_none() && self.contact.law().has_friction() {
+            return Err(self.invalid(format!(
+                "[contact] has a joint law ({:?}) but no curve has role contact and there is no [joints] table, so \
+                 every interface is bonded; give the joint's curve a [joints.<curve>] table with the law",
+                self.contact.law()
+            )));
+        }
         if let (Some(j), Some(section)) = (joint.as_mut(), &self.uplift) {
             j.uplift = Some(self.uplift_diagram(&problem, &facets, section)?);
         }
@@ -726,6 +726,9 @@ impl Scene {
             return Err(self.invalid(format!(
                 "the Dirichlet and contact conditions leave a rigid motion free ({motion}); {how} that blocks it"
             )));
+        }
+        if let Some(j) = joint.as_ref().filter(|_| !interfaces.is_empty()) {
+            self.check_bodies_held(&problem, j)?;
         }
         if let Some(j) = joint.as_ref().filter(|_| problem.dirichlet.is_empty()) {
             self.check_sliding(&problem, &topology, j, &facets)?;
