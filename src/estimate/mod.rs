@@ -19,6 +19,8 @@ use reconstruction::{reconstruct, Reconstruction};
 pub enum EstimateError {
     #[error("the estimator covers the Nitsche variant theta = 0 only (this run uses theta = {0})")]
     Theta(f64),
+    #[error("the estimator does not cover joints between two meshed bodies yet")]
+    TwoBody,
     #[error("patch of the vertex at ({x}, {y}): {message}")]
     Patch { x: f64, y: f64, message: String },
     #[error(

@@ -126,6 +126,9 @@ pub fn reconstruct(
         if c.nitsche.parameters.theta != 0.0 {
             return Err(EstimateError::Theta(c.nitsche.parameters.theta));
         }
+        if c.nitsche.faces.iter().any(|f| f.opposite.is_some()) {
+            return Err(EstimateError::TwoBody);
+        }
     }
     let mesh = &problem.mesh;
     let order = mesh.order;

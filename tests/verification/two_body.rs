@@ -171,6 +171,31 @@ fn two_body_stick_and_slip_are_exact() {
     }
 }
 
+/// The estimator refuses a joint between two bodies. Source: docs/method.md §1.10 (limits).
+/// Goal: `estimate_iterate` on a two-body solution is an error, never an η that is not a bound.
+/// Parameters: the matching P1 patch test, frictionless, θ = 0.
+#[test]
+fn the_estimator_refuses_two_body_joints() {
+    use damfem::contact::solve_by_continuation;
+    use damfem::estimate::{estimate_iterate, EstimateError};
+    let mesh = two_blocks(4, 4, 2, 0.5, 1);
+    let problem = Problem {
+        materials: vec![Material { young: 1.0, poisson: 0.2, density: 0.0 }; mesh.n_cells()],
+        dirichlet: vec![
+            Dirichlet { tag: BOTTOM, fix: [true; 2], value: Arc::new(|_| [0.0; 2]) },
+            Dirichlet { tag: TOP, fix: [true; 2], value: Arc::new(|_| [0.0, -1e-2]) },
+        ],
+        neumann: vec![],
+        body_force: BodyForce::None,
+        mesh,
+    };
+    let disc = problem.discretise();
+    let settings = damfem::contact::Continuation { delta: 1e-6, delta_start: 1e-6, newton: NewtonOptions::default() };
+    let solution = solve_by_continuation(&problem, &disc, &joint(0.0), &settings).unwrap_or_else(|e| panic!("{e}"));
+    let result = estimate_iterate(&problem, &disc, &solution.x, Some(&solution.linearisation(&problem, &disc)));
+    assert!(matches!(result, Err(EstimateError::TwoBody)), "{:?}", result.err());
+}
+
 /// A smooth solution closed across the joint: u = (c sin πx q², v(y) + d cos πx q²), q = y − ½,
 /// v(y) = −a sin y. At y = ½, σ_xy = 0 (frictionless) and σ_yy = (λ+2μ) v'(½) < 0 (pressed),
 /// and [u] = 0. Returns u, ∇u, σ and f = −∇·σ for the Lamé coefficients (λ, μ).
