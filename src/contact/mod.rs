@@ -36,8 +36,8 @@ pub use uplift::Uplift;
 pub struct ContactJoint {
     /// Physical tags of the curves of Γ_C (on a joint between two bodies, the slave sides).
     pub tags: Vec<i32>,
-    /// On joints between two bodies, the physical tags of the master sides' curves (any
-    /// order); empty: a rigid foundation.
+    /// On joints between two bodies, the physical tag of the master side's curve facing each
+    /// curve of `tags`; empty: a rigid foundation.
     pub masters: Vec<i32>,
     pub law: JointLaw,
     pub parameters: NitscheParameters,

@@ -127,13 +127,18 @@ impl Nitsche {
     /// bodies, the pieces of the slave facets that face one master cell each.
     pub fn new(mesh: &Mesh, topology: &Topology, materials: &[Material], joint: &ContactJoint) -> Self {
         let parameters = joint.parameters;
-        let slave = mesh.facets_tagged(&joint.tags).map(|f| face(mesh, topology, materials, f, &parameters));
+        let slave = |tags| mesh.facets_tagged(tags).map(|f| face(mesh, topology, materials, f, &parameters));
         let faces = if joint.masters.is_empty() {
-            slave.collect()
+            slave(&joint.tags).collect()
         } else {
-            let master: Vec<(usize, usize)> =
-                mesh.facets_tagged(&joint.masters).map(|f| (f, topology.facet_cell(f))).collect();
-            slave.flat_map(|face| pieces(mesh, topology, &face, &master)).collect()
+            // each slave curve faces its own master curve
+            let mut faces = Vec::new();
+            for (tag, master) in joint.tags.iter().zip(&joint.masters) {
+                let master: Vec<(usize, usize)> =
+                    mesh.facets_tagged(std::slice::from_ref(master)).map(|f| (f, topology.facet_cell(f))).collect();
+                faces.extend(slave(std::slice::from_ref(tag)).flat_map(|face| pieces(mesh, topology, &face, &master)));
+            }
+            faces
         };
         Nitsche { parameters, law: joint.law, uplift: joint.uplift.clone(), faces, order: mesh.order }
     }

@@ -265,13 +265,20 @@ impl Problem {
     /// r ↦ r_a(x_n) of the constrained dofs and r ↦ r(x)·n of the supports must span the
     /// 3-dimensional space of rigid motions: their Gram matrix must be nonsingular.
     pub fn free_rigid_motion(&self, supports: &[([f64; 2], [f64; 2])]) -> Option<String> {
+        self.free_rigid_motion_of(&vec![true; self.mesh.n_points()], supports)
+    }
+
+    /// [`Problem::free_rigid_motion`] of the body of the nodes marked in `body`: its Dirichlet
+    /// nodes and the `supports` (which the caller takes on that body).
+    pub fn free_rigid_motion_of(&self, body: &[bool], supports: &[([f64; 2], [f64; 2])]) -> Option<String> {
         let mesh = &self.mesh;
-        let n = mesh.n_points() as f64;
-        let centre = mesh.points.iter().fold([0.0; 2], |c, p| [c[0] + p[0] / n, c[1] + p[1] / n]);
-        let size = mesh.points.iter().map(|p| crate::mesh::distance(*p, centre)).fold(f64::MIN_POSITIVE, f64::max);
+        let points: Vec<[f64; 2]> = (0..mesh.n_points()).filter(|&k| body[k]).map(|k| mesh.points[k]).collect();
+        let n = points.len() as f64;
+        let centre = points.iter().fold([0.0; 2], |c, p| [c[0] + p[0] / n, c[1] + p[1] / n]);
+        let size = points.iter().map(|p| crate::mesh::distance(*p, centre)).fold(f64::MIN_POSITIVE, f64::max);
         let fixed = self.dirichlet.iter().flat_map(|bc| {
             let facets = (0..mesh.n_facets()).filter(move |&f| mesh.facet_tags[f] == bc.tag);
-            facets.flat_map(|f| mesh.facet(f).iter()).flat_map(move |&node| {
+            facets.flat_map(|f| mesh.facet(f).iter()).filter(|&&node| body[node]).flat_map(move |&node| {
                 let directions = [[1.0, 0.0], [0.0, 1.0]].into_iter().zip(bc.fix).filter(|(_, fixed)| *fixed);
                 directions.map(move |(d, _)| (mesh.points[node], d))
             })

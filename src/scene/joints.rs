@@ -5,6 +5,7 @@
 use super::{Role, Scene, SceneError};
 use crate::contact::nitsche::NitscheParameters;
 use crate::contact::{ContactJoint, JointLaw};
+use crate::elasticity::Problem;
 use crate::mesh::interface::{self, Interface};
 use crate::mesh::{Mesh, Topology};
 use serde::Deserialize;
@@ -138,6 +139,48 @@ impl Scene {
         self.joints.values().next().map_or_else(|| self.contact.law(), JointSection::law)
     }
 
+    /// Each body (a set of cells connected through their nodes) must be held against rigid
+    /// motions by its Dirichlet curves and its joint facets (their normals, and with friction
+    /// their tangents too). Err names the body, by its surfaces, and the motion left free.
+    pub(super) fn check_bodies_held(&self, problem: &Problem, joint: &ContactJoint) -> Result<(), SceneError> {
+        let mesh = &problem.mesh;
+        let topology = Topology::new(mesh);
+        let body = bodies(mesh);
+        let facets: Vec<usize> = mesh.facets_tagged(&joint.tags).chain(mesh.facets_tagged(&joint.masters)).collect();
+        for b in 0..=body.iter().copied().max().unwrap_or(0) {
+            let nodes: Vec<bool> = {
+                let mut nodes = vec![false; mesh.n_points()];
+                (0..mesh.n_cells())
+                    .filter(|&c| body[c] == b)
+                    .for_each(|c| mesh.cell(c).iter().for_each(|&n| nodes[n] = true));
+                nodes
+            };
+            let supports: Vec<([f64; 2], [f64; 2])> = facets
+                .iter()
+                .filter(|&&f| body[topology.facet_cell(f)] == b)
+                .flat_map(|&f| {
+                    let nu = topology.outward_normal(mesh, f);
+                    let directions = if joint.law.has_friction() { vec![nu, [-nu[1], nu[0]]] } else { vec![nu] };
+                    mesh.facet(f)
+                        .iter()
+                        .flat_map(move |&n| directions.clone().into_iter().map(move |d| (mesh.points[n], d)))
+                })
+                .collect();
+            if let Some(motion) = problem.free_rigid_motion_of(&nodes, &supports) {
+                let names: Vec<String> = (mesh.groups.iter())
+                    .filter(|g| g.dim == 2 && (0..mesh.n_cells()).any(|c| body[c] == b && mesh.cell_tags[c] == g.tag))
+                    .map(|g| format!("'{}'", g.name))
+                    .collect();
+                return Err(self.invalid(format!(
+                    "nothing holds the body of {} against {motion}: its joints and Dirichlet curves leave it free; \
+                     give the joint friction, bond part of the interface, or give the body a Dirichlet curve",
+                    names.join(", ")
+                )));
+            }
+        }
+        Ok(())
+    }
+
     /// The two-body contact joint of `interfaces` (None without joints).
     pub(super) fn two_body_joint(&self, interfaces: &[Interface]) -> Option<ContactJoint> {
         let section = self.joints.values().next()?;
@@ -150,4 +193,32 @@ impl Scene {
             uplift: None,
         })
     }
+}
+
+/// The body of each cell: the connected components of the cells through their nodes.
+fn bodies(mesh: &Mesh) -> Vec<usize> {
+    // union–find over the nodes, each cell joining its nodes
+    let mut parent: Vec<usize> = (0..mesh.n_points()).collect();
+    fn root(parent: &mut [usize], mut k: usize) -> usize {
+        while parent[k] != k {
+            parent[k] = parent[parent[k]];
+            k = parent[k];
+        }
+        k
+    }
+    for c in 0..mesh.n_cells() {
+        let nodes = mesh.cell(c);
+        for &n in &nodes[1..] {
+            let (a, b) = (root(&mut parent, nodes[0]), root(&mut parent, n));
+            parent[a] = b;
+        }
+    }
+    let mut label = std::collections::HashMap::new();
+    (0..mesh.n_cells())
+        .map(|c| {
+            let r = root(&mut parent, mesh.cell(c)[0]);
+            let next = label.len();
+            *label.entry(r).or_insert(next)
+        })
+        .collect()
 }

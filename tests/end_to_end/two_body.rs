@@ -54,8 +54,9 @@ fn dam_on_rock_solves_with_its_joint() {
 // Bad input on joints, each one error line, exit 1 and no output: a joint on the outer
 // boundary, a curve both a joint and a boundary curve, a joint law key out of range, a
 // [contact] law key beside joints, a law on a bonded interface, a slave that is not a side, an
-// unknown joint curve, contact on the interface without a joint, a [contact] flag on a
-// joint, and `damfem safety` on a joint whose heel it cannot tell.
+// unknown joint curve, contact on the interface without a joint, a body that its frictionless
+// joints leave free to slide, a [contact] flag on a joint, and `damfem safety` on a joint whose
+// heel it cannot tell.
 #[test]
 fn joints_refuse_bad_input() {
     let tmp = TempDir::new("two-body-bad");
@@ -115,6 +116,12 @@ fn joints_refuse_bad_input() {
             "solve",
             vec![],
             vec!["role contact (a rigid foundation)", "[joints.joint] table"],
+        ),
+        (
+            scene(&|t| format!("{t}\n[joints.bonded]\nslave = \"concrete\"\n")),
+            "solve",
+            vec![],
+            vec!["nothing holds the body of 'concrete'", "translation along x"],
         ),
         (repo("geo/dam_on_rock.toml"), "solve", vec!["--gamma0", "10"], vec!["--gamma0", "[joints.joint]"]),
         (repo("geo/dam_on_rock.toml"), "safety", vec![], vec!["straight joint whose heel is known"]),

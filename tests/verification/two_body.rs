@@ -322,3 +322,79 @@ fn a_very_stiff_foundation_tends_to_the_rigid_one() {
     assert!(difference[2] < 1e-3 * b, "the stiffest foundation is {:.3e} from the rigid one", difference[2]);
     assert!((rate - 1.0).abs() < 0.1, "rate {rate:.3} in 1/E2, expected 1");
 }
+
+/// Two-body Hertz. Source: docs/method.md §1.10 and §7 (V4) with the combined modulus of two
+/// elastic bodies: 1/E* = (1 − ν₁²)/E₁ + (1 − ν₂²)/E₂, half-width b = 2√(R F/(π E*)), peak
+/// pressure p₀ = 2F/(π b), for a cylinder on an elastic half-plane (approximated by a block
+/// 50 b wide and 25 b deep).
+/// Goal: b and p₀ fitted to the computed pressure (as in V4) within 1 % of Hertz.
+/// Parameters: tests/data/hertz_two_body.geo, P2, mesh sizes × 0.35 (h = 0.035 at the contact
+/// point on both bodies); the half-disk R = 8, E₁ = 200, ν₁ = 0.3, pushed by u = (0, −d),
+/// d = 0.08, at its top; the block E₂ = 400, ν₂ = 0.25, fixed at its bottom; the arc is the
+/// slave, contact direction ν = (0, −1) (the block's normal), θ = 0, γ₀ = 100, δ = 10⁻⁶ S.
+#[test]
+fn two_body_hertz_half_width_and_peak_pressure() {
+    use crate::hertz::{fit_profile, moment_half_width, Sample};
+    use damfem::contact::projection::negative_part;
+    use damfem::contact::{solve_by_continuation, Continuation};
+    use damfem::io::gmsh::{mesh_geo, MeshOptions};
+    let (radius, push) = (8.0, 0.08);
+    let geo = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/hertz_two_body.geo");
+    let mesh = mesh_geo(&geo, &MeshOptions { order: 2, size_factor: 0.35, ..Default::default() }, false, false)
+        .expect("gmsh meshes tests/data/hertz_two_body.geo");
+    let tag = |dim, name| mesh.group(dim, name).unwrap_or_else(|| panic!("group {name}")).tag;
+    let (top, bottom, arc, block_top, disk) =
+        (tag(1, "top"), tag(1, "block_bottom"), tag(1, "Gamma_C"), tag(1, "block_top"), tag(2, "disk"));
+    let (m1, m2) =
+        (Material { young: 200.0, poisson: 0.3, density: 0.0 }, Material { young: 400.0, poisson: 0.25, density: 0.0 });
+    let problem = Problem {
+        materials: mesh.cell_tags.iter().map(|&t| if t == disk { m1 } else { m2 }).collect(),
+        dirichlet: vec![
+            Dirichlet { tag: top, fix: [true; 2], value: Arc::new(move |_| [0.0, -push]) },
+            Dirichlet { tag: bottom, fix: [true; 2], value: Arc::new(|_| [0.0; 2]) },
+        ],
+        neumann: vec![],
+        body_force: BodyForce::None,
+        mesh,
+    };
+    let disc = problem.discretise();
+    let scale = problem.stress_scale(&disc.topology);
+    let parameters = NitscheParameters { direction: Some([0.0, -1.0]), ..Default::default() };
+    let joint = ContactJoint { masters: vec![block_top], ..ContactJoint::frictionless(vec![arc], parameters) };
+    let settings = Continuation { delta: 1e-6 * scale, delta_start: 1e-2 * scale, newton: NewtonOptions::default() };
+    let solution = solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("{e}"));
+    let nitsche = &solution.nitsche;
+    let force: f64 = solution.faces.iter().map(|s| s.pressure * s.length).sum();
+    let u_full = disc.dofs.expand(&solution.x);
+    let mut profile: Vec<Sample> = Vec::new();
+    let mut dofs = Vec::new();
+    for k in 0..nitsche.faces.len() {
+        nitsche.face_dofs(&problem.mesh, k, &mut dofs);
+        let u: Vec<f64> = dofs.iter().map(|&g| u_full[g]).collect();
+        for (s, w) in nitsche.quadrature(k, &u, Smoothing::NONE) {
+            let point = nitsche.point(k, s);
+            profile.push((point.x[0], -negative_part(nitsche.p_gamma(k, &point, &u)), w));
+        }
+    }
+    let e_star = 1.0 / ((1.0 - 0.3f64.powi(2)) / m1.young + (1.0 - 0.25f64.powi(2)) / m2.young);
+    let b = 2.0 * (radius * force / (std::f64::consts::PI * e_star)).sqrt();
+    let p0 = 2.0 * force / (std::f64::consts::PI * b);
+    let b_m = moment_half_width(&profile);
+    let window: Vec<Sample> = profile.iter().copied().filter(|s| s.0.abs() < 2.0 * b_m).collect();
+    let (p0_fit, b_fit) = fit_profile(&window, 0.5 * b_m, 1.5 * b_m);
+    let rel = |v: f64, exact: f64| (v - exact) / exact;
+    println!(
+        "{} cells, {} contact pieces, {} Newton steps: F = {force:.5}, Hertz b = {b:.5} (b/R = {:.4}), p0 = {p0:.5}",
+        problem.mesh.n_cells(),
+        nitsche.faces.len(),
+        solution.newton_steps(),
+        b / radius
+    );
+    println!(
+        "fit: b = {b_fit:.5} ({:+.2} %), p0 = {p0_fit:.5} ({:+.2} %)",
+        100.0 * rel(b_fit, b),
+        100.0 * rel(p0_fit, p0)
+    );
+    assert!(rel(b_fit, b).abs() <= 0.01, "half-width off by {:.2} %", 100.0 * rel(b_fit, b));
+    assert!(rel(p0_fit, p0).abs() <= 0.01, "peak pressure off by {:.2} %", 100.0 * rel(p0_fit, p0));
+}
