@@ -21,6 +21,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 mod checks;
+mod nested;
 
 /// A scene that cannot be read or does not fit its mesh.
 #[derive(Debug, thiserror::Error)]
