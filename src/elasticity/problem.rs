@@ -172,6 +172,7 @@ impl Problem {
         let stiff_tab = Tabulation::new(p, 2 * p - 2);
         let load_tab = Tabulation::new(p, load_degree(p));
         let nb = stiff_tab.n_basis;
+        let moments = kernels::reference_moments(&load_tab);
         let kernel = |c: usize, local: &mut Local| {
             let map = AffineMap::new(self.mesh.cell_vertices(c));
             let (lambda, mu) = self.materials[c].lame();
@@ -179,7 +180,13 @@ impl Problem {
             kernels::stiffness(&map, &stiff_tab, lambda, mu, &mut grads[..nb], &mut local.matrix);
             match &self.body_force {
                 BodyForce::None => local.load.fill(0.0),
-                _ => kernels::body_load(&map, &load_tab, |x| self.body_force_at(c, x), &mut local.load),
+                BodyForce::Acceleration(_) => {
+                    let f = self.body_force_at(c, map.to_physical([0.0; 2]));
+                    kernels::constant_body_load(&map, &moments, f, &mut local.load)
+                }
+                BodyForce::Field(_) => {
+                    kernels::body_load(&map, &load_tab, |x| self.body_force_at(c, x), &mut local.load)
+                }
             }
         };
         let dofs_of = |c: usize, out: &mut Vec<usize>| vector_dofs(self.mesh.cell(c), out);

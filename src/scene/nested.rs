@@ -11,18 +11,19 @@ use crate::io::gmsh::{mesh_geo, MeshOptions};
 /// Newton run costs less than meshing one more level.
 const COARSEST_UNKNOWNS: usize = 5000;
 
-/// The ratio of the mesh sizes of two successive levels of nested iteration (about RATIO²
-/// times fewer unknowns on the coarser).
+/// The ratio of the mesh sizes of the finest coarse level to the mesh's; each level below is
+/// twice as coarse as the next (about 4 times fewer unknowns). At 10⁵ unknowns the fine mesh
+/// then needs at most 8 Newton steps for γ₀ ≤ 10³, 10 with a ratio of 2 (docs/results.md).
 const RATIO: f64 = 1.5;
 
 impl Scene {
     /// The contact solve on `problem` (meshed from this scene's geometry with its `[mesh]`
-    /// options) along the δ path of `settings`. A mesh of at least 4 × [`COARSEST_UNKNOWNS`]
-    /// unknowns meshed from a `.geo` starts Newton from nested iteration ([`nested_start`]) on
-    /// the geometry meshed with the size factor × 2^k, k = K … 1 (about 4^−k times the
-    /// unknowns; K the largest with ≥ [`COARSEST_UNKNOWNS`] left), and goes straight to δ;
-    /// any other mesh, or a failure on the way, starts from u = 0 as
-    /// [`solve_by_continuation`]. Both reach the same solution, to the Newton tolerance.
+    /// options) along the δ path of `settings`. A mesh of at least [`RATIO`]² ×
+    /// [`COARSEST_UNKNOWNS`] unknowns meshed from a `.geo` starts Newton from nested iteration
+    /// ([`nested_start`]) on the geometry meshed with the size factor × [`RATIO`] × 2^k, k = K
+    /// … 0 (about N / (RATIO² 4^k) unknowns; K the largest with ≥ [`COARSEST_UNKNOWNS`]
+    /// left), and goes straight to δ; any other mesh, or a failure on the way, starts from u =
+    /// 0 as [`solve_by_continuation`]. Both reach the same solution, to the Newton tolerance.
     pub fn solve_contact(
         &self,
         problem: &Problem,
@@ -46,20 +47,21 @@ impl Scene {
     /// first, each with its joint; none for a `.msh` geometry, a small mesh, or when gmsh or
     /// the scene fails on one of them.
     fn coarse_problems(&self, unknowns: usize, allow_system_calls: bool) -> Vec<(Problem, ContactJoint)> {
-        let coarse_unknowns = |k: i32| unknowns as f64 * RATIO.powi(-2 * k);
-        let levels = (1..).take_while(|&k| coarse_unknowns(k) >= COARSEST_UNKNOWNS as f64).last().unwrap_or(0);
+        let coarse_unknowns = |k: i32| unknowns as f64 / (RATIO * RATIO * 4f64.powi(k));
+        let levels = (0..).take_while(|&k| coarse_unknowns(k) >= COARSEST_UNKNOWNS as f64).count() as i32;
         if levels == 0 || self.geometry.extension().is_some_and(|e| e == "msh") {
             return Vec::new();
         }
         let options = self.mesh_options();
         let level = |k: i32| {
-            let coarse = MeshOptions { size_factor: options.size_factor * RATIO.powi(k), ..options.clone() };
+            let size_factor = options.size_factor * RATIO * 2f64.powi(k);
+            let coarse = MeshOptions { size_factor, ..options.clone() };
             let mesh = mesh_geo(&self.geometry, &coarse, false, allow_system_calls).ok()?;
             match self.problem(mesh).ok()? {
                 (problem, Some(joint)) => Some((problem, joint)),
                 (_, None) => None,
             }
         };
-        (1..=levels).rev().map(level).collect::<Option<Vec<_>>>().unwrap_or_default()
+        (0..levels).rev().map(level).collect::<Option<Vec<_>>>().unwrap_or_default()
     }
 }
