@@ -10,33 +10,28 @@ use crate::mesh::Segment;
 
 /// Element stiffness K_{2i+a, 2j+b} = ∫_T ε(φ_i e_a) : C ε(φ_j e_b), row-major in `k`.
 /// `tab` must integrate degree 2(p−1) exactly; `grads` is scratch of length n_basis.
-/// Per quadrature point with weight w = w_q |J| and g = ∇φ: the 2 × 2 block of nodes i, j is
-/// K_ab += λw g_i,a g_j,b + μw (δ_ab g_i·g_j + g_i,b g_j,a); the blocks j ≥ i are computed
-/// and the entries below the diagonal copied from above it, so K is exactly symmetric.
 pub fn stiffness(map: &AffineMap, tab: &Tabulation, lambda: f64, mu: f64, grads: &mut [[f64; 2]], k: &mut [f64]) {
     let nb = tab.n_basis;
     let n = 2 * nb;
     k[..n * n].fill(0.0);
     for q in 0..tab.n_points() {
         let w = tab.weights[q] * map.det.abs();
-        let (lw, mw) = (lambda * w, mu * w);
         for (g, &gr) in grads.iter_mut().zip(tab.grad(q)) {
             *g = map.physical_gradient(gr);
         }
-        for (i, gi) in grads.iter().enumerate() {
-            for (j, gj) in grads.iter().enumerate().skip(i) {
-                let dot = mw * (gi[0] * gj[0] + gi[1] * gj[1]);
-                let (row_x, row_y) = ((2 * i) * n + 2 * j, (2 * i + 1) * n + 2 * j);
-                k[row_x] += (lw + mw) * gi[0] * gj[0] + dot;
-                k[row_x + 1] += lw * gi[0] * gj[1] + mw * gi[1] * gj[0];
-                k[row_y] += lw * gi[1] * gj[0] + mw * gi[0] * gj[1];
-                k[row_y + 1] += (lw + mw) * gi[1] * gj[1] + dot;
+        for i in 0..nb {
+            for j in 0..nb {
+                let (gi, gj) = (grads[i], grads[j]);
+                let dot = gi[0] * gj[0] + gi[1] * gj[1];
+                for a in 0..2 {
+                    for b in 0..2 {
+                        let delta = if a == b { dot } else { 0.0 };
+                        k[(2 * i + a) * n + 2 * j + b] += (lambda * gi[a] * gj[b] // λ div φ_i div φ_j
+                            + mu * (delta + gi[b] * gj[a])) // 2μ ε(φ_i) : ε(φ_j)
+                            * w; // |J| w_q
+                    }
+                }
             }
-        }
-    }
-    for r in 0..n {
-        for c in 0..r {
-            k[r * n + c] = k[c * n + r];
         }
     }
 }
@@ -52,27 +47,6 @@ pub fn body_load(map: &AffineMap, tab: &Tabulation, f: impl Fn([f64; 2]) -> [f64
             out[2 * i] += fx[0] * phi * w; // f_x φ_i |J| w_q
             out[2 * i + 1] += fx[1] * phi * w; // f_y φ_i |J| w_q
         }
-    }
-}
-
-/// The moments m_i = Σ_q w_q φ̂_i(ξ_q) of the basis by the rule of `tab`: ∫_T φ_i = |det J| m_i.
-pub fn reference_moments(tab: &Tabulation) -> Vec<f64> {
-    let mut moments = vec![0.0; tab.n_basis];
-    for q in 0..tab.n_points() {
-        for (m, &phi) in moments.iter_mut().zip(tab.phi(q)) {
-            *m += tab.weights[q] * phi;
-        }
-    }
-    moments
-}
-
-/// Element load F_{2i+a} = ∫_T f_a φ_i = f_a |det J| m_i for a constant body force `f`, with
-/// the `moments` m_i of [`reference_moments`].
-pub fn constant_body_load(map: &AffineMap, moments: &[f64], f: [f64; 2], out: &mut [f64]) {
-    for (i, &m) in moments.iter().enumerate() {
-        let w = m * map.det.abs();
-        out[2 * i] = f[0] * w;
-        out[2 * i + 1] = f[1] * w;
     }
 }
 

@@ -172,7 +172,6 @@ impl Problem {
         let stiff_tab = Tabulation::new(p, 2 * p - 2);
         let load_tab = Tabulation::new(p, load_degree(p));
         let nb = stiff_tab.n_basis;
-        let moments = kernels::reference_moments(&load_tab);
         let kernel = |c: usize, local: &mut Local| {
             let map = AffineMap::new(self.mesh.cell_vertices(c));
             let (lambda, mu) = self.materials[c].lame();
@@ -180,9 +179,10 @@ impl Problem {
             kernels::stiffness(&map, &stiff_tab, lambda, mu, &mut grads[..nb], &mut local.matrix);
             match &self.body_force {
                 BodyForce::None => local.load.fill(0.0),
+                // constant on the cell: f evaluated once
                 BodyForce::Acceleration(_) => {
-                    let f = self.body_force_at(c, map.to_physical([0.0; 2]));
-                    kernels::constant_body_load(&map, &moments, f, &mut local.load)
+                    let f = self.body_force_at(c, map.origin);
+                    kernels::body_load(&map, &load_tab, |_| f, &mut local.load)
                 }
                 BodyForce::Field(_) => {
                     kernels::body_load(&map, &load_tab, |x| self.body_force_at(c, x), &mut local.load)

@@ -13,14 +13,13 @@ fn assemble_on(threads: usize, problem: &damfem::elasticity::Problem) -> LinearS
 
 /// Assembly on 1, 2 and 3 threads. Source: src/fem/sparse.rs (each task owns a range of columns
 /// and adds the cells of its range in increasing order, so every entry sums the same terms in
-/// the same order) and src/elasticity/kernels.rs (the element stiffness is filled above its
-/// diagonal and copied below). Goal: the stiffness and load are bit for bit independent of the
-/// number of threads, and the stiffness exactly symmetric. Problem: Scene A
+/// the same order). Goal: the stiffness and load are bit for bit independent of the number of
+/// threads. Problem: Scene A
 /// (`geo/scene_a.toml`, gmsh's node numbering, P2 and P1, size factor 1: about 8 000 and 2 000
 /// unknowns), gravity and the 70 m flood. Checks: the values and the right-hand sides of 2 and
-/// 3 threads equal those of 1 thread exactly; K_ij = K_ji exactly.
+/// 3 threads equal those of 1 thread exactly.
 #[test]
-fn assembly_is_identical_on_one_two_and_three_threads_and_symmetric() {
+fn assembly_is_identical_on_one_two_and_three_threads() {
     let scene = Scene::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("geo/scene_a.toml")).expect("Scene A");
     for order in [2, 1] {
         let (problem, _) = scene.problem(mesh_scene(&scene, order, 1.0)).expect("Scene A is valid");
@@ -30,16 +29,6 @@ fn assembly_is_identical_on_one_two_and_three_threads_and_symmetric() {
             assert!(one.values == many.values, "P{order}: K differs on {threads} threads");
             assert!(one.rhs == many.rhs, "P{order}: b differs on {threads} threads");
         }
-        let disc = problem.discretise();
-        let (pattern, n) = (&disc.pattern, disc.dofs.n_free);
-        let (col_ptr, row_idx) = (pattern.symbolic().col_ptr(), pattern.symbolic().row_idx());
-        for col in 0..n {
-            for position in col_ptr[col]..col_ptr[col + 1] {
-                let row = row_idx[position];
-                let mirror = one.values[pattern.position(col, row)];
-                assert!(one.values[position] == mirror, "P{order}: K[{row}, {col}] ≠ K[{col}, {row}]");
-            }
-        }
-        println!("P{order}: {n} unknowns, identical on 1, 2, 3 threads, symmetric");
+        println!("P{order}: {} values, identical on 1, 2, 3 threads", one.values.len());
     }
 }
