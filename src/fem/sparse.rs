@@ -7,8 +7,9 @@
 //!
 //! Assembly is parallel without locks: the free dofs are cut into contiguous ranges, and each
 //! task owns the matrix columns and right-hand-side rows of its range. A task visits the cells
-//! that touch its range and keeps the entries that fall into it; a cell straddling two ranges
-//! is computed by both.
+//! that touch its range, in increasing order, and keeps the entries that fall into it; a cell
+//! straddling two ranges is computed by both. Every entry thus sums the same terms in the same
+//! order on any number of threads.
 
 use super::dofs::{DofMap, FIXED};
 use crate::mesh::Mesh;
@@ -147,7 +148,8 @@ impl LinearSystem {
     }
 
     /// Adds Σ_cells of the local contributions. `dofs_of(c, out)` writes the global dofs of
-    /// cell c; `kernel(c, local)` fills `local.matrix` and `local.load` for those dofs.
+    /// cell c in node pairs (x, y), as [`vector_dofs`]; `kernel(c, local)` fills
+    /// `local.matrix` and `local.load` for those dofs.
     /// Constrained columns move to the right-hand side: b_i −= K_ij g_j.
     pub fn assemble<D, K>(
         &mut self,
@@ -213,6 +215,7 @@ fn scatter(
             continue;
         }
         rhs[col - range.0] += local.load[j];
+        debug_assert!(n % 2 == 0, "local dofs come in node pairs");
         for (i, pair) in local.dofs.chunks_exact(2).enumerate() {
             let (ix, iy) = (2 * i, 2 * i + 1);
             match [map.free[pair[0]], map.free[pair[1]]] {
