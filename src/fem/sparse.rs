@@ -238,8 +238,7 @@ fn scatter(
     }
 }
 
-/// The cells of each of the contiguous `ranges` of free dofs, in increasing order: those whose
-/// free dofs lie in the range or on both sides of it (a superset of the cells that touch it).
+/// The cells that touch each of the contiguous `ranges` of free dofs, in increasing order.
 fn cells_of_ranges(
     map: &DofMap,
     ranges: &[(usize, usize)],
@@ -248,15 +247,15 @@ fn cells_of_ranges(
 ) -> Vec<Vec<usize>> {
     let mut cells = vec![Vec::new(); ranges.len()];
     let range_of = |dof: usize| ranges.partition_point(|&(_, end)| end <= dof);
-    let mut dofs = Vec::new();
+    let (mut dofs, mut touched) = (Vec::new(), Vec::new());
     for c in 0..n_cells {
         dofs_of(c, &mut dofs);
-        let free = dofs.iter().map(|&g| map.free[g]).filter(|&k| k != FIXED);
-        let (lo, hi) = free.fold((usize::MAX, 0), |(lo, hi), k| (lo.min(k), hi.max(k)));
-        if lo <= hi {
-            for list in &mut cells[range_of(lo)..=range_of(hi)] {
-                list.push(c);
-            }
+        touched.clear();
+        touched.extend(dofs.iter().map(|&g| map.free[g]).filter(|&k| k != FIXED).map(range_of));
+        touched.sort_unstable();
+        touched.dedup();
+        for &r in &touched {
+            cells[r].push(c);
         }
     }
     cells
