@@ -596,7 +596,7 @@ pub fn nested_start(
     disc: &Discretisation,
     coarse: &[(Problem, ContactJoint)],
     settings: &Continuation,
-) -> Result<Option<(Vec<f64>, Vec<CoarseSolve>)>, NewtonError> {
+) -> Result<Option<NestedStart>, NewtonError> {
     let mut previous: Option<(&Mesh, Vec<[f64; 2]>)> = None;
     let mut solves = Vec::new();
     for (level, joint) in coarse {
@@ -611,7 +611,13 @@ pub fn nested_start(
         solves.push(CoarseSolve { unknowns: level_disc.dofs.n_free, newton_steps });
         previous = Some((&level.mesh, level.displacement(&level_disc, &x)));
     }
-    Ok(previous.map(|(mesh, u)| (problem.interpolated(disc, mesh, &u), solves)))
+    Ok(previous.map(|(mesh, u)| NestedStart { x0: problem.interpolated(disc, mesh, &u), solves }))
+}
+
+/// The start that nested iteration gives a mesh, and the coarse solves that led to it.
+pub struct NestedStart {
+    pub x0: Vec<f64>,
+    pub solves: Vec<CoarseSolve>,
 }
 
 /// The crack–uplift fixed point at the δ of `contact` (docs/method.md §1.8), from the solution

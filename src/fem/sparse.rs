@@ -215,7 +215,7 @@ fn scatter(
             continue;
         }
         rhs[col - range.0] += local.load[j];
-        debug_assert!(n % 2 == 0, "local dofs come in node pairs");
+        debug_assert!(n.is_multiple_of(2), "local dofs come in node pairs");
         for (i, pair) in local.dofs.chunks_exact(2).enumerate() {
             let (ix, iy) = (2 * i, 2 * i + 1);
             match [map.free[pair[0]], map.free[pair[1]]] {

@@ -2,8 +2,8 @@
 //! scene's geometry (docs/method.md §1.5).
 
 use super::Scene;
-use crate::contact::Continuation;
 use crate::contact::{nested_start, solve_by_continuation, solve_from, ContactError, ContactJoint, ContactSolution};
+use crate::contact::{Continuation, NestedStart};
 use crate::elasticity::{Discretisation, Problem};
 use crate::io::gmsh::{mesh_geo, MeshOptions};
 
@@ -33,7 +33,7 @@ impl Scene {
         allow_system_calls: bool,
     ) -> Result<ContactSolution, ContactError> {
         let coarse = self.coarse_problems(disc.dofs.n_free, allow_system_calls);
-        if let Ok(Some((x0, solves))) = nested_start(problem, disc, &coarse, settings) {
+        if let Ok(Some(NestedStart { x0, solves })) = nested_start(problem, disc, &coarse, settings) {
             drop(coarse);
             let at_delta = Continuation { delta_start: settings.delta, ..*settings };
             if let Ok(solution) = solve_from(problem, disc, joint, &at_delta, x0) {
