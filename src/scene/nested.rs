@@ -18,12 +18,12 @@ const RATIO: f64 = 1.5;
 
 impl Scene {
     /// The contact solve on `problem` (meshed from this scene's geometry with its `[mesh]`
-    /// options) along the δ path of `settings`. A mesh of at least [`RATIO`]² ×
-    /// [`COARSEST_UNKNOWNS`] unknowns meshed from a `.geo` starts Newton from nested iteration
-    /// ([`nested_start`]) on the geometry meshed with the size factor × [`RATIO`] × 2^k, k = K
-    /// … 0 (about N / (RATIO² 4^k) unknowns; K the largest with ≥ [`COARSEST_UNKNOWNS`]
-    /// left), and goes straight to δ; any other mesh, or a failure on the way, starts from u =
-    /// 0 as [`solve_by_continuation`]. Both reach the same solution, to the Newton tolerance.
+    /// options) along the δ path of `settings`. A mesh of N ≥ 1.5² × 5 000 unknowns meshed
+    /// from a `.geo` starts Newton from nested iteration ([`nested_start`]) on the geometry
+    /// meshed with the size factor × 1.5 × 2^k, k = K … 0 (about N / (1.5² 4^k) unknowns; K
+    /// the largest with ≥ 5 000 left), and goes straight to δ; any other mesh, or a failure on
+    /// the way, starts from u = 0 as [`solve_by_continuation`]. Both reach the same solution,
+    /// to the Newton tolerance (docs/method.md §1.5).
     pub fn solve_contact(
         &self,
         problem: &Problem,
