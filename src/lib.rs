@@ -17,7 +17,8 @@
 //!    │  contact         Nitsche terms on Γ_C, joint laws, the smoothing of min(x, 0) at δ
 //!    ▼
 //!  solve                sparse Cholesky / LU (faer), symbolic factorisation reused; Newton,
-//!    │                  its steps by the dense Schur complement on the contact layer
+//!    │                  its steps by the dense Schur complement on the contact layer, started
+//!    │                  by nested iteration on coarser meshes of the .geo (Scene::solve_contact)
 //!    ▼
 //!  contact::ContactSolution   the iterate, its linearisation point and smoothing, face states;
 //!    │                  the joint's N, T, U, resultant, crack and base stresses (resultant)

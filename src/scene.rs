@@ -24,6 +24,7 @@ mod checks;
 mod joints;
 
 pub use joints::JointSection;
+mod nested;
 
 /// A scene that cannot be read or does not fit its mesh.
 #[derive(Debug, thiserror::Error)]

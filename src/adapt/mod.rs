@@ -27,8 +27,6 @@ use crate::elasticity::{Discretisation, Problem};
 use crate::estimate::estimators::{stress_norm, GlobalEstimators};
 use crate::estimate::Estimate;
 use crate::estimate::EstimateError;
-use crate::fem::dofs::FIXED;
-use crate::fem::transfer::interpolate;
 use crate::mesh::Mesh;
 use crate::solve::{NewtonError, NewtonOptions, SolveError};
 use level::StartDelta;
@@ -314,7 +312,7 @@ pub fn run(
         seconds.assemble = clock.elapsed().as_secs_f64();
         let clock = Instant::now();
         let x0 = match &previous {
-            Some((mesh, u, _)) => initial_guess(&problem, &disc, mesh, u),
+            Some((mesh, u, _)) => problem.interpolated(&disc, mesh, u),
             None => vec![0.0; disc.dofs.n_free],
         };
         seconds.transfer = clock.elapsed().as_secs_f64();
@@ -391,19 +389,6 @@ fn next_sizes(settings: &AdaptSettings, mesh: &Mesh, eta: &[f64], tol: Option<f6
         Refinement::Adaptive => settings.marking.target_sizes(settings.bulk, eta, mesh, tol, floor),
         Refinement::Uniform => Vec::new(),
     }
-}
-
-/// The free unknowns of the displacement `u` of `old` interpolated at the nodes of the new
-/// problem's mesh (its Dirichlet values are the new problem's).
-fn initial_guess(problem: &Problem, disc: &Discretisation, old: &Mesh, u: &[[f64; 2]]) -> Vec<f64> {
-    let values = interpolate(old, u, &problem.mesh.points);
-    let mut x = vec![0.0; disc.dofs.n_free];
-    for (dof, &k) in disc.dofs.free.iter().enumerate() {
-        if k != FIXED {
-            x[k] = values[dof / 2][dof % 2];
-        }
-    }
-    x
 }
 
 #[cfg(test)]

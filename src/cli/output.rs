@@ -1,6 +1,6 @@
 //! ParaView files and summaries of one solution, shared by `solve` and `adapt`.
 
-use crate::contact::{ContactSolution, Crack, FaceState, JointLaw, JointLine, Resultant};
+use crate::contact::{CoarseSolve, ContactSolution, Crack, FaceState, JointLaw, JointLine, Resultant};
 use crate::elasticity::kernels::{principal, von_mises};
 use crate::elasticity::{Discretisation, Problem};
 use crate::estimate::estimators::{GlobalEstimators, NAMES};
@@ -220,6 +220,9 @@ pub struct ContactSummary {
     newton_steps: usize,
     /// Newton steps at each δ of the continuation path.
     stages: Vec<(f64, usize)>,
+    /// Nested iteration: the unknowns and Newton steps of each coarser mesh whose solution
+    /// started Newton, coarsest first (empty: from u = 0).
+    coarse: Vec<CoarseSolve>,
     max_pressure: f64,
     max_regularisation_error: f64,
     /// The joint law and its parameters.
@@ -319,6 +322,7 @@ impl ContactSummary {
             contact_extent: extent,
             newton_steps: c.newton_steps(),
             stages: c.stages.iter().map(|st| (st.delta, st.report.iterations.len())).collect(),
+            coarse: c.coarse.clone(),
             max_pressure: c.faces.iter().map(|f| f.pressure).fold(0.0, f64::max),
             max_regularisation_error: c.faces.iter().map(|f| f.regularisation_error).fold(0.0, f64::max),
             joint: c.nitsche.law,

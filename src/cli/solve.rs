@@ -4,8 +4,8 @@
 use super::common::{stem, validate_overrides, Input, Output};
 use super::output::{write_results, EstimateSummary, Results, Summary, Units, UNITS};
 use crate::contact::{
-    solve_by_continuation, strength_reduction, ContactError, ContactJoint, Continuation, Solution, Stage,
-    StrengthReduction, STRENGTH_TOLERANCE,
+    strength_reduction, ContactError, ContactJoint, Continuation, Solution, Stage, StrengthReduction,
+    STRENGTH_TOLERANCE,
 };
 use crate::elasticity::stress::cell_mean_stress;
 use crate::elasticity::{Discretisation, Problem};
@@ -118,7 +118,7 @@ pub fn run(args: Args) -> Result<()> {
     let mut continuation = scene.continuation(&problem, &disc.topology);
     continuation.newton.trace = input.newton_trace();
     let (solution, t) = progress
-        .stage("solve", || solve(&problem, &disc, joint.as_ref(), &continuation), describe_solution)
+        .stage("solve", || solve(&scene, input, &problem, &disc, joint.as_ref(), &continuation), describe_solution)
         .map_err(|e| match e.downcast_ref::<ContactError>() {
             Some(ContactError::Newton(newton)) => newton_failure(&scene, &continuation, newton, &dir),
             _ => e,
@@ -257,8 +257,11 @@ fn newton_failure(scene: &Scene, continuation: &Continuation, error: &NewtonErro
     )
 }
 
-/// One Cholesky solve without a joint; the δ path of `continuation` with one.
+/// One Cholesky solve without a joint; with one, Newton to the δ of `continuation`
+/// ([`Scene::solve_contact`]).
 fn solve(
+    scene: &Scene,
+    input: &Input,
     problem: &Problem,
     disc: &Discretisation,
     joint: Option<&ContactJoint>,
@@ -266,19 +269,30 @@ fn solve(
 ) -> Result<Solution> {
     Ok(match joint {
         None => Solution::Linear(problem.solve_linear(disc)?),
-        Some(joint) => Solution::Contact(Box::new(solve_by_continuation(problem, disc, joint, continuation)?)),
+        Some(joint) => Solution::Contact(Box::new(scene.solve_contact(
+            problem,
+            disc,
+            joint,
+            continuation,
+            input.allow_system_calls,
+        )?)),
     })
 }
 
 fn describe_solution(solution: &Solution) -> String {
     match solution.contact() {
         None => "sparse Cholesky".into(),
-        Some(c) => format!(
-            "Newton, {} steps, δ = {:.3e}, contact length {:.4}",
-            c.newton_steps(),
-            c.smoothing.delta,
-            c.contact_length()
-        ),
+        Some(c) => {
+            let coarse: Vec<String> =
+                c.coarse.iter().map(|s| format!("{} on {} unknowns", s.newton_steps, s.unknowns)).collect();
+            let started = if coarse.is_empty() { String::new() } else { format!(" (after {})", coarse.join(", ")) };
+            format!(
+                "Newton, {} steps{started}, δ = {:.3e}, contact length {:.4}",
+                c.newton_steps(),
+                c.smoothing.delta,
+                c.contact_length()
+            )
+        }
     }
 }
 

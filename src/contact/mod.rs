@@ -227,7 +227,8 @@ impl<'a> ContactProblem<'a> {
     pub fn solution(self, x: Vec<f64>, stages: Vec<Stage>, crack: Option<Crack>) -> ContactSolution {
         let faces = self.face_states(&x);
         let x_prev = stages.last().map_or_else(|| x.clone(), |s| s.report.x_prev.clone());
-        ContactSolution { x, x_prev, smoothing: self.smoothing, stages, faces, nitsche: self.nitsche, crack }
+        let smoothing = self.smoothing;
+        ContactSolution { x, x_prev, smoothing, stages, faces, nitsche: self.nitsche, crack, coarse: Vec::new() }
     }
 
     /// The length of the crack open at the heel for `x` ([`open_from_heel`]); 0 without uplift.
@@ -425,6 +426,16 @@ pub struct ContactSolution {
     /// With uplift in an open crack, the fixed point that found it (the crack itself is in
     /// `nitsche.uplift`).
     pub crack: Option<Crack>,
+    /// The solves on coarser meshes whose solution started Newton ([`nested_start`]), coarsest
+    /// first; empty for a start from u = 0.
+    pub coarse: Vec<CoarseSolve>,
+}
+
+/// A solve of nested iteration on a coarser mesh: its unknowns and Newton steps.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct CoarseSolve {
+    pub unknowns: usize,
+    pub newton_steps: usize,
 }
 
 impl ContactSolution {
@@ -612,8 +623,19 @@ pub fn solve_by_continuation(
     joint: &ContactJoint,
     settings: &Continuation,
 ) -> Result<ContactSolution, ContactError> {
+    solve_from(problem, disc, joint, settings, vec![0.0; disc.dofs.n_free])
+}
+
+/// Solves the elasticity problem with contact on `joint` from the free unknowns `x0`, along
+/// the δ path of `settings`; with uplift in the crack, repeated until the crack settles.
+pub fn solve_from(
+    problem: &Problem,
+    disc: &Discretisation,
+    joint: &ContactJoint,
+    settings: &Continuation,
+    x0: Vec<f64>,
+) -> Result<ContactSolution, ContactError> {
     let mut contact = ContactProblem::new(problem, disc, joint, Smoothing { delta: settings.delta });
-    let x0 = vec![0.0; disc.dofs.n_free];
     let (x, mut stages) = continuation(&mut contact, settings.delta, settings.delta_start, x0, &settings.newton)?;
     if !joint.uplift.as_ref().is_some_and(|up| up.crack_filled) {
         return Ok(contact.solution(x, stages, None));
@@ -621,6 +643,41 @@ pub fn solve_by_continuation(
     let (x, more, crack) = settle_crack(&mut contact, x, &settings.newton)?;
     stages.extend(more);
     Ok(contact.solution(x, stages, Some(crack)))
+}
+
+/// Nested iteration (docs/method.md §1.5): Newton on each problem of `coarse` (coarser meshes of
+/// the same geometry, coarsest first, each with its joint), from u = 0 along the δ path of
+/// `settings` on the first and at δ from the previous solution interpolated on the others.
+/// Returns the last solution interpolated at the nodes of `problem` (free unknowns of `disc`),
+/// the start of Newton there, and the coarse solves; None without coarse problems. The crack
+/// that uplift fills keeps the length of each coarse joint: it is settled on `problem` only.
+pub fn nested_start(
+    problem: &Problem,
+    disc: &Discretisation,
+    coarse: &[(Problem, ContactJoint)],
+    settings: &Continuation,
+) -> Result<Option<NestedStart>, NewtonError> {
+    let mut previous: Option<(&Mesh, Vec<[f64; 2]>)> = None;
+    let mut solves = Vec::new();
+    for (level, joint) in coarse {
+        let level_disc = level.discretise();
+        let mut contact = ContactProblem::new(level, &level_disc, joint, Smoothing { delta: settings.delta });
+        let (x0, delta_start) = match &previous {
+            None => (vec![0.0; level_disc.dofs.n_free], settings.delta_start),
+            Some((mesh, u)) => (level.interpolated(&level_disc, mesh, u), settings.delta),
+        };
+        let (x, stages) = continuation(&mut contact, settings.delta, delta_start, x0, &settings.newton)?;
+        let newton_steps = stages.iter().map(|s| s.report.iterations.len()).sum();
+        solves.push(CoarseSolve { unknowns: level_disc.dofs.n_free, newton_steps });
+        previous = Some((&level.mesh, level.displacement(&level_disc, &x)));
+    }
+    Ok(previous.map(|(mesh, u)| NestedStart { x0: problem.interpolated(disc, mesh, &u), solves }))
+}
+
+/// The start that nested iteration gives a mesh, and the coarse solves that led to it.
+pub struct NestedStart {
+    pub x0: Vec<f64>,
+    pub solves: Vec<CoarseSolve>,
 }
 
 /// The crack–uplift fixed point at the δ of `contact` (docs/method.md §1.8), from the solution

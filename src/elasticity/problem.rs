@@ -11,10 +11,11 @@ use super::kernels;
 use super::material::Material;
 use super::rigid;
 use crate::fem::affine::AffineMap;
-use crate::fem::dofs::DofMap;
+use crate::fem::dofs::{DofMap, FIXED};
 use crate::fem::quadrature::{gauss_segment_cached, split_rule};
 use crate::fem::sparse::{vector_dofs, LinearSystem, Local, SparsePattern};
 use crate::fem::tabulate::Tabulation;
+use crate::fem::transfer::interpolate;
 use crate::mesh::{Mesh, Topology};
 use crate::solve::{Cholesky, SolveError};
 use std::sync::Arc;
@@ -183,7 +184,14 @@ impl Problem {
             kernels::stiffness(&map, &stiff_tab, lambda, mu, &mut grads[..nb], &mut local.matrix);
             match &self.body_force {
                 BodyForce::None => local.load.fill(0.0),
-                _ => kernels::body_load(&map, &load_tab, |x| self.body_force_at(c, x), &mut local.load),
+                // constant on the cell: f evaluated once
+                BodyForce::Acceleration(_) => {
+                    let f = self.body_force_at(c, map.origin);
+                    kernels::body_load(&map, &load_tab, |_| f, &mut local.load)
+                }
+                BodyForce::Field(_) => {
+                    kernels::body_load(&map, &load_tab, |x| self.body_force_at(c, x), &mut local.load)
+                }
             }
         };
         let dofs_of = |c: usize, out: &mut Vec<usize>| vector_dofs(self.mesh.cell(c), out);
@@ -295,5 +303,18 @@ impl Problem {
     /// Nodal displacements from the free unknowns.
     pub fn displacement(&self, disc: &Discretisation, x: &[f64]) -> Vec<[f64; 2]> {
         disc.dofs.expand(x).chunks_exact(2).map(|u| [u[0], u[1]]).collect()
+    }
+
+    /// The free unknowns of the displacement `u` of `old` interpolated at the nodes of this
+    /// problem's mesh (its Dirichlet values are this problem's).
+    pub fn interpolated(&self, disc: &Discretisation, old: &Mesh, u: &[[f64; 2]]) -> Vec<f64> {
+        let values = interpolate(old, u, &self.mesh.points);
+        let mut x = vec![0.0; disc.dofs.n_free];
+        for (dof, &k) in disc.dofs.free.iter().enumerate() {
+            if k != FIXED {
+                x[k] = values[dof / 2][dof % 2];
+            }
+        }
+        x
     }
 }

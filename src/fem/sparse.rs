@@ -7,8 +7,9 @@
 //!
 //! Assembly is parallel without locks: the free dofs are cut into contiguous ranges, and each
 //! task owns the matrix columns and right-hand-side rows of its range. A task visits the cells
-//! that touch its range and keeps the entries that fall into it; a cell straddling two ranges
-//! is computed by both.
+//! that touch its range, in increasing order, and keeps the entries that fall into it; a cell
+//! straddling two ranges is computed by both. Every entry thus sums the same terms in the same
+//! order on any number of threads.
 
 use super::dofs::{DofMap, FIXED};
 use crate::mesh::Mesh;
@@ -22,7 +23,8 @@ pub struct SparsePattern {
 }
 
 impl SparsePattern {
-    /// Pattern coupling the free dofs of the nodes of each cell of `mesh`.
+    /// Pattern coupling the free dofs of the nodes of each cell of `mesh`. The two columns of
+    /// a node hold the same rows: the free dofs of its neighbours, in order.
     pub fn new(mesh: &Mesh, dofs: &DofMap) -> Self {
         Self::from_neighbours(node_neighbours(mesh), dofs)
     }
@@ -45,23 +47,29 @@ impl SparsePattern {
 
     /// Pattern coupling the free dofs of each node with those of its sorted `neighbours`.
     fn from_neighbours(neighbours: Vec<Vec<usize>>, dofs: &DofMap) -> Self {
-        let columns: Vec<Vec<usize>> = (0..dofs.n_dofs())
-            .into_par_iter()
-            .filter(|&dof| dofs.free[dof] != FIXED)
-            .map(|dof| {
-                neighbours[dof / 2]
-                    .iter()
-                    .flat_map(|&m| [dofs.free[2 * m], dofs.free[2 * m + 1]])
-                    .filter(|&r| r != FIXED)
-                    .collect()
-            })
-            .collect();
+        let free = &dofs.free;
+        let free_of = |m: usize| [free[2 * m], free[2 * m + 1]].into_iter().filter(|&r| r != FIXED);
+        let length: Vec<usize> =
+            neighbours.par_iter().map(|list| list.iter().flat_map(|&m| free_of(m)).count()).collect();
+        let columns: Vec<usize> = (0..dofs.n_dofs()).filter(|&dof| free[dof] != FIXED).collect();
         let mut col_ptr = Vec::with_capacity(columns.len() + 1);
         col_ptr.push(0);
-        for column in &columns {
-            col_ptr.push(col_ptr.last().unwrap() + column.len());
+        for &dof in &columns {
+            col_ptr.push(col_ptr.last().unwrap() + length[dof / 2]);
         }
-        let row_idx = columns.concat();
+        let mut row_idx = vec![0; *col_ptr.last().unwrap()];
+        let mut slices = Vec::with_capacity(columns.len());
+        let mut rest = row_idx.as_mut_slice();
+        for (&dof, window) in columns.iter().zip(col_ptr.windows(2)) {
+            let (column, tail) = rest.split_at_mut(window[1] - window[0]);
+            slices.push((dof, column));
+            rest = tail;
+        }
+        slices.into_par_iter().for_each(|(dof, column)| {
+            for (r, m) in column.iter_mut().zip(neighbours[dof / 2].iter().flat_map(|&m| free_of(m))) {
+                *r = m;
+            }
+        });
         let n = dofs.n_free;
         SparsePattern { symbolic: SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx) }
     }
@@ -160,7 +168,8 @@ impl LinearSystem {
     }
 
     /// Adds Σ_cells of the local contributions. `dofs_of(c, out)` writes the global dofs of
-    /// cell c; `kernel(c, local)` fills `local.matrix` and `local.load` for those dofs.
+    /// cell c in node pairs (x, y), as [`vector_dofs`]; `kernel(c, local)` fills
+    /// `local.matrix` and `local.load` for those dofs.
     /// Constrained columns move to the right-hand side: b_i −= K_ij g_j.
     pub fn assemble<D, K>(
         &mut self,
@@ -175,26 +184,24 @@ impl LinearSystem {
         K: Fn(usize, &mut Local) + Sync,
     {
         let ranges = column_ranges(pattern.n(), 4 * rayon::current_num_threads());
+        let cells = cells_of_ranges(map, &ranges, n_cells, &dofs_of);
         let col_ptr = pattern.symbolic.col_ptr();
         let mut values_rest = self.values.as_mut_slice();
         let mut rhs_rest = self.rhs.as_mut_slice();
         let mut tasks = Vec::with_capacity(ranges.len());
-        for &(c0, c1) in &ranges {
+        for (&(c0, c1), cells) in ranges.iter().zip(&cells) {
             let (v, vr) = values_rest.split_at_mut(col_ptr[c1] - col_ptr[c0]);
             let (b, br) = rhs_rest.split_at_mut(c1 - c0);
-            tasks.push(((c0, c1), v, b));
+            tasks.push(((c0, c1), cells, v, b));
             (values_rest, rhs_rest) = (vr, br);
         }
-        tasks.into_par_iter().for_each(|((c0, c1), values, rhs)| {
+        tasks.into_par_iter().for_each(|((c0, c1), cells, values, rhs)| {
             let offset = col_ptr[c0];
             let mut local = Local::new(n_local);
-            for c in 0..n_cells {
+            for &c in cells {
                 dofs_of(c, &mut local.dofs);
-                let touches = local.dofs.iter().any(|&g| (c0..c1).contains(&map.free[g]));
-                if touches {
-                    kernel(c, &mut local);
-                    scatter(pattern, map, &local, (c0, c1), offset, values, rhs);
-                }
+                kernel(c, &mut local);
+                scatter(pattern, map, &local, (c0, c1), offset, values, rhs);
             }
         });
     }
@@ -209,7 +216,9 @@ impl LinearSystem {
     }
 }
 
-/// Adds the entries of `local` whose column (matrix) or row (load) lies in `range`.
+/// Adds the entries of `local` whose column (matrix) or row (load) lies in `range`. Local
+/// dofs come in node pairs (x, y): when both rows of node i are free, rows r and r + 1 are
+/// adjacent in every column, so one search finds the pair.
 fn scatter(
     pattern: &SparsePattern,
     map: &DofMap,
@@ -226,14 +235,50 @@ fn scatter(
             continue;
         }
         rhs[col - range.0] += local.load[j];
-        for (i, &gi) in local.dofs.iter().enumerate() {
-            match map.free[gi] {
-                // symmetric pattern: row `col` collects −K_{col,i} g_i
-                FIXED => rhs[col - range.0] -= local.matrix[j * n + i] * map.fixed_value[gi],
-                row => values[pattern.position(row, col) - offset] += local.matrix[i * n + j],
+        debug_assert!(n.is_multiple_of(2), "local dofs come in node pairs");
+        for (i, pair) in local.dofs.chunks_exact(2).enumerate() {
+            let (ix, iy) = (2 * i, 2 * i + 1);
+            match [map.free[pair[0]], map.free[pair[1]]] {
+                [rx, ry] if rx != FIXED && ry == rx + 1 => {
+                    let p = pattern.position(rx, col) - offset;
+                    values[p] += local.matrix[ix * n + j];
+                    values[p + 1] += local.matrix[iy * n + j];
+                }
+                rows => {
+                    for (row, (&g, i)) in rows.into_iter().zip(pair.iter().zip([ix, iy])) {
+                        match row {
+                            // symmetric pattern: row `col` collects −K_{col,i} g_i
+                            FIXED => rhs[col - range.0] -= local.matrix[j * n + i] * map.fixed_value[g],
+                            row => values[pattern.position(row, col) - offset] += local.matrix[i * n + j],
+                        }
+                    }
+                }
             }
         }
     }
+}
+
+/// The cells that touch each of the contiguous `ranges` of free dofs, in increasing order.
+fn cells_of_ranges(
+    map: &DofMap,
+    ranges: &[(usize, usize)],
+    n_cells: usize,
+    dofs_of: impl Fn(usize, &mut Vec<usize>),
+) -> Vec<Vec<usize>> {
+    let mut cells = vec![Vec::new(); ranges.len()];
+    let range_of = |dof: usize| ranges.partition_point(|&(_, end)| end <= dof);
+    let (mut dofs, mut touched) = (Vec::new(), Vec::new());
+    for c in 0..n_cells {
+        dofs_of(c, &mut dofs);
+        touched.clear();
+        touched.extend(dofs.iter().map(|&g| map.free[g]).filter(|&k| k != FIXED).map(range_of));
+        touched.sort_unstable();
+        touched.dedup();
+        for &r in &touched {
+            cells[r].push(c);
+        }
+    }
+    cells
 }
 
 /// Cuts 0..n into at most `parts` contiguous ranges.
