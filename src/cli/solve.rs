@@ -4,8 +4,7 @@
 use super::common::{stem, validate_overrides, Input, Output};
 use super::output::{write_results, EstimateSummary, Results, Summary, Units, UNITS};
 use crate::contact::{
-    strength_reduction, ContactError, ContactJoint, Continuation, Solution, Stage, StrengthReduction,
-    STRENGTH_TOLERANCE,
+    reduce_strength, ContactError, ContactJoint, Continuation, Solution, Stage, StrengthReduction, STRENGTH_TOLERANCE,
 };
 use crate::elasticity::stress::cell_mean_stress;
 use crate::elasticity::{Discretisation, Problem};
@@ -124,10 +123,11 @@ pub fn run(args: Args) -> Result<()> {
             _ => e,
         })?;
     seconds.solve = t;
-    let strength = match joint.as_ref().filter(|_| args.strength_reduction) {
-        Some(joint) => Some(progress.stage(
+    // strength reduction from the solution at k = 1 just found
+    let strength = match joint.as_ref().zip(solution.contact()).filter(|_| args.strength_reduction) {
+        Some((joint, start)) => Some(progress.stage(
             "strength",
-            || Ok(strength_reduction(&problem, &disc, joint, &continuation, STRENGTH_TOLERANCE)?),
+            || Ok(reduce_strength(&problem, &disc, joint, start, &continuation.newton, STRENGTH_TOLERANCE)),
             |s: &StrengthReduction| format!("FS_SR in [{:.4}, {:.4}] after {} solves", s.held, s.failed, s.solves),
         )?),
         None => None,
