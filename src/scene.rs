@@ -716,18 +716,6 @@ impl Scene {
                 self.contact.direction.unwrap_or_default()
             )));
         }
-        if self.uplift.is_some() && joint.is_none() {
-            return Err(self.invalid(
-                "[uplift] needs a joint: give a boundary curve role = \"contact\" for the pressure to act on".into(),
-            ));
-        }
-        if joint.is_none() && self.contact.law().has_friction() {
-            return Err(self.invalid(format!(
-                "[contact] has a joint law ({:?}) but no curve has role contact and there is no [joints] table, so \
-                 every interface is bonded; give the joint's curve a [joints.<curve>] table with the law",
-                self.contact.law()
-            )));
-        }
         if let (Some(j), Some(section)) = (joint.as_mut(), &self.uplift) {
             j.uplift = Some(self.uplift_diagram(&problem, &facets, section)?);
         }
