@@ -7,7 +7,9 @@ use super::adapt::run_sequence;
 use super::common::{output_dir, stem, validate_overrides, Input, Output, Progress};
 use super::output::{Units, UNITS};
 use crate::adapt::Step;
-use crate::contact::{reduce_strength, ContactJoint, ContactSolution, JointLine, Resultant, StrengthReduction, STRENGTH_TOLERANCE};
+use crate::contact::{
+    reduce_strength, ContactJoint, ContactSolution, JointLine, Resultant, StrengthReduction, STRENGTH_TOLERANCE,
+};
 use crate::elasticity::{Discretisation, Problem};
 use crate::io::atomic::write_output;
 use crate::io::plot::{write_linear_figure, Figure, Series};

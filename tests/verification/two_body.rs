@@ -142,8 +142,8 @@ fn two_body_uniform_uplift_drops_the_contact_pressure_by_p_u() {
             let disc = problem.discretise();
             let mut contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 0.0 });
             let x0 = vec![0.0; disc.dofs.n_free];
-            let (x, _) = continuation(&mut contact, 0.0, 1e-3, x0, &NewtonOptions::default())
-                .unwrap_or_else(|e| panic!("{e}"));
+            let (x, _) =
+                continuation(&mut contact, 0.0, 1e-3, x0, &NewtonOptions::default()).unwrap_or_else(|e| panic!("{e}"));
             let u = problem.displacement(&disc, &x);
             let error = (problem.mesh.points.iter().zip(&u))
                 .map(|(x, v)| v[0].abs().max((v[1] - exact(*x)).abs()))
