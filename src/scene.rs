@@ -688,7 +688,9 @@ impl Scene {
         };
         if self.uplift.is_some() && joint.is_none() {
             return Err(self.invalid(
-                "[uplift] needs a joint: give a boundary curve role = \"contact\" for the pressure to act on".into(),
+                "[uplift] needs a joint: give a boundary curve role = \"contact\" (a rigid foundation) or a \
+                 [joints.<curve>] table (a meshed rock block) for the pressure to act on"
+                    .into(),
             ));
         }
         if joint.is_none() && self.contact.law().has_friction() {

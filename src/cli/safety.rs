@@ -289,7 +289,8 @@ fn joint_line(scene: &Scene, input: &Input) -> Result<JointLine> {
     let (problem, joint) = scene.problem(input.mesh(scene)?)?;
     anyhow::ensure!(
         joint.is_some(),
-        "{}: the safety analysis needs a joint: give the dam–rock curve role = \"contact\"",
+        "{}: the safety analysis needs a joint: give the dam–rock curve role = \"contact\" (a rigid \
+         foundation) or a [joints.<curve>] table (a meshed rock block)",
         scene.source.display()
     );
     scene.joint_line(&problem).with_context(|| {

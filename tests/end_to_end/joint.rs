@@ -504,7 +504,8 @@ fn safety_runs_every_load_combination() {
 }
 
 // `damfem safety` on the dam standing on its rock block with a frictional joint and uplift
-// (Scene B as the real case). Source: geo/scene_b_joint.toml (c = 0, horizontal joint between
+// (Scene B as the real case). Source: geo/scene_b_joint.toml without its cohesion (c = 0,
+// horizontal joint between
 // the two meshed bodies, the dam held by the joint alone: its rigid motions are test functions,
 // so N = W − U and T = the reservoir's thrust on the dam ρ_w g 45²/2; FS_SR = F N/|T| exactly,
 // the crack being closed); docs/method.md §1.9–§1.10. Goal: safety.json gives the joint line
@@ -516,11 +517,16 @@ fn safety_runs_every_load_combination() {
 #[test]
 fn safety_reports_the_dam_on_its_rock_with_a_frictional_joint() {
     let tmp = TempDir::new("safety-two-body");
-    let scene = repo("geo/scene_b_joint.toml");
-    let out = safety_coarse(&scene, &tmp.0, &["--order", "1", "--max-steps", "2"]);
+    // the scene without its cohesion, for the exact FS_SR
+    let text = std::fs::read_to_string(repo("geo/scene_b_joint.toml")).unwrap();
+    let geometry = format!("geometry = {:?}", repo("geo/scene_b_joint.geo").display().to_string());
+    let scene = tmp.join("scene.toml");
+    let coulomb = text.replace("geometry = \"scene_b_joint.geo\"", &geometry).replace("cohesion = 1.0e5\n", "");
+    std::fs::write(&scene, coulomb).unwrap();
+    let out = safety_coarse(&scene, &tmp.join("out"), &["--order", "1", "--max-steps", "2"]);
     assert_ok(&out);
     let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(tmp.join("safety.json")).unwrap()).unwrap();
+        serde_json::from_str(&std::fs::read_to_string(tmp.join("out/safety.json")).unwrap()).unwrap();
     let number = |v: &serde_json::Value| v.as_f64().unwrap_or_else(|| panic!("{report}"));
     let line = &report["joint_line"];
     assert_eq!((number(&line["heel"][0]), number(&line["heel"][1])), (0.0, 0.0), "{line}");
@@ -545,7 +551,7 @@ fn safety_reports_the_dam_on_its_rock_with_a_frictional_joint() {
     assert!((fs_le - 0.8391 * n / t.abs()).abs() <= 1e-6 * fs_le, "FS_LE {fs_le}");
     let base = &report["base_stresses"];
     assert!(number(&base["heel"]) < 0.0 && number(&base["toe"]) < 0.0, "{base}");
-    let csv = std::fs::read_to_string(tmp.join("joint.csv")).unwrap();
+    let csv = std::fs::read_to_string(tmp.join("out/joint.csv")).unwrap();
     let s: Vec<f64> = csv.lines().skip(1).map(|l| l.split(',').nth(2).unwrap().parse().unwrap()).collect();
     assert!(s.windows(2).all(|w| w[0] <= w[1]) && s[0] >= 0.0 && *s.last().unwrap() <= 40.0, "{csv}");
 }
