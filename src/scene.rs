@@ -689,7 +689,9 @@ impl Scene {
         };
         if self.uplift.is_some() && joint.is_none() {
             return Err(self.invalid(
-                "[uplift] needs a joint: give a boundary curve role = \"contact\" for the pressure to act on".into(),
+                "[uplift] needs a joint: give a boundary curve role = \"contact\" (a rigid foundation) or a \
+                 [joints.<curve>] table (a meshed rock block) for the pressure to act on"
+                    .into(),
             ));
         }
         if joint.is_none() && self.contact.law().has_friction() {
@@ -752,11 +754,16 @@ impl Model for Scene {
 }
 
 impl Scene {
-    /// The straight joint of the contact curves on `problem`'s mesh from its heel to its toe
-    /// (docs/method.md §1.9); None without contact curves, on a joint that is not straight,
-    /// or when nothing shows its upstream end (no `[uplift] heel`, no hydrostatic curve).
+    /// The straight joint of the contact curves (or of the `[joints]` curves, on their slave
+    /// side) on `problem`'s mesh from its heel to its toe (docs/method.md §1.9); None without
+    /// them, on a joint that is not straight, or when nothing shows its upstream end (no
+    /// `[uplift] heel`, no hydrostatic curve).
     pub fn joint_line(&self, problem: &Problem) -> Option<JointLine> {
-        let tags = self.contact_tags(&problem.mesh).ok()?;
+        let tags = if self.joints.is_empty() {
+            self.contact_tags(&problem.mesh).ok()?
+        } else {
+            self.joint_tags(&problem.mesh).ok()?
+        };
         let facets = contact_facets(&problem.mesh, &Topology::new(&problem.mesh), &tags);
         self.straight_joint(problem, &facets).ok()
     }

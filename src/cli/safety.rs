@@ -7,11 +7,12 @@ use super::adapt::run_sequence;
 use super::common::{output_dir, stem, validate_overrides, Input, Output, Progress};
 use super::output::{Units, UNITS};
 use crate::adapt::Step;
-use crate::contact::{reduce_strength, ContactSolution, JointLine, Resultant, StrengthReduction, STRENGTH_TOLERANCE};
+use crate::contact::{
+    reduce_strength, ContactJoint, ContactSolution, JointLine, Resultant, StrengthReduction, STRENGTH_TOLERANCE,
+};
 use crate::elasticity::{Discretisation, Problem};
 use crate::io::atomic::write_output;
 use crate::io::plot::{write_linear_figure, Figure, Series};
-use crate::mesh::Mesh;
 use crate::scene::Scene;
 use crate::solve::NewtonOptions;
 use anyhow::{Context, Result};
@@ -192,7 +193,8 @@ fn analyse(
     let tol_relative = scene.adapt.tol_relative.unwrap_or(TOL_RELATIVE);
     let name = stem(&scene.source);
     let mut rows = Vec::new();
-    let mut last: Option<(Mesh, ContactSolution)> = None;
+    // the last step's problem (its joints already split) and joint, and the solution
+    let mut last: Option<(Problem, ContactJoint, ContactSolution)> = None;
     let mut keep = |step: &Step| -> Result<()> {
         let c = step.contact.context("the step has no contact solution")?;
         let r = step.record;
@@ -204,14 +206,13 @@ fn analyse(
             resultant_position: c.resultant(&line).map(|f| f.position),
             sliding_safety_factor: c.sliding_safety_factor(),
         });
-        last = Some((step.problem.mesh.clone(), c.clone()));
+        let joint = step.joint.context("the step has no joint")?;
+        last = Some((step.problem.clone(), joint.clone(), c.clone()));
         Ok(())
     };
     let (history, _) = run_sequence(scene, &args.input, dir, &name, "", &mut keep, false)?;
-    let (mesh, solution) = last.context("the adaptive run made no step")?;
+    let (problem, joint, solution) = last.context("the adaptive run made no step")?;
     let record = history.last().context("the adaptive run made no step")?;
-    let (problem, joint) = scene.problem(mesh)?;
-    let joint = joint.context("the scene has no joint")?;
     let disc = problem.discretise();
     let (strength, note) = match joint.law.has_friction() {
         false => (None, Some(FRICTIONLESS.to_string())),
@@ -288,7 +289,8 @@ fn joint_line(scene: &Scene, input: &Input) -> Result<JointLine> {
     let (problem, joint) = scene.problem(input.mesh(scene)?)?;
     anyhow::ensure!(
         joint.is_some(),
-        "{}: the safety analysis needs a joint: give the dam–rock curve role = \"contact\"",
+        "{}: the safety analysis needs a joint: give the dam–rock curve role = \"contact\" (a rigid \
+         foundation) or a [joints.<curve>] table (a meshed rock block)",
         scene.source.display()
     );
     scene.joint_line(&problem).with_context(|| {

@@ -56,7 +56,7 @@ impl JointSection {
 impl Scene {
     /// The `[joints]` checks that need no mesh: each table's values; one law and one set of
     /// Nitsche parameters for every joint; no joint curve with a `[boundary]` role; no rigid
-    /// contact or uplift beside joints (not supported yet).
+    /// contact beside joints (not supported yet).
     pub(super) fn check_joints(&self) -> Result<(), SceneError> {
         for (name, joint) in &self.joints {
             joint.check(name).map_err(|message| self.invalid(message))?;
@@ -82,9 +82,6 @@ impl Scene {
                 "boundary '{name}' has role contact beside [joints]: a rigid foundation and joints between meshed \
                  bodies in one scene are not supported yet"
             )));
-        }
-        if self.uplift.is_some() {
-            return Err(self.invalid("[uplift] on a joint between two meshed bodies is not supported yet".into()));
         }
         let (c, d) = (&self.contact, super::ContactSection::default());
         let rigid_keys = [
@@ -132,6 +129,11 @@ impl Scene {
             interfaces.push(interface::split(mesh, curve, slave).map_err(|m| self.invalid(m))?);
         }
         Ok(interfaces)
+    }
+
+    /// The physical tags of the joint curves on `mesh` (their slave sides once split).
+    pub(super) fn joint_tags(&self, mesh: &Mesh) -> Result<Vec<i32>, SceneError> {
+        self.joints.keys().map(|name| self.group_tag(mesh, 1, name, "joint")).collect()
     }
 
     /// The law of the scene's joints, or of `[contact]` without joints.

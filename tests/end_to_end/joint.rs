@@ -502,3 +502,56 @@ fn safety_runs_every_load_combination() {
     assert!(fs(&blocked) < fs(&usual), "FS_LE {} against {}", fs(&blocked), fs(&usual));
     assert!(std::fs::read_to_string(tmp.join("out/report.md")).unwrap().contains("[earthquake](earthquake/report.md)"));
 }
+
+// `damfem safety` on the dam standing on its rock block with a frictional joint and uplift
+// (Scene B as the real case). Source: geo/scene_b_joint.toml without its cohesion (c = 0,
+// horizontal joint between
+// the two meshed bodies, the dam held by the joint alone: its rigid motions are test functions,
+// so N = W − U and T = the reservoir's thrust on the dam ρ_w g 45²/2; FS_SR = F N/|T| exactly,
+// the crack being closed); docs/method.md §1.9–§1.10. Goal: safety.json gives the joint line
+// from the heel (0, 0) to the toe (40, 0), N + U = W to 10⁻⁵, |T| = the thrust to 10⁻³ (the
+// inexact Newton of the adaptive loop stops once its linearisation error is below the
+// discretisation error), U from the drained diagram, FS_SR's bracket around F (W − U)/thrust
+// within 0.5 %, FS_LE = F N/|T|, compressive heel and toe means; joint.csv runs from the heel
+// to the toe. Parameters: P1, mesh sizes × 2, two meshes.
+#[test]
+fn safety_reports_the_dam_on_its_rock_with_a_frictional_joint() {
+    let tmp = TempDir::new("safety-two-body");
+    // the scene without its cohesion, for the exact FS_SR
+    let text = std::fs::read_to_string(repo("geo/scene_b_joint.toml")).unwrap();
+    let geometry = format!("geometry = {:?}", repo("geo/scene_b_joint.geo").display().to_string());
+    let scene = tmp.join("scene.toml");
+    let coulomb = text.replace("geometry = \"scene_b_joint.geo\"", &geometry).replace("cohesion = 1.0e5\n", "");
+    std::fs::write(&scene, coulomb).unwrap();
+    let out = safety_coarse(&scene, &tmp.join("out"), &["--order", "1", "--max-steps", "2"]);
+    assert_ok(&out);
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(tmp.join("out/safety.json")).unwrap()).unwrap();
+    let number = |v: &serde_json::Value| v.as_f64().unwrap_or_else(|| panic!("{report}"));
+    let line = &report["joint_line"];
+    assert_eq!((number(&line["heel"][0]), number(&line["heel"][1])), (0.0, 0.0), "{line}");
+    assert_eq!((number(&line["along"][0]), number(&line["length"])), (1.0, 40.0), "{line}");
+    let r = &report["resultant"];
+    let (n, t, u) = (number(&r["normal_force"]), number(&r["tangential_force"]), number(&r["uplift_force"]));
+    let (weight, _) = scene_a_weight();
+    let thrust = 0.5 * 1000.0 * 9.81 * 45.0 * 45.0;
+    assert!((n + u - weight).abs() <= 1e-5 * weight, "N + U = {} against W = {weight}", n + u);
+    assert!((t.abs() - thrust).abs() <= 1e-3 * thrust, "|T| = {} against the thrust {thrust}", t.abs());
+    // the drained diagram without a crack: H_u = ρ_w g 45 to the drains at 5 m, then to 0 at the toe
+    let h_u = 1000.0 * 9.81 * 45.0;
+    let at_drains = (1.0 - 0.6667) * h_u * 35.0 / 40.0;
+    let (_, uplift) = linear_moments(&[(0.0, h_u), (5.0, at_drains), (40.0, 0.0)]);
+    assert_eq!(number(&report["crack_length"]), 0.0, "{report}");
+    assert!((u - uplift).abs() <= 1e-9 * uplift, "U = {u} against {uplift}");
+    let exact = 0.8391 * (weight - uplift) / thrust;
+    let sr = &report["strength_reduction"];
+    let (held, failed) = (number(&sr["held"]), number(&sr["failed"]));
+    assert!(held <= exact && failed >= exact && failed <= 1.005 * held, "{sr} against {exact}");
+    let fs_le = number(&report["sliding_safety_factor"]);
+    assert!((fs_le - 0.8391 * n / t.abs()).abs() <= 1e-6 * fs_le, "FS_LE {fs_le}");
+    let base = &report["base_stresses"];
+    assert!(number(&base["heel"]) < 0.0 && number(&base["toe"]) < 0.0, "{base}");
+    let csv = std::fs::read_to_string(tmp.join("out/joint.csv")).unwrap();
+    let s: Vec<f64> = csv.lines().skip(1).map(|l| l.split(',').nth(2).unwrap().parse().unwrap()).collect();
+    assert!(s.windows(2).all(|w| w[0] <= w[1]) && s[0] >= 0.0 && *s.last().unwrap() <= 40.0, "{csv}");
+}

@@ -6,7 +6,7 @@ use crate::common;
 
 use damfem::contact::nitsche::NitscheParameters;
 use damfem::contact::projection::Smoothing;
-use damfem::contact::{continuation, ContactJoint, ContactProblem, JointLaw};
+use damfem::contact::{continuation, ContactJoint, ContactProblem, JointLaw, JointLine, Uplift};
 use damfem::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction, VectorFn};
 use damfem::fem::norms::errors;
 use damfem::mesh::structured::{rectangle, two_blocks, BOTTOM, JOINT, JOINT_LOWER, LEFT, LOWER, RIGHT, TOP};
@@ -90,6 +90,71 @@ fn two_body_patch_test_is_exact_on_matching_and_non_matching_sides() {
                 );
                 assert!(error < 1e-12 * b / 1e-2, "P{order} {nx_lower}|{nx_upper} θ = {theta}: error {error:.3e}");
             }
+        }
+    }
+}
+
+/// Uniform uplift across a joint between two bodies. Source: docs/method.md §1.8 and §1.10 (the
+/// pore pressure acts on the effective normal stress on both sides of the joint). Goal: the
+/// pressed blocks of the patch test with a uniform p_u in the joint keep the same displacement
+/// (the total traction −p is set by the data), and the contact pressure of every face drops by
+/// exactly p_u, to round-off, P1 and P2, on matching and non-matching sides.
+/// Parameters: the data of the patch test; p_u = 0.4 p, no drains, the crack's pressure
+/// ignored; θ = 0.
+#[test]
+fn two_body_uniform_uplift_drops_the_contact_pressure_by_p_u() {
+    let b = 1e-2;
+    let (lower, upper) =
+        (Material { young: 3.0, poisson: 0.3, density: 0.0 }, Material { young: 1.0, poisson: 0.2, density: 0.0 });
+    let ((l2, mu2), (l1, mu1)) = (lower.lame(), upper.lame());
+    let (m2, m1) = (l2 + 2.0 * mu2, l1 + 2.0 * mu1);
+    let p = b / (0.5 / m2 + 0.5 / m1);
+    let p_u = 0.4 * p;
+    let (e2, e1) = (-p / m2, -p / m1);
+    let exact = move |x: [f64; 2]| if x[1] <= 0.5 { e2 * x[1] } else { 0.5 * e2 + e1 * (x[1] - 0.5) };
+    let sigma_xx = move |y: f64| if y < 0.5 { l2 * e2 } else { l1 * e1 };
+    let side = |sign: f64| -> VectorFn { Arc::new(move |x: [f64; 2]| [sign * sigma_xx(x[1]), 0.0]) };
+    let uplift = Uplift {
+        line: JointLine::new([0.0, 0.5], [1.0, 0.5]),
+        upstream: p_u,
+        downstream: p_u,
+        drains: None,
+        crack_filled: false,
+        crack: 0.0,
+    };
+    for order in [1, 2] {
+        for (nx_lower, nx_upper) in [(4, 4), (3, 5)] {
+            let mesh = two_blocks(nx_lower, nx_upper, 2, 0.5, order);
+            let problem = Problem {
+                materials: materials(&mesh, lower, upper),
+                dirichlet: vec![
+                    Dirichlet { tag: BOTTOM, fix: [true; 2], value: Arc::new(|_| [0.0; 2]) },
+                    Dirichlet { tag: TOP, fix: [true; 2], value: Arc::new(move |_| [0.0, -b]) },
+                ],
+                neumann: vec![
+                    Neumann { tag: LEFT, traction: Traction::Field(side(-1.0)) },
+                    Neumann { tag: RIGHT, traction: Traction::Field(side(1.0)) },
+                ],
+                body_force: BodyForce::None,
+                mesh,
+            };
+            let joint = ContactJoint { uplift: Some(uplift.clone()), ..joint(0.0) };
+            let disc = problem.discretise();
+            let mut contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 0.0 });
+            let x0 = vec![0.0; disc.dofs.n_free];
+            let (x, _) =
+                continuation(&mut contact, 0.0, 1e-3, x0, &NewtonOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+            let u = problem.displacement(&disc, &x);
+            let error = (problem.mesh.points.iter().zip(&u))
+                .map(|(x, v)| v[0].abs().max((v[1] - exact(*x)).abs()))
+                .fold(0.0, f64::max);
+            let drop = contact.face_states(&x).iter().map(|f| (f.pressure - (p - p_u)).abs()).fold(0.0, f64::max);
+            println!(
+                "P{order}, {nx_lower} | {nx_upper} cells along the joint: max nodal error {error:.2e}, \
+                 max |p_c − (p − p_u)| {drop:.2e} (p = {p:.4e})"
+            );
+            assert!(error < 1e-12, "P{order} {nx_lower}|{nx_upper}: error {error:.3e}");
+            assert!(drop < 1e-12 * p / 1e-2, "P{order} {nx_lower}|{nx_upper}: p_c off by {drop:.3e}");
         }
     }
 }
