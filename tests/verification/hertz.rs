@@ -49,7 +49,7 @@ const POISSON: f64 = 0.3;
 const PUSH: f64 = 0.05;
 
 /// A pressure sample: (x, p, quadrature weight × length).
-type Sample = (f64, f64, f64);
+pub(crate) type Sample = (f64, f64, f64);
 
 /// What one Hertz solve gives.
 struct HertzRun {
@@ -77,7 +77,7 @@ fn hertz(force: f64) -> (f64, f64) {
 }
 
 /// The half-width from the moments of the profile: ∫p x² / ∫p = b²/4 for a Hertz profile.
-fn moment_half_width(samples: &[Sample]) -> f64 {
+pub(crate) fn moment_half_width(samples: &[Sample]) -> f64 {
     let m0: f64 = samples.iter().map(|&(_, p, w)| p * w).sum();
     let m2: f64 = samples.iter().map(|&(x, p, w)| p * x * x * w).sum();
     2.0 * (m2 / m0).sqrt()
@@ -85,7 +85,7 @@ fn moment_half_width(samples: &[Sample]) -> f64 {
 
 /// Weighted least-squares fit of p = p₀ √(1 − x²/b²)₊: (p₀, b). For fixed b the best p₀ is
 /// explicit; b minimises the misfit over [b_lo, b_hi] by a scan and golden sections.
-fn fit_profile(samples: &[Sample], b_lo: f64, b_hi: f64) -> (f64, f64) {
+pub(crate) fn fit_profile(samples: &[Sample], b_lo: f64, b_hi: f64) -> (f64, f64) {
     let shape = |x: f64, b: f64| (1.0 - x * x / (b * b)).max(0.0).sqrt();
     let best_p0 = |b: f64| {
         let num: f64 = samples.iter().map(|&(x, p, w)| w * p * shape(x, b)).sum();
