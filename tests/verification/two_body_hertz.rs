@@ -27,10 +27,12 @@
 use super::hertz::{fit_profile, moment_half_width, Sample};
 use damfem::contact::nitsche::NitscheParameters;
 use damfem::contact::projection::{negative_part, Smoothing};
-use damfem::contact::{solve_by_continuation, ContactJoint, Continuation};
+use damfem::contact::{solve_by_continuation, ContactJoint, Continuation, Linearisation};
 use damfem::elasticity::{BodyForce, Dirichlet, Material, Problem};
+use damfem::estimate::estimate_iterate;
 use damfem::io::gmsh::{mesh_geo, MeshOptions};
 use damfem::solve::NewtonOptions;
+use damfem::verify::dual_norm::{sharp_reference, REFERENCE_AGREEMENT, REFERENCE_MAX_UNKNOWNS};
 use std::f64::consts::PI;
 use std::path::Path;
 use std::sync::Arc;
@@ -139,4 +141,33 @@ fn top_reaction(problem: &Problem, u_full: &[f64]) -> f64 {
         .flat_map(|f| problem.mesh.facet(f).iter().map(|&n| 2 * n + 1))
         .collect();
     -top_y.iter().map(|&i| ku[i]).sum::<f64>()
+}
+
+/// The estimate across the Hertz joint. Source: docs/method.md §5.6.
+/// Goal: at P2 the reconstruction is equilibrated on both bodies to round-off and η_tot bounds
+/// the sharp reference (the dual norm of the residual by its Riesz representative on a mesh
+/// refined where it concentrates); I_eff is printed.
+/// Parameters: the module's header.
+#[test]
+fn two_body_hertz_estimate_bounds_the_residual() {
+    let (problem, joint) = disk_on_block();
+    let disc = problem.discretise();
+    let scale = problem.stress_scale(&disc.topology);
+    let settings = Continuation { delta: 1e-6 * scale, delta_start: 1e-2 * scale, newton: NewtonOptions::default() };
+    let solution = solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("{e}"));
+    let state = Linearisation::new(&problem, &disc, &solution.nitsche, solution.smoothing, &solution.x_prev);
+    let estimate = estimate_iterate(&problem, &disc, &solution.x, Some(&state)).unwrap_or_else(|e| panic!("{e}"));
+    let eq = estimate.equilibration;
+    let worst = eq.divergence.max(eq.normal_continuity).max(eq.contact).max(eq.compatibility);
+    let u = problem.displacement(&disc, &solution.x);
+    let sharp = sharp_reference(&problem, &u, Some(&joint), REFERENCE_AGREEMENT, REFERENCE_MAX_UNKNOWNS)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let (eta, reference) = (estimate.estimators.global().tot, sharp.norm());
+    println!(
+        "worst equilibration {worst:.1e}; η_tot {eta:.4e}, reference {reference:.4e} (converged {}), I_eff {:.3}",
+        sharp.converged,
+        eta / reference
+    );
+    assert!(worst < 1e-10, "equilibration {worst:.2e}");
+    assert!(eta >= reference, "η_tot {eta:.4e} < reference {reference:.4e}");
 }
