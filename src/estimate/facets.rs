@@ -6,7 +6,7 @@
 //! is a piece of a slave facet that faces one master cell: the slave facet carries t on each of
 //! its pieces, and the master facet F_m carries, at the point y(x) that faces x, the opposite
 //! traction t^m(y) = −t(x) dx/dy, so that ∫_{F_m} t^m·v dy = −∫ t·v(y(x)) dx, the master part
-//! of the jump term ∫ t·[v]. Parts of a slave facet that face no master carry nothing. The
+//! of the jump term ∫ t·\[v\]. Parts of a slave facet that face no master carry nothing. The
 //! reconstruction, the equilibration checks and the estimators see only facets and their
 //! samples, so one body and two bodies take the same path.
 
