@@ -167,3 +167,44 @@ fn dam_on_rock_is_estimated_across_its_joint() {
     assert!(i_eff.iter().all(|&i| i >= 1.0), "I_eff {i_eff:?}");
     assert!(eta.windows(2).all(|w| w[1] < w[0]), "η_tot {eta:?}");
 }
+
+// A lift joint inside the dam. Source: geo/dam_lift_joint.toml (Scene A's dam cut at
+// y = 20 m, a Mohr–Coulomb joint between the two blocks, reservoir at 65 m, base fixed).
+// Goal: `damfem solve` and `damfem adapt` run on it; the joint carries the upper block alone,
+// so N is its weight ρ g |A| (A the trapezoid 0 ≤ x ≤ 26 − 0.7 (y − 20), 20 ≤ y ≤ 50) and −T
+// the water's thrust on its upstream face, ρ_w g ∫₂₀⁵⁰ (65 − y) dy, both to 10⁻⁶; the joint
+// opens at its upstream end (the contact zone ends at the downstream end x = 26 m and starts
+// inside the joint), and η_tot falls along the adaptive run.
+// Parameters: P2, gmsh's sizes × 2; `adapt` three steps.
+#[test]
+fn lift_joint_opens_at_its_upstream_end() {
+    let tmp = TempDir::new("lift-joint");
+    let scene = repo("geo/dam_lift_joint.toml");
+    let solve_dir = tmp.join("solve");
+    let out =
+        damfem(&["solve", "-q", scene.to_str().unwrap(), "--size-factor", "2", "-o", solve_dir.to_str().unwrap()]);
+    assert_ok(&out);
+    let contact = check_summary(&solve_dir)["contact"].clone();
+    let (n, t) = (contact["normal_force"].as_f64().unwrap(), contact["tangential_force"].as_f64().unwrap());
+    let weight = 2400.0 * 9.81 * 0.5 * (26.0 + 5.0) * 30.0;
+    let thrust = 1000.0 * 9.81 * (65.0 * 30.0 - 0.5 * (50.0f64.powi(2) - 20.0f64.powi(2)));
+    let extent: Vec<f64> =
+        contact["contact_extent"].as_array().unwrap().iter().map(|p| p[0].as_f64().unwrap()).collect();
+    let length = contact["contact_length"].as_f64().unwrap();
+    println!("N = {n:.6e} (weight {weight:.6e}), T = {t:.6e} (thrust {thrust:.6e}); contact {extent:?}, length {length:.4} m");
+    assert!((n - weight).abs() <= 1e-6 * weight, "N = {n}, the upper block weighs {weight}");
+    assert!((t + thrust).abs() <= 1e-6 * thrust, "T = {t}, the thrust is {thrust}");
+    assert!(extent[0] > 1.0 && (extent[1] - 26.0).abs() < 1e-9, "contact from {} to {}", extent[0], extent[1]);
+    assert!(length < 26.0 - 1.0, "contact length {length}");
+    let adapt_dir = tmp.join("adapt");
+    let args = ["--size-factor", "2", "--steps", "3", "-q", "-o", adapt_dir.to_str().unwrap()];
+    let out = damfem(&[&["adapt", scene.to_str().unwrap()], &args[..]].concat());
+    assert_ok(&out);
+    let history: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(adapt_dir.join("history.json")).unwrap()).unwrap();
+    let eta: Vec<f64> =
+        history["steps"].as_array().unwrap().iter().map(|s| s["eta"]["tot"].as_f64().unwrap()).collect();
+    println!("adapt: η_tot {eta:?}");
+    assert_eq!(eta.len(), 3);
+    assert!(eta.windows(2).all(|w| w[1] < w[0]), "η_tot {eta:?}");
+}

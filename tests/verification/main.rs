@@ -16,4 +16,5 @@ mod hertz;
 mod stability;
 mod two_body;
 mod two_body_estimate;
+mod two_body_hertz;
 mod uplift;
