@@ -387,4 +387,3 @@ fn a_very_stiff_foundation_tends_to_the_rigid_one() {
     assert!(difference[2] < 1e-3 * b, "the stiffest foundation is {:.3e} from the rigid one", difference[2]);
     assert!((rate - 1.0).abs() < 0.1, "rate {rate:.3} in 1/E2, expected 1");
 }
-
