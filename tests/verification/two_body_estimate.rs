@@ -2,57 +2,14 @@
 //! both sides to round-off, the estimators that vanish at an exact solution, and the bound
 //! against the dual norm of the residual.
 
-use damfem::contact::nitsche::NitscheParameters;
+use super::two_body::{joint, pressed_blocks};
 use damfem::contact::projection::Smoothing;
 use damfem::contact::uplift::Drains;
 use damfem::contact::{continuation, ContactJoint, ContactProblem, JointLine, Linearisation, Uplift};
-use damfem::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction, VectorFn};
+use damfem::elasticity::Problem;
 use damfem::estimate::{estimate_iterate, Estimate};
-use damfem::mesh::structured::{two_blocks, BOTTOM, JOINT, JOINT_LOWER, LEFT, LOWER, RIGHT, TOP};
 use damfem::solve::NewtonOptions;
 use damfem::verify::dual_norm::{residual_dual_norm, sharp_reference, REFERENCE_AGREEMENT, REFERENCE_MAX_UNKNOWNS};
-use std::sync::Arc;
-
-/// The joint between the blocks of [`two_blocks`], the upper block's side the slave (θ = 0).
-fn joint() -> ContactJoint {
-    ContactJoint { masters: vec![JOINT_LOWER], ..ContactJoint::frictionless(vec![JOINT], NitscheParameters::default()) }
-}
-
-/// Blocks pressed together by u = (0, −b) at the top over u = 0 at the bottom, with the
-/// lateral tractions of uniaxial strain (the two-body patch test's data, whose solution is in
-/// V_h) or, with `tilt`, the top pushed by u = (0, −b(1 + tilt x)) without lateral tractions.
-fn pressed_blocks(nx: [usize; 2], order: usize, tilt: f64) -> Problem {
-    let b = 1e-2;
-    let (lower, upper) =
-        (Material { young: 3.0, poisson: 0.3, density: 0.0 }, Material { young: 1.0, poisson: 0.2, density: 0.0 });
-    let modulus = |m: Material| {
-        let (lambda, mu) = m.lame();
-        (lambda, lambda + 2.0 * mu)
-    };
-    let ((l2, m2), (l1, m1)) = (modulus(lower), modulus(upper));
-    let p = b / (0.5 / m2 + 0.5 / m1);
-    let sigma_xx = move |y: f64| if y < 0.5 { -l2 * p / m2 } else { -l1 * p / m1 };
-    let side = |sign: f64| -> VectorFn { Arc::new(move |x: [f64; 2]| [sign * sigma_xx(x[1]), 0.0]) };
-    let mesh = two_blocks(nx[0], nx[1], 2, 0.5, order);
-    let neumann = if tilt == 0.0 {
-        vec![
-            Neumann { tag: LEFT, traction: Traction::Field(side(-1.0)) },
-            Neumann { tag: RIGHT, traction: Traction::Field(side(1.0)) },
-        ]
-    } else {
-        Vec::new()
-    };
-    Problem {
-        materials: mesh.cell_tags.iter().map(|&t| if t == LOWER { lower } else { upper }).collect(),
-        dirichlet: vec![
-            Dirichlet { tag: BOTTOM, fix: [true; 2], value: Arc::new(|_| [0.0; 2]) },
-            Dirichlet { tag: TOP, fix: [true; 2], value: Arc::new(move |x| [0.0, -b * (1.0 + tilt * x[0])]) },
-        ],
-        neumann,
-        body_force: BodyForce::None,
-        mesh,
-    }
-}
 
 /// Newton to δ = 10⁻¹² across the joint, and the estimate of the solution: the nodal
 /// displacement and the estimate.
@@ -81,8 +38,8 @@ fn solve_and_estimate(problem: &Problem, joint: &ContactJoint) -> (Vec<[f64; 2]>
 fn two_body_patch_test_estimate_vanishes() {
     for order in [1, 2] {
         for nx in [[4, 4], [3, 5]] {
-            let problem = pressed_blocks(nx, order, 0.0);
-            let joint = joint();
+            let (problem, _, _) = pressed_blocks(nx, order, 0.0);
+            let joint = joint(0.0);
             let (u, estimate) = solve_and_estimate(&problem, &joint);
             let eq = estimate.equilibration;
             let worst = eq.divergence.max(eq.normal_continuity).max(eq.contact).max(eq.compatibility);
@@ -112,8 +69,8 @@ fn two_body_patch_test_estimate_vanishes() {
 fn two_body_estimate_bounds_the_residual() {
     for order in [1, 2] {
         for nx in [[4, 4], [3, 5]] {
-            let problem = pressed_blocks(nx, order, -1.5);
-            let joint = joint();
+            let (problem, _, _) = pressed_blocks(nx, order, -1.5);
+            let joint = joint(0.0);
             let (u, estimate) = solve_and_estimate(&problem, &joint);
             let sharp = sharp_reference(&problem, &u, Some(&joint), REFERENCE_AGREEMENT, REFERENCE_MAX_UNKNOWNS)
                 .unwrap_or_else(|e| panic!("{e}"));
@@ -153,8 +110,8 @@ fn two_body_estimate_with_uplift_is_equilibrated_and_bounds_the_residual() {
     };
     for order in [1, 2] {
         for nx in [[4, 4], [3, 5]] {
-            let problem = pressed_blocks(nx, order, -1.5);
-            let joint = ContactJoint { uplift: Some(uplift.clone()), ..joint() };
+            let (problem, _, _) = pressed_blocks(nx, order, -1.5);
+            let joint = ContactJoint { uplift: Some(uplift.clone()), ..joint(0.0) };
             let (u, estimate) = solve_and_estimate(&problem, &joint);
             let eq = estimate.equilibration;
             let worst = eq.divergence.max(eq.normal_continuity).max(eq.contact).max(eq.compatibility);
