@@ -27,8 +27,8 @@
 use super::hertz::{fit_profile, moment_half_width, Sample};
 use damfem::contact::nitsche::NitscheParameters;
 use damfem::contact::projection::{negative_part, Smoothing};
-use damfem::contact::{solve_by_continuation, ContactJoint, Continuation, Linearisation};
-use damfem::elasticity::{BodyForce, Dirichlet, Material, Problem};
+use damfem::contact::{solve_by_continuation, ContactJoint, ContactSolution, Continuation, Linearisation};
+use damfem::elasticity::{BodyForce, Dirichlet, Discretisation, Material, Problem};
 use damfem::estimate::estimate_iterate;
 use damfem::io::gmsh::{mesh_geo, MeshOptions};
 use damfem::solve::NewtonOptions;
@@ -77,6 +77,17 @@ fn disk_on_block() -> (Problem, ContactJoint) {
     (problem, joint)
 }
 
+/// [`disk_on_block`] solved along the δ path down to 10⁻⁶ of its stress scale: the problem,
+/// its discretisation, the joint and the solution.
+fn solved_disk_on_block() -> (Problem, Discretisation, ContactJoint, ContactSolution) {
+    let (problem, joint) = disk_on_block();
+    let disc = problem.discretise();
+    let scale = problem.stress_scale(&disc.topology);
+    let settings = Continuation { delta: 1e-6 * scale, delta_start: 1e-2 * scale, newton: NewtonOptions::default() };
+    let solution = solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("{e}"));
+    (problem, disc, joint, solution)
+}
+
 /// Two-body Hertz. Source, geometry, parameters: the module's header.
 /// Goal: the half-width and the peak pressure of a least-squares fit of the Hertz profile to
 /// −[P_γ(u_h)]₋ (sampled with the contact quadrature, split where P_γ(u_h) = 0, on the pieces
@@ -84,11 +95,7 @@ fn disk_on_block() -> (Problem, ContactJoint) {
 /// and that force balances the reaction on the disk's top.
 #[test]
 fn two_body_hertz_half_width_and_peak_pressure() {
-    let (problem, joint) = disk_on_block();
-    let disc = problem.discretise();
-    let scale = problem.stress_scale(&disc.topology);
-    let settings = Continuation { delta: 1e-6 * scale, delta_start: 1e-2 * scale, newton: NewtonOptions::default() };
-    let solution = solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("{e}"));
+    let (problem, disc, _, solution) = solved_disk_on_block();
     let nitsche = &solution.nitsche;
     // the block's top has ν = (0, 1): the pressure pushes the block down and the disk up
     let force: f64 =
@@ -150,11 +157,7 @@ fn top_reaction(problem: &Problem, u_full: &[f64]) -> f64 {
 /// Parameters: the module's header.
 #[test]
 fn two_body_hertz_estimate_bounds_the_residual() {
-    let (problem, joint) = disk_on_block();
-    let disc = problem.discretise();
-    let scale = problem.stress_scale(&disc.topology);
-    let settings = Continuation { delta: 1e-6 * scale, delta_start: 1e-2 * scale, newton: NewtonOptions::default() };
-    let solution = solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("{e}"));
+    let (problem, disc, joint, solution) = solved_disk_on_block();
     let state = Linearisation::new(&problem, &disc, &solution.nitsche, solution.smoothing, &solution.x_prev);
     let estimate = estimate_iterate(&problem, &disc, &solution.x, Some(&state)).unwrap_or_else(|e| panic!("{e}"));
     let eq = estimate.equilibration;
