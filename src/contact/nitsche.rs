@@ -486,7 +486,7 @@ fn pieces(mesh: &Mesh, topology: &Topology, face: &ContactFace, master: &[(usize
         if hi - lo <= 1e-12 {
             continue;
         }
-        let local = |node: usize| reference_of(mesh, cell, node);
+        let local = |node: usize| lagrange::reference_vertex(mesh.cell(cell), node);
         let [rc, rd] = [local(mesh.facet(f)[0]), local(mesh.facet(f)[1])];
         let at = |s: f64| {
             let r = r0 + s * (r1 - r0);
@@ -512,12 +512,6 @@ fn pieces(mesh: &Mesh, topology: &Topology, face: &ContactFace, master: &[(usize
     pieces.into_iter().map(|(_, piece)| piece).collect()
 }
 
-/// The reference coordinates of the vertex `node` in cell `cell`.
-fn reference_of(mesh: &Mesh, cell: usize, node: usize) -> [f64; 2] {
-    let local = mesh.cell(cell)[..3].iter().position(|&v| v == node).expect("facet vertex belongs to its cell");
-    lagrange::reference_nodes(1)[local]
-}
-
 fn face(
     mesh: &Mesh,
     topology: &Topology,
@@ -526,10 +520,7 @@ fn face(
     parameters: &NitscheParameters,
 ) -> ContactFace {
     let cell = topology.facet_cell(f);
-    let vertices = &mesh.cell(cell)[..3];
-    let reference = lagrange::reference_nodes(1);
     let nodes = mesh.facet(f);
-    let local = |node: usize| vertices.iter().position(|&v| v == node).expect("face vertex belongs to its cell");
     let length = mesh.facet_length(f);
     let (lambda, mu) = materials[cell].lame();
     let normal = topology.outward_normal(mesh, f);
@@ -537,7 +528,7 @@ fn face(
         facet: f,
         cell,
         map: AffineMap::new(mesh.cell_vertices(cell)),
-        ends: [reference[local(nodes[0])], reference[local(nodes[1])]],
+        ends: [nodes[0], nodes[1]].map(|n| lagrange::reference_vertex(mesh.cell(cell), n)),
         normal,
         direction: parameters.direction.unwrap_or(normal),
         length,

@@ -360,9 +360,7 @@ impl<'a> Traces<'a> {
 /// the nodes `cell`, from the reference vertices of a and b: exact, where J⁻¹(x − x₀) loses
 /// ε |x| / h_T relative to a cell of size h_T far from the origin.
 fn reference_point(cell: &[usize], a: usize, b: usize, s: f64) -> [f64; 2] {
-    const VERTICES: [[f64; 2]; 3] = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
-    let local = |n: usize| VERTICES[cell[..3].iter().position(|&v| v == n).expect("the edge is the cell's")];
-    let (xa, xb) = (local(a), local(b));
+    let (xa, xb) = (lagrange::reference_vertex(cell, a), lagrange::reference_vertex(cell, b));
     [xa[0] + s * (xb[0] - xa[0]), xa[1] + s * (xb[1] - xa[1])]
 }
 

@@ -12,6 +12,7 @@
 
 use super::reconstruction::{contact_rule, tractions};
 use crate::contact::Linearisation;
+use crate::fem::lagrange::reference_vertex;
 use crate::fem::quadrature::gauss_segment_cached;
 use crate::mesh::{distance, Mesh, Segment, Topology};
 use std::collections::HashMap;
@@ -83,16 +84,10 @@ fn new_facet(mesh: &Mesh, edge: usize, cell: usize, ends: [usize; 2]) -> Contact
     ContactFacet { edge, cell, ends, length: distance(a, b), normal, pieces: Vec::new() }
 }
 
-/// The reference coordinates of vertex `node` in `cell`.
-pub fn reference_vertex(mesh: &Mesh, cell: usize, node: usize) -> [f64; 2] {
-    const VERTICES: [[f64; 2]; 3] = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
-    VERTICES[mesh.cell(cell)[..3].iter().position(|&v| v == node).expect("the facet is the cell's")]
-}
-
 /// The facet parameter of the reference point ξ of `cell` on the facet with nodes `ends`,
 /// taken in reference coordinates (exact for ξ on the facet, with no rounding of |x|).
 fn parameter(mesh: &Mesh, cell: usize, ends: [usize; 2], xi: [f64; 2]) -> f64 {
-    let [a, b] = ends.map(|n| reference_vertex(mesh, cell, n));
+    let [a, b] = ends.map(|n| reference_vertex(mesh.cell(cell), n));
     let d = [b[0] - a[0], b[1] - a[1]];
     ((xi[0] - a[0]) * d[0] + (xi[1] - a[1]) * d[1]) / (d[0] * d[0] + d[1] * d[1])
 }
@@ -100,7 +95,7 @@ fn parameter(mesh: &Mesh, cell: usize, ends: [usize; 2], xi: [f64; 2]) -> f64 {
 impl ContactFacet {
     /// The reference point of `cell` at facet parameter r.
     pub fn reference_point(&self, mesh: &Mesh, r: f64) -> [f64; 2] {
-        let [a, b] = self.ends.map(|n| reference_vertex(mesh, self.cell, n));
+        let [a, b] = self.ends.map(|n| reference_vertex(mesh.cell(self.cell), n));
         Segment::new(a, b).point(r)
     }
 

@@ -38,6 +38,11 @@ pub fn reference_nodes(order: usize) -> &'static [[f64; 2]] {
     &NODES_P2[..n_basis(order)]
 }
 
+/// The reference coordinates of vertex `node` of the cell with nodes `cell`.
+pub fn reference_vertex(cell: &[usize], node: usize) -> [f64; 2] {
+    reference_nodes(1)[cell[..3].iter().position(|&v| v == node).expect("the vertex belongs to the cell")]
+}
+
 /// Barycentric coordinates `[1 − ξ − η, ξ, η]`.
 fn barycentric(xi: [f64; 2]) -> [f64; 3] {
     [1.0 - xi[0] - xi[1], xi[0], xi[1]]
