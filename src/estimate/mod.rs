@@ -10,7 +10,8 @@ pub mod patch;
 pub mod reconstruction;
 
 use crate::contact::Linearisation;
-use crate::elasticity::{Discretisation, Problem};
+use crate::elasticity::{Discretisation, Displacement, Problem};
+use crate::mesh::Topology;
 use checks::{check, Equilibration, Violation};
 use estimators::{estimate, Estimators};
 use reconstruction::{reconstruct, Reconstruction};
@@ -45,8 +46,9 @@ pub const REPRESENTATION_FACTOR: f64 = 300.0;
 /// The second term, ε |u_h| / (h |∇u_h|) up to material factors (γ₀ times that on Γ_C), is
 /// what a double u_h leaves on cells much smaller than |u_h| / |∇u_h|; it exceeds the first
 /// only on cells about 10³ times smaller than that (10 on Γ_C with γ₀ = 100;
-/// docs/method.md §5.2).
-pub fn equilibration_tolerance(problem: &Problem, u: &[[f64; 2]], contact: Option<&Linearisation>) -> f64 {
+/// docs/method.md §5.2). For a refined pair hi + lo it is ε times smaller, and the first term
+/// decides.
+pub fn equilibration_tolerance(problem: &Problem, u: &Displacement, contact: Option<&Linearisation>) -> f64 {
     EQUILIBRATION_TOLERANCE.max(REPRESENTATION_FACTOR * checks::representation_bound(problem, u, contact))
 }
 
@@ -75,13 +77,24 @@ pub fn estimate_iterate(
     x: &[f64],
     contact: Option<&Linearisation>,
 ) -> Result<Estimate, EstimateError> {
-    let u = problem.displacement(disc, x);
-    let reconstruction = reconstruct(problem, &disc.topology, &u, contact)?;
-    let equilibration = check(problem, &disc.topology, &u, &reconstruction, contact);
+    estimate_displacement(problem, &disc.topology, &problem.displacement(disc, x).into(), contact)
+}
+
+/// [`estimate_iterate`] of the nodal displacements `u`, a double u_h or the refined pair of
+/// [`Problem::solve_refined`], whose nodal differences the estimator reads
+/// ([`Displacement::relative`]); same guarantee.
+pub fn estimate_displacement(
+    problem: &Problem,
+    topology: &Topology,
+    u: &Displacement,
+    contact: Option<&Linearisation>,
+) -> Result<Estimate, EstimateError> {
+    let reconstruction = reconstruct(problem, topology, u, contact)?;
+    let equilibration = check(problem, topology, u, &reconstruction, contact);
     let violation = equilibration.violation(problem.mesh.order);
-    if violation.value.is_nan() || violation.value > equilibration_tolerance(problem, &u, contact) {
+    if violation.value.is_nan() || violation.value > equilibration_tolerance(problem, u, contact) {
         return Err(EstimateError::NotEquilibrated(violation));
     }
-    let estimators = estimate(problem, &disc.topology, &u, &reconstruction, contact);
+    let estimators = estimate(problem, topology, u, &reconstruction, contact);
     Ok(Estimate { reconstruction, estimators, equilibration })
 }
