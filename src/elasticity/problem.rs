@@ -19,6 +19,7 @@ use crate::fem::tabulate::Tabulation;
 use crate::fem::transfer::interpolate;
 use crate::mesh::{Mesh, Topology};
 use crate::solve::{Cholesky, SolveError};
+use rayon::prelude::*;
 use std::sync::Arc;
 
 /// A vector field x ↦ v(x).
@@ -115,9 +116,6 @@ pub fn traction_rule(traction: &Traction, ends: [[f64; 2]; 2], order: usize) -> 
     split_rule(gauss_segment_cached(order + 4), traction.kinks(ends))
 }
 
-/// How many times [`Problem::solve_refined`] corrects the pair x + lo.
-pub const REFINEMENT_ROUNDS: usize = 2;
-
 /// The free unknowns of a refined linear solve as the unevaluated sum x + lo, x = fl(x + lo).
 #[derive(Debug, Clone)]
 pub struct Refined {
@@ -135,6 +133,10 @@ impl Refined {
             lo: Some(lo.chunks_exact(2).map(|u| [u[0], u[1]]).collect()),
         }
     }
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 /// a + b = s + e exactly, s = fl(a + b) (Knuth's TwoSum).
@@ -183,11 +185,11 @@ impl Problem {
         Cholesky::analyse(&disc.pattern)?.solve(&disc.pattern, &system.values, &system.rhs)
     }
 
-    /// Solves K x = b by sparse Cholesky, then refines a correction `lo` below the rounding of
-    /// x ([`REFINEMENT_ROUNDS`] times lo += K⁻¹ r, r = F − K(x + lo) the difference-form
-    /// [`Problem::residual`], and (x, lo) renormalised by TwoSum so that x = fl(x + lo)). A
-    /// double x solves the discrete equation only to ε E |u_h| per vertex; the pair x + lo
-    /// solves it to the round-off of the strain (docs/method.md §5.2).
+    /// Solves K x = b by sparse Cholesky, then one step of iterative refinement into a
+    /// correction below the rounding of x: lo = K⁻¹ r with r = F − K x the difference-form
+    /// [`Problem::residual`], and (x, lo) renormalised by TwoSum so that x = fl(x + lo). A
+    /// double x solves the discrete equation only to about ε E |u_h| per vertex; the pair
+    /// x + lo solves it to the round-off of the strain (docs/method.md §5.2).
     pub fn solve_refined(&self, disc: &Discretisation) -> Result<Refined, SolveError> {
         let system = self.assemble(disc);
         let cholesky = Cholesky::analyse(&disc.pattern)?;
@@ -197,14 +199,10 @@ impl Problem {
             factors.solve_in_place(&mut m)?;
             Ok((0..b.len()).map(|i| m[(i, 0)]).collect())
         };
-        let mut solution = Refined { x: solve(&system.rhs)?, lo: vec![0.0; disc.dofs.n_free] };
-        for _ in 0..REFINEMENT_ROUNDS {
-            let r = self.residual(disc, &solution.displacement(self, disc));
-            for ((x, lo), d) in solution.x.iter_mut().zip(&mut solution.lo).zip(solve(&r)?) {
-                (*x, *lo) = two_sum(*x, *lo + d);
-            }
-        }
-        Ok(solution)
+        let x = solve(&system.rhs)?;
+        let r = self.residual(disc, &self.displacement(disc, &x).into());
+        let (x, lo) = x.iter().zip(solve(&r)?).map(|(&x, d)| two_sum(x, d)).unzip();
+        Ok(Refined { x, lo })
     }
 
     /// Number of displacement unknowns 2 × nodes (constrained ones included).
@@ -286,16 +284,22 @@ impl Problem {
                 }
             }
         };
-        let (mut local, mut d) = (Local::new(n), Vec::new());
-        for c in 0..self.mesh.n_cells() {
-            self.cell_terms(&kernel, c, &mut local);
-            u.relative(self.mesh.cell(c), &mut d);
-            let d: Vec<f64> = d.iter().flatten().copied().collect();
-            for (i, f) in local.load.iter_mut().enumerate() {
-                *f -= local.matrix[i * n..(i + 1) * n].iter().zip(&d).map(|(k, d)| k * d).sum::<f64>();
-                // f_T − K_T d_T
-            }
-            add(self.mesh.cell(c), &local.load);
+        // f_T − K_T d_T of every cell in parallel, added in cell order (the same bits on any
+        // number of threads)
+        let cells: Vec<Vec<f64>> = (0..self.mesh.n_cells())
+            .into_par_iter()
+            .map_init(
+                || (Local::new(n), Vec::new()),
+                |(local, d), c| {
+                    self.cell_terms(&kernel, c, local);
+                    u.relative(self.mesh.cell(c), d);
+                    let d: Vec<f64> = d.iter().flatten().copied().collect();
+                    (0..n).map(|i| local.load[i] - dot(&local.matrix[i * n..(i + 1) * n], &d)).collect()
+                },
+            )
+            .collect();
+        for (c, f) in cells.iter().enumerate() {
+            add(self.mesh.cell(c), f);
         }
         self.traction_loads(&disc.topology, add);
         r
