@@ -2,9 +2,9 @@
 //!
 //! What it shows, one table per hypothesis, on V1's data (`verify::v1`, clamped bottom):
 //!
-//! 1. The global solve: the checks of the Cholesky solution against those of the same
-//!    solution after three steps of iterative refinement with the residual b − Kx summed in
-//!    double-double (TwoSum/FMA), on the unit square squeezed to cells of aspect 10² … 10⁴.
+//! 1. The representation of u_h: the checks of the double Cholesky solution against those of
+//!    the refined pair x + lo (`Problem::solve_refined`), on the unit square squeezed to cells
+//!    of aspect 10² … 10⁴.
 //! 2. The size of u_h against h |∇u_h|: the same with a rigid translation c = 0, 1, 100
 //!    added to the Dirichlet data (u_h shifts by c, σ(u_h) does not).
 //! 3. The estimator's own arithmetic: u_h the exact discrete solution, the linear field
@@ -12,12 +12,15 @@
 //!    nodes of a bisected mesh are exact doubles, on meshes graded by 10², 10⁴, 10⁶.
 //! 4. The solve output on meshes graded by 10² … 10⁸ against the representation bound
 //!    ε max|u_h| (λ + 2μ) / (h_min max|σ(u_h)|): a double u_h resolves nodal differences only
-//!    to ε |u_h|, so the residual of the discrete equation cannot fall below ε E |u_h| per node.
+//!    to ε |u_h|, so the residual of the discrete equation cannot fall below ε E |u_h| per node;
+//!    the refined pair x + lo, whose differences are exact, below it.
 //! 5. The patch problems on thin cells: the size of σ_h and η_flux against the stress.
 //! 6. With `--hertz`: the adaptive runs of geo/hertz.toml (size factor 2; P2, 5 steps; P1,
 //!    6 steps), and the P1 run with the plane and the top moved down by 0.5 (|u_h| from 0.05
 //!    to 0.55, the same contact): per step the worst check against
 //!    `estimate::checks::representation_bound` (which weighs the cells of Γ_C by γ₀).
+//!
+//! 7. The cost of the refinement: the refined solve against the double one at 10⁵ unknowns.
 //!
 //! Run: `cargo run --release --example equilibration_roundoff` (a few seconds; `-- --hertz`
 //! adds about three minutes).
@@ -25,49 +28,21 @@
 use damfem::adapt::{self, AdaptSettings, Refinement};
 use damfem::contact::Linearisation;
 use damfem::elasticity::stress::cell_mean_stress;
-use damfem::elasticity::{BodyForce, Discretisation, Problem};
+use damfem::elasticity::{BodyForce, Displacement, Problem};
 use damfem::estimate::checks::{check, representation_bound, Equilibration};
 use damfem::estimate::estimators::estimate;
 use damfem::estimate::reconstruction::reconstruct;
-use damfem::mesh::structured::{rectangle, BOTTOM, LEFT, RIGHT, TOP};
+use damfem::mesh::structured::{rectangle, unit_square, BOTTOM, LEFT, RIGHT, TOP};
 use damfem::mesh::{Mesh, Topology};
 use damfem::scene::Scene;
-use damfem::solve::Cholesky;
 use damfem::verify::meshes::graded_unit_square;
 use damfem::verify::v1;
 use std::path::Path;
 use std::sync::Arc;
-
-/// a + b = s + e exactly (TwoSum).
-fn two_sum(a: f64, b: f64) -> (f64, f64) {
-    let s = a + b;
-    let v = s - a;
-    (s, (a - (s - v)) + (b - v))
-}
-
-/// b − K x with every product and sum carried in double-double, rounded at the end, and
-/// max_i (|b_i| + Σ_j |K_ij x_j|).
-fn residual(disc: &Discretisation, values: &[f64], rhs: &[f64], x: &[f64]) -> (Vec<f64>, f64) {
-    let symbolic = disc.pattern.symbolic();
-    let (col_ptr, row_idx) = (symbolic.col_ptr(), symbolic.row_idx());
-    let (mut hi, mut lo) = (rhs.to_vec(), vec![0.0; rhs.len()]);
-    let mut scale: Vec<f64> = rhs.iter().map(|b| b.abs()).collect();
-    for (col, &xc) in x.iter().enumerate() {
-        for k in col_ptr[col]..col_ptr[col + 1] {
-            let i = row_idx[k];
-            let p = -values[k] * xc;
-            let p_error = (-values[k]).mul_add(xc, -p);
-            let (s, e) = two_sum(hi[i], p);
-            hi[i] = s;
-            lo[i] += e + p_error;
-            scale[i] += p.abs();
-        }
-    }
-    (hi.iter().zip(&lo).map(|(h, l)| h + l).collect(), scale.into_iter().fold(0.0, f64::max))
-}
+use std::time::Instant;
 
 /// The checks, η_flux and max |σ_h| (coefficients) of the reconstruction of nodal `u`.
-fn checks(problem: &Problem, u: &[[f64; 2]]) -> (Equilibration, f64, f64) {
+fn checks(problem: &Problem, u: &Displacement) -> (Equilibration, f64, f64) {
     let topology = Topology::new(&problem.mesh);
     let rec = reconstruct(problem, &topology, u, None).expect("reconstruction");
     let eta = estimate(problem, &topology, u, &rec, None);
@@ -97,34 +72,18 @@ fn shifted_v1(mesh: Mesh, c: f64) -> Problem {
 
 /// Tables 1 and 2.
 fn solve_and_refine() {
-    println!("1-2. squeezed unit square (4 x 4), V1 shifted by c: Cholesky, then refined in double-double");
+    println!("1-2. squeezed unit square (4 x 4), V1 shifted by c: the double Cholesky solution, then the refined pair x + lo");
     for order in [1, 2] {
         for aspect in [1e2, 1e3, 1e4] {
             for c in [0.0, 1.0, 100.0] {
                 let problem = shifted_v1(rectangle(0.0, 1.0, 0.0, 1.0 / aspect, 4, 4, order), c);
                 let disc = problem.discretise();
-                let system = problem.assemble(&disc);
-                let symbolic = Cholesky::analyse(&disc.pattern).expect("analysis");
-                let factors = symbolic.factor(&disc.pattern, &system.values).expect("factorisation");
-                let solve = |b: &[f64]| {
-                    let mut m = faer::Mat::from_fn(b.len(), 1, |i, _| b[i]);
-                    factors.solve_in_place(&mut m).expect("solve");
-                    (0..b.len()).map(|i| m[(i, 0)]).collect::<Vec<f64>>()
-                };
-                let mut x = solve(&system.rhs);
-                for refined in [false, true] {
-                    if refined {
-                        for _ in 0..3 {
-                            let d = solve(&residual(&disc, &system.values, &system.rhs, &x).0);
-                            x.iter_mut().zip(&d).for_each(|(x, d)| *x += d);
-                        }
-                    }
-                    let (r, scale) = residual(&disc, &system.values, &system.rhs, &x);
-                    let r = r.iter().fold(0.0_f64, |m, v| m.max(v.abs())) / scale;
-                    let (eq, _, _) = checks(&problem, &problem.displacement(&disc, &x));
-                    let how = if refined { "refined " } else { "cholesky" };
-                    println!("  P{order} aspect {aspect:.0e} c {c:<5} {how} |b-Kx|/|K||x| {r:.1e}  {}", line(&eq));
-                }
+                let x = problem.solve_linear(&disc).expect("solve");
+                let (double, _, _) = checks(&problem, &problem.displacement(&disc, &x).into());
+                let refined = problem.solve_refined(&disc).expect("solve");
+                let (pair, _, _) = checks(&problem, &refined.displacement(&problem, &disc));
+                println!("  P{order} aspect {aspect:.0e} c {c:<5} double {}", line(&double));
+                println!("  {:>25}pair   {}", "", line(&pair));
             }
         }
     }
@@ -142,7 +101,7 @@ fn exact_linear() {
                 problem.body_force = BodyForce::None;
                 problem.dirichlet.iter_mut().for_each(|bc| bc.value = Arc::new(exact));
                 let u: Vec<[f64; 2]> = problem.mesh.points.iter().map(|&p| exact(p)).collect();
-                let (eq, _, _) = checks(&problem, &u);
+                let (eq, _, _) = checks(&problem, &u.into());
                 println!("  P{order} ratio {ratio:.0e} c {c:<5} {}", line(&eq));
             }
         }
@@ -151,20 +110,24 @@ fn exact_linear() {
 
 /// Table 4.
 fn graded_solve() {
-    println!("4. V1 solved on meshes graded towards (0.5, 0.5): checks against eps max|u| (lambda + 2 mu) / (h_min max|sigma(u)|)");
+    println!("4. V1 solved on meshes graded towards (0.5, 0.5): checks of the double solution and of the refined pair x + lo,");
+    println!("   against eps max|u| (lambda + 2 mu) / (h_min max|sigma(u)|)");
     for order in [1, 2] {
         for ratio in [1e2, 1e4, 1e6, 1e7, 1e8] {
             let problem = v1::problem(graded_unit_square(ratio, order), &[BOTTOM]);
             let disc = problem.discretise();
+            let refined = problem.solve_refined(&disc).expect("solve");
             let x = problem.solve_linear(&disc).expect("solve");
             let u = problem.displacement(&disc, &x);
-            let (eq, _, _) = checks(&problem, &u);
             let mesh = &problem.mesh;
             let h = (0..mesh.n_cells()).map(|c| mesh.cell_diameter(c)).fold(f64::MAX, f64::min);
             let size = u.iter().map(|v| v[0].hypot(v[1])).fold(0.0, f64::max);
             let stress = cell_mean_stress(&problem, &u).into_iter().flatten().fold(0.0_f64, |m, v| m.max(v.abs()));
             let bound = f64::EPSILON * size * (v1::LAMBDA + 2.0 * v1::MU) / (h * stress);
-            println!("  P{order} ratio {ratio:.0e} bound {bound:.1e}  {}", line(&eq));
+            let (eq, _, _) = checks(&problem, &u.into());
+            let (pair, _, _) = checks(&problem, &refined.displacement(&problem, &disc));
+            println!("  P{order} ratio {ratio:.0e} bound {bound:.1e}  double: {}", line(&eq));
+            println!("  {:>31}refined: {}", "", line(&pair));
         }
     }
 }
@@ -177,7 +140,7 @@ fn thin_patches() {
             let problem = v1::problem(rectangle(0.0, 1.0, 0.0, 1.0 / aspect, 4, 4, order), &[BOTTOM]);
             let disc = problem.discretise();
             let x = problem.solve_linear(&disc).expect("solve");
-            let (eq, flux, largest) = checks(&problem, &problem.displacement(&disc, &x));
+            let (eq, flux, largest) = checks(&problem, &problem.displacement(&disc, &x).into());
             println!("  P{order} aspect {aspect:.0e} eta_flux {flux:.2e} max|sigma_h| {largest:.2e}  {}", line(&eq));
         }
     }
@@ -196,7 +159,7 @@ fn hertz(order: usize, steps: usize, shift: f64) {
     adapt::run(&settings, &mut mesher, &scene, |step| {
         let contact = step.contact.expect("Hertz has a contact curve");
         let state = Linearisation::new(step.problem, step.disc, &contact.nitsche, contact.smoothing, &contact.x_prev);
-        let u = step.problem.displacement(step.disc, step.x);
+        let u = step.problem.displacement(step.disc, step.x).into();
         let worst = step.estimate.equilibration.worst(order);
         let bound = representation_bound(step.problem, &u, Some(&state));
         println!(
@@ -209,11 +172,29 @@ fn hertz(order: usize, steps: usize, shift: f64) {
     .expect("adaptive run");
 }
 
+/// Table 7: the cost of the refinement, V1 (P2, clamped bottom) on the structured n × n unit
+/// square: three alternating runs of the double solve and of the refined one.
+fn refinement_cost(n: usize) {
+    let problem = v1::problem(unit_square(n, 2), &[BOTTOM]);
+    let disc = problem.discretise();
+    println!("7. cost of the refinement: V1, P2, {n} x {n}, {} unknowns", disc.dofs.n_free);
+    for _ in 0..3 {
+        let clock = Instant::now();
+        problem.solve_linear(&disc).expect("solve");
+        let double = clock.elapsed().as_secs_f64();
+        let clock = Instant::now();
+        problem.solve_refined(&disc).expect("solve");
+        let refined = clock.elapsed().as_secs_f64();
+        println!("  solve {double:.3} s, refined solve {refined:.3} s (+{:.0} %)", 100.0 * (refined / double - 1.0));
+    }
+}
+
 fn main() {
     solve_and_refine();
     exact_linear();
     graded_solve();
     thin_patches();
+    refinement_cost(112);
     if std::env::args().any(|a| a == "--hertz") {
         println!("6. Hertz adaptive runs (size factor 2): worst check against the representation bound");
         hertz(2, 5, 0.0);

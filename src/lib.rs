@@ -14,6 +14,7 @@
 //!  Mesh + tags          mesh: topology, vertex patches, structured test meshes
 //!    │  fem             quadrature, Lagrange P1/P2, affine maps, sparse assembly, transfer
 //!    │  elasticity      plane-strain Hooke law, element kernels, loads, the linear solve
+//!    │                  refined to a pair of doubles x + lo (Displacement)
 //!    │  contact         Nitsche terms on Γ_C, joint laws, the smoothing of min(x, 0) at δ
 //!    ▼
 //!  solve                sparse Cholesky / LU (faer), symbolic factorisation reused; Newton,

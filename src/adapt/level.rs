@@ -6,7 +6,7 @@ use crate::contact::projection::Smoothing;
 use crate::contact::{settle_crack, ContactJoint, ContactProblem, Crack, Linearisation, Solution, Stage};
 use crate::elasticity::{Discretisation, Problem};
 use crate::estimate::estimators::GlobalEstimators;
-use crate::estimate::{estimate_iterate, Estimate};
+use crate::estimate::{estimate_displacement, estimate_iterate, Estimate};
 use crate::solve::{newton_until, Iterate, NewtonOptions};
 use std::time::Instant;
 
@@ -29,12 +29,12 @@ pub struct Level {
 /// Without Γ_C: one Cholesky solve and one estimate.
 pub fn linear_level(problem: &Problem, disc: &Discretisation) -> Result<Level, AdaptError> {
     let clock = Instant::now();
-    let x = problem.solve_linear(disc)?;
+    let solution = problem.solve_refined(disc)?;
     let solve_seconds = clock.elapsed().as_secs_f64();
     let clock = Instant::now();
-    let estimate = estimate_iterate(problem, disc, &x, None)?;
+    let estimate = estimate_displacement(problem, &disc.topology, &solution.displacement(problem, disc), None)?;
     Ok(Level {
-        solution: Solution::Linear(x),
+        solution: Solution::Linear(solution),
         estimate,
         n_reg: 0,
         n_lin: 0,

@@ -8,7 +8,7 @@ use crate::contact::{
 };
 use crate::elasticity::stress::cell_mean_stress;
 use crate::elasticity::{Discretisation, Problem};
-use crate::estimate::{estimate_iterate, Estimate};
+use crate::estimate::{estimate_displacement, Estimate};
 use crate::io::atomic::write_output;
 use crate::scene::{ProjectionKind, Scene};
 use crate::solve::NewtonError;
@@ -268,7 +268,7 @@ fn solve(
     continuation: &Continuation,
 ) -> Result<Solution> {
     Ok(match joint {
-        None => Solution::Linear(problem.solve_linear(disc)?),
+        None => Solution::Linear(problem.solve_refined(disc)?),
         Some(joint) => Solution::Contact(Box::new(scene.solve_contact(
             problem,
             disc,
@@ -299,7 +299,7 @@ fn describe_solution(solution: &Solution) -> String {
 /// The estimate of the solution.
 fn estimate(problem: &Problem, disc: &Discretisation, solution: &Solution) -> Result<Estimate> {
     let state = solution.contact().map(|c| c.linearisation(problem, disc));
-    Ok(estimate_iterate(problem, disc, solution.x(), state.as_ref())?)
+    Ok(estimate_displacement(problem, &disc.topology, &solution.displacement(problem, disc), state.as_ref())?)
 }
 
 fn describe_estimate(e: &Estimate, order: usize) -> String {

@@ -19,7 +19,7 @@ pub mod projection;
 pub mod resultant;
 pub mod uplift;
 
-use crate::elasticity::{Discretisation, Problem};
+use crate::elasticity::{Discretisation, Displacement, Problem, Refined};
 use crate::fem::dofs::FIXED;
 use crate::fem::sparse::{LinearSystem, SparsePattern};
 use crate::mesh::Mesh;
@@ -792,8 +792,8 @@ pub fn reduce_strength(
 
 /// The free unknowns of a solve, with the contact state when the problem has Γ_C.
 pub enum Solution {
-    /// Without Γ_C: one linear solve.
-    Linear(Vec<f64>),
+    /// Without Γ_C: one linear solve, refined to the pair x + lo.
+    Linear(Refined),
     Contact(Box<ContactSolution>),
 }
 
@@ -801,8 +801,16 @@ impl Solution {
     /// The free unknowns.
     pub fn x(&self) -> &[f64] {
         match self {
-            Solution::Linear(x) => x,
+            Solution::Linear(r) => &r.x,
             Solution::Contact(c) => &c.x,
+        }
+    }
+
+    /// The nodal displacements: the refined pair without Γ_C, the double iterate with it.
+    pub fn displacement(&self, problem: &Problem, disc: &Discretisation) -> Displacement {
+        match self {
+            Solution::Linear(r) => r.displacement(problem, disc),
+            Solution::Contact(c) => problem.displacement(disc, &c.x).into(),
         }
     }
 

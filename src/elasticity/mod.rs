@@ -1,11 +1,13 @@
 //! Isotropic linear elasticity in plane strain: material law, element kernels, the boundary
 //! value problem and its stresses.
 
+pub mod displacement;
 pub mod kernels;
 pub mod material;
 pub mod problem;
 pub mod rigid;
 pub mod stress;
 
+pub use displacement::Displacement;
 pub use material::Material;
-pub use problem::{BodyForce, Dirichlet, Discretisation, Neumann, Problem, Traction, VectorFn};
+pub use problem::{BodyForce, Dirichlet, Discretisation, Neumann, Problem, Refined, Traction, VectorFn};

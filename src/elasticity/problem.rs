@@ -7,6 +7,7 @@
 //! Boundary conditions refer to physical curve tags of the mesh. A Dirichlet condition may
 //! fix one component only (a roller).
 
+use super::displacement::Displacement;
 use super::kernels;
 use super::material::Material;
 use super::rigid;
@@ -18,6 +19,7 @@ use crate::fem::tabulate::Tabulation;
 use crate::fem::transfer::interpolate;
 use crate::mesh::{Mesh, Topology};
 use crate::solve::{Cholesky, SolveError};
+use rayon::prelude::*;
 use std::sync::Arc;
 
 /// A vector field x ↦ v(x).
@@ -114,11 +116,57 @@ pub fn traction_rule(traction: &Traction, ends: [[f64; 2]; 2], order: usize) -> 
     split_rule(gauss_segment_cached(order + 4), traction.kinks(ends))
 }
 
+/// The free unknowns of a refined linear solve as the unevaluated sum x + lo, x = fl(x + lo).
+#[derive(Debug, Clone)]
+pub struct Refined {
+    pub x: Vec<f64>,
+    pub lo: Vec<f64>,
+}
+
+impl Refined {
+    /// The nodal displacements hi + lo (lo = 0 on Dirichlet dofs).
+    pub fn displacement(&self, problem: &Problem, disc: &Discretisation) -> Displacement {
+        let lo = disc.dofs.free.iter().map(|&k| if k == FIXED { 0.0 } else { self.lo[k] });
+        let lo: Vec<f64> = lo.collect();
+        Displacement {
+            hi: problem.displacement(disc, &self.x),
+            lo: Some(lo.chunks_exact(2).map(|u| [u[0], u[1]]).collect()),
+        }
+    }
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// a + b = s + e exactly, s = fl(a + b) (Knuth's TwoSum).
+fn two_sum(a: f64, b: f64) -> (f64, f64) {
+    let s = a + b;
+    let v = s - a;
+    (s, (a - (s - v)) + (b - v))
+}
+
 /// Dof numbering and matrix pattern of a problem, built once per mesh.
 pub struct Discretisation {
     pub topology: Topology,
     pub dofs: DofMap,
     pub pattern: SparsePattern,
+}
+
+/// The element rules of the stiffness (degree 2(p − 1)) and of the body load
+/// ([`load_degree`]).
+struct CellKernel {
+    stiffness: Tabulation,
+    load: Tabulation,
+}
+
+impl CellKernel {
+    fn new(order: usize) -> Self {
+        CellKernel {
+            stiffness: Tabulation::new(order, 2 * order - 2),
+            load: Tabulation::new(order, load_degree(order)),
+        }
+    }
 }
 
 impl Problem {
@@ -135,6 +183,26 @@ impl Problem {
     pub fn solve_linear(&self, disc: &Discretisation) -> Result<Vec<f64>, SolveError> {
         let system = self.assemble(disc);
         Cholesky::analyse(&disc.pattern)?.solve(&disc.pattern, &system.values, &system.rhs)
+    }
+
+    /// Solves K x = b by sparse Cholesky, then one step of iterative refinement into a
+    /// correction below the rounding of x: lo = K⁻¹ r with r = F − K x the difference-form
+    /// [`Problem::residual`], and (x, lo) renormalised by TwoSum so that x = fl(x + lo). A
+    /// double x solves the discrete equation only to about ε E |u_h| per vertex; the pair
+    /// x + lo solves it to the round-off of the strain (docs/method.md §5.2).
+    pub fn solve_refined(&self, disc: &Discretisation) -> Result<Refined, SolveError> {
+        let system = self.assemble(disc);
+        let cholesky = Cholesky::analyse(&disc.pattern)?;
+        let factors = cholesky.factor(&disc.pattern, &system.values)?;
+        let solve = |b: &[f64]| -> Result<Vec<f64>, SolveError> {
+            let mut m = faer::Mat::from_fn(b.len(), 1, |i, _| b[i]);
+            factors.solve_in_place(&mut m)?;
+            Ok((0..b.len()).map(|i| m[(i, 0)]).collect())
+        };
+        let x = solve(&system.rhs)?;
+        let r = self.residual(disc, &self.displacement(disc, &x).into());
+        let (x, lo) = x.iter().zip(solve(&r)?).map(|(&x, d)| two_sum(x, d)).unzip();
+        Ok(Refined { x, lo })
     }
 
     /// Number of displacement unknowns 2 × nodes (constrained ones included).
@@ -173,29 +241,68 @@ impl Problem {
     }
 
     fn add_stiffness_and_body_force(&self, disc: &Discretisation, pattern: &SparsePattern, system: &mut LinearSystem) {
-        let p = self.mesh.order;
-        let stiff_tab = Tabulation::new(p, 2 * p - 2);
-        let load_tab = Tabulation::new(p, load_degree(p));
-        let nb = stiff_tab.n_basis;
-        let kernel = |c: usize, local: &mut Local| {
-            let map = AffineMap::new(self.mesh.cell_vertices(c));
-            let (lambda, mu) = self.materials[c].lame();
-            let mut grads = [[0.0; 2]; 6];
-            kernels::stiffness(&map, &stiff_tab, lambda, mu, &mut grads[..nb], &mut local.matrix);
-            match &self.body_force {
-                BodyForce::None => local.load.fill(0.0),
-                // constant on the cell: f evaluated once
-                BodyForce::Acceleration(_) => {
-                    let f = self.body_force_at(c, map.origin);
-                    kernels::body_load(&map, &load_tab, |_| f, &mut local.load)
-                }
-                BodyForce::Field(_) => {
-                    kernels::body_load(&map, &load_tab, |x| self.body_force_at(c, x), &mut local.load)
+        let kernel = CellKernel::new(self.mesh.order);
+        let nb = kernel.stiffness.n_basis;
+        let dofs_of = |c: usize, out: &mut Vec<usize>| vector_dofs(self.mesh.cell(c), out);
+        system.assemble(pattern, &disc.dofs, self.mesh.n_cells(), 2 * nb, dofs_of, |c, local| {
+            self.cell_terms(&kernel, c, local)
+        });
+    }
+
+    /// The element stiffness K_T and body load f_T of cell c into `local`.
+    fn cell_terms(&self, kernel: &CellKernel, c: usize, local: &mut Local) {
+        let map = AffineMap::new(self.mesh.cell_vertices(c));
+        let (lambda, mu) = self.materials[c].lame();
+        let mut grads = [[0.0; 2]; 6];
+        let nb = kernel.stiffness.n_basis;
+        kernels::stiffness(&map, &kernel.stiffness, lambda, mu, &mut grads[..nb], &mut local.matrix);
+        match &self.body_force {
+            BodyForce::None => local.load.fill(0.0),
+            // constant on the cell: f evaluated once
+            BodyForce::Acceleration(_) => {
+                let f = self.body_force_at(c, map.origin);
+                kernels::body_load(&map, &kernel.load, |_| f, &mut local.load)
+            }
+            BodyForce::Field(_) => {
+                kernels::body_load(&map, &kernel.load, |x| self.body_force_at(c, x), &mut local.load)
+            }
+        }
+    }
+
+    /// The residual F − K u of the free rows for the nodal displacements `u`, cell by cell in
+    /// difference form: K_T u_T = K_T d_T with d_k = u_k − u_0 ([`Displacement::relative`]),
+    /// since K_T annihilates translations. Its round-off is then ε |K_T| |d_T|, the size of
+    /// the strain, instead of ε |K_T| |u_T|.
+    pub fn residual(&self, disc: &Discretisation, u: &Displacement) -> Vec<f64> {
+        let kernel = CellKernel::new(self.mesh.order);
+        let n = 2 * kernel.stiffness.n_basis;
+        let mut r = vec![0.0; disc.dofs.n_free];
+        let mut add = |nodes: &[usize], f: &[f64]| {
+            for (k, &fk) in nodes.iter().flat_map(|&node| [2 * node, 2 * node + 1]).zip(f) {
+                if disc.dofs.free[k] != FIXED {
+                    r[disc.dofs.free[k]] += fk;
                 }
             }
         };
-        let dofs_of = |c: usize, out: &mut Vec<usize>| vector_dofs(self.mesh.cell(c), out);
-        system.assemble(pattern, &disc.dofs, self.mesh.n_cells(), 2 * nb, dofs_of, kernel);
+        // f_T − K_T d_T of every cell in parallel, added in cell order (the same bits on any
+        // number of threads)
+        let cells: Vec<Vec<f64>> = (0..self.mesh.n_cells())
+            .into_par_iter()
+            .map_init(
+                || (Local::new(n), Vec::new()),
+                |(local, d), c| {
+                    self.cell_terms(&kernel, c, local);
+                    u.relative(self.mesh.cell(c), d);
+                    let d: Vec<f64> = d.iter().flatten().copied().collect();
+                    (0..n).map(|i| local.load[i] - dot(&local.matrix[i * n..(i + 1) * n], &d)).collect()
+                },
+            )
+            .collect();
+        for (c, f) in cells.iter().enumerate() {
+            add(self.mesh.cell(c), f);
+        }
+        self.traction_loads(&disc.topology, add);
+        r
     }
 
     fn add_tractions(&self, disc: &Discretisation, system: &mut LinearSystem) {

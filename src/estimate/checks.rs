@@ -11,7 +11,7 @@ use super::reconstruction::Reconstruction;
 use crate::contact::Linearisation;
 use crate::elasticity::problem::{load_degree, traction_rule};
 use crate::elasticity::stress::cell_mean_stress;
-use crate::elasticity::Problem;
+use crate::elasticity::{Displacement, Problem};
 use crate::fem::affine::AffineMap;
 use crate::fem::lagrange;
 use crate::fem::quadrature::{gauss_segment_cached, triangle_cached};
@@ -117,7 +117,7 @@ impl Equilibration {
 pub fn check(
     problem: &Problem,
     topology: &Topology,
-    u: &[[f64; 2]],
+    u: &Displacement,
     rec: &Reconstruction,
     contact: Option<&Linearisation>,
 ) -> Equilibration {
@@ -142,13 +142,15 @@ pub fn check(
     }
 }
 
-/// The relative violation that the representation of `u` in double alone may cause
-/// (docs/method.md §5.2): ε max_T w_T |u|_T (λ + 2μ)_T / h_T over max_T |σ(u_h)|_T, with |u|_T
-/// the largest nodal |u| of cell T, |σ(u_h)|_T its largest cell-mean component and w_T = γ₀
-/// on the cells of Γ_C (whose Nitsche term weighs nodal values by γ₀ E / h), else 1. A double
-/// u_h resolves nodal differences only to ε |u_h|, so no double vector solves the discrete
-/// equation better than about ε E |u_h| per vertex, and a patch's data balance only to that.
-pub fn representation_bound(problem: &Problem, u: &[[f64; 2]], contact: Option<&Linearisation>) -> f64 {
+/// The relative violation that the representation of `u` alone may cause (docs/method.md §5.2):
+/// ε_u max_T w_T |u|_T (λ + 2μ)_T / h_T over max_T |σ(u_h)|_T, with |u|_T the largest nodal
+/// |u| of cell T, |σ(u_h)|_T its largest cell-mean component and w_T = γ₀ on the cells of Γ_C
+/// (whose Nitsche term weighs nodal values by γ₀ E / h), else 1. A double u_h resolves nodal
+/// differences only to ε |u_h| (ε_u = ε), so no double vector solves the discrete equation
+/// better than about ε E |u_h| per vertex, and a patch's data balance only to that; a refined
+/// pair hi + lo resolves them to ε² |u_h| (ε_u = ε²) besides the rounding ε |u_k − u_0| of the
+/// difference itself, which does not grow with |u_h| / h.
+pub fn representation_bound(problem: &Problem, u: &Displacement, contact: Option<&Linearisation>) -> f64 {
     let mesh = &problem.mesh;
     let mut weight = vec![1.0; mesh.n_cells()];
     if let Some(state) = contact {
@@ -158,15 +160,15 @@ pub fn representation_bound(problem: &Problem, u: &[[f64; 2]], contact: Option<&
             face.opposite.iter().for_each(|opposite| weight[opposite.cell] = gamma0);
         }
     }
-    let stress = cell_mean_stress(problem, u).into_iter().flatten().fold(0.0_f64, |m, v| m.max(v.abs()));
+    let stress = cell_mean_stress(problem, &u.hi).into_iter().flatten().fold(0.0_f64, |m, v| m.max(v.abs()));
     let defect = (0..mesh.n_cells())
         .map(|c| {
-            let size = mesh.cell(c).iter().map(|&n| u[n][0].hypot(u[n][1])).fold(0.0, f64::max);
             let (lambda, mu) = problem.materials[c].lame();
-            weight[c] * size * (lambda + 2.0 * mu) / mesh.cell_diameter(c)
+            weight[c] * u.size(mesh.cell(c)) * (lambda + 2.0 * mu) / mesh.cell_diameter(c)
         })
         .fold(0.0, f64::max);
-    f64::EPSILON * defect / stress.max(f64::MIN_POSITIVE)
+    let resolution = if u.lo.is_some() { f64::EPSILON * f64::EPSILON } else { f64::EPSILON };
+    resolution * defect / stress.max(f64::MIN_POSITIVE)
 }
 
 /// The centroid of cell c.
@@ -369,7 +371,7 @@ fn reference_point(cell: &[usize], a: usize, b: usize, s: f64) -> [f64; 2] {
 fn contact_traces(
     problem: &Problem,
     topology: &Topology,
-    u: &[[f64; 2]],
+    u: &Displacement,
     rec: &Reconstruction,
     state: &Linearisation,
 ) -> Worst {

@@ -20,7 +20,7 @@ use super::facets::contact_facets;
 use super::reconstruction::Reconstruction;
 use crate::contact::Linearisation;
 use crate::elasticity::kernels::{displacement_gradient, stress};
-use crate::elasticity::{BodyForce, Problem, Traction};
+use crate::elasticity::{BodyForce, Displacement, Problem, Traction};
 use crate::fem::affine::AffineMap;
 use crate::fem::lagrange;
 use crate::fem::quadrature::{gauss_segment_cached, split_rule, triangle_cached};
@@ -80,7 +80,7 @@ impl Estimators {
 pub fn estimate(
     problem: &Problem,
     topology: &Topology,
-    u: &[[f64; 2]],
+    u: &Displacement,
     rec: &Reconstruction,
     contact: Option<&Linearisation>,
 ) -> Estimators {
@@ -113,12 +113,15 @@ pub fn stress_norm(problem: &Problem, rec: &Reconstruction) -> f64 {
 }
 
 /// ‖τ − σ(u_h)‖_T (or ‖τ‖_T without u) for the stress with coefficients `tau` on cell c.
-fn volume_norm(problem: &Problem, tau: &[f64], c: usize, u: Option<&[[f64; 2]]>) -> f64 {
+fn volume_norm(problem: &Problem, tau: &[f64], c: usize, u: Option<&Displacement>) -> f64 {
     let mesh = &problem.mesh;
     let order = mesh.order;
     let map = AffineMap::new(mesh.cell_vertices(c));
     let (lambda, mu) = problem.materials[c].lame();
-    let nodal: Vec<[f64; 2]> = u.map(|u| mesh.cell(c).iter().map(|&n| u[n]).collect()).unwrap_or_default();
+    let mut nodal = Vec::new();
+    if let Some(u) = u {
+        u.relative(mesh.cell(c), &mut nodal);
+    }
     let mut grads = [[0.0; 2]; 6];
     let rule = triangle_cached(2 * order);
     let mut sum = 0.0;
@@ -224,7 +227,7 @@ fn neumann(problem: &Problem, topology: &Topology) -> Vec<f64> {
 fn contact_facet_terms(
     problem: &Problem,
     topology: &Topology,
-    u: &[[f64; 2]],
+    u: &Displacement,
     rec: &Reconstruction,
     state: &Linearisation,
     e: &mut Estimators,

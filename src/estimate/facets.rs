@@ -12,6 +12,7 @@
 
 use super::reconstruction::{contact_rule, tractions};
 use crate::contact::Linearisation;
+use crate::elasticity::Displacement;
 use crate::fem::lagrange::reference_vertex;
 use crate::fem::quadrature::gauss_segment_cached;
 use crate::mesh::{distance, Mesh, Segment, Topology};
@@ -107,14 +108,14 @@ impl ContactFacet {
     /// The facet's rule with its datum (t₁, t₂, t₃): every piece's rule (split at the kinks of
     /// t), and a Gauss rule of `order` + 1 points with t = 0 on the parts no piece covers, so that
     /// the rule integrates P_{2p} over the whole facet.
-    pub fn samples(&self, mesh: &Mesh, state: &Linearisation, u: &[[f64; 2]]) -> Vec<Sample> {
+    pub fn samples(&self, mesh: &Mesh, state: &Linearisation, u: &Displacement) -> Vec<Sample> {
         let mut samples = Vec::new();
         let mut covered = Vec::new();
         let mut dofs = Vec::new();
         for piece in &self.pieces {
             state.nitsche.face_dofs(mesh, piece.face, &mut dofs);
-            let local = |field: &[[f64; 2]]| -> Vec<f64> { dofs.iter().map(|&g| field[g / 2][g % 2]).collect() };
-            let (uk, u_prev) = (local(u), local(&state.u_prev));
+            let uk: Vec<f64> = dofs.iter().map(|&g| u.value(g / 2)[g % 2]).collect();
+            let u_prev: Vec<f64> = dofs.iter().map(|&g| state.u_prev[g / 2][g % 2]).collect();
             let scale = piece.sign / piece.dy_dx;
             for (s, w) in contact_rule(state, piece.face, &uk, &u_prev) {
                 let t = tractions(state, piece.face, s, &uk, &u_prev).map(|t| t.map(|ti| scale * ti));

@@ -10,7 +10,8 @@ pub mod patch;
 pub mod reconstruction;
 
 use crate::contact::Linearisation;
-use crate::elasticity::{Discretisation, Problem};
+use crate::elasticity::{Discretisation, Displacement, Problem};
+use crate::mesh::Topology;
 use checks::{check, Equilibration, Violation};
 use estimators::{estimate, Estimators};
 use reconstruction::{reconstruct, Reconstruction};
@@ -32,12 +33,13 @@ pub enum EstimateError {
 
 /// The largest relative violation of an equilibration condition that an estimate accepts
 /// on any mesh (see [`equilibration_tolerance`] for graded ones). Discrete solutions and full
-/// Newton steps stay below it on the adaptive runs of docs/method.md §5.2 (up to 1.5·10⁻¹¹); a
+/// Newton steps stay below it on the adaptive runs of docs/method.md §5.2 (up to 1.5·10⁻¹¹), the
+/// refined linear solve ([`Problem::solve_refined`]) at 3.4·10⁻¹⁵ on cells graded by 10⁸; a
 /// damped step leaves 10⁻⁵ and more.
 pub const EQUILIBRATION_TOLERANCE: f64 = 1e-10;
 
 /// How many times [`checks::representation_bound`] an estimate accepts: the violations of
-/// converged solves measured on graded meshes reach 25 times it (docs/method.md §5.2).
+/// converged double solves measured on graded meshes reach 25 times it (docs/method.md §5.2).
 pub const REPRESENTATION_FACTOR: f64 = 300.0;
 
 /// The largest relative violation an estimate of the iterate `u` accepts:
@@ -45,8 +47,9 @@ pub const REPRESENTATION_FACTOR: f64 = 300.0;
 /// The second term, ε |u_h| / (h |∇u_h|) up to material factors (γ₀ times that on Γ_C), is
 /// what a double u_h leaves on cells much smaller than |u_h| / |∇u_h|; it exceeds the first
 /// only on cells about 10³ times smaller than that (10 on Γ_C with γ₀ = 100;
-/// docs/method.md §5.2).
-pub fn equilibration_tolerance(problem: &Problem, u: &[[f64; 2]], contact: Option<&Linearisation>) -> f64 {
+/// docs/method.md §5.2). For a refined pair hi + lo it is ε times smaller, and the first term
+/// decides on any mesh.
+pub fn equilibration_tolerance(problem: &Problem, u: &Displacement, contact: Option<&Linearisation>) -> f64 {
     EQUILIBRATION_TOLERANCE.max(REPRESENTATION_FACTOR * checks::representation_bound(problem, u, contact))
 }
 
@@ -69,19 +72,35 @@ pub struct Estimate {
 /// for a contact iterate that solves the linearised problem of its Newton step (a full step,
 /// converged or not); a damped or perturbed iterate, or a mesh outside the estimator's range,
 /// fails them and gets [`EstimateError::NotEquilibrated`] naming the condition and the place.
+/// A double `x` solves its equation only to ε |u_h| / (h |∇u_h|) relative, so on cells much
+/// smaller than |u_h| / |∇u_h| the checks hold only to that ([`checks::representation_bound`]);
+/// the refined pair of a linear solve does not have that floor ([`estimate_displacement`]).
 pub fn estimate_iterate(
     problem: &Problem,
     disc: &Discretisation,
     x: &[f64],
     contact: Option<&Linearisation>,
 ) -> Result<Estimate, EstimateError> {
-    let u = problem.displacement(disc, x);
-    let reconstruction = reconstruct(problem, &disc.topology, &u, contact)?;
-    let equilibration = check(problem, &disc.topology, &u, &reconstruction, contact);
+    estimate_displacement(problem, &disc.topology, &problem.displacement(disc, x).into(), contact)
+}
+
+/// [`estimate_iterate`] of the nodal displacements `u`, a double u_h or the refined pair
+/// x + lo of [`Problem::solve_refined`]: the estimator reads u_h only through the nodal
+/// differences of each cell ([`Displacement::relative`], exact for the pair) and, on Γ_C, its
+/// values ([`Displacement::value`]). Same guarantee, for u_h = x + lo: on the refined pair
+/// every condition holds to round-off whatever the grading (docs/method.md §5.2).
+pub fn estimate_displacement(
+    problem: &Problem,
+    topology: &Topology,
+    u: &Displacement,
+    contact: Option<&Linearisation>,
+) -> Result<Estimate, EstimateError> {
+    let reconstruction = reconstruct(problem, topology, u, contact)?;
+    let equilibration = check(problem, topology, u, &reconstruction, contact);
     let violation = equilibration.violation(problem.mesh.order);
-    if violation.value.is_nan() || violation.value > equilibration_tolerance(problem, &u, contact) {
+    if violation.value.is_nan() || violation.value > equilibration_tolerance(problem, u, contact) {
         return Err(EstimateError::NotEquilibrated(violation));
     }
-    let estimators = estimate(problem, &disc.topology, &u, &reconstruction, contact);
+    let estimators = estimate(problem, topology, u, &reconstruction, contact);
     Ok(Estimate { reconstruction, estimators, equilibration })
 }

@@ -21,7 +21,7 @@ use crate::contact::Linearisation;
 use crate::elasticity::kernels::{displacement_gradient, stress};
 use crate::elasticity::problem::{load_degree, traction_rule};
 use crate::elasticity::rigid;
-use crate::elasticity::{Problem, Traction};
+use crate::elasticity::{Displacement, Problem, Traction};
 use crate::fem::affine::AffineMap;
 use crate::fem::lagrange;
 use crate::fem::quadrature::triangle_cached;
@@ -104,7 +104,7 @@ enum Role {
 struct Context<'a> {
     problem: &'a Problem,
     topology: &'a Topology,
-    u: &'a [[f64; 2]],
+    u: &'a Displacement,
     contact: Option<&'a Linearisation<'a>>,
     /// The facets of Γ_C on every side ([`contact_facets`]).
     facets: Vec<ContactFacet>,
@@ -121,7 +121,7 @@ struct Context<'a> {
 pub fn reconstruct(
     problem: &Problem,
     topology: &Topology,
-    u: &[[f64; 2]],
+    u: &Displacement,
     contact: Option<&Linearisation>,
 ) -> Result<Reconstruction, EstimateError> {
     if let Some(c) = contact {
@@ -257,7 +257,8 @@ fn volume_data(ctx: &Context, c: usize) -> Vec<f64> {
     let map = &ctx.maps[c];
     let material = ctx.problem.materials[c];
     let (lambda, mu) = material.lame();
-    let nodal: Vec<[f64; 2]> = mesh.cell(c).iter().map(|&n| ctx.u[n]).collect();
+    let mut nodal = Vec::new();
+    ctx.u.relative(mesh.cell(c), &mut nodal);
     let grad_hat: [[f64; 2]; 3] = std::array::from_fn(|ia| map.physical_gradient(hat_gradient(ia)));
     let rule = triangle_cached(load_degree(order));
     let (mut phi, mut psi, mut grads) = ([0.0; 6], [0.0; 3], [[0.0; 2]; 6]);

@@ -4,7 +4,7 @@ use crate::common;
 
 use damfem::contact::nitsche::NitscheParameters;
 use damfem::contact::{solve_by_continuation, ContactJoint, ContactSolution, Continuation, Linearisation};
-use damfem::elasticity::Problem;
+use damfem::elasticity::{Displacement, Problem};
 use damfem::estimate::checks::check;
 use damfem::estimate::estimators::estimate;
 use damfem::estimate::reconstruction::reconstruct;
@@ -41,10 +41,11 @@ fn v1_equilibration_and_guaranteed_bound() {
         for n in sizes {
             let problem = v1::problem(unit_square(n, order), &[1, 2, 3, 4]);
             let u = solve(&problem);
+            let nodal = Displacement::from(u.clone());
             let topology = damfem::mesh::Topology::new(&problem.mesh);
-            let rec = reconstruct(&problem, &topology, &u, None).unwrap();
-            let eq = check(&problem, &topology, &u, &rec, None);
-            let est = estimate(&problem, &topology, &u, &rec, None).global();
+            let rec = reconstruct(&problem, &topology, &nodal, None).unwrap();
+            let eq = check(&problem, &topology, &nodal, &rec, None);
+            let est = estimate(&problem, &topology, &nodal, &rec, None).global();
             let dual = reference(&problem, &u, None);
             println!(
                 "P{order} n = {n}: eta = {:.4e} (osc {:.2e}, flux {:.2e}), dual norm >= {dual:.4e}, I_eff <= {:.3}; checks {eq:?}",
@@ -90,9 +91,10 @@ fn v3_contact_equilibration_and_guaranteed_bound() {
                 smoothing: solution.smoothing,
                 u_prev: problem.displacement(&problem.discretise(), &solution.x_prev),
             };
-            let rec = reconstruct(&problem, &topology, &u, Some(&state)).unwrap();
-            let eq = check(&problem, &topology, &u, &rec, Some(&state));
-            let est = estimate(&problem, &topology, &u, &rec, Some(&state)).global();
+            let nodal = Displacement::from(u.clone());
+            let rec = reconstruct(&problem, &topology, &nodal, Some(&state)).unwrap();
+            let eq = check(&problem, &topology, &nodal, &rec, Some(&state));
+            let est = estimate(&problem, &topology, &nodal, &rec, Some(&state)).global();
             let dual = reference(&problem, &u, Some(&joint));
             println!(
                 "P{order} n = {n}: eta = {:.4e} (flux {:.2e}, Neu {:.2e}, disc {:.2e}, reg {:.2e}, lin {:.2e}), dual norm >= {dual:.4e}, I_eff <= {:.3}; worst check {:.1e}",

@@ -368,7 +368,7 @@ fn a_tampered_tangential_traction_fails_the_checks() {
         newton: NewtonOptions::default(),
     };
     let solution = solve_by_continuation(&problem, &disc, &joint, &settings).expect("Newton converges");
-    let u = problem.displacement(&disc, &solution.x);
+    let u = problem.displacement(&disc, &solution.x).into();
     let state = solution.linearisation(&problem, &disc);
     let rec = reconstruct(&problem, &disc.topology, &u, Some(&state)).expect("reconstruction");
     let honest = check(&problem, &disc.topology, &u, &rec, Some(&state)).contact;

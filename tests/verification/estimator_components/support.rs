@@ -3,7 +3,7 @@
 use damfem::contact::nitsche::Nitsche;
 use damfem::contact::projection::Smoothing;
 use damfem::contact::{solve_by_continuation, ContactJoint, ContactProblem, Continuation, Linearisation};
-use damfem::elasticity::{Discretisation, Problem};
+use damfem::elasticity::{Discretisation, Displacement, Problem};
 use damfem::estimate::checks::{check, Equilibration};
 use damfem::estimate::estimators::{estimate, GlobalEstimators};
 use damfem::estimate::reconstruction::reconstruct;
@@ -85,9 +85,10 @@ pub(super) fn evaluate(
         smoothing: Smoothing { delta },
         u_prev: u_prev.to_vec(),
     });
-    let rec = reconstruct(problem, &topology, u, state.as_ref()).unwrap_or_else(|e| panic!("{e}"));
-    let eq = check(problem, &topology, u, &rec, state.as_ref());
-    let est = estimate(problem, &topology, u, &rec, state.as_ref()).global();
+    let nodal = Displacement::from(u.to_vec());
+    let rec = reconstruct(problem, &topology, &nodal, state.as_ref()).unwrap_or_else(|e| panic!("{e}"));
+    let eq = check(problem, &topology, &nodal, &rec, state.as_ref());
+    let est = estimate(problem, &topology, &nodal, &rec, state.as_ref()).global();
     let dual = levels.map(|levels| {
         let data = contact.map(|(nitsche, _, _)| ContactJoint::frictionless(tags.to_vec(), nitsche.parameters));
         residual_dual_norm(problem, u, data.as_ref(), levels).unwrap_or_else(|e| panic!("{e}"))

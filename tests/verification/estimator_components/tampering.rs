@@ -5,6 +5,7 @@ use super::support::*;
 use damfem::contact::nitsche::NitscheParameters;
 use damfem::contact::projection::Smoothing;
 use damfem::contact::{ContactJoint, Continuation, Linearisation};
+use damfem::elasticity::Displacement;
 use damfem::estimate::afw::COMPONENTS;
 use damfem::estimate::checks::{check, Equilibration};
 use damfem::estimate::reconstruction::{reconstruct, Reconstruction};
@@ -51,7 +52,7 @@ fn tampered_reconstruction_fails_the_checks() {
     let mut random = Rng::new(0x9e37_79b9_7f4a_7c15);
     // V1: interior patch
     let problem = v1::problem(unit_square(4, 2), &[BOTTOM, RIGHT, TOP, LEFT]);
-    let u = solve_linear(&problem);
+    let u = Displacement::from(solve_linear(&problem));
     let topology = Topology::new(&problem.mesh);
     let mut rec = reconstruct(&problem, &topology, &u, None).unwrap();
     let valid = check(&problem, &topology, &u, &rec, None);
@@ -75,20 +76,21 @@ fn tampered_reconstruction_fails_the_checks() {
     let state =
         Linearisation { nitsche: &run.nitsche, smoothing: Smoothing { delta: run.delta }, u_prev: run.u_prev.clone() };
     let topology = Topology::new(&problem.mesh);
-    let valid_rec = reconstruct(&problem, &topology, &run.u, Some(&state)).unwrap();
-    let valid = check(&problem, &topology, &run.u, &valid_rec, Some(&state));
+    let u = Displacement::from(run.u.clone());
+    let valid_rec = reconstruct(&problem, &topology, &u, Some(&state)).unwrap();
+    let valid = check(&problem, &topology, &u, &valid_rec, Some(&state));
     print_checks("V3 P2 n = 4, valid", &valid);
     assert!(valid.worst(2) < 1e-10, "{valid:?}");
 
-    let mut rec = reconstruct(&problem, &topology, &run.u, Some(&state)).unwrap();
+    let mut rec = reconstruct(&problem, &topology, &u, Some(&state)).unwrap();
     let k = vertex_near(&problem.mesh, &topology, [1.0, 0.5]);
     let cells = topology.patch(k).to_vec();
     perturb(&mut rec, 0, &cells, 1e-6, &mut random);
-    let broken = check(&problem, &topology, &run.u, &rec, Some(&state));
+    let broken = check(&problem, &topology, &u, &rec, Some(&state));
     print_checks(&format!("V3, Neumann patch + 1e-6 random on {} cells", cells.len()), &broken);
     assert!(broken.neumann > 1e-8, "{broken:?}");
 
-    let mut rec = reconstruct(&problem, &topology, &run.u, Some(&state)).unwrap();
+    let mut rec = reconstruct(&problem, &topology, &u, Some(&state)).unwrap();
     let face = run
         .nitsche
         .faces
@@ -107,7 +109,7 @@ fn tampered_reconstruction_fails_the_checks() {
         rec.sigma[1][face.cell * n + j] += v;
         rec.sigma[2][face.cell * n + j] -= v;
     }
-    let broken = check(&problem, &topology, &run.u, &rec, Some(&state));
+    let broken = check(&problem, &topology, &u, &rec, Some(&state));
     print_checks("V3, 1e-6 random moved sigma_h3 -> sigma_h2", &broken);
     assert!(broken.contact > 1e-8, "{broken:?}");
     for (name, v) in
