@@ -7,11 +7,12 @@
 //! - the converged contact solve from a zero initial guess with the CLI's settings
 //!   (δ = 10⁻⁴ × stress scale, γ₀ = 100, θ = 0, rtol = 10⁻¹⁰): its number of Newton steps;
 //! - the parts of one Newton step at the converged state, as Newton takes it: residual +
-//!   Jacobian evaluation (`NonlinearSystem::evaluate`), the dense LU of the Schur complement on
-//!   the contact layer (`LayerSchur::factor`), the two solves of the step and its refinement
+//!   Jacobian evaluation (`NonlinearSystem::evaluate`), the dense LU of the Schur complement S_R
+//!   on the rows R of the contact terms (`LayerSchur::factor`; R is the part of the contact
+//!   layer on Γ_C for θ = 0), the two solves of the step and its refinement
 //!   (`SchurFactors::solve`), and the residual-only evaluation of an accepted full step of the
 //!   line search; and, once per mesh, the Cholesky factorisation of the stiffness with the layer
-//!   last and its Schur complement S₀ (`NonlinearSystem::schur`);
+//!   last and the dense blocks of its trailing factor (`NonlinearSystem::schur`);
 //! - the same step by the sparse LU of the whole Jacobian (the fallback): numeric LU with the
 //!   symbolic factorisation reused (`SparseLu::factor`) and its two solves (`LuFactors::solve`);
 //! - the same LU refactored from scratch (`SparseLu::analyse` + numeric) and the saving of
@@ -129,8 +130,10 @@ struct Row {
     nonzeros: usize,
     bonded_unknowns: usize,
     contact_faces: usize,
-    /// Dofs of the contact layer, and the once-per-mesh Cholesky with the layer last and S₀.
+    /// Dofs of the contact layer and of its rows R, and the once-per-mesh Cholesky with the
+    /// layer last and its dense blocks.
     layer: usize,
+    rows: usize,
     schur_setup: f64,
     newton_steps: usize,
     contact_solve: f64,
@@ -204,8 +207,10 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
     let (mut residual, mut jacobian, mut trial_residual) = (vec![0.0; n], vec![0.0; pattern.nnz()], vec![0.0; n]);
     let lu = SparseLu::analyse(pattern).expect("symbolic LU");
     let (schur, schur_setup) = timed(|| system.schur().expect("the layer of Scene A is factorised dense"));
-    let layer = schur.layer_size();
-    eprintln!("[{label}] contact layer: {layer} dofs, Cholesky with the layer last and S₀ in {schur_setup:.2} s");
+    let (layer, rows) = (schur.layer_size(), schur.rows());
+    eprintln!(
+        "[{label}] contact layer: {layer} dofs, {rows} rows R, Cholesky with the layer last and its blocks in {schur_setup:.2} s"
+    );
 
     // 4. The bonded linear problem on the same mesh: the contact curve clamped
     let mut bonded_scene = scene.clone();
@@ -309,6 +314,7 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
         bonded_unknowns: bonded_disc.dofs.n_free,
         contact_faces,
         layer,
+        rows,
         schur_setup,
         newton_steps,
         contact_solve,
@@ -337,18 +343,19 @@ fn table(rows: &[Row], repeats: usize) -> String {
         "## Newton step breakdown, Scene A (P2, contact on the base), median of {repeats} repetitions, {threads} threads\n\n"
     );
     out += "Times in seconds, at the converged state. Newton's step = evaluate F, J + dense LU of the \
-            Schur complement on the contact layer + two solves (the step and its refinement) + one residual \
-            evaluation (full step accepted by the line search); once per mesh, the Cholesky factorisation \
-            of the stiffness with the layer last and S₀.\n\n";
-    out += "| target | unknowns | contact layer [dofs] | once per mesh: Cholesky, layer last, and S₀ | evaluate F, J | Schur LU | two solves | **step** | bonded: Cholesky symbolic + numeric + solve | **step / Cholesky solve** (≤ 1.5) | contact solve [s] | Newton steps |\n";
-    out += "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+            Schur complement S_R on the rows R of the contact terms + two solves (the step and its \
+            refinement) + one residual evaluation (full step accepted by the line search); once per mesh, \
+            the Cholesky factorisation of the stiffness with the layer last and its dense blocks.\n\n";
+    out += "| target | unknowns | contact layer [dofs] | rows R [dofs] | once per mesh: Cholesky, layer last, and its blocks | evaluate F, J | LU of S_R | two solves | **step** | bonded: Cholesky symbolic + numeric + solve | **step / Cholesky solve** (≤ 1.5) | contact solve [s] | Newton steps |\n";
+    out += "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for r in rows {
         let m = &r.median;
         out += &format!(
-            "| {} | {} | {} | {:.3} | {:.4} | {:.4} | {:.4} | **{:.4}** | {:.4} | **{:.2}** | {:.2} | {} |\n",
+            "| {} | {} | {} | {} | {:.3} | {:.4} | {:.4} | {:.4} | **{:.4}** | {:.4} | **{:.2}** | {:.2} | {} |\n",
             r.label,
             r.unknowns,
             r.layer,
+            r.rows,
             r.schur_setup,
             m.evaluate,
             m.schur_factor,
