@@ -13,6 +13,8 @@
 //!   (`SchurFactors::solve`), and the residual-only evaluation of an accepted full step of the
 //!   line search; and, once per mesh, the Cholesky factorisation of the stiffness with the layer
 //!   last and the dense blocks of its trailing factor (`NonlinearSystem::schur`);
+//! - the same step with the LU of the Schur complement S = S₀ + C on the whole layer (a
+//!   `LayerSchur` with R = L, as for θ ≠ 0): what the rows R save;
 //! - the same step by the sparse LU of the whole Jacobian (the fallback): numeric LU with the
 //!   symbolic factorisation reused (`SparseLu::factor`) and its two solves (`LuFactors::solve`);
 //! - the same LU refactored from scratch (`SparseLu::analyse` + numeric) and the saving of
@@ -51,7 +53,7 @@ use damfem::estimate::estimate_iterate;
 use damfem::io::atomic::write_output;
 use damfem::io::gmsh::{mesh_geo, MeshOptions};
 use damfem::scene::{Role, Scene};
-use damfem::solve::{Cholesky, NonlinearSystem, SparseLu};
+use damfem::solve::{Cholesky, LayerSchur, NonlinearSystem, SparseLu};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -94,6 +96,8 @@ struct Sample {
     evaluate: f64,
     schur_factor: f64,
     schur_solve: f64,
+    whole_factor: f64,
+    whole_solve: f64,
     residual: f64,
     numeric: f64,
     solve: f64,
@@ -108,6 +112,10 @@ impl Sample {
     /// One Newton step as Newton takes it: by the Schur complement on the contact layer.
     fn step_schur(&self) -> f64 {
         self.evaluate + self.schur_factor + self.schur_solve + self.residual
+    }
+    /// The same step with the LU of the Schur complement on the whole layer.
+    fn step_whole(&self) -> f64 {
+        self.evaluate + self.whole_factor + self.whole_solve + self.residual
     }
     /// One Newton step by sparse LU with the symbolic LU reused.
     fn step(&self) -> f64 {
@@ -135,6 +143,8 @@ struct Row {
     layer: usize,
     rows: usize,
     schur_setup: f64,
+    /// The once-per-mesh factorisation with R = L.
+    whole_setup: f64,
     newton_steps: usize,
     contact_solve: f64,
     /// Mean time of a Newton step inside the converged solve (`NewtonTimings` / steps).
@@ -143,6 +153,10 @@ struct Row {
     median: Sample,
     step_schur: f64,
     step_schur_over_cholesky: f64,
+    step_whole: f64,
+    /// LU of S over LU of S_R, and the step on the whole layer over the step on R.
+    whole_over_rows_lu: f64,
+    whole_over_rows_step: f64,
     step: f64,
     step_scratch: f64,
     /// Share of the symbolic analysis in an LU from scratch (both timed in one block).
@@ -208,6 +222,11 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
     let lu = SparseLu::analyse(pattern).expect("symbolic LU");
     let (schur, schur_setup) = timed(|| system.schur().expect("the layer of Scene A is factorised dense"));
     let (layer, rows) = (schur.layer_size(), schur.rows());
+    let stiffness = problem.assemble_on(&disc, pattern).values;
+    let whole_layer = system.layer();
+    let (whole, whole_setup) = timed(|| {
+        LayerSchur::new(pattern, &stiffness, &whole_layer, &whole_layer).expect("the whole layer is factorised dense")
+    });
     eprintln!(
         "[{label}] contact layer: {layer} dofs, {rows} rows R, Cholesky with the layer last and its blocks in {schur_setup:.2} s"
     );
@@ -237,6 +256,18 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
         });
         s.schur_solve = schur_solve;
         drop(factors);
+        // the same step with the LU on the whole layer
+        let (factors, whole_factor) = timed(|| whole.factor(&jacobian).expect("Schur LU on the whole layer"));
+        s.whole_factor = whole_factor;
+        let (delta_whole, whole_solve) = timed(|| {
+            let delta = factors.solve(&minus_r).expect("Schur solve");
+            factors.solve(&delta).expect("Schur solve"); // stands for the refinement's solve
+            delta
+        });
+        s.whole_solve = whole_solve;
+        drop(factors);
+        let difference: Vec<f64> = delta_whole.iter().zip(&delta_schur).map(|(a, b)| a - b).collect();
+        assert!(norm(&difference) <= 1e-8 * norm(&delta_whole), "the steps on R and on the whole layer disagree");
         // the same step by sparse LU with the symbolic factorisation reused
         let (factors, numeric) = timed(|| lu.factor(pattern, &jacobian).expect("numeric LU"));
         s.numeric = numeric;
@@ -296,6 +327,8 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
         evaluate: pick(&|s| s.evaluate),
         schur_factor: pick(&|s| s.schur_factor),
         schur_solve: pick(&|s| s.schur_solve),
+        whole_factor: pick(&|s| s.whole_factor),
+        whole_solve: pick(&|s| s.whole_solve),
         residual: pick(&|s| s.residual),
         numeric: pick(&|s| s.numeric),
         solve: pick(&|s| s.solve),
@@ -316,6 +349,7 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
         layer,
         rows,
         schur_setup,
+        whole_setup,
         newton_steps,
         contact_solve,
         in_situ_step,
@@ -323,6 +357,9 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
         median: median_sample,
         step_schur: pick(&Sample::step_schur),
         step_schur_over_cholesky: pick(&|s| s.step_schur() / s.cholesky()),
+        step_whole: pick(&Sample::step_whole),
+        whole_over_rows_lu: pick(&|s| s.whole_factor / s.schur_factor),
+        whole_over_rows_step: pick(&|s| s.step_whole() / s.step_schur()),
         step: pick(&Sample::step),
         step_scratch: pick(&Sample::step_scratch),
         saving_factor: pick(&|s| s.symbolic / s.scratch),
@@ -365,6 +402,24 @@ fn table(rows: &[Row], repeats: usize) -> String {
             r.step_schur_over_cholesky,
             r.contact_solve,
             r.newton_steps,
+        );
+    }
+    out += "\nThe same step with the LU of the Schur complement S = S₀ + C on the whole layer (R = L, \
+            as for θ ≠ 0), in the same repetitions.\n\n";
+    out += "| target | unknowns | once per mesh: Cholesky, layer last, and S₀ | LU of S | two solves | **step** | LU of S / LU of S_R | step / step on R |\n";
+    out += "|---|---|---|---|---|---|---|---|\n";
+    for r in rows {
+        let m = &r.median;
+        out += &format!(
+            "| {} | {} | {:.3} | {:.4} | {:.4} | **{:.4}** | {:.1} | {:.2} |\n",
+            r.label,
+            r.unknowns,
+            r.whole_setup,
+            m.whole_factor,
+            m.whole_solve,
+            r.step_whole,
+            r.whole_over_rows_lu,
+            r.whole_over_rows_step,
         );
     }
     out += "\nThe same step by the sparse LU of the whole Jacobian (the fallback above 6 000 layer dofs): \
