@@ -38,13 +38,14 @@
 //! 7 GB limit, fails with OutOfMemory (the bonded Cholesky takes 14.5 s and 2.6 GiB), so it
 //! is off by default; with the memory, expect about an hour (≈ 30 Newton steps).
 //!
-//! Key numbers (`--repeats 3`, 2 cores, shared machine at load 4 to 7; 10⁴ = 9 846 and 10⁵ =
-//! 99 608 unknowns, contact layers of 480 and 1 560 dofs):
-//! - Newton's step by the Schur complement costs 0.43 (10⁴) and 0.47 (10⁵) bonded Cholesky
-//!   solves (0.010 s and 0.20 s): the dense LU and the two solves share it about evenly; the
+//! Key numbers (`--repeats 3`, 2 cores, shared machine at load 3 to 6; 10⁴ = 9 846 and 10⁵ =
+//! 99 608 unknowns, contact layers of 480 and 1 560 dofs, rows R of 192 and 624):
+//! - Newton's step by the Schur complement on R costs 0.24 bonded Cholesky solves at 10⁴ and
+//!   10⁵ (0.0081 s and 0.146 s), mostly its two solves; the LU of S_R costs 19 and 9.6 times
+//!   less than the LU of S on the whole layer, the step 2.5 and 1.9 times less; the
 //!   once-per-mesh factorisation with the layer last costs about two Cholesky solves at 10⁵;
-//! - the step by sparse LU costs 2.9 and 3.6 bonded Cholesky solves, its numeric LU 90–92 %
-//!   of it; reusing the symbolic LU saves 18–23 % of that step;
+//! - the step by sparse LU costs 3.2 and 3.4 bonded Cholesky solves, its numeric LU 87–92 %
+//!   of it; reusing the symbolic LU saves 18–19 % of that step;
 //! - the converged contact solve takes 22 Newton steps at 10⁴ and 28 at 10⁵.
 
 use damfem::contact::projection::Smoothing;
