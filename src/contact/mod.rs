@@ -186,7 +186,7 @@ impl<'a> ContactProblem<'a> {
     }
 
     /// The free dofs of the layer on which the face terms have rows. For θ = 0 the test
-    /// function of R_F is −γ v^n (and −γ v^t with friction; v^n of the jump [v] on a joint
+    /// function of R_F is −γ v^n (and −γ v^t with friction; v^n of the jump \[v\] on a joint
     /// between two bodies), which vanishes at the nodes off Γ_C: the dofs of the nodes of the
     /// contact faces (and of the master facets they face). Otherwise θ σ^n(v) reaches every
     /// dof of the cell: the whole layer.
