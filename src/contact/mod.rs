@@ -72,8 +72,8 @@ pub struct ContactProblem<'a> {
     coupled: Option<SparsePattern>,
     /// K over the free dofs and b = f + g_N − K_fc g_D.
     bulk: LinearSystem,
-    /// K factorised once with its Schur complement on the dofs of the cells along Γ_C, made
-    /// at the first Newton solve (None: Newton factors J by sparse LU).
+    /// K factorised once with the dofs of the cells along Γ_C last, those of `layer_rows`
+    /// after the others, made at the first Newton solve (None: Newton factors J by sparse LU).
     schur: OnceLock<Option<LayerSchur>>,
 }
 

@@ -12,7 +12,7 @@
 //!   S_R = L_22 L_22ᵀ + C_RR − C_R1 X,   X = L_11⁻ᵀ L_21ᵀ (m₁ × |R|, once per mesh),
 //!
 //! with C_R1 the few nonzeros of C in rows R and columns L₁. Each step factors S_R, dense
-//! |R| × |R|, by LU with partial pivoting (C is not symmetric for θ ≠ −1, nor with friction),
+//! |R| × |R|, by LU with partial pivoting (C is not symmetric for θ ≠ 1, nor with friction),
 //! and solves J x = b by w = L⁻¹ P b, then on R
 //!
 //!   w_R ← L_22ᵀ S_R⁻¹ (L_22 w_R − C_R1 L_11⁻ᵀ w_1),
