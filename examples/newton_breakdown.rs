@@ -7,11 +7,14 @@
 //! - the converged contact solve from a zero initial guess with the CLI's settings
 //!   (δ = 10⁻⁴ × stress scale, γ₀ = 100, θ = 0, rtol = 10⁻¹⁰): its number of Newton steps;
 //! - the parts of one Newton step at the converged state, as Newton takes it: residual +
-//!   Jacobian evaluation (`NonlinearSystem::evaluate`), the dense LU of the Schur complement on
-//!   the contact layer (`LayerSchur::factor`), the two solves of the step and its refinement
+//!   Jacobian evaluation (`NonlinearSystem::evaluate`), the dense LU of the Schur complement S_R
+//!   on the rows R of the contact terms (`LayerSchur::factor`; R is the part of the contact
+//!   layer on Γ_C for θ = 0), the two solves of the step and its refinement
 //!   (`SchurFactors::solve`), and the residual-only evaluation of an accepted full step of the
 //!   line search; and, once per mesh, the Cholesky factorisation of the stiffness with the layer
-//!   last and its Schur complement S₀ (`NonlinearSystem::schur`);
+//!   last and the dense blocks of its trailing factor (`NonlinearSystem::schur`);
+//! - the same step with the LU of the Schur complement S = S₀ + C on the whole layer (a
+//!   `LayerSchur` with R = L, as for θ ≠ 0): what the rows R save;
 //! - the same step by the sparse LU of the whole Jacobian (the fallback): numeric LU with the
 //!   symbolic factorisation reused (`SparseLu::factor`) and its two solves (`LuFactors::solve`);
 //! - the same LU refactored from scratch (`SparseLu::analyse` + numeric) and the saving of
@@ -35,13 +38,14 @@
 //! 7 GB limit, fails with OutOfMemory (the bonded Cholesky takes 14.5 s and 2.6 GiB), so it
 //! is off by default; with the memory, expect about an hour (≈ 30 Newton steps).
 //!
-//! Key numbers (`--repeats 3`, 2 cores, shared machine at load 4 to 7; 10⁴ = 9 846 and 10⁵ =
-//! 99 608 unknowns, contact layers of 480 and 1 560 dofs):
-//! - Newton's step by the Schur complement costs 0.43 (10⁴) and 0.47 (10⁵) bonded Cholesky
-//!   solves (0.010 s and 0.20 s): the dense LU and the two solves share it about evenly; the
+//! Key numbers (`--repeats 3`, 2 cores, shared machine at load 3 to 6; 10⁴ = 9 846 and 10⁵ =
+//! 99 608 unknowns, contact layers of 480 and 1 560 dofs, rows R of 192 and 624):
+//! - Newton's step by the Schur complement on R costs 0.24 bonded Cholesky solves at 10⁴ and
+//!   10⁵ (0.0081 s and 0.146 s), mostly its two solves; the LU of S_R costs 19 and 9.6 times
+//!   less than the LU of S on the whole layer, the step 2.5 and 1.9 times less; the
 //!   once-per-mesh factorisation with the layer last costs about two Cholesky solves at 10⁵;
-//! - the step by sparse LU costs 2.9 and 3.6 bonded Cholesky solves, its numeric LU 90–92 %
-//!   of it; reusing the symbolic LU saves 18–23 % of that step;
+//! - the step by sparse LU costs 3.2 and 3.4 bonded Cholesky solves, its numeric LU 87–92 %
+//!   of it; reusing the symbolic LU saves 18–19 % of that step;
 //! - the converged contact solve takes 22 Newton steps at 10⁴ and 28 at 10⁵.
 
 use damfem::contact::projection::Smoothing;
@@ -50,7 +54,7 @@ use damfem::estimate::estimate_iterate;
 use damfem::io::atomic::write_output;
 use damfem::io::gmsh::{mesh_geo, MeshOptions};
 use damfem::scene::{Role, Scene};
-use damfem::solve::{Cholesky, NonlinearSystem, SparseLu};
+use damfem::solve::{Cholesky, LayerSchur, NonlinearSystem, SparseLu};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -93,6 +97,8 @@ struct Sample {
     evaluate: f64,
     schur_factor: f64,
     schur_solve: f64,
+    whole_factor: f64,
+    whole_solve: f64,
     residual: f64,
     numeric: f64,
     solve: f64,
@@ -107,6 +113,10 @@ impl Sample {
     /// One Newton step as Newton takes it: by the Schur complement on the contact layer.
     fn step_schur(&self) -> f64 {
         self.evaluate + self.schur_factor + self.schur_solve + self.residual
+    }
+    /// The same step with the LU of the Schur complement on the whole layer.
+    fn step_whole(&self) -> f64 {
+        self.evaluate + self.whole_factor + self.whole_solve + self.residual
     }
     /// One Newton step by sparse LU with the symbolic LU reused.
     fn step(&self) -> f64 {
@@ -129,9 +139,13 @@ struct Row {
     nonzeros: usize,
     bonded_unknowns: usize,
     contact_faces: usize,
-    /// Dofs of the contact layer, and the once-per-mesh Cholesky with the layer last and S₀.
+    /// Dofs of the contact layer and of its rows R, and the once-per-mesh Cholesky with the
+    /// layer last and its dense blocks.
     layer: usize,
+    rows: usize,
     schur_setup: f64,
+    /// The once-per-mesh factorisation with R = L.
+    whole_setup: f64,
     newton_steps: usize,
     contact_solve: f64,
     /// Mean time of a Newton step inside the converged solve (`NewtonTimings` / steps).
@@ -140,6 +154,10 @@ struct Row {
     median: Sample,
     step_schur: f64,
     step_schur_over_cholesky: f64,
+    step_whole: f64,
+    /// LU of S over LU of S_R, and the step on the whole layer over the step on R.
+    whole_over_rows_lu: f64,
+    whole_over_rows_step: f64,
     step: f64,
     step_scratch: f64,
     /// Share of the symbolic analysis in an LU from scratch (both timed in one block).
@@ -204,8 +222,15 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
     let (mut residual, mut jacobian, mut trial_residual) = (vec![0.0; n], vec![0.0; pattern.nnz()], vec![0.0; n]);
     let lu = SparseLu::analyse(pattern).expect("symbolic LU");
     let (schur, schur_setup) = timed(|| system.schur().expect("the layer of Scene A is factorised dense"));
-    let layer = schur.layer_size();
-    eprintln!("[{label}] contact layer: {layer} dofs, Cholesky with the layer last and S₀ in {schur_setup:.2} s");
+    let (layer, rows) = (schur.layer_size(), schur.rows());
+    let stiffness = problem.assemble_on(&disc, pattern).values;
+    let whole_layer = system.layer();
+    let (whole, whole_setup) = timed(|| {
+        LayerSchur::new(pattern, &stiffness, &whole_layer, &whole_layer).expect("the whole layer is factorised dense")
+    });
+    eprintln!(
+        "[{label}] contact layer: {layer} dofs, {rows} rows R, Cholesky with the layer last and its blocks in {schur_setup:.2} s"
+    );
 
     // 4. The bonded linear problem on the same mesh: the contact curve clamped
     let mut bonded_scene = scene.clone();
@@ -232,6 +257,18 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
         });
         s.schur_solve = schur_solve;
         drop(factors);
+        // the same step with the LU on the whole layer
+        let (factors, whole_factor) = timed(|| whole.factor(&jacobian).expect("Schur LU on the whole layer"));
+        s.whole_factor = whole_factor;
+        let (delta_whole, whole_solve) = timed(|| {
+            let delta = factors.solve(&minus_r).expect("Schur solve");
+            factors.solve(&delta).expect("Schur solve"); // stands for the refinement's solve
+            delta
+        });
+        s.whole_solve = whole_solve;
+        drop(factors);
+        let difference: Vec<f64> = delta_whole.iter().zip(&delta_schur).map(|(a, b)| a - b).collect();
+        assert!(norm(&difference) <= 1e-8 * norm(&delta_whole), "the steps on R and on the whole layer disagree");
         // the same step by sparse LU with the symbolic factorisation reused
         let (factors, numeric) = timed(|| lu.factor(pattern, &jacobian).expect("numeric LU"));
         s.numeric = numeric;
@@ -291,6 +328,8 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
         evaluate: pick(&|s| s.evaluate),
         schur_factor: pick(&|s| s.schur_factor),
         schur_solve: pick(&|s| s.schur_solve),
+        whole_factor: pick(&|s| s.whole_factor),
+        whole_solve: pick(&|s| s.whole_solve),
         residual: pick(&|s| s.residual),
         numeric: pick(&|s| s.numeric),
         solve: pick(&|s| s.solve),
@@ -309,7 +348,9 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
         bonded_unknowns: bonded_disc.dofs.n_free,
         contact_faces,
         layer,
+        rows,
         schur_setup,
+        whole_setup,
         newton_steps,
         contact_solve,
         in_situ_step,
@@ -317,6 +358,9 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
         median: median_sample,
         step_schur: pick(&Sample::step_schur),
         step_schur_over_cholesky: pick(&|s| s.step_schur() / s.cholesky()),
+        step_whole: pick(&Sample::step_whole),
+        whole_over_rows_lu: pick(&|s| s.whole_factor / s.schur_factor),
+        whole_over_rows_step: pick(&|s| s.step_whole() / s.step_schur()),
         step: pick(&Sample::step),
         step_scratch: pick(&Sample::step_scratch),
         saving_factor: pick(&|s| s.symbolic / s.scratch),
@@ -337,18 +381,19 @@ fn table(rows: &[Row], repeats: usize) -> String {
         "## Newton step breakdown, Scene A (P2, contact on the base), median of {repeats} repetitions, {threads} threads\n\n"
     );
     out += "Times in seconds, at the converged state. Newton's step = evaluate F, J + dense LU of the \
-            Schur complement on the contact layer + two solves (the step and its refinement) + one residual \
-            evaluation (full step accepted by the line search); once per mesh, the Cholesky factorisation \
-            of the stiffness with the layer last and S₀.\n\n";
-    out += "| target | unknowns | contact layer [dofs] | once per mesh: Cholesky, layer last, and S₀ | evaluate F, J | Schur LU | two solves | **step** | bonded: Cholesky symbolic + numeric + solve | **step / Cholesky solve** (≤ 1.5) | contact solve [s] | Newton steps |\n";
-    out += "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+            Schur complement S_R on the rows R of the contact terms + two solves (the step and its \
+            refinement) + one residual evaluation (full step accepted by the line search); once per mesh, \
+            the Cholesky factorisation of the stiffness with the layer last and its dense blocks.\n\n";
+    out += "| target | unknowns | contact layer [dofs] | rows R [dofs] | once per mesh: Cholesky, layer last, and its blocks | evaluate F, J | LU of S_R | two solves | **step** | bonded: Cholesky symbolic + numeric + solve | **step / Cholesky solve** (≤ 1.5) | contact solve [s] | Newton steps |\n";
+    out += "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for r in rows {
         let m = &r.median;
         out += &format!(
-            "| {} | {} | {} | {:.3} | {:.4} | {:.4} | {:.4} | **{:.4}** | {:.4} | **{:.2}** | {:.2} | {} |\n",
+            "| {} | {} | {} | {} | {:.3} | {:.4} | {:.4} | {:.4} | **{:.4}** | {:.4} | **{:.2}** | {:.2} | {} |\n",
             r.label,
             r.unknowns,
             r.layer,
+            r.rows,
             r.schur_setup,
             m.evaluate,
             m.schur_factor,
@@ -358,6 +403,24 @@ fn table(rows: &[Row], repeats: usize) -> String {
             r.step_schur_over_cholesky,
             r.contact_solve,
             r.newton_steps,
+        );
+    }
+    out += "\nThe same step with the LU of the Schur complement S = S₀ + C on the whole layer (R = L, \
+            as for θ ≠ 0), in the same repetitions.\n\n";
+    out += "| target | unknowns | once per mesh: Cholesky, layer last, and S₀ | LU of S | two solves | **step** | LU of S / LU of S_R | step / step on R |\n";
+    out += "|---|---|---|---|---|---|---|---|\n";
+    for r in rows {
+        let m = &r.median;
+        out += &format!(
+            "| {} | {} | {:.3} | {:.4} | {:.4} | **{:.4}** | {:.1} | {:.2} |\n",
+            r.label,
+            r.unknowns,
+            r.whole_setup,
+            m.whole_factor,
+            m.whole_solve,
+            r.step_whole,
+            r.whole_over_rows_lu,
+            r.whole_over_rows_step,
         );
     }
     out += "\nThe same step by the sparse LU of the whole Jacobian (the fallback above 6 000 layer dofs): \

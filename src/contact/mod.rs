@@ -72,8 +72,8 @@ pub struct ContactProblem<'a> {
     coupled: Option<SparsePattern>,
     /// K over the free dofs and b = f + g_N − K_fc g_D.
     bulk: LinearSystem,
-    /// K factorised once with its Schur complement on the dofs of the cells along Γ_C, made
-    /// at the first Newton solve (None: Newton factors J by sparse LU).
+    /// K factorised once with the dofs of the cells along Γ_C last, those of `layer_rows`
+    /// after the others, made at the first Newton solve (None: Newton factors J by sparse LU).
     schur: OnceLock<Option<LayerSchur>>,
 }
 
@@ -183,6 +183,31 @@ impl<'a> ContactProblem<'a> {
         layer.sort_unstable();
         layer.dedup();
         layer
+    }
+
+    /// The free dofs of the layer on which the face terms have rows. For θ = 0 the test
+    /// function of R_F is −γ v^n (and −γ v^t with friction; v^n of the jump \[v\] on a joint
+    /// between two bodies), which vanishes at the nodes off Γ_C: the dofs of the nodes of the
+    /// contact faces (and of the master facets they face). Otherwise θ σ^n(v) reaches every
+    /// dof of the cell: the whole layer.
+    pub fn layer_rows(&self) -> Vec<usize> {
+        if self.nitsche.parameters.theta != 0.0 {
+            return self.layer();
+        }
+        let mesh = &self.problem.mesh;
+        let facets = self
+            .nitsche
+            .faces
+            .iter()
+            .flat_map(|f| std::iter::once(f.facet).chain(f.opposite.as_ref().map(|o| o.facet)));
+        let mut rows: Vec<usize> = facets
+            .flat_map(|f| mesh.facet(f).iter().flat_map(|&n| [2 * n, 2 * n + 1]))
+            .map(|g| self.disc.dofs.free[g])
+            .filter(|&f| f != FIXED)
+            .collect();
+        rows.sort_unstable();
+        rows.dedup();
+        rows
     }
 
     /// The fully active state: the solution with every point of Γ_C held closed, \[P_γ\]
@@ -356,7 +381,7 @@ impl NonlinearSystem for ContactProblem<'_> {
     }
 
     fn schur(&self) -> Option<&LayerSchur> {
-        let build = || LayerSchur::new(self.pattern(), &self.bulk.values, self.layer());
+        let build = || LayerSchur::new(self.pattern(), &self.bulk.values, &self.layer(), &self.layer_rows());
         self.schur.get_or_init(build).as_ref()
     }
 

@@ -14,7 +14,7 @@ use damfem::fem::sparse::SparsePattern;
 use damfem::io::gmsh::{mesh_geo, MeshOptions};
 use damfem::mesh::structured::{unit_square, BOTTOM, LEFT, RIGHT, TOP};
 use damfem::scene::Scene;
-use damfem::solve::{newton, NewtonError, NewtonOptions, NonlinearSystem, SparseLu};
+use damfem::solve::{newton, LayerSchur, NewtonError, NewtonOptions, NonlinearSystem, SparseLu};
 use std::path::Path;
 use std::sync::Arc;
 
@@ -269,15 +269,17 @@ fn scene_a_joint(theta: f64, law: JointLaw) -> (Problem, Discretisation, Contact
 }
 
 /// The Schur complement on the contact layer. Source: docs/method.md §1.5 and the block
-/// elimination P J Pᵀ = L diag(I, L_LL⁻¹ S L_LL⁻ᵀ) Lᵀ (src/solve/schur.rs). Goal: a Newton step
-/// by the dense Schur complement S = S₀ + C on the layer solves the same equation as the
-/// sparse LU of the whole Jacobian J = K + E C Eᵀ, for symmetric and non-symmetric C.
-/// Problem: Scene A (P2, gmsh, as above) at δ = 10⁻⁴ S with θ = 1, 0, −1 (frictionless) and
-/// θ = 0 with Coulomb friction F = 0.84, whose Jacobian couples the normal columns into the
-/// tangential rows. J is evaluated at the converged frictionless solution, which has closed
-/// and open faces. Checks: the layer (dofs of the cells owning a contact face) is under a
-/// tenth of n and factorised dense; for b = F(0) (the load, with its sign) and for b with
-/// entries sin(i), the two solutions agree to 10⁻¹⁰ relative and ‖J x − b‖ ≤ 10⁻¹⁰ ‖b‖ for the Schur solution.
+/// elimination of J = K + E C Eᵀ with the interior and the layer's dofs off the rows R of C
+/// eliminated first (src/solve/schur.rs). Goal: a Newton step by the dense Schur complement S_R
+/// on R solves the same equation as the sparse LU of the whole Jacobian, for symmetric and
+/// non-symmetric C. Problem: Scene A (P2, gmsh, as above) at δ = 10⁻⁴ S with θ = 1, 0, −1
+/// (frictionless) and θ = 0 with Coulomb friction F = 0.84, whose Jacobian couples the normal
+/// columns into the tangential rows. J is evaluated at the converged frictionless solution,
+/// which has closed and open faces. Checks: the layer (dofs of the cells owning a contact face)
+/// is under a tenth of n and factorised dense; R is the whole layer for θ ≠ 0 and, for θ = 0,
+/// the dofs of the nodes on Γ_C, under half of the layer; for b = F(0) (the load, with its
+/// sign) and for b with entries sin(i), the two solutions agree to 10⁻¹⁰ relative and
+/// ‖J x − b‖ ≤ 10⁻¹⁰ ‖b‖ for the Schur solution.
 #[test]
 fn schur_complement_on_the_layer_solves_the_newton_equation() {
     let (problem, disc, joint, scale) = scene_a_joint(0.0, JointLaw::Frictionless);
@@ -291,6 +293,9 @@ fn schur_complement_on_the_layer_solves_the_newton_equation() {
         let schur = contact.schur().expect("the layer of Scene A is factorised dense");
         let m = schur.layer_size();
         assert!(m == contact.layer().len() && 10 * m < n, "layer of {m} dofs for {n} unknowns");
+        let rows = schur.rows();
+        let expected = if theta == 0.0 { contact.layer_rows().len() } else { m };
+        assert!(rows == expected && (theta != 0.0 || 2 * rows < m), "θ = {theta}: {rows} rows of {m}");
         let pattern = contact.pattern();
         let (mut residual, mut jacobian) = (vec![0.0; n], vec![0.0; pattern.nnz()]);
         contact.evaluate(&x, &mut residual, Some(&mut jacobian));
@@ -310,7 +315,7 @@ fn schur_complement_on_the_layer_solves_the_newton_equation() {
             let (defect_schur, defect_lu) = (defect(&by_schur, &b), defect(&by_lu, &b));
             let difference = distance(&by_schur, &by_lu) / norm(&by_lu);
             println!(
-                "θ = {theta}, {law:?}: layer {m} of {n} dofs, ‖Jx − b‖/‖b‖ = {defect_schur:.1e} (LU {defect_lu:.1e}), \
+                "θ = {theta}, {law:?}: layer {m} of {n} dofs, {rows} rows, ‖Jx − b‖/‖b‖ = {defect_schur:.1e} (LU {defect_lu:.1e}), \
                  Schur vs LU {difference:.1e}"
             );
             assert!(
@@ -318,6 +323,36 @@ fn schur_complement_on_the_layer_solves_the_newton_equation() {
                 "θ = {theta}, {law:?}: defect {defect_schur:e}, difference {difference:e}"
             );
         }
+    }
+}
+
+/// Contact rows outside R. Source: src/solve/schur.rs (the rows of J outside R must be those of
+/// K, to round-off). Goal: a Jacobian whose contact terms reach rows outside the rows R that K
+/// was factorised for is refused, not solved with a wrong Schur complement. Problem: Scene A
+/// (P2, gmsh, as above), δ = 10⁻⁴ S, K factorised with R the dofs of the nodes on Γ_C (the
+/// rows of θ = 0), and the Jacobians at u = 0 of θ = 0 and of θ = 1, whose term
+/// −(θ/γ) σ^n(w) σ^n(v) reaches every dof of the cells along Γ_C. Checks: the first is
+/// factorised, the second refused with an error.
+#[test]
+fn contact_rows_outside_the_layer_rows_are_refused() {
+    let jacobian_of = |theta: f64| {
+        let (problem, disc, joint, scale) = scene_a_joint(theta, JointLaw::Frictionless);
+        let contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 1e-4 * scale });
+        let pattern = contact.pattern();
+        let n = disc.dofs.n_free;
+        let (mut residual, mut jacobian) = (vec![0.0; n], vec![0.0; pattern.nnz()]);
+        contact.evaluate(&vec![0.0; n], &mut residual, Some(&mut jacobian));
+        jacobian
+    };
+    let (problem, disc, joint, scale) = scene_a_joint(0.0, JointLaw::Frictionless);
+    let contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 1e-4 * scale });
+    let stiffness = problem.assemble_on(&disc, contact.pattern()).values;
+    let schur = LayerSchur::new(contact.pattern(), &stiffness, &contact.layer(), &contact.layer_rows())
+        .expect("the layer of Scene A is factorised dense");
+    assert!(schur.factor(&jacobian_of(0.0)).is_ok(), "θ = 0 refused");
+    match schur.factor(&jacobian_of(1.0)) {
+        Ok(_) => panic!("θ = 1 factorised with the rows of θ = 0"),
+        Err(e) => println!("θ = 1 with the rows of θ = 0: {e}"),
     }
 }
 
