@@ -39,6 +39,8 @@ pub struct Session {
     log_seen: usize,
     /// Whether a size field sets the mesh sizes (then the cell count is not estimated).
     sized_by_field: bool,
+    /// Whether gmsh meshed the model in this session (rather than reading a mesh file).
+    meshed: bool,
     /// Whether gmsh's messages are copied to stderr.
     verbose: bool,
 }
@@ -67,7 +69,7 @@ impl Session {
         api::clear()?;
         api::restart_logger()?;
         let source = PathBuf::from("the empty model");
-        Ok(Session { _lock: lock, source, log_seen: 0, sized_by_field: false, verbose })
+        Ok(Session { _lock: lock, source, log_seen: 0, sized_by_field: false, meshed: false, verbose })
     }
 
     /// Opens a `.geo` file. Unless `allow_system_calls`, first refuses it if it, or a file it
@@ -207,6 +209,7 @@ impl Session {
     pub fn generate(&mut self) -> Result<(), GmshError> {
         let path = self.source.clone();
         let estimate = !self.sized_by_field;
+        self.meshed = true;
         self.step(
             || {
                 if estimate {
@@ -224,7 +227,7 @@ impl Session {
     /// appears twice). Node order is gmsh's, which is the [`Mesh`] convention; nodes are
     /// numbered from 0 in order of first use by a cell, and cells are counter-clockwise.
     pub fn mesh(&self) -> Result<Mesh, GmshError> {
-        read::mesh(&self.source)
+        read::mesh(&self.source, self.meshed)
     }
 
     /// Writes the mesh in the format of the extension. Only elements of physical groups are
