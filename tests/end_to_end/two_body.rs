@@ -8,11 +8,17 @@ use std::path::PathBuf;
 /// Writes geo/dam_on_rock.toml with `edit` applied into `tmp` as `name`, the geometry by
 /// absolute path.
 fn dam_on_rock(tmp: &TempDir, name: &str, edit: impl Fn(String) -> String) -> PathBuf {
-    let text = std::fs::read_to_string(repo("geo/dam_on_rock.toml")).unwrap();
-    let geometry = format!("geometry = {:?}", repo("geo/dam_on_rock.geo").display().to_string());
-    let scene = tmp.join(name);
-    std::fs::write(&scene, edit(text.replace("geometry = \"dam_on_rock.geo\"", &geometry))).unwrap();
-    scene
+    edited(tmp, "dam_on_rock", name, edit)
+}
+
+/// Writes geo/`scene`.toml with `edit` applied into `tmp` as `name`, the geometry by absolute
+/// path.
+fn edited(tmp: &TempDir, scene: &str, name: &str, edit: impl Fn(String) -> String) -> PathBuf {
+    let text = std::fs::read_to_string(repo(&format!("geo/{scene}.toml"))).unwrap();
+    let geometry = format!("geometry = {:?}", repo(&format!("geo/{scene}.geo")).display().to_string());
+    let path = tmp.join(name);
+    std::fs::write(&path, edit(text.replace(&format!("geometry = \"{scene}.geo\""), &geometry))).unwrap();
+    path
 }
 
 // The dam on its rock block with a frictionless joint. Source: geo/dam_on_rock.toml.
@@ -55,7 +61,8 @@ fn dam_on_rock_solves_with_its_joint() {
 // boundary, a curve both a joint and a boundary curve, a joint law key out of range, a
 // [contact] law key beside joints, a law on a bonded interface, a slave that is not a side, an
 // unknown joint curve, contact on the interface without a joint, a body that its frictionless
-// joints leave free to slide, a [contact] flag on a joint, and `damfem safety` on a joint whose
+// joints leave free to slide (the dam on its rock; the upper block of geo/dam_lift_joint.toml,
+// a body of its own once its joint is split), a [contact] flag on a joint, and `damfem safety` on a joint whose
 // heel it cannot tell.
 #[test]
 fn joints_refuse_bad_input() {
@@ -122,6 +129,14 @@ fn joints_refuse_bad_input() {
             "solve",
             vec![],
             vec!["nothing holds the body of 'concrete'", "translation along x"],
+        ),
+        (
+            edited(&tmp, "dam_lift_joint", "frictionless-lift.toml", |t| {
+                t.replace("friction = 0.8391\ncohesion = 5.0e5\n", "")
+            }),
+            "solve",
+            vec![],
+            vec!["nothing holds the body of 'upper_block'", "translation along x"],
         ),
         (repo("geo/dam_on_rock.toml"), "solve", vec!["--gamma0", "10"], vec!["--gamma0", "[joints.joint]"]),
         (
