@@ -154,7 +154,9 @@ fn joints_refuse_bad_input() {
 // The error estimate across the joint through the CLI. Source: geo/dam_on_rock.toml,
 // docs/method.md §5.6. Goal: `damfem solve --estimate --effectivity` and `damfem adapt` run on
 // two meshed bodies; every estimate is equilibrated (the run would refuse it otherwise), η_tot
-// bounds the sharp reference (I_eff ≥ 1) on every step and falls along the adaptive run.
+// bounds the sharp reference (I_eff ≥ 1) on every step, also once the sides no longer match,
+// and falls along the adaptive run; `summary.json` counts the joint's facets (`faces`) and its
+// pieces, one per facet on the matching sides of `solve`, more on the last adaptive mesh.
 // Parameters: P2, gmsh's sizes × 2, three adaptive steps.
 #[test]
 fn dam_on_rock_is_estimated_across_its_joint() {
@@ -165,6 +167,8 @@ fn dam_on_rock_is_estimated_across_its_joint() {
     let out = damfem(&[&["solve", scene.to_str().unwrap()], &args[..]].concat());
     assert_ok(&out);
     let summary = check_summary(&solve_dir);
+    let count = |summary: &serde_json::Value, key: &str| summary["contact"][key].as_u64().unwrap();
+    assert_eq!(count(&summary, "pieces"), count(&summary, "faces"), "matching sides: one piece per facet");
     let i_eff = summary["effectivity"]["i_eff"].as_f64().unwrap();
     println!("solve: I_eff = {i_eff:.3}, equilibration {}", summary["estimate"]["equilibration"]);
     assert!(i_eff >= 1.0, "I_eff = {i_eff}");
@@ -181,6 +185,12 @@ fn dam_on_rock_is_estimated_across_its_joint() {
     assert_eq!(steps.len(), 3);
     assert!(i_eff.iter().all(|&i| i >= 1.0), "I_eff {i_eff:?}");
     assert!(eta.windows(2).all(|w| w[1] < w[0]), "η_tot {eta:?}");
+    // the last step's sides, remeshed each with its own sizes, do not match: a slave facet
+    // facing two master facets is two pieces
+    let last = check_summary(&adapt_dir);
+    let (faces, pieces) = (count(&last, "faces"), count(&last, "pieces"));
+    println!("adapt, last step: {faces} slave facets, {pieces} pieces");
+    assert!(pieces > faces, "{pieces} pieces on {faces} facets");
 }
 
 // A lift joint inside the dam. Source: geo/dam_lift_joint.toml (Scene A's dam cut at
