@@ -9,7 +9,7 @@
 //! With joints between meshed bodies, each side of the joints is remeshed on its own: gmsh
 //! meshes the geometry once per side, the joint curves bounding that side sized by that side's
 //! cells only, and the side's cells of each mesh are put together
-//! ([`merge_sides`](crate::mesh::interface::merge_sides)), so the two sides of a joint no
+//! ([`merge_sides`]), so the two sides of a joint no
 //! longer match.
 
 use super::{AdaptError, Mesher, Refinement};
