@@ -108,8 +108,11 @@ mod tests {
     use super::*;
     use crate::mesh::structured::rectangle;
 
-    /// The unit square of two cells with the sliver gmsh leaves on its bottom: a flat cell
-    /// (0,0), (1,0), (½,0) below the chord (0,0)–(1,0) of the cell above it.
+    /// Source: docs/method.md §5.4 (cells of zero area). Goal: the sliver gmsh leaves on a
+    /// straight boundary is flipped with its neighbour into two cells of positive area that
+    /// cover the square, every node used and the P2 midpoints in place; a mesh without flat
+    /// cells is left alone. Parameters: the unit square of two cells with a flat cell
+    /// (0,0), (1,0), (½,0) below the chord (0,0)–(1,0) of the cell above it, P1 and P2.
     #[test]
     fn a_flat_cell_on_a_straight_boundary_is_flipped_away() {
         for order in [1, 2] {

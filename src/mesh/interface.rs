@@ -308,6 +308,10 @@ mod tests {
         assert_eq!(mesh.n_points() - before, n - 1);
     }
 
+    /// Source: docs/method.md §5.4 (two bodies). Goal: the lower half of one mesh and the upper
+    /// half of a finer one make one mesh whose cut has 4 | 6 facets, meeting at its two ends,
+    /// which the split copies for the slave; two meshes that differ on a bonded segment are
+    /// refused. Parameters: [`two_halves`] of 4 × 4 and 6 × 6 cells, P1 and P2.
     #[test]
     fn sides_meshed_apart_are_merged_and_split() {
         for order in [1, 2] {
