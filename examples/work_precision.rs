@@ -69,6 +69,7 @@ fn run(case: &Case, refinement: Refinement, settings: AdaptSettings) -> Result<R
         refinement,
         verbose: false,
         allow_system_calls: false,
+        joints: Vec::new(),
     };
     let mut error = Vec::new();
     let history = adapt::run(&settings, &mut mesher, case.model.as_ref(), |step| {

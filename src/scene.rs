@@ -568,6 +568,7 @@ impl Scene {
             refinement,
             verbose: false,
             allow_system_calls: false,
+            joints: self.joints.keys().cloned().collect(),
         }
     }
 

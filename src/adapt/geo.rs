@@ -5,10 +5,18 @@
 //! step. The field holds sizes measured on a mesh that the size factor already scaled, so a
 //! remesh uses the factor 1: the factor again would scale the mesh by it at every step.
 //! Uniform steps mesh it with every size halved: `Mesh.MeshSizeFactor` × 2^−ℓ.
+//!
+//! With joints between meshed bodies, each side of the joints is remeshed on its own: gmsh
+//! meshes the geometry once per side, the joint curves bounding that side sized by that side's
+//! cells only, and the side's cells of each mesh are put together
+//! ([`merge_sides`]), so the two sides of a joint no
+//! longer match.
 
 use super::{AdaptError, Mesher, Refinement};
-use crate::io::gmsh::{mesh_geo, remesh_geo, MeshOptions, SizeField};
-use crate::mesh::Mesh;
+use crate::io::gmsh::{mesh_geo, remesh_geo, remesh_geo_side, GmshError, MeshOptions, SizeField};
+use crate::mesh::interface::merge_sides;
+use crate::mesh::{Mesh, Topology};
+use std::collections::BTreeSet;
 use std::path::PathBuf;
 
 /// gmsh meshes of one `.geo` file.
@@ -18,25 +26,59 @@ pub struct GeoMesher {
     pub refinement: Refinement,
     pub verbose: bool,
     pub allow_system_calls: bool,
+    /// The physical curves that are joints between meshed bodies, each side remeshed on its own.
+    pub joints: Vec<String>,
 }
 
 impl Mesher for GeoMesher {
     fn mesh(&mut self, step: usize, previous: Option<(&Mesh, &[f64])>) -> Result<Mesh, AdaptError> {
         let (path, verbose, allow) = (&self.geometry, self.verbose, self.allow_system_calls);
-        let mesh = match (self.refinement, previous) {
+        match (self.refinement, previous) {
             (Refinement::Adaptive, Some((mesh, sizes))) => {
                 let options = MeshOptions { size_factor: 1.0, ..self.options.clone() };
-                SizeField::from_cells(mesh, sizes).and_then(|field| remesh_geo(path, &options, &field, verbose, allow))
+                let field = SizeField::from_cells(mesh, sizes).map_err(|e| AdaptError::Mesh(e.into()))?;
+                let sides = joint_sides(mesh, &self.joints);
+                if sides.is_empty() {
+                    return remesh_geo(path, &options, &field, verbose, allow).map_err(|e| AdaptError::Mesh(e.into()));
+                }
+                let mut parts = Vec::new();
+                for &side in &sides {
+                    let own = field.of_cells(|c| mesh.cell_tags[c] == side);
+                    let part = remesh_geo_side(path, &options, &field, (&self.joints, side, &own), verbose, allow)
+                        .map_err(|e| AdaptError::Mesh(e.into()))?;
+                    let mut kept = vec![side];
+                    if parts.is_empty() {
+                        // the surfaces off the joints, from the first part
+                        kept.extend(part.cell_tags.iter().filter(|t| !sides.contains(t)).collect::<BTreeSet<_>>());
+                    }
+                    parts.push((part, kept));
+                }
+                let joints: Vec<i32> =
+                    self.joints.iter().filter_map(|name| parts[0].0.group(1, name)).map(|g| g.tag).collect();
+                merge_sides(&parts, &joints)
+                    .map_err(|message| AdaptError::Mesh(GmshError::Meshing { path: path.clone(), message }.into()))
             }
             _ => {
                 let factor = self.options.size_factor * 0.5f64.powi(step as i32);
                 mesh_geo(path, &MeshOptions { size_factor: factor, ..self.options.clone() }, verbose, allow)
+                    .map_err(|e| AdaptError::Mesh(e.into()))
             }
-        };
-        mesh.map_err(|e| AdaptError::Mesh(e.into()))
+        }
     }
 
     fn size_min(&self) -> Option<f64> {
         self.options.size_min
     }
+}
+
+/// The physical surfaces on either side of the curves `joints` of `mesh` (split: the slave
+/// side keeps the curve's name, the master side's is `<curve>:<surface>`).
+fn joint_sides(mesh: &Mesh, joints: &[String]) -> Vec<i32> {
+    let is_joint = |name: &str| {
+        joints.iter().any(|j| name == j || name.strip_prefix(j.as_str()).is_some_and(|r| r.starts_with(':')))
+    };
+    let tags: Vec<i32> = mesh.groups.iter().filter(|g| g.dim == 1 && is_joint(&g.name)).map(|g| g.tag).collect();
+    let topology = Topology::new(mesh);
+    let sides: BTreeSet<i32> = mesh.facets_tagged(&tags).map(|f| mesh.cell_tags[topology.facet_cell(f)]).collect();
+    sides.into_iter().collect()
 }

@@ -208,7 +208,12 @@ pub struct Summary<T> {
 /// Contact part of the summary.
 #[derive(Serialize)]
 pub struct ContactSummary {
+    /// The contact curves' facets (on a joint between two bodies, the slave side's).
     faces: usize,
+    /// On a joint between two bodies, the pieces of those facets that face one master facet
+    /// each (docs/method.md §1.10).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pieces: Option<usize>,
     gamma0: f64,
     theta: f64,
     /// δ of the last Newton step.
@@ -313,7 +318,8 @@ impl ContactSummary {
             },
         );
         ContactSummary {
-            faces: c.faces.len(),
+            faces: c.nitsche.faces.iter().map(|f| f.facet).collect::<std::collections::BTreeSet<_>>().len(),
+            pieces: c.nitsche.faces.first().and_then(|f| f.opposite.as_ref()).map(|_| c.nitsche.faces.len()),
             gamma0: c.nitsche.parameters.gamma0,
             theta: c.nitsche.parameters.theta,
             delta: c.smoothing.delta,

@@ -24,20 +24,28 @@ pub struct Interface {
     pub master_surface: i32,
 }
 
-/// The two physical surfaces on either side of the curve `curve`, from its segments: Err (a
-/// sentence) if a segment lies on the outer boundary, inside one surface, or between another
-/// pair of surfaces than the first segment.
+/// The two physical surfaces on either side of the curve `curve`, from its segments: each
+/// segment bounds a cell on either side (a conforming mesh) or, on sides meshed apart
+/// ([`merge_sides`]), every segment bounds one cell and the segments of the two sides have the
+/// same length. Err (a sentence) if a segment lies on the outer boundary, inside one surface,
+/// or between another pair of surfaces than the first segment.
 pub fn sides(mesh: &Mesh, topology: &Topology, curve: i32) -> Result<[i32; 2], String> {
     let name = group_name(mesh, 1, curve);
+    let outer = |tag: i32| {
+        format!(
+            "curve '{name}' is not shared by two surfaces: part of it bounds '{}' only; a joint lies between \
+             two meshed surfaces (a rigid foundation is role = \"contact\")",
+            group_name(mesh, 2, tag)
+        )
+    };
     let mut pair: Option<[i32; 2]> = None;
+    // the surface and length of each segment that bounds one cell
+    let mut one_sided: Vec<(i32, f64)> = Vec::new();
     for f in mesh.facets_tagged(&[curve]) {
         let [a, b] = topology.edge_cells[topology.facet_edges[f]];
         if b == NONE {
-            return Err(format!(
-                "curve '{name}' is not shared by two surfaces: part of it bounds '{}' only; a joint lies between \
-                 two meshed surfaces (a rigid foundation is role = \"contact\")",
-                group_name(mesh, 2, mesh.cell_tags[a])
-            ));
+            one_sided.push((mesh.cell_tags[a], mesh.facet_length(f)));
+            continue;
         }
         let tags = [mesh.cell_tags[a].min(mesh.cell_tags[b]), mesh.cell_tags[a].max(mesh.cell_tags[b])];
         if tags[0] == tags[1] {
@@ -61,11 +69,26 @@ pub fn sides(mesh: &Mesh, topology: &Topology, curve: i32) -> Result<[i32; 2], S
             _ => pair = Some(tags),
         }
     }
-    pair.ok_or_else(|| format!("curve '{name}' has no segments in the mesh"))
+    match (pair, one_sided.first()) {
+        (Some(_), Some(&(tag, _))) => Err(outer(tag)),
+        (Some(pair), None) => Ok(pair),
+        (None, None) => Err(format!("curve '{name}' has no segments in the mesh")),
+        (None, Some(&(tag, _))) => {
+            let other = one_sided.iter().map(|s| s.0).find(|&t| t != tag).ok_or_else(|| outer(tag))?;
+            let length = |t: i32| one_sided.iter().filter(|s| s.0 == t).map(|s| s.1).sum::<f64>();
+            let (l, m) = (length(tag), length(other));
+            if one_sided.iter().any(|s| s.0 != tag && s.0 != other) || (l - m).abs() > 1e-9 * l.max(m) {
+                return Err(outer(if l < m { other } else { tag }));
+            }
+            Ok([tag.min(other), tag.max(other)])
+        }
+    }
 }
 
 /// Splits the nodes of the curve `curve` between its two sides; the cells of the surface
-/// `slave_surface` (one of [`sides`]) get the copies. Err: why the curve is not a joint.
+/// `slave_surface` (one of [`sides`]) get the copies of the nodes they share with the other
+/// side (all the curve's nodes on a conforming mesh, its ends on sides meshed apart).
+/// Err: why the curve is not a joint.
 pub fn split(mesh: &mut Mesh, curve: i32, slave_surface: i32) -> Result<Interface, String> {
     let topology = Topology::new(mesh);
     let pair = sides(mesh, &topology, curve)?;
@@ -80,10 +103,14 @@ pub fn split(mesh: &mut Mesh, curve: i32, slave_surface: i32) -> Result<Interfac
             bonded.extend(topology.edges[e]);
         }
     }
+    let mut side = vec![[false; 2]; mesh.n_points()];
+    for c in 0..mesh.n_cells() {
+        mesh.cell(c).iter().for_each(|&n| side[n][usize::from(is_slave(c))] = true);
+    }
     let mut copy: HashMap<usize, usize> = HashMap::new();
     for &f in &joint_facets {
         for node in mesh.facet(f).to_vec() {
-            if !bonded.contains(&node) && !copy.contains_key(&node) {
+            if side[node] == [true; 2] && !bonded.contains(&node) && !copy.contains_key(&node) {
                 copy.insert(node, mesh.points.len());
                 mesh.points.push(mesh.points[node]);
             }
@@ -94,17 +121,21 @@ pub fn split(mesh: &mut Mesh, curve: i32, slave_surface: i32) -> Result<Interfac
     for c in (0..mesh.n_cells()).filter(|&c| mesh.cell_tags[c] == slave_surface) {
         renumber(&mut mesh.cell_nodes[c * npc..(c + 1) * npc]);
     }
-    // facets off the joint follow the slave cells they bound
+    // facets off the joint, and the joint's own on sides meshed apart, follow the cells they bound
     let npf = mesh.nodes_per_facet();
-    for f in (0..mesh.n_facets()).filter(|&f| mesh.facet_tags[f] != curve) {
-        if topology.edge_cells[topology.facet_edges[f]].iter().any(|&c| is_slave(c)) {
+    let master_curve = mesh.groups.iter().map(|g| g.tag).max().unwrap_or(0).max(curve) + 1;
+    for f in 0..mesh.n_facets() {
+        let [a, b] = topology.edge_cells[topology.facet_edges[f]];
+        if mesh.facet_tags[f] == curve && b == NONE && !is_slave(a) {
+            mesh.facet_tags[f] = master_curve;
+        } else if (mesh.facet_tags[f] != curve || b == NONE) && (is_slave(a) || is_slave(b)) {
             renumber(&mut mesh.facet_nodes[f * npf..(f + 1) * npf]);
         }
     }
-    let master_curve = mesh.groups.iter().map(|g| g.tag).max().unwrap_or(0).max(curve) + 1;
     let name = format!("{}:{}", group_name(mesh, 1, curve), group_name(mesh, 2, master_surface));
     mesh.groups.push(PhysicalGroup { dim: 1, tag: master_curve, name });
-    for &f in &joint_facets {
+    // a segment between two cells becomes the master's facet and a copy on the slave's nodes
+    for &f in joint_facets.iter().filter(|&&f| topology.edge_cells[topology.facet_edges[f]][1] != NONE) {
         let mut slave: Vec<usize> = mesh.facet(f).to_vec();
         renumber(&mut slave);
         mesh.facet_tags[f] = master_curve;
@@ -112,6 +143,98 @@ pub fn split(mesh: &mut Mesh, curve: i32, slave_surface: i32) -> Result<Interfac
         mesh.facet_tags.push(curve);
     }
     Ok(Interface { slave_curve: curve, master_curve, slave_surface, master_surface })
+}
+
+/// One mesh made of the cells of `parts`, each a mesh of the same geometry and the physical
+/// surface tags whose cells it gives (docs/method.md §5.4, two bodies): nodes at the same
+/// point are one node, except those inside the curves tagged `joints` (not at their ends),
+/// which each part keeps its own, so that a joint's two sides may be meshed apart. Facets
+/// come from the part whose cells they bound, once. Err (a sentence) where two parts do not
+/// match off the joints: a boundary edge that is no part's boundary.
+pub fn merge_sides(parts: &[(Mesh, Vec<i32>)], joints: &[i32]) -> Result<Mesh, String> {
+    let first = &parts[0].0;
+    let mut merged = Mesh {
+        points: Vec::new(),
+        order: first.order,
+        cell_nodes: Vec::new(),
+        cell_tags: Vec::new(),
+        facet_nodes: Vec::new(),
+        facet_tags: Vec::new(),
+        groups: first.groups.clone(),
+    };
+    let mut at: HashMap<[u64; 2], usize> = HashMap::new();
+    let mut facets: BTreeSet<(i32, Vec<usize>)> = BTreeSet::new();
+    // the edges (vertex pairs) of merged cells on their part's boundary or on a joint
+    let mut boundary: BTreeSet<[usize; 2]> = BTreeSet::new();
+    for (mesh, surfaces) in parts {
+        let topology = Topology::new(mesh);
+        let kept = |c: usize| c != NONE && surfaces.contains(&mesh.cell_tags[c]);
+        let inside = joint_interior(mesh, joints);
+        let mut map = vec![NONE; mesh.n_points()];
+        let mut node = |n: usize, merged: &mut Mesh| {
+            if map[n] == NONE {
+                let p = mesh.points[n];
+                let new = merged.points.len();
+                map[n] = if inside.contains(&n) { new } else { *at.entry(p.map(f64::to_bits)).or_insert(new) };
+                if map[n] == new {
+                    merged.points.push(p);
+                }
+            }
+            map[n]
+        };
+        for c in (0..mesh.n_cells()).filter(|&c| kept(c)) {
+            for &n in mesh.cell(c) {
+                let m = node(n, &mut merged);
+                merged.cell_nodes.push(m);
+            }
+            merged.cell_tags.push(mesh.cell_tags[c]);
+        }
+        let on_joint: BTreeSet<usize> = mesh.facets_tagged(joints).map(|f| topology.facet_edges[f]).collect();
+        for (e, &[a, b]) in topology.edge_cells.iter().enumerate() {
+            if kept(a) != kept(b) && (b == NONE || on_joint.contains(&e)) {
+                let [p, q] = topology.edges[e].map(|n| node(n, &mut merged));
+                boundary.insert([p.min(q), p.max(q)]);
+            }
+        }
+        for f in 0..mesh.n_facets() {
+            if topology.edge_cells[topology.facet_edges[f]].iter().any(|&c| kept(c)) {
+                let nodes: Vec<usize> = mesh.facet(f).iter().map(|&n| node(n, &mut merged)).collect();
+                let mut key = nodes.clone();
+                key.sort_unstable();
+                if facets.insert((mesh.facet_tags[f], key)) {
+                    merged.facet_nodes.extend(nodes);
+                    merged.facet_tags.push(mesh.facet_tags[f]);
+                }
+            }
+        }
+    }
+    let topology = Topology::new(&merged);
+    for (e, &[a, b]) in topology.edges.iter().enumerate() {
+        if topology.is_boundary_edge(e) && !boundary.contains(&[a.min(b), a.max(b)]) {
+            let [x, y] = merged.points[a];
+            return Err(format!(
+                "the meshes of the bodies do not match at ({x:.6}, {y:.6}), off the joints: gmsh meshed a curve \
+                 they share differently for each"
+            ));
+        }
+    }
+    Ok(merged)
+}
+
+/// The nodes of `mesh` on the facets tagged `joints` other than the ends of those curves (the
+/// vertices of a single facet of their curve).
+fn joint_interior(mesh: &Mesh, joints: &[i32]) -> BTreeSet<usize> {
+    let mut ends: HashMap<(i32, usize), usize> = HashMap::new();
+    for f in mesh.facets_tagged(joints) {
+        for &v in &mesh.facet(f)[..2] {
+            *ends.entry((mesh.facet_tags[f], v)).or_default() += 1;
+        }
+    }
+    (mesh.facets_tagged(joints))
+        .flat_map(|f| mesh.facet(f).iter().map(move |&n| (mesh.facet_tags[f], n)))
+        .filter(|key| ends.get(key) != Some(&1))
+        .map(|(_, n)| n)
+        .collect()
 }
 
 /// The name of the physical group `tag` of dimension `dim`, or its tag.
@@ -183,6 +306,41 @@ mod tests {
         split(&mut mesh, 5, 2).unwrap();
         // the vertices of the joint's n − 1 segments less the bonded end (x = 0.75) and x = 1
         assert_eq!(mesh.n_points() - before, n - 1);
+    }
+
+    /// Source: docs/method.md §5.4 (two bodies). Goal: the lower half of one mesh and the upper
+    /// half of a finer one make one mesh whose cut has 4 | 6 facets, meeting at its two ends,
+    /// which the split copies for the slave; two meshes that differ on a bonded segment are
+    /// refused. Parameters: [`two_halves`] of 4 × 4 and 6 × 6 cells, P1 and P2.
+    #[test]
+    fn sides_meshed_apart_are_merged_and_split() {
+        for order in [1, 2] {
+            // the lower half from a 4 × 4 mesh, the upper half from a 6 × 6 one
+            let parts = [(two_halves(4, order, false), vec![1]), (two_halves(6, order, false), vec![2])];
+            let mut mesh = merge_sides(&parts, &[5]).unwrap();
+            assert_eq!(mesh.n_cells(), 16 + 36);
+            let area: f64 = (0..mesh.n_cells()).map(|c| mesh.cell_area(c)).sum();
+            assert!((area - 1.0).abs() < 1e-14);
+            // both sides of the cut, 4 and 6 facets, meet at its two ends only
+            let before = mesh.n_points();
+            let interface = split(&mut mesh, 5, 2).unwrap();
+            assert_eq!(interface.master_surface, 1);
+            assert_eq!(mesh.n_points() - before, 2, "the two ends get the slave's copies");
+            assert_eq!(mesh.facets_tagged(&[5]).count(), 6);
+            assert_eq!(mesh.facets_tagged(&[interface.master_curve]).count(), 4);
+            let topology = Topology::new(&mesh);
+            for f in mesh.facets_tagged(&[5, interface.master_curve]) {
+                let side = mesh.cell_tags[topology.facet_cell(f)];
+                assert_eq!(side, if mesh.facet_tags[f] == 5 { 2 } else { 1 });
+            }
+            // two closed loops: 4 + 4 + 2·2 … edges of the lower half, 6 + 6 + 2·3 of the upper
+            let boundary = (0..topology.n_edges()).filter(|&e| topology.is_boundary_edge(e)).count();
+            assert_eq!(boundary, (4 + 4 + 2 * 2) + (6 + 6 + 2 * 3));
+        }
+        // with a bonded end, the two meshes of the bonded segment differ: refused
+        let parts = [(two_halves(4, 1, true), vec![1]), (two_halves(6, 1, true), vec![2])];
+        let message = merge_sides(&parts, &[5]).unwrap_err();
+        assert!(message.contains("do not match"), "{message}");
     }
 
     #[test]

@@ -7,6 +7,7 @@
 //!
 //! The mesh knows nothing of finite elements: it only describes the domain.
 
+pub mod flat;
 pub mod interface;
 pub mod midpoints;
 pub mod segment;

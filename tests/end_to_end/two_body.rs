@@ -8,11 +8,17 @@ use std::path::PathBuf;
 /// Writes geo/dam_on_rock.toml with `edit` applied into `tmp` as `name`, the geometry by
 /// absolute path.
 fn dam_on_rock(tmp: &TempDir, name: &str, edit: impl Fn(String) -> String) -> PathBuf {
-    let text = std::fs::read_to_string(repo("geo/dam_on_rock.toml")).unwrap();
-    let geometry = format!("geometry = {:?}", repo("geo/dam_on_rock.geo").display().to_string());
-    let scene = tmp.join(name);
-    std::fs::write(&scene, edit(text.replace("geometry = \"dam_on_rock.geo\"", &geometry))).unwrap();
-    scene
+    edited(tmp, "dam_on_rock", name, edit)
+}
+
+/// Writes geo/`scene`.toml with `edit` applied into `tmp` as `name`, the geometry by absolute
+/// path.
+fn edited(tmp: &TempDir, scene: &str, name: &str, edit: impl Fn(String) -> String) -> PathBuf {
+    let text = std::fs::read_to_string(repo(&format!("geo/{scene}.toml"))).unwrap();
+    let geometry = format!("geometry = {:?}", repo(&format!("geo/{scene}.geo")).display().to_string());
+    let path = tmp.join(name);
+    std::fs::write(&path, edit(text.replace(&format!("geometry = \"{scene}.geo\""), &geometry))).unwrap();
+    path
 }
 
 // The dam on its rock block with a frictionless joint. Source: geo/dam_on_rock.toml.
@@ -55,7 +61,8 @@ fn dam_on_rock_solves_with_its_joint() {
 // boundary, a curve both a joint and a boundary curve, a joint law key out of range, a
 // [contact] law key beside joints, a law on a bonded interface, a slave that is not a side, an
 // unknown joint curve, contact on the interface without a joint, a body that its frictionless
-// joints leave free to slide, a [contact] flag on a joint, and `damfem safety` on a joint whose
+// joints leave free to slide (the dam on its rock; the upper block of geo/dam_lift_joint.toml,
+// a body of its own once its joint is split), a [contact] flag on a joint, and `damfem safety` on a joint whose
 // heel it cannot tell.
 #[test]
 fn joints_refuse_bad_input() {
@@ -123,6 +130,14 @@ fn joints_refuse_bad_input() {
             vec![],
             vec!["nothing holds the body of 'concrete'", "translation along x"],
         ),
+        (
+            edited(&tmp, "dam_lift_joint", "frictionless-lift.toml", |t| {
+                t.replace("friction = 0.8391\ncohesion = 5.0e5\n", "")
+            }),
+            "solve",
+            vec![],
+            vec!["nothing holds the body of 'upper_block'", "translation along x"],
+        ),
         (repo("geo/dam_on_rock.toml"), "solve", vec!["--gamma0", "10"], vec!["--gamma0", "[joints.joint]"]),
         (
             scene(&|t| t.replace("hydrostatic = { density = 1000.0, level = 50.0 }", "traction = [1.0e5, 0.0]")),
@@ -139,7 +154,9 @@ fn joints_refuse_bad_input() {
 // The error estimate across the joint through the CLI. Source: geo/dam_on_rock.toml,
 // docs/method.md §5.6. Goal: `damfem solve --estimate --effectivity` and `damfem adapt` run on
 // two meshed bodies; every estimate is equilibrated (the run would refuse it otherwise), η_tot
-// bounds the sharp reference (I_eff ≥ 1) on every step and falls along the adaptive run.
+// bounds the sharp reference (I_eff ≥ 1) on every step, also once the sides no longer match,
+// and falls along the adaptive run; `summary.json` counts the joint's facets (`faces`) and its
+// pieces, one per facet on the matching sides of `solve`, more on the last adaptive mesh.
 // Parameters: P2, gmsh's sizes × 2, three adaptive steps.
 #[test]
 fn dam_on_rock_is_estimated_across_its_joint() {
@@ -150,6 +167,8 @@ fn dam_on_rock_is_estimated_across_its_joint() {
     let out = damfem(&[&["solve", scene.to_str().unwrap()], &args[..]].concat());
     assert_ok(&out);
     let summary = check_summary(&solve_dir);
+    let count = |summary: &serde_json::Value, key: &str| summary["contact"][key].as_u64().unwrap();
+    assert_eq!(count(&summary, "pieces"), count(&summary, "faces"), "matching sides: one piece per facet");
     let i_eff = summary["effectivity"]["i_eff"].as_f64().unwrap();
     println!("solve: I_eff = {i_eff:.3}, equilibration {}", summary["estimate"]["equilibration"]);
     assert!(i_eff >= 1.0, "I_eff = {i_eff}");
@@ -166,6 +185,12 @@ fn dam_on_rock_is_estimated_across_its_joint() {
     assert_eq!(steps.len(), 3);
     assert!(i_eff.iter().all(|&i| i >= 1.0), "I_eff {i_eff:?}");
     assert!(eta.windows(2).all(|w| w[1] < w[0]), "η_tot {eta:?}");
+    // the last step's sides, remeshed each with its own sizes, do not match: a slave facet
+    // facing two master facets is two pieces
+    let last = check_summary(&adapt_dir);
+    let (faces, pieces) = (count(&last, "faces"), count(&last, "pieces"));
+    println!("adapt, last step: {faces} slave facets, {pieces} pieces");
+    assert!(pieces > faces, "{pieces} pieces on {faces} facets");
 }
 
 // A lift joint inside the dam. Source: geo/dam_lift_joint.toml (Scene A's dam cut at

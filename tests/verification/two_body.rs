@@ -375,3 +375,86 @@ fn a_very_stiff_foundation_tends_to_the_rigid_one() {
     assert!(difference[2] < 1e-3 * b, "the stiffest foundation is {:.3e} from the rigid one", difference[2]);
     assert!((rate - 1.0).abs() < 0.1, "rate {rate:.3} in 1/E2, expected 1");
 }
+
+/// A closed, sticking joint tends to the bonded interface. Source: docs/method.md §1.10 (the
+/// consistency check: a bonded interface against a joint that stays closed and sticks).
+/// Goal: the blocks joined by a Tresca joint that stays closed and sticks everywhere, and the
+/// same blocks bonded (one conforming mesh), have displacements that differ by O(1/γ₀): on a
+/// closed, sticking joint the θ = 0 Nitsche terms are (σ(u_h¹)n¹ − γ[u_h], [v_h]), whose
+/// restriction to continuous v_h is the bonded problem, so the difference e = u_γ − u_bonded
+/// solves a problem whose only datum is the defect σ(u_bonded¹)n¹ − (the bonded discrete
+/// traction), of the order of the discretisation error of the flux, divided by γ.
+/// Parameters: the blocks of the patch test (E₂ = 3, ν₂ = 0.3 below, E₁ = 1, ν₁ = 0.2 above),
+/// 8 × 4 cells each, matching sides, fixed at y = 0, sides free, a top traction
+/// (0.2, −(1 + x)) × 10⁻², so that the joint is pressed everywhere and sheared; Tresca
+/// s = 1, a hundred times the load (a Coulomb joint slips at the free ends of the joint, where
+/// the normal stress of the bonded blocks vanishes); θ = 0, γ₀ = 10², 10³, 10⁴; P1 and P2.
+#[test]
+fn a_closed_sticking_joint_tends_to_the_bonded_interface() {
+    let (lower, upper) =
+        (Material { young: 3.0, poisson: 0.3, density: 0.0 }, Material { young: 1.0, poisson: 0.2, density: 0.0 });
+    let load: VectorFn = Arc::new(|x: [f64; 2]| [0.2e-2, -1e-2 * (1.0 + x[0])]);
+    let problem = |mesh: damfem::mesh::Mesh| Problem {
+        materials: mesh.cell_tags.iter().map(|_| upper).collect(),
+        dirichlet: vec![Dirichlet { tag: BOTTOM, fix: [true; 2], value: Arc::new(|_| [0.0; 2]) }],
+        neumann: vec![Neumann { tag: TOP, traction: Traction::Field(load.clone()) }],
+        body_force: BodyForce::None,
+        mesh,
+    };
+    let (n, ny) = (8, 4);
+    let key = |x: [f64; 2]| ((x[0] * 1e9).round() as i64, (x[1] * 1e9).round() as i64);
+    for order in [1, 2] {
+        let bonded = {
+            let mesh = rectangle(0.0, 1.0, 0.0, 1.0, n, 2 * ny, order);
+            let below: Vec<bool> = (0..mesh.n_cells()).map(|c| mesh.cell_centroid(c)[1] < 0.5).collect();
+            let mut problem = problem(mesh);
+            problem.materials = below.iter().map(|&b| if b { lower } else { upper }).collect();
+            let disc = problem.discretise();
+            let u = problem.displacement(&disc, &problem.solve_linear(&disc).unwrap());
+            let at: std::collections::HashMap<_, _> =
+                problem.mesh.points.iter().zip(u).map(|(x, u)| (key(*x), u)).collect();
+            at
+        };
+        let scale = bonded.values().map(|u| u[0].hypot(u[1])).fold(0.0, f64::max);
+        let (mut inverse, mut difference) = (Vec::new(), Vec::new());
+        for gamma0 in [1e2, 1e3, 1e4] {
+            let mut problem = problem(two_blocks(n, n, ny, 0.5, order));
+            problem.materials = materials(&problem.mesh, lower, upper);
+            let parameters = NitscheParameters { gamma0, ..Default::default() };
+            let joint = ContactJoint {
+                law: JointLaw::Tresca { threshold: 1.0 },
+                parameters,
+                ..ContactJoint { masters: vec![JOINT_LOWER], ..ContactJoint::frictionless(vec![JOINT], parameters) }
+            };
+            let disc = problem.discretise();
+            let mut contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 0.0 });
+            let x0 = vec![0.0; disc.dofs.n_free];
+            let (x, _) =
+                continuation(&mut contact, 0.0, 1e-3, x0, &NewtonOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+            let faces = contact.face_states(&x);
+            let (closed, stick) = faces.iter().fold((0.0, 0.0), |(c, s), f| (c + f.contact_length, s + f.stick_length));
+            assert!((closed - 1.0).abs() < 1e-12 && (stick - 1.0).abs() < 1e-12, "closed {closed}, stick {stick}");
+            let u = problem.displacement(&disc, &x);
+            let max = (problem.mesh.points.iter().zip(&u))
+                .map(|(x, u)| {
+                    let b = bonded[&key(*x)];
+                    (u[0] - b[0]).hypot(u[1] - b[1])
+                })
+                .fold(0.0, f64::max);
+            println!(
+                "P{order}, γ₀ = {gamma0:.0e}: max |u − u_bonded| = {max:.3e} ({:.2e} of max |u_bonded| = {scale:.3e})",
+                max / scale
+            );
+            inverse.push(1.0 / gamma0);
+            difference.push(max);
+        }
+        let rate = common::fitted_rate(&inverse, &difference);
+        println!("P{order}: fitted rate in 1/γ₀: {rate:.3}");
+        assert!((rate - 1.0).abs() < 0.1, "P{order}: rate {rate:.3} in 1/γ₀, expected 1");
+        assert!(
+            difference[0] < 1e-3 * scale,
+            "P{order}: at γ₀ = 100 the joint is {:.3e} from the bonded",
+            difference[0]
+        );
+    }
+}

@@ -297,6 +297,25 @@ pub(super) fn field_set_number(field: c_int, option: &str, value: f64) -> Result
     })
 }
 
+/// Sets the numerical list option `option` of field `field`.
+pub(super) fn field_set_numbers(field: c_int, option: &str, values: &[f64]) -> Result<(), GmshError> {
+    let option = c_string(option);
+    // SAFETY: `option` is NUL-terminated and `values` valid for `values.len()` reads; gmsh copies both.
+    call("gmshModelMeshFieldSetNumbers", |e| unsafe {
+        ffi::gmshModelMeshFieldSetNumbers(field, option.as_ptr(), values.as_ptr().cast_mut(), values.len(), e)
+    })
+}
+
+/// Tags of the entities of dimension `dim` + 1 adjacent to the entity (`dim`, `tag`).
+pub(super) fn upward(dim: c_int, tag: c_int) -> Result<Vec<i32>, GmshError> {
+    let (mut up, mut down) = (GmshVec::new(), GmshVec::<c_int>::new());
+    // SAFETY: valid out-pointers, owned by `up` and `down`.
+    call("gmshModelGetAdjacencies", |e| unsafe {
+        ffi::gmshModelGetAdjacencies(dim, tag, &mut up.ptr, &mut up.len, &mut down.ptr, &mut down.len, e)
+    })?;
+    Ok(up.as_slice().to_vec())
+}
+
 /// Makes field `field` the background mesh size field, replacing any other.
 pub(super) fn field_set_background(field: c_int) -> Result<(), GmshError> {
     // SAFETY: plain call with a valid `ierr`.

@@ -93,6 +93,22 @@ pub fn remesh_geo(
     mesh_geo_with(path, options, Some(field), verbose, allow_system_calls)
 }
 
+/// Meshes the `.geo` file `path` like [`remesh_geo`], except that the curves of the physical
+/// curve groups `joints` bounding a surface of the physical group `side` take their sizes from
+/// `own` (see [`Session::set_side_size_field`]): the mesh of that side of the joints, sized
+/// by its own field, whatever the other side asks for.
+pub fn remesh_geo_side(
+    path: &Path,
+    options: &MeshOptions,
+    field: &SizeField,
+    (joints, side, own): (&[String], i32, &SizeField),
+    verbose: bool,
+    allow_system_calls: bool,
+) -> Result<Mesh, GmshError> {
+    let size = |session: &mut Session| session.set_side_size_field(field, joints, side, own);
+    generated(path, options, size, verbose, allow_system_calls)?.mesh()
+}
+
 /// Meshes the `.geo` file `path` like [`mesh_geo`] and also saves gmsh's mesh file `msh`
 /// (format from its extension), written under a hidden name and renamed, so that a failed
 /// write leaves no partial file.
@@ -103,7 +119,7 @@ pub fn save_geo_mesh(
     verbose: bool,
     allow_system_calls: bool,
 ) -> Result<Mesh, GmshError> {
-    let mut session = generated(path, options, None, verbose, allow_system_calls)?;
+    let mut session = generated(path, options, |_| Ok(()), verbose, allow_system_calls)?;
     let mesh = session.mesh()?;
     let file = msh.file_name().map_or_else(|| "mesh.msh".into(), |f| f.to_string_lossy().into_owned());
     let partial = msh.with_file_name(format!(".{}.{file}", std::process::id()));
@@ -143,14 +159,16 @@ fn mesh_geo_with(
     verbose: bool,
     allow_system_calls: bool,
 ) -> Result<Mesh, GmshError> {
-    generated(path, options, field, verbose, allow_system_calls)?.mesh()
+    let size = |session: &mut Session| field.map_or(Ok(()), |field| session.set_size_field(field));
+    generated(path, options, size, verbose, allow_system_calls)?.mesh()
 }
 
-/// A session holding the 2D mesh of the `.geo` file `path` (sizes from `field` if given).
+/// A session holding the 2D mesh of the `.geo` file `path`, with the mesh sizes that `size`
+/// sets once the file is open.
 fn generated(
     path: &Path,
     options: &MeshOptions,
-    field: Option<&SizeField>,
+    size: impl FnOnce(&mut Session) -> Result<(), GmshError>,
     verbose: bool,
     allow_system_calls: bool,
 ) -> Result<Session, GmshError> {
@@ -158,9 +176,7 @@ fn generated(
     let mut session = Session::new(verbose)?;
     session.open_geo(path, allow_system_calls)?;
     session.set_options(options)?;
-    if let Some(field) = field {
-        session.set_size_field(field)?;
-    }
+    size(&mut session)?;
     session.generate()?;
     Ok(session)
 }

@@ -1,13 +1,16 @@
 //! Conversion of gmsh's current mesh into a [`Mesh`].
 
 use super::{api, GmshError};
+use crate::mesh::flat::flip_flat_cells;
 use crate::mesh::{Mesh, PhysicalGroup};
 use std::collections::HashMap;
 use std::path::Path;
 
 /// Reads the current mesh as [`Session::mesh`](super::Session::mesh) describes; `source`
-/// names the file in errors.
-pub(super) fn mesh(source: &Path) -> Result<Mesh, GmshError> {
+/// names the file in errors. On a mesh gmsh has just made (`meshed`), the cells of zero area
+/// its Delaunay-based algorithms leave along straight boundaries are flipped away
+/// ([`flip_flat_cells`]); any other cell of zero area is an error.
+pub(super) fn mesh(source: &Path, meshed: bool) -> Result<Mesh, GmshError> {
     let cells = elements(2, source)?;
     let order = cells.order.ok_or_else(|| GmshError::NoTriangles { path: source.into() })?;
     let facets = elements(1, source)?;
@@ -27,6 +30,9 @@ pub(super) fn mesh(source: &Path) -> Result<Mesh, GmshError> {
         facet_tags: facets.tags,
         groups,
     };
+    if meshed {
+        flip_flat_cells(&mut mesh).map_err(|[x, y]| GmshError::Degenerate { path: source.into(), x, y })?;
+    }
     if let Some(c) = (0..mesh.n_cells()).find(|&c| mesh.cell_area(c) == 0.0) {
         let [x, y] = mesh.points[mesh.cell(c)[0]];
         return Err(GmshError::Degenerate { path: source.into(), x, y });

@@ -39,6 +39,8 @@ pub struct Session {
     log_seen: usize,
     /// Whether a size field sets the mesh sizes (then the cell count is not estimated).
     sized_by_field: bool,
+    /// Whether gmsh meshed the model in this session (rather than reading a mesh file).
+    meshed: bool,
     /// Whether gmsh's messages are copied to stderr.
     verbose: bool,
 }
@@ -67,7 +69,7 @@ impl Session {
         api::clear()?;
         api::restart_logger()?;
         let source = PathBuf::from("the empty model");
-        Ok(Session { _lock: lock, source, log_seen: 0, sized_by_field: false, verbose })
+        Ok(Session { _lock: lock, source, log_seen: 0, sized_by_field: false, meshed: false, verbose })
     }
 
     /// Opens a `.geo` file. Unless `allow_system_calls`, first refuses it if it, or a file it
@@ -141,17 +143,62 @@ impl Session {
     /// lowered to max(maxᵢ h(xᵢ), `Mesh.MeshSizeMin`). Call it after opening the file, to which
     /// the field belongs; the view lives until the next session clears the model.
     pub fn set_size_field(&mut self, field: &SizeField) -> Result<(), GmshError> {
-        field.validate()?;
-        let view = api::view_add("target mesh sizes")?;
-        api::view_add_list_data(view, "ST", field.triangles.len(), &field.list_data())?;
-        let tag = api::field_add("PostView")?;
-        api::field_set_number(tag, "ViewTag", f64::from(view))?;
+        let tag = post_view(field)?;
+        self.set_background(tag, field.max_size())
+    }
+
+    /// Like [`Session::set_size_field`], except on the curves of the physical curve groups
+    /// `joints` that bound a surface of the physical group `side`: these are meshed with the
+    /// sizes of `own` instead (docs/method.md §5.4, two bodies). The background field is
+    /// Min(Restrict(`field`; every point, surface and other curve), Restrict(`own`; those
+    /// curves)), gmsh's Restrict giving its largest size off its entities.
+    pub fn set_side_size_field(
+        &mut self,
+        field: &SizeField,
+        joints: &[String],
+        side: i32,
+        own: &SizeField,
+    ) -> Result<(), GmshError> {
+        let mut curves = Vec::new();
+        for (_, group) in api::physical_groups(1)? {
+            if joints.contains(&api::physical_name(1, group)?) {
+                for &curve in api::group_entities(1, group)?.as_slice() {
+                    let bounds_side = api::upward(1, curve)?
+                        .into_iter()
+                        .map(|surface| api::entity_groups(2, surface).map(|g| g.as_slice().first() == Some(&side)))
+                        .collect::<Result<Vec<bool>, _>>()?;
+                    if bounds_side.contains(&true) {
+                        curves.push(curve);
+                    }
+                }
+            }
+        }
+        let tags = |dim| -> Result<Vec<f64>, GmshError> {
+            Ok(api::entities(dim)?
+                .into_iter()
+                .filter(|&(_, t)| dim != 1 || !curves.contains(&t))
+                .map(|(_, t)| f64::from(t))
+                .collect())
+        };
+        let rest = restrict(
+            post_view(field)?,
+            &[("PointsList", tags(0)?), ("CurvesList", tags(1)?), ("SurfacesList", tags(2)?)],
+        )?;
+        let joint = restrict(post_view(own)?, &[("CurvesList", curves.iter().map(|&c| f64::from(c)).collect())])?;
+        let min = api::field_add("Min")?;
+        api::field_set_numbers(min, "FieldsList", &[f64::from(rest), f64::from(joint)])?;
+        self.set_background(min, field.max_size().max(own.max_size()))
+    }
+
+    /// Makes the field `tag` the background field and the only source of mesh sizes, the
+    /// largest at most max(`max_size`, `Mesh.MeshSizeMin`).
+    fn set_background(&mut self, tag: i32, max_size: f64) -> Result<(), GmshError> {
         api::field_set_background(tag)?;
         for name in ["Mesh.MeshSizeFromPoints", "Mesh.MeshSizeFromCurvature", "Mesh.MeshSizeExtendFromBoundary"] {
             api::set_number(name, 0.0)?;
         }
         let size_min = api::get_number("Mesh.MeshSizeMin")?;
-        let size_max = api::get_number("Mesh.MeshSizeMax")?.min(field.max_size().max(size_min));
+        let size_max = api::get_number("Mesh.MeshSizeMax")?.min(max_size.max(size_min));
         self.sized_by_field = true;
         api::set_number("Mesh.MeshSizeMax", size_max)
     }
@@ -162,6 +209,7 @@ impl Session {
     pub fn generate(&mut self) -> Result<(), GmshError> {
         let path = self.source.clone();
         let estimate = !self.sized_by_field;
+        self.meshed = true;
         self.step(
             || {
                 if estimate {
@@ -179,7 +227,7 @@ impl Session {
     /// appears twice). Node order is gmsh's, which is the [`Mesh`] convention; nodes are
     /// numbered from 0 in order of first use by a cell, and cells are counter-clockwise.
     pub fn mesh(&self) -> Result<Mesh, GmshError> {
-        read::mesh(&self.source)
+        read::mesh(&self.source, self.meshed)
     }
 
     /// Writes the mesh in the format of the extension. Only elements of physical groups are
@@ -224,6 +272,26 @@ impl Session {
         }
         Ok(new.iter().find_map(|line| line.strip_prefix("Error: ")).map(str::to_owned))
     }
+}
+
+/// A "PostView" field on a list-based view of the triangles of `field`; its tag.
+fn post_view(field: &SizeField) -> Result<i32, GmshError> {
+    field.validate()?;
+    let view = api::view_add("target mesh sizes")?;
+    api::view_add_list_data(view, "ST", field.triangles.len(), &field.list_data())?;
+    let tag = api::field_add("PostView")?;
+    api::field_set_number(tag, "ViewTag", f64::from(view))?;
+    Ok(tag)
+}
+
+/// A "Restrict" field of the field `inner` to the entity lists `lists` (option, tags); its tag.
+fn restrict(inner: i32, lists: &[(&str, Vec<f64>)]) -> Result<i32, GmshError> {
+    let tag = api::field_add("Restrict")?;
+    api::field_set_number(tag, "InField", f64::from(inner))?;
+    for (option, tags) in lists {
+        api::field_set_numbers(tag, option, tags)?;
+    }
+    Ok(tag)
 }
 
 fn exists(path: &Path) -> Result<(), GmshError> {

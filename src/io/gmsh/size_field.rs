@@ -43,6 +43,16 @@ impl SizeField {
         Ok(field)
     }
 
+    /// The triangles of the cells `keep` of a field made by [`SizeField::from_cells`].
+    pub fn of_cells(&self, keep: impl Fn(usize) -> bool) -> SizeField {
+        let kept: Vec<usize> = (0..self.triangles.len()).filter(|&c| keep(c)).collect();
+        SizeField {
+            points: kept.iter().flat_map(|&c| self.triangles[c].map(|i| self.points[i])).collect(),
+            triangles: (0..kept.len()).map(|k| [3 * k, 3 * k + 1, 3 * k + 2]).collect(),
+            sizes: kept.iter().flat_map(|&c| self.triangles[c].map(|i| self.sizes[i])).collect(),
+        }
+    }
+
     /// Checks that there are triangles, one size per point, finite coordinates, positive finite
     /// sizes and triangles that refer to existing points.
     pub(super) fn validate(&self) -> Result<(), GmshError> {
