@@ -3,9 +3,11 @@
 
 use super::Scene;
 use crate::contact::{nested_start, solve_by_continuation, solve_from, ContactError, ContactJoint, ContactSolution};
-use crate::contact::{Continuation, NestedStart};
+use crate::contact::{CoarseLevel, Continuation, NestedStart};
 use crate::elasticity::{Discretisation, Problem};
 use crate::io::gmsh::{mesh_geo, MeshOptions};
+use std::sync::mpsc::sync_channel;
+use std::time::Instant;
 
 /// The coarsest mesh of nested iteration has at least this many unknowns: below it a cold
 /// Newton run costs less than meshing one more level.
@@ -23,7 +25,8 @@ impl Scene {
     /// meshed with the size factor × 1.5 × 2^k, k = K … 0 (about N / (1.5² 4^k) unknowns; K
     /// the largest with ≥ 5 000 left), and goes straight to δ; any other mesh, or a failure on
     /// the way, starts from u = 0 as [`solve_by_continuation`]. Both reach the same solution,
-    /// to the Newton tolerance (docs/method.md §1.5).
+    /// to the Newton tolerance (docs/method.md §1.5). gmsh meshes each level on a thread of
+    /// its own while Newton solves the level below.
     pub fn solve_contact(
         &self,
         problem: &Problem,
@@ -32,9 +35,24 @@ impl Scene {
         settings: &Continuation,
         allow_system_calls: bool,
     ) -> Result<ContactSolution, ContactError> {
-        let coarse = self.coarse_problems(disc.dofs.n_free, allow_system_calls);
-        if let Ok(Some(NestedStart { x0, solves })) = nested_start(problem, disc, &coarse, settings) {
-            drop(coarse);
+        let size_factors = self.coarse_size_factors(disc.dofs.n_free);
+        let nested = (!size_factors.is_empty()).then(|| {
+            std::thread::scope(|scope| {
+                // a level is meshed while the one below is solved, and waits for it to finish
+                let (send, levels) = sync_channel(0);
+                scope.spawn(move || {
+                    for size_factor in size_factors {
+                        let level = self.coarse_level(size_factor, allow_system_calls);
+                        let made = level.is_some();
+                        if send.send(level).is_err() || !made {
+                            break;
+                        }
+                    }
+                });
+                nested_start(problem, disc, levels, settings)
+            })
+        });
+        if let Some(Ok(Some(NestedStart { x0, solves }))) = nested {
             let at_delta = Continuation { delta_start: settings.delta, ..*settings };
             if let Ok(solution) = solve_from(problem, disc, joint, &at_delta, x0) {
                 return Ok(ContactSolution { coarse: solves, ..solution });
@@ -43,25 +61,26 @@ impl Scene {
         solve_by_continuation(problem, disc, joint, settings)
     }
 
-    /// The coarser problems of nested iteration for a mesh of `unknowns` unknowns, coarsest
-    /// first, each with its joint; none for a `.msh` geometry, a small mesh, or when gmsh or
-    /// the scene fails on one of them.
-    fn coarse_problems(&self, unknowns: usize, allow_system_calls: bool) -> Vec<(Problem, ContactJoint)> {
-        let coarse_unknowns = |k: i32| unknowns as f64 / (RATIO * RATIO * 4f64.powi(k));
-        let levels = (0..).take_while(|&k| coarse_unknowns(k) >= COARSEST_UNKNOWNS as f64).count() as i32;
-        if levels == 0 || self.geometry.extension().is_some_and(|e| e == "msh") {
+    /// The size factors of the coarser meshes of nested iteration for a mesh of `unknowns`
+    /// unknowns, coarsest first; none for a `.msh` geometry or a small mesh.
+    fn coarse_size_factors(&self, unknowns: usize) -> Vec<f64> {
+        if self.geometry.extension().is_some_and(|e| e == "msh") {
             return Vec::new();
         }
-        let options = self.mesh_options();
-        let level = |k: i32| {
-            let size_factor = options.size_factor * RATIO * 2f64.powi(k);
-            let coarse = MeshOptions { size_factor, ..options.clone() };
-            let mesh = mesh_geo(&self.geometry, &coarse, false, allow_system_calls).ok()?;
-            match self.problem(mesh).ok()? {
-                (problem, Some(joint)) => Some((problem, joint)),
-                (_, None) => None,
-            }
-        };
-        (0..levels).rev().map(level).collect::<Option<Vec<_>>>().unwrap_or_default()
+        let coarse_unknowns = |k: i32| unknowns as f64 / (RATIO * RATIO * 4f64.powi(k));
+        let levels = (0..).take_while(|&k| coarse_unknowns(k) >= COARSEST_UNKNOWNS as f64).count() as i32;
+        (0..levels).rev().map(|k| self.mesh.size_factor * RATIO * 2f64.powi(k)).collect()
+    }
+
+    /// The coarser problem of nested iteration meshed with `size_factor`, with its joint; None
+    /// when gmsh or the scene fails on it.
+    fn coarse_level(&self, size_factor: f64, allow_system_calls: bool) -> Option<CoarseLevel> {
+        let clock = Instant::now();
+        let options = MeshOptions { size_factor, ..self.mesh_options() };
+        let mesh = mesh_geo(&self.geometry, &options, false, allow_system_calls).ok()?;
+        match self.problem(mesh).ok()? {
+            (problem, Some(joint)) => Some(CoarseLevel { problem, joint, seconds: clock.elapsed().as_secs_f64() }),
+            (_, None) => None,
+        }
     }
 }
