@@ -6,6 +6,7 @@ use crate::contact::{nested_start, solve_by_continuation, solve_from, ContactErr
 use crate::contact::{CoarseLevel, Continuation, NestedStart};
 use crate::elasticity::{Discretisation, Problem};
 use crate::io::gmsh::{mesh_geo, MeshOptions};
+use crate::solve::NewtonOptions;
 use std::sync::mpsc::sync_channel;
 use std::time::Instant;
 
@@ -13,20 +14,31 @@ use std::time::Instant;
 /// Newton run costs less than meshing one more level.
 const COARSEST_UNKNOWNS: usize = 5000;
 
-/// The ratio of the mesh sizes of the finest coarse level to the mesh's; each level below is
-/// twice as coarse as the next (about 4 times fewer unknowns). At 10⁵ unknowns the fine mesh
-/// then needs at most 8 Newton steps for γ₀ ≤ 10³, 10 with a ratio of 2 (docs/results.md).
+/// The ratio of the mesh sizes of the finest coarse level to the mesh's. At 10⁵ unknowns the
+/// fine mesh then needs at most 8 Newton steps for γ₀ ≤ 10³, 10 with a ratio of 2
+/// (docs/results.md).
 const RATIO: f64 = 1.5;
+
+/// The ratio of the mesh sizes of each coarse level to the next finer one (16 times fewer
+/// unknowns), the coarsest possibly only 2: every level costs gmsh's mesh and the
+/// factorisation of its stiffness, whatever its Newton steps (docs/results.md).
+const LEVEL_RATIO: f64 = 4.0;
+
+/// Newton on a coarse level stops at ‖F‖ ≤ 10⁻³ ‖b‖: its solution only starts the next
+/// level, where it arrives with the larger error of the interpolation between the meshes; the
+/// given mesh keeps the tolerance of the scene.
+const COARSE_RTOL: f64 = 1e-3;
 
 impl Scene {
     /// The contact solve on `problem` (meshed from this scene's geometry with its `[mesh]`
     /// options) along the δ path of `settings`. A mesh of N ≥ 1.5² × 5 000 unknowns meshed
     /// from a `.geo` starts Newton from nested iteration ([`nested_start`]) on the geometry
-    /// meshed with the size factor × 1.5 × 2^k, k = K … 0 (about N / (1.5² 4^k) unknowns; K
-    /// the largest with ≥ 5 000 left), and goes straight to δ; any other mesh, or a failure on
-    /// the way, starts from u = 0 as [`solve_by_continuation`]. Both reach the same solution,
-    /// to the Newton tolerance (docs/method.md §1.5). gmsh meshes each level on a thread of
-    /// its own while Newton solves the level below.
+    /// meshed 1.5 × 4^k times coarser, k = 0, 1, … (about N / (1.5² 16^k) unknowns, while ≥
+    /// 5 000, the coarsest possibly only twice as coarse as the next), solved to
+    /// ‖F‖ ≤ 10⁻³ ‖b‖, and goes straight to δ; any other mesh, or a failure on the way, starts
+    /// from u = 0 as [`solve_by_continuation`]. Both reach the same solution, to the Newton
+    /// tolerance (docs/method.md §1.5). gmsh meshes each level on a thread of its own while
+    /// Newton solves the level below.
     pub fn solve_contact(
         &self,
         problem: &Problem,
@@ -49,7 +61,9 @@ impl Scene {
                         }
                     }
                 });
-                nested_start(problem, disc, levels, settings)
+                let rtol = COARSE_RTOL.max(settings.newton.rtol);
+                let coarse = Continuation { newton: NewtonOptions { rtol, ..settings.newton }, ..*settings };
+                nested_start(problem, disc, levels, &coarse)
             })
         });
         if let Some(Ok(Some(NestedStart { x0, solves }))) = nested {
@@ -62,14 +76,21 @@ impl Scene {
     }
 
     /// The size factors of the coarser meshes of nested iteration for a mesh of `unknowns`
-    /// unknowns, coarsest first; none for a `.msh` geometry or a small mesh.
+    /// unknowns, coarsest first: the size factor × 1.5, then × 4 for each level below (× 2 for
+    /// the last if × 4 leaves too few), each kept while it has ≥ 5 000 unknowns (about N / r²
+    /// for a mesh r times coarser); none for a `.msh` geometry or a small mesh.
     fn coarse_size_factors(&self, unknowns: usize) -> Vec<f64> {
         if self.geometry.extension().is_some_and(|e| e == "msh") {
             return Vec::new();
         }
-        let coarse_unknowns = |k: i32| unknowns as f64 / (RATIO * RATIO * 4f64.powi(k));
-        let levels = (0..).take_while(|&k| coarse_unknowns(k) >= COARSEST_UNKNOWNS as f64).count() as i32;
-        (0..levels).rev().map(|k| self.mesh.size_factor * RATIO * 2f64.powi(k)).collect()
+        let kept = |r: f64| unknowns as f64 / (r * r) >= COARSEST_UNKNOWNS as f64;
+        let mut ratios = Vec::new();
+        let mut next = Some(RATIO).filter(|&r| kept(r));
+        while let Some(r) = next {
+            ratios.push(r);
+            next = [LEVEL_RATIO * r, 2.0 * r].into_iter().find(|&coarser| kept(coarser));
+        }
+        ratios.iter().rev().map(|r| self.mesh.size_factor * r).collect()
     }
 
     /// The coarser problem of nested iteration meshed with `size_factor`, with its joint; None
