@@ -658,7 +658,18 @@ pub fn solve_from(
     settings: &Continuation,
     x0: Vec<f64>,
 ) -> Result<ContactSolution, ContactError> {
-    let mut contact = ContactProblem::new(problem, disc, joint, Smoothing { delta: settings.delta });
+    let contact = ContactProblem::new(problem, disc, joint, Smoothing { delta: settings.delta });
+    solve_system_from(contact, joint, settings, x0)
+}
+
+/// [`solve_from`] on `contact`, the system of `joint` already assembled (its stiffness perhaps
+/// already factorised).
+pub fn solve_system_from(
+    mut contact: ContactProblem,
+    joint: &ContactJoint,
+    settings: &Continuation,
+    x0: Vec<f64>,
+) -> Result<ContactSolution, ContactError> {
     let (x, mut stages) = continuation(&mut contact, settings.delta, settings.delta_start, x0, &settings.newton)?;
     if !joint.uplift.as_ref().is_some_and(|up| up.crack_filled) {
         return Ok(contact.solution(x, stages, None));

@@ -2,11 +2,12 @@
 //! scene's geometry (docs/method.md §1.5).
 
 use super::Scene;
-use crate::contact::{nested_start, solve_by_continuation, solve_from, ContactError, ContactJoint, ContactSolution};
-use crate::contact::{CoarseLevel, Continuation, NestedStart};
+use crate::contact::projection::Smoothing;
+use crate::contact::{nested_start, solve_by_continuation, solve_system_from, CoarseLevel, ContactError, ContactJoint};
+use crate::contact::{ContactProblem, ContactSolution, Continuation, NestedStart};
 use crate::elasticity::{Discretisation, Problem};
 use crate::io::gmsh::{mesh_geo, MeshOptions};
-use crate::solve::NewtonOptions;
+use crate::solve::{NewtonOptions, NonlinearSystem};
 use std::sync::mpsc::sync_channel;
 use std::time::Instant;
 
@@ -38,7 +39,8 @@ impl Scene {
     /// ‖F‖ ≤ 10⁻³ ‖b‖, and goes straight to δ; any other mesh, or a failure on the way, starts
     /// from u = 0 as [`solve_by_continuation`]. Both reach the same solution, to the Newton
     /// tolerance (docs/method.md §1.5). gmsh meshes each level on a thread of its own while
-    /// Newton solves the level below.
+    /// Newton solves the level below, and a third thread assembles and factorises the
+    /// stiffness of `problem` meanwhile.
     pub fn solve_contact(
         &self,
         problem: &Problem,
@@ -48,31 +50,41 @@ impl Scene {
         allow_system_calls: bool,
     ) -> Result<ContactSolution, ContactError> {
         let size_factors = self.coarse_size_factors(disc.dofs.n_free);
-        let nested = (!size_factors.is_empty()).then(|| {
-            std::thread::scope(|scope| {
-                // a level is meshed while the one below is solved, and waits for it to finish
-                let (send, levels) = sync_channel(0);
-                scope.spawn(move || {
-                    for size_factor in size_factors {
-                        let level = self.coarse_level(size_factor, allow_system_calls);
-                        let made = level.is_some();
-                        if send.send(level).is_err() || !made {
-                            break;
-                        }
+        let system = || ContactProblem::new(problem, disc, joint, Smoothing { delta: settings.delta });
+        if size_factors.is_empty() {
+            return solve_system_from(system(), joint, settings, vec![0.0; disc.dofs.n_free]);
+        }
+        let (nested, contact) = std::thread::scope(|scope| {
+            // a level is meshed while the one below is solved, and waits for it to finish
+            let (send, levels) = sync_channel(0);
+            scope.spawn(move || {
+                for size_factor in size_factors {
+                    let level = self.coarse_level(size_factor, allow_system_calls);
+                    let made = level.is_some();
+                    if send.send(level).is_err() || !made {
+                        break;
                     }
-                });
-                let rtol = COARSE_RTOL.max(settings.newton.rtol);
-                let coarse = Continuation { newton: NewtonOptions { rtol, ..settings.newton }, ..*settings };
-                nested_start(problem, disc, levels, &coarse)
-            })
+                }
+            });
+            // the given mesh's stiffness assembled and factorised meanwhile
+            let fine = scope.spawn(|| {
+                let contact = system();
+                contact.schur();
+                contact
+            });
+            let rtol = COARSE_RTOL.max(settings.newton.rtol);
+            let coarse = Continuation { newton: NewtonOptions { rtol, ..settings.newton }, ..*settings };
+            let nested = nested_start(problem, disc, levels, &coarse);
+            (nested, fine.join().expect("the assembly of the given mesh does not panic"))
         });
-        if let Some(Ok(Some(NestedStart { x0, solves }))) = nested {
+        if let Ok(Some(NestedStart { x0, solves })) = nested {
             let at_delta = Continuation { delta_start: settings.delta, ..*settings };
-            if let Ok(solution) = solve_from(problem, disc, joint, &at_delta, x0) {
+            if let Ok(solution) = solve_system_from(contact, joint, &at_delta, x0) {
                 return Ok(ContactSolution { coarse: solves, ..solution });
             }
+            return solve_by_continuation(problem, disc, joint, settings);
         }
-        solve_by_continuation(problem, disc, joint, settings)
+        solve_system_from(contact, joint, settings, vec![0.0; disc.dofs.n_free])
     }
 
     /// The size factors of the coarser meshes of nested iteration for a mesh of `unknowns`
