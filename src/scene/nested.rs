@@ -39,8 +39,8 @@ impl Scene {
     /// ‖F‖ ≤ 10⁻³ ‖b‖, and goes straight to δ; any other mesh, or a failure on the way, starts
     /// from u = 0 as [`solve_by_continuation`]. Both reach the same solution, to the Newton
     /// tolerance (docs/method.md §1.5). gmsh meshes each level on a thread of its own while
-    /// Newton solves the level below, and a third thread assembles and factorises the
-    /// stiffness of `problem` meanwhile.
+    /// Newton solves the level below, and a third thread factorises the stiffness of
+    /// `problem` meanwhile.
     pub fn solve_contact(
         &self,
         problem: &Problem,
@@ -50,11 +50,11 @@ impl Scene {
         allow_system_calls: bool,
     ) -> Result<ContactSolution, ContactError> {
         let size_factors = self.coarse_size_factors(disc.dofs.n_free);
-        let system = || ContactProblem::new(problem, disc, joint, Smoothing { delta: settings.delta });
+        let contact = ContactProblem::new(problem, disc, joint, Smoothing { delta: settings.delta });
         if size_factors.is_empty() {
-            return solve_system_from(system(), joint, settings, vec![0.0; disc.dofs.n_free]);
+            return solve_system_from(contact, joint, settings, vec![0.0; disc.dofs.n_free]);
         }
-        let (nested, contact) = std::thread::scope(|scope| {
+        let nested = std::thread::scope(|scope| {
             // a level is meshed while the one below is solved, and waits for it to finish
             let (send, levels) = sync_channel(0);
             scope.spawn(move || {
@@ -66,16 +66,14 @@ impl Scene {
                     }
                 }
             });
-            // the given mesh's stiffness assembled and factorised meanwhile
-            let fine = scope.spawn(|| {
-                let contact = system();
+            // the given mesh's stiffness factorised meanwhile (assembled before: the assembly's
+            // threads would hold up those of the coarse levels)
+            scope.spawn(|| {
                 contact.schur();
-                contact
             });
             let rtol = COARSE_RTOL.max(settings.newton.rtol);
             let coarse = Continuation { newton: NewtonOptions { rtol, ..settings.newton }, ..*settings };
-            let nested = nested_start(problem, disc, levels, &coarse);
-            (nested, fine.join().expect("the assembly of the given mesh does not panic"))
+            nested_start(problem, disc, levels, &coarse)
         });
         if let Ok(Some(NestedStart { x0, solves })) = nested {
             let at_delta = Continuation { delta_start: settings.delta, ..*settings };
