@@ -26,8 +26,9 @@ const RATIO: f64 = 1.5;
 const LEVEL_RATIO: f64 = 4.0;
 
 /// Newton on a coarse level stops at ‖F‖ ≤ 10⁻³ ‖b‖: its solution only starts the next
-/// level, where it arrives with the larger error of the interpolation between the meshes; the
-/// given mesh keeps the tolerance of the scene.
+/// level, which receives it with the error of the interpolation between the meshes. The given
+/// mesh keeps the scene's tolerance and, at 10⁵ unknowns, the same steps as after coarse
+/// levels solved to 10⁻¹⁰ ‖b‖ (docs/results.md).
 const COARSE_RTOL: f64 = 1e-3;
 
 impl Scene {
