@@ -2,7 +2,8 @@
 #   make demo   installs what is missing, builds in release mode and runs the adaptive loop on Scene A into out/
 #   make test   installs what is missing and runs the whole test suite
 #   make bench-peers  also installs Debian's python3-getfem and times damfem against GetFEM on
-#               Scene A at about 1e4 and 1e5 unknowns (LARGE=1: also 5e5); not part of make test
+#               Scene A at about 1e4 and 1e5 unknowns (LARGE=1: also 5e5), damfem from the same
+#               .msh and from the .geo (nested iteration); not part of make test
 # Each installation step runs only when something is missing, so a second run is fast.
 
 APT_PACKAGES := libgmsh-dev gmsh libclang-dev libgl1 libegl1 libegl-mesa0 libgl1-mesa-dri fonts-dejavu-core

@@ -2,17 +2,23 @@
 
 Scene A with its 70 m flood (geo/scene_a.toml): P2, theta = 0, gamma0 = 100, frictionless
 contact without regularisation (damfem --semismooth, delta = 0). For each size, `damfem mesh
---order 1` writes an order-1 .msh; `damfem solve --order 2 --semismooth` and GetFEM 5.4
-(Debian's python3-getfem, run with /usr/bin/python3) solve it at P2, each in its own process.
-Per size the table gives the unknowns, the Newton steps of each code from u = 0, the time of
-the contact solve (assembly + Newton: damfem's `assemble` and `solve` stages from
-summary.json, GetFEM's Model.solve, which assembles its linear bricks on the first step),
-the whole process (wall and CPU time, the latter from wait4 and less sensitive to other
-loads of the machine), the ratios GetFEM / damfem of the contact solves and of the CPU
-times (above 1: damfem is faster), the peak memory of each process (ru_maxrss from wait4),
-and the largest difference of the two displacements over the nodes (vertices and
-midpoints), relative to max |u|. With --repeat N each code solves each mesh N times and the
-run with the fastest contact solve is kept.
+--order 1` writes an order-1 .msh; GetFEM 5.4 (Debian's python3-getfem, run with
+/usr/bin/python3) solves it at P2 from u = 0, and damfem solves the same mesh twice, each in
+its own process: from the .msh (`damfem solve --order 2 --semismooth`, from u = 0, as GetFEM)
+and from the .geo at the same size factor (`damfem solve --size-factor F --semismooth`: gmsh
+meshes the same mesh, which the node-by-node comparison checks, and damfem starts Newton by
+nested iteration on coarser meshes of the .geo). The three runs of a size follow one another.
+Per size and damfem input the table gives the unknowns, the Newton steps of each code (for
+the .geo: on the coarse meshes, coarsest first, + on the given mesh), the time of the
+contact solve (GetFEM's Model.solve, which assembles its linear bricks on the first step;
+damfem's `assemble` and `solve` stages from summary.json, the latter holding, from the .geo,
+the coarse meshes' meshing by gmsh and their solves), the whole process (wall and CPU time,
+the latter from wait4 and less sensitive to other loads of the machine; from the .geo it
+includes gmsh's meshing of the given mesh, which GetFEM reads from the .msh), the ratios
+GetFEM / damfem of the contact solves and of the CPU times (above 1: damfem is faster), the
+peak memory of each process (ru_maxrss from wait4), and the largest difference of the two
+displacements over the nodes (vertices and midpoints), relative to max |u|. With --repeat N
+each code solves each mesh N times and the run with the fastest contact solve is kept.
 
 The two discrete problems coincide: GetFEM's brick takes r = gamma0 / element_size in
 P = sigma^n(u) + r (g_obs - u.n) (getfem_contact_and_friction_integral.cc), so its gamma0
@@ -200,58 +206,77 @@ def fastest(runs):
     return min(runs, key=lambda run: run[0])
 
 
+def scene_file(path, geometry, flood):
+    """Writes Scene A with `geometry` and the water at `flood` [m] to `path`; returns `path`."""
+    text = SCENE.read_text()
+    assert f"level = {FLOOD}" in text, f"{SCENE} no longer holds the flood of {FLOOD} m"
+    path.write_text(text.replace('"scene_a.geo"', f'"{geometry}"').replace(f"level = {FLOOD}", f"level = {flood}"))
+    return path
+
+
+def damfem_solve(damfem, scene, options, out):
+    """One `damfem solve --semismooth` of `scene` with `options` into `out`: (contact solve,
+    wall, CPU, memory) and its summary.json."""
+    run = measured([damfem, "solve", "-q", *options, "--semismooth", scene, "-o", out])
+    summary = json.loads((out / "summary.json").read_text())
+    return (summary["seconds"]["assemble"] + summary["seconds"]["solve"], *run), summary
+
+
 def bench(label, factor, args):
-    """One size: mesh, solve `args.repeat` times with each code (keeping the fastest), compare;
-    returns the row of the table."""
+    """One size: mesh, solve `args.repeat` times with GetFEM and with damfem from the .msh and
+    from the .geo (keeping the fastest of each), compare; returns a row per damfem input."""
     damfem, out, repeat = args.damfem, args.out / label, args.repeat
     out.mkdir(parents=True, exist_ok=True)
     measured([damfem, "mesh", "-q", "--order", "1", "--size-factor", str(factor), SCENE, "-o", out / "mesh"])
     msh = out / "mesh" / "scene_a.msh"
-    scene = out / "scene_a_msh.toml"
-    text = SCENE.read_text()
-    assert f"level = {FLOOD}" in text, f"{SCENE} no longer holds the flood of {FLOOD} m"
-    text = text.replace('"scene_a.geo"', f'"{msh}"').replace(f"level = {FLOOD}", f"level = {args.flood}")
-    scene.write_text(text)
-    d_runs, g_runs = [], []
+    inputs = {
+        ".msh": (scene_file(out / "scene_a_msh.toml", msh, args.flood), ["--order", "2"]),
+        ".geo": (scene_file(out / "scene_a_geo.toml", SCENE.parent / "scene_a.geo", args.flood),
+                 ["--size-factor", str(factor)]),
+    }
+    runs = {name: [] for name in ["GetFEM", *inputs]}
+    summaries = {}
     for _ in range(repeat):
-        run = measured([damfem, "solve", "-q", "--order", "2", "--semismooth", scene, "-o", out / "damfem"])
-        summary = json.loads((out / "damfem" / "summary.json").read_text())
-        d_runs.append((summary["seconds"]["assemble"] + summary["seconds"]["solve"], *run))
         getfem = [sys.executable, __file__, "getfem", msh, out / "getfem.npz", str(args.flood), args.contact_rule]
         run = measured(getfem)
         g = np.load(out / "getfem.npz")
-        g_runs.append((float(g["seconds"]), *run))
-    (g_solve, g_wall, g_cpu, g_memory), (d_solve, d_wall, d_cpu, d_memory) = fastest(g_runs), fastest(d_runs)
-    assert int(g["unknowns"]) == summary["free_unknowns"], "the two codes have different unknowns"
-    gap = difference((g["nodes"], g["u"]), damfem_displacement(out / "damfem" / "scene_a_msh.vtu"))
-    if gap > AGREEMENT:
-        sys.exit(f"{msh}: the displacements of GetFEM and damfem differ by {gap:.1e} max|u|")
-    return {
-        "size": label,
-        "unknowns": summary["free_unknowns"],
-        "steps": (int(g["steps"]), summary["contact"]["newton_steps"]),
-        "solve": (g_solve, d_solve),
-        "process": (g_wall, d_wall),
-        "cpu": (g_cpu, d_cpu),
-        "memory": (g_memory, d_memory),
-        "difference": gap,
-    }
+        runs["GetFEM"].append((float(g["seconds"]), *run))
+        for name, (scene, options) in inputs.items():
+            run, summaries[name] = damfem_solve(damfem, scene, options, out / scene.stem)
+            runs[name].append(run)
+    rows = []
+    for name, (scene, _) in inputs.items():
+        summary, contact = summaries[name], summaries[name]["contact"]
+        assert int(g["unknowns"]) == summary["free_unknowns"], f"GetFEM and damfem ({name}) have different unknowns"
+        # the same nodes at the same places: from the .geo, gmsh has meshed the .msh's mesh
+        gap = difference((g["nodes"], g["u"]), damfem_displacement(out / scene.stem / f"{scene.stem}.vtu"))
+        if gap > AGREEMENT:
+            sys.exit(f"{msh}: the displacements of GetFEM and damfem ({name}) differ by {gap:.1e} max|u|")
+        rows.append({
+            "unknowns": summary["free_unknowns"],
+            "input": name,
+            "steps": (int(g["steps"]), " + ".join(str(s["newton_steps"]) for s in [*contact["coarse"], contact])),
+            "getfem": fastest(runs["GetFEM"]),
+            "damfem": fastest(runs[name]),
+            "difference": gap,
+        })
+    return rows
 
 
 def table(rows):
     """The results as a Markdown table."""
     lines = [
-        "| unknowns (P2) | Newton steps GetFEM / damfem | contact solve GetFEM / damfem | ratio "
+        "| unknowns (P2) | damfem from | Newton steps GetFEM / damfem | contact solve GetFEM / damfem | ratio "
         "| whole process GetFEM / damfem | its CPU time GetFEM / damfem | ratio "
         "| peak memory GetFEM / damfem | max \\|Δu\\| / max \\|u\\| |",
-        "|---|---|---|---|---|---|---|---|---|",
+        "|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:
-        (gs, ds), (gt, dt), (gw, dw), (gc, dc) = r["steps"], r["solve"], r["process"], r["cpu"]
-        gm, dm = r["memory"]
+        (gs, ds), (gt, gw, gc, gm), (dt, dw, dc, dm) = r["steps"], r["getfem"], r["damfem"]
         lines.append(
-            f"| {r['unknowns']} | {gs} / {ds} | {gt:.2f} s / {dt:.2f} s | {gt / dt:.2f} "
-            f"| {gw:.2f} s / {dw:.2f} s | {gc:.2f} s / {dc:.2f} s | {gc / dc:.2f} | {gm:.0f} / {dm:.0f} MiB | {r['difference']:.1e} |"
+            f"| {r['unknowns']} | {r['input']} | {gs} / {ds} | {gt:.2f} s / {dt:.2f} s | {gt / dt:.2f} "
+            f"| {gw:.2f} s / {dw:.2f} s | {gc:.2f} s / {dc:.2f} s | {gc / dc:.2f} | {gm:.0f} / {dm:.0f} MiB "
+            f"| {r['difference']:.1e} |"
         )
     return "\n".join(lines)
 
@@ -267,14 +292,16 @@ def main():
     parser.add_argument("--out", default=REPO / "out" / "bench_peers", type=Path)
     args = parser.parse_args()
     sizes = args.sizes or [s for s in SIZES if args.large or s != "5e5"]
-    rows = []
+    rows, load = [], os.getloadavg()
     for label in sizes:
-        rows.append(bench(label, SIZES[label], args))
-        r = rows[-1]
-        print(f"{r['unknowns']} unknowns: GetFEM {r['solve'][0]:.2f} s, damfem {r['solve'][1]:.2f} s",
-              file=sys.stderr)
+        for r in bench(label, SIZES[label], args):
+            rows.append(r)
+            print(f"{r['unknowns']} unknowns: GetFEM {r['getfem'][0]:.2f} s, damfem from the {r['input']} "
+                  f"{r['damfem'][0]:.2f} s", file=sys.stderr)
     print(table(rows))
-    print(f"load average over the last 1, 5 and 15 minutes: {' '.join(f'{x:.1f}' for x in os.getloadavg())}")
+    averages = lambda loads: " ".join(f"{x:.1f}" for x in loads)
+    print(f"load average over the last 1, 5 and 15 minutes: {averages(load)} at the start, "
+          f"{averages(os.getloadavg())} at the end")
 
 
 if __name__ == "__main__":

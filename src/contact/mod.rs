@@ -29,6 +29,7 @@ use nitsche::{ContactFace, Nitsche, NitscheParameters};
 use projection::{negative_part, Smoothing};
 pub use resultant::{JointLine, Resultant};
 use std::sync::OnceLock;
+use std::time::Instant;
 pub use uplift::Uplift;
 
 /// A contact boundary: the curves of Γ_C, the joint law and the Nitsche parameters.
@@ -456,11 +457,33 @@ pub struct ContactSolution {
     pub coarse: Vec<CoarseSolve>,
 }
 
-/// A solve of nested iteration on a coarser mesh: its unknowns and Newton steps.
+/// A solve of nested iteration on a coarser mesh: its unknowns, Newton steps and times.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct CoarseSolve {
     pub unknowns: usize,
     pub newton_steps: usize,
+    pub seconds: CoarseTimings,
+}
+
+/// Wall times of a level of nested iteration, in seconds.
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
+pub struct CoarseTimings {
+    /// gmsh's mesh and the scene's problem on it ([`CoarseLevel::seconds`]).
+    pub mesh: f64,
+    /// Dofs, pattern and the bulk stiffness and load.
+    pub assemble: f64,
+    /// The solution of the level below interpolated at this level's nodes.
+    pub start: f64,
+    /// Newton, the once-per-mesh factorisation of the stiffness included.
+    pub newton: f64,
+}
+
+/// A coarser mesh of nested iteration: its problem, its joint, and the wall time that gmsh
+/// and the scene took to make them \[s\].
+pub struct CoarseLevel {
+    pub problem: Problem,
+    pub joint: ContactJoint,
+    pub seconds: f64,
 }
 
 impl ContactSolution {
@@ -660,7 +683,18 @@ pub fn solve_from(
     settings: &Continuation,
     x0: Vec<f64>,
 ) -> Result<ContactSolution, ContactError> {
-    let mut contact = ContactProblem::new(problem, disc, joint, Smoothing { delta: settings.delta });
+    let contact = ContactProblem::new(problem, disc, joint, Smoothing { delta: settings.delta });
+    solve_system_from(contact, joint, settings, x0)
+}
+
+/// [`solve_from`] on `contact`, the system of `joint` already assembled (its stiffness perhaps
+/// already factorised).
+pub fn solve_system_from(
+    mut contact: ContactProblem,
+    joint: &ContactJoint,
+    settings: &Continuation,
+    x0: Vec<f64>,
+) -> Result<ContactSolution, ContactError> {
     let (x, mut stages) = continuation(&mut contact, settings.delta, settings.delta_start, x0, &settings.newton)?;
     if !joint.uplift.as_ref().is_some_and(|up| up.crack_filled) {
         return Ok(contact.solution(x, stages, None));
@@ -670,33 +704,44 @@ pub fn solve_from(
     Ok(contact.solution(x, stages, Some(crack)))
 }
 
-/// Nested iteration (docs/method.md §1.5): Newton on each problem of `coarse` (coarser meshes of
-/// the same geometry, coarsest first, each with its joint), from u = 0 along the δ path of
+/// Nested iteration (docs/method.md §1.5): Newton on each level of `coarse` (coarser meshes
+/// of the same geometry, coarsest first, taken one at a time), from u = 0 along the δ path of
 /// `settings` on the first and at δ from the previous solution interpolated on the others.
 /// Returns the last solution interpolated at the nodes of `problem` (free unknowns of `disc`),
-/// the start of Newton there, and the coarse solves; None without coarse problems. The crack
-/// that uplift fills keeps the length of each coarse joint: it is settled on `problem` only.
+/// the start of Newton there, and the coarse solves; None without levels or if one of them is
+/// None (it could not be made). The crack that uplift fills keeps the length of each coarse
+/// joint: it is settled on `problem` only.
 pub fn nested_start(
     problem: &Problem,
     disc: &Discretisation,
-    coarse: &[(Problem, ContactJoint)],
+    coarse: impl IntoIterator<Item = Option<CoarseLevel>>,
     settings: &Continuation,
 ) -> Result<Option<NestedStart>, NewtonError> {
-    let mut previous: Option<(&Mesh, Vec<[f64; 2]>)> = None;
+    let mut previous: Option<(Problem, Vec<[f64; 2]>)> = None;
     let mut solves = Vec::new();
-    for (level, joint) in coarse {
+    for level in coarse {
+        let Some(CoarseLevel { problem: level, joint, seconds: mesh }) = level else { return Ok(None) };
+        let clock = Instant::now();
         let level_disc = level.discretise();
-        let mut contact = ContactProblem::new(level, &level_disc, joint, Smoothing { delta: settings.delta });
+        let mut contact = ContactProblem::new(&level, &level_disc, &joint, Smoothing { delta: settings.delta });
+        let assemble = clock.elapsed().as_secs_f64();
+        let clock = Instant::now();
         let (x0, delta_start) = match &previous {
             None => (vec![0.0; level_disc.dofs.n_free], settings.delta_start),
-            Some((mesh, u)) => (level.interpolated(&level_disc, mesh, u), settings.delta),
+            Some((below, u)) => (level.interpolated(&level_disc, &below.mesh, u), settings.delta),
         };
+        let start = clock.elapsed().as_secs_f64();
+        let clock = Instant::now();
         let (x, stages) = continuation(&mut contact, settings.delta, delta_start, x0, &settings.newton)?;
+        let newton = clock.elapsed().as_secs_f64();
         let newton_steps = stages.iter().map(|s| s.report.iterations.len()).sum();
-        solves.push(CoarseSolve { unknowns: level_disc.dofs.n_free, newton_steps });
-        previous = Some((&level.mesh, level.displacement(&level_disc, &x)));
+        let seconds = CoarseTimings { mesh, assemble, start, newton };
+        solves.push(CoarseSolve { unknowns: level_disc.dofs.n_free, newton_steps, seconds });
+        let u = level.displacement(&level_disc, &x);
+        drop(contact);
+        previous = Some((level, u));
     }
-    Ok(previous.map(|(mesh, u)| NestedStart { x0: problem.interpolated(disc, mesh, &u), solves }))
+    Ok(previous.map(|(below, u)| NestedStart { x0: problem.interpolated(disc, &below.mesh, &u), solves }))
 }
 
 /// The start that nested iteration gives a mesh, and the coarse solves that led to it.

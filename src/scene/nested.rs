@@ -2,28 +2,46 @@
 //! scene's geometry (docs/method.md §1.5).
 
 use super::Scene;
-use crate::contact::{nested_start, solve_by_continuation, solve_from, ContactError, ContactJoint, ContactSolution};
-use crate::contact::{Continuation, NestedStart};
+use crate::contact::projection::Smoothing;
+use crate::contact::{nested_start, solve_by_continuation, solve_system_from, CoarseLevel, ContactError, ContactJoint};
+use crate::contact::{ContactProblem, ContactSolution, Continuation, NestedStart};
 use crate::elasticity::{Discretisation, Problem};
 use crate::io::gmsh::{mesh_geo, MeshOptions};
+use crate::solve::{NewtonOptions, NonlinearSystem};
+use std::sync::mpsc::sync_channel;
+use std::time::Instant;
 
 /// The coarsest mesh of nested iteration has at least this many unknowns: below it a cold
 /// Newton run costs less than meshing one more level.
 const COARSEST_UNKNOWNS: usize = 5000;
 
-/// The ratio of the mesh sizes of the finest coarse level to the mesh's; each level below is
-/// twice as coarse as the next (about 4 times fewer unknowns). At 10⁵ unknowns the fine mesh
-/// then needs at most 8 Newton steps for γ₀ ≤ 10³, 10 with a ratio of 2 (docs/results.md).
+/// The ratio of the mesh sizes of the finest coarse level to the mesh's. At 10⁵ unknowns the
+/// fine mesh then needs at most 8 Newton steps for γ₀ ≤ 10³, 10 with a ratio of 2
+/// (docs/results.md).
 const RATIO: f64 = 1.5;
+
+/// The ratio of the mesh sizes of each coarse level to the next finer one (16 times fewer
+/// unknowns), the coarsest possibly only 2: every level costs gmsh's mesh and the
+/// factorisation of its stiffness, whatever its Newton steps (docs/results.md).
+const LEVEL_RATIO: f64 = 4.0;
+
+/// Newton on a coarse level stops at ‖F‖ ≤ 10⁻³ ‖b‖: its solution only starts the next
+/// level, which receives it with the error of the interpolation between the meshes. The given
+/// mesh keeps the scene's tolerance and, at 10⁵ unknowns, the same steps as after coarse
+/// levels solved to 10⁻¹⁰ ‖b‖ (docs/results.md).
+const COARSE_RTOL: f64 = 1e-3;
 
 impl Scene {
     /// The contact solve on `problem` (meshed from this scene's geometry with its `[mesh]`
     /// options) along the δ path of `settings`. A mesh of N ≥ 1.5² × 5 000 unknowns meshed
     /// from a `.geo` starts Newton from nested iteration ([`nested_start`]) on the geometry
-    /// meshed with the size factor × 1.5 × 2^k, k = K … 0 (about N / (1.5² 4^k) unknowns; K
-    /// the largest with ≥ 5 000 left), and goes straight to δ; any other mesh, or a failure on
-    /// the way, starts from u = 0 as [`solve_by_continuation`]. Both reach the same solution,
-    /// to the Newton tolerance (docs/method.md §1.5).
+    /// meshed 1.5 × 4^k times coarser, k = 0, 1, … (about N / (1.5² 16^k) unknowns, while ≥
+    /// 5 000, the coarsest possibly only twice as coarse as the next), solved to
+    /// ‖F‖ ≤ 10⁻³ ‖b‖, and goes straight to δ; any other mesh, or a failure on the way, starts
+    /// from u = 0 as [`solve_by_continuation`]. Both reach the same solution, to the Newton
+    /// tolerance (docs/method.md §1.5). gmsh meshes each level on a thread of its own while
+    /// Newton solves the level below, and a third thread factorises the stiffness of
+    /// `problem` meanwhile.
     pub fn solve_contact(
         &self,
         problem: &Problem,
@@ -32,36 +50,69 @@ impl Scene {
         settings: &Continuation,
         allow_system_calls: bool,
     ) -> Result<ContactSolution, ContactError> {
-        let coarse = self.coarse_problems(disc.dofs.n_free, allow_system_calls);
-        if let Ok(Some(NestedStart { x0, solves })) = nested_start(problem, disc, &coarse, settings) {
-            drop(coarse);
+        let size_factors = self.coarse_size_factors(disc.dofs.n_free);
+        let contact = ContactProblem::new(problem, disc, joint, Smoothing { delta: settings.delta });
+        if size_factors.is_empty() {
+            return solve_system_from(contact, joint, settings, vec![0.0; disc.dofs.n_free]);
+        }
+        let nested = std::thread::scope(|scope| {
+            // a level is meshed while the one below is solved, and waits for it to finish
+            let (send, levels) = sync_channel(0);
+            scope.spawn(move || {
+                for size_factor in size_factors {
+                    let level = self.coarse_level(size_factor, allow_system_calls);
+                    let made = level.is_some();
+                    if send.send(level).is_err() || !made {
+                        break;
+                    }
+                }
+            });
+            // the given mesh's stiffness factorised meanwhile (assembled before: the assembly's
+            // threads would hold up those of the coarse levels)
+            scope.spawn(|| {
+                contact.schur();
+            });
+            let rtol = COARSE_RTOL.max(settings.newton.rtol);
+            let coarse = Continuation { newton: NewtonOptions { rtol, ..settings.newton }, ..*settings };
+            nested_start(problem, disc, levels, &coarse)
+        });
+        if let Ok(Some(NestedStart { x0, solves })) = nested {
             let at_delta = Continuation { delta_start: settings.delta, ..*settings };
-            if let Ok(solution) = solve_from(problem, disc, joint, &at_delta, x0) {
+            if let Ok(solution) = solve_system_from(contact, joint, &at_delta, x0) {
                 return Ok(ContactSolution { coarse: solves, ..solution });
             }
+            return solve_by_continuation(problem, disc, joint, settings);
         }
-        solve_by_continuation(problem, disc, joint, settings)
+        solve_system_from(contact, joint, settings, vec![0.0; disc.dofs.n_free])
     }
 
-    /// The coarser problems of nested iteration for a mesh of `unknowns` unknowns, coarsest
-    /// first, each with its joint; none for a `.msh` geometry, a small mesh, or when gmsh or
-    /// the scene fails on one of them.
-    fn coarse_problems(&self, unknowns: usize, allow_system_calls: bool) -> Vec<(Problem, ContactJoint)> {
-        let coarse_unknowns = |k: i32| unknowns as f64 / (RATIO * RATIO * 4f64.powi(k));
-        let levels = (0..).take_while(|&k| coarse_unknowns(k) >= COARSEST_UNKNOWNS as f64).count() as i32;
-        if levels == 0 || self.geometry.extension().is_some_and(|e| e == "msh") {
+    /// The size factors of the coarser meshes of nested iteration for a mesh of `unknowns`
+    /// unknowns, coarsest first: the size factor × 1.5, then × 4 for each level below (× 2 for
+    /// the last if × 4 leaves too few), each kept while it has ≥ 5 000 unknowns (about N / r²
+    /// for a mesh r times coarser); none for a `.msh` geometry or a small mesh.
+    fn coarse_size_factors(&self, unknowns: usize) -> Vec<f64> {
+        if self.geometry.extension().is_some_and(|e| e == "msh") {
             return Vec::new();
         }
-        let options = self.mesh_options();
-        let level = |k: i32| {
-            let size_factor = options.size_factor * RATIO * 2f64.powi(k);
-            let coarse = MeshOptions { size_factor, ..options.clone() };
-            let mesh = mesh_geo(&self.geometry, &coarse, false, allow_system_calls).ok()?;
-            match self.problem(mesh).ok()? {
-                (problem, Some(joint)) => Some((problem, joint)),
-                (_, None) => None,
-            }
-        };
-        (0..levels).rev().map(level).collect::<Option<Vec<_>>>().unwrap_or_default()
+        let kept = |r: f64| unknowns as f64 / (r * r) >= COARSEST_UNKNOWNS as f64;
+        let mut ratios = Vec::new();
+        let mut next = Some(RATIO).filter(|&r| kept(r));
+        while let Some(r) = next {
+            ratios.push(r);
+            next = [LEVEL_RATIO * r, 2.0 * r].into_iter().find(|&coarser| kept(coarser));
+        }
+        ratios.iter().rev().map(|r| self.mesh.size_factor * r).collect()
+    }
+
+    /// The coarser problem of nested iteration meshed with `size_factor`, with its joint; None
+    /// when gmsh or the scene fails on it.
+    fn coarse_level(&self, size_factor: f64, allow_system_calls: bool) -> Option<CoarseLevel> {
+        let clock = Instant::now();
+        let options = MeshOptions { size_factor, ..self.mesh_options() };
+        let mesh = mesh_geo(&self.geometry, &options, false, allow_system_calls).ok()?;
+        match self.problem(mesh).ok()? {
+            (problem, Some(joint)) => Some(CoarseLevel { problem, joint, seconds: clock.elapsed().as_secs_f64() }),
+            (_, None) => None,
+        }
     }
 }

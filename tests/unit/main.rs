@@ -7,6 +7,7 @@ mod common;
 mod assembly;
 mod elements;
 mod gmsh_io;
+mod nested;
 mod newton;
 mod plot;
 mod remesh;

@@ -1,0 +1,49 @@
+//! Nested iteration (docs/method.md §1.5): the contact solve of `damfem solve` started on
+//! coarser meshes of the scene's geometry.
+
+use damfem::contact::solve_by_continuation;
+use damfem::io::gmsh::mesh_geo;
+use damfem::scene::Scene;
+use std::path::Path;
+
+fn distance(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum::<f64>().sqrt()
+}
+
+/// The nested start reaches the cold solution. Source: docs/method.md §1.5 (coarse levels 1.5
+/// and 1.5 × 2 times coarser here, solved to ‖F‖ ≤ 10⁻³ ‖b‖; Newton on the given mesh to the
+/// scene's tolerance). Goal: `Scene::solve_contact` solves the levels the rule gives, each
+/// with ≥ 5 000 unknowns, and ends at the solution of the solve from u = 0 to the Newton
+/// tolerance, in fewer steps on the given mesh. Parameters: Scene A (geo/scene_a.toml: P2,
+/// 70 m flood, frictionless, γ₀ = 100, θ = 0, δ = 10⁻⁴ S, rtol = 10⁻¹⁰) meshed by gmsh at size
+/// factor 0.38 (about 5.2·10⁴ unknowns); ‖u_cold − u_nested‖ ≤ 10⁻⁹ ‖u_cold‖.
+#[test]
+fn nested_start_reaches_the_cold_solution() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("geo/scene_a.toml");
+    let mut scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    scene.mesh.size_factor = 0.38;
+    let mesh = mesh_geo(&scene.geometry, &scene.mesh_options(), false, false).expect("gmsh meshes scene A");
+    let (problem, joint) = scene.problem(mesh).unwrap_or_else(|e| panic!("{e}"));
+    let (disc, joint) = (problem.discretise(), joint.expect("Scene A has a contact curve"));
+    let settings = scene.continuation(&problem, &disc.topology);
+    let cold = solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("{e}"));
+    let nested = scene.solve_contact(&problem, &disc, &joint, &settings, false).unwrap_or_else(|e| panic!("{e}"));
+    let n = disc.dofs.n_free as f64;
+    let levels: Vec<f64> = nested.coarse.iter().map(|c| c.unknowns as f64).collect();
+    println!(
+        "{n} unknowns: {} steps from u = 0; nested: {:?} on the coarse levels, then {}",
+        cold.newton_steps(),
+        nested.coarse,
+        nested.newton_steps()
+    );
+    assert_eq!(levels.len(), 2, "two coarse levels for {n} unknowns");
+    assert!(levels[0] >= 5000.0, "the coarsest level has {} unknowns", levels[0]);
+    // about N / (1.5 × 2)² and N / 1.5² unknowns
+    for (level, ratio) in levels.iter().zip([3.0, 1.5]) {
+        let expected = n / (ratio * ratio);
+        assert!((level / expected - 1.0).abs() < 0.15, "a level of {level} unknowns, expected about {expected:.0}");
+    }
+    assert!(nested.newton_steps() < cold.newton_steps());
+    let relative = distance(&cold.x, &nested.x) / distance(&cold.x, &vec![0.0; cold.x.len()]);
+    assert!(relative <= 1e-9, "‖u_cold − u_nested‖ / ‖u_cold‖ = {relative:.1e}");
+}
