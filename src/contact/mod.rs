@@ -25,7 +25,7 @@ use crate::fem::sparse::{LinearSystem, SparsePattern};
 use crate::mesh::Mesh;
 use crate::solve::{newton, newton_until, LayerSchur, NewtonError, NewtonOptions, NewtonReport, NonlinearSystem};
 pub use law::JointLaw;
-use nitsche::{ContactFace, Nitsche, NitscheParameters};
+use nitsche::{ContactFace, FaceDisplacement, Nitsche, NitscheParameters};
 use projection::{negative_part, Smoothing};
 pub use resultant::{JointLine, Resultant};
 use std::sync::OnceLock;
@@ -259,14 +259,19 @@ pub fn open_from_heel(faces: &[FaceState], line: &JointLine) -> f64 {
 }
 
 /// The dofs of face k ([`Nitsche::face_dofs`]) and the displacement there.
-fn local(mesh: &Mesh, nitsche: &Nitsche, k: usize, u_full: &[f64], dofs: &mut Vec<usize>) -> Vec<f64> {
+fn local(mesh: &Mesh, nitsche: &Nitsche, k: usize, u_full: &[f64], dofs: &mut Vec<usize>) -> FaceDisplacement {
+    nitsche.local(k, &values(mesh, nitsche, k, u_full, dofs), None)
+}
+
+/// The values of `u_full` at the dofs of face k ([`Nitsche::face_dofs`]).
+fn values(mesh: &Mesh, nitsche: &Nitsche, k: usize, u_full: &[f64], dofs: &mut Vec<usize>) -> Vec<f64> {
     nitsche.face_dofs(mesh, k, dofs);
     dofs.iter().map(|&g| u_full[g]).collect()
 }
 
 /// The state of face k for the local displacement `u` of its cell, integrated on pieces
 /// split at the kinks of the smoothing and of the plain projection.
-fn face_state(nitsche: &Nitsche, smoothing: Smoothing, k: usize, u: &[f64]) -> FaceState {
+fn face_state(nitsche: &Nitsche, smoothing: Smoothing, k: usize, u: &FaceDisplacement) -> FaceState {
     let length = nitsche.faces[k].length;
     let mut state = FaceState { length, ..Default::default() };
     let mut cuts = nitsche.kinks(k, u, smoothing);
@@ -280,14 +285,15 @@ fn face_state(nitsche: &Nitsche, smoothing: Smoothing, k: usize, u: &[f64]) -> F
         for (m, x) in state.pressure_moment.iter_mut().zip(pt.x) {
             *m -= x * negative_part(p) * w;
         }
-        state.normal_displacement += dot(&pt.u_n, u) * mean;
+        let [normal, tangential] = nitsche.displacement_at(k, &pt, u);
+        state.normal_displacement += normal * mean;
         state.contact_length += if p < 0.0 { w } else { 0.0 };
         let error = (smoothing.value(p) - negative_part(p)).abs();
         state.regularisation_error = state.regularisation_error.max(error);
         state.uplift += nitsche.uplift_at(pt.x) * mean;
         if nitsche.law.has_friction() {
             state.tangential_traction += nitsche.tangential(k, &pt, u, smoothing).value * mean;
-            state.slip += dot(&pt.u_t, u) * mean;
+            state.slip += tangential * mean;
             let plain = nitsche.tangential(k, &pt, u, Smoothing::NONE);
             let sticks = nitsche.p_tangential(k, &pt, u).abs() < plain.threshold;
             if p < 0.0 {
@@ -304,10 +310,6 @@ fn face_state(nitsche: &Nitsche, smoothing: Smoothing, k: usize, u: &[f64]) -> F
         state.closed = Some([nitsche.position(k, first[0]), nitsche.position(k, last[1])]);
     }
     state
-}
-
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 impl NonlinearSystem for ContactProblem<'_> {

@@ -26,6 +26,13 @@ fn workspace(request: faer::dyn_stack::StackReq) -> Result<faer::dyn_stack::MemB
     faer::dyn_stack::MemBuffer::try_new(request).map_err(|_| SolveError::Factorisation("out of memory".into()))
 }
 
+/// a + b = s + e exactly, s = fl(a + b) (Knuth's TwoSum).
+pub fn two_sum(a: f64, b: f64) -> (f64, f64) {
+    let s = a + b;
+    let v = s - a;
+    (s, (a - (s - v)) + (b - v))
+}
+
 /// Failure of a sparse factorisation.
 #[derive(Debug, thiserror::Error)]
 pub enum SolveError {
