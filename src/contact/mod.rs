@@ -224,11 +224,13 @@ impl<'a> ContactProblem<'a> {
     }
 
     /// The solution `x` reached by `stages`, with the state of every face.
+    /// The refinement lo of the last stage's report is kept if that report ends at `x`.
     pub fn solution(self, x: Vec<f64>, stages: Vec<Stage>, crack: Option<Crack>) -> ContactSolution {
         let faces = self.face_states(&x);
         let x_prev = stages.last().map_or_else(|| x.clone(), |s| s.report.x_prev.clone());
+        let lo = stages.last().filter(|s| s.report.x == x).and_then(|s| s.report.lo.clone());
         let smoothing = self.smoothing;
-        ContactSolution { x, x_prev, smoothing, stages, faces, nitsche: self.nitsche, crack, coarse: Vec::new() }
+        ContactSolution { x, lo, x_prev, smoothing, stages, faces, nitsche: self.nitsche, crack, coarse: Vec::new() }
     }
 
     /// The length of the crack open at the heel for `x` ([`open_from_heel`]); 0 without uplift.
@@ -357,6 +359,33 @@ impl NonlinearSystem for ContactProblem<'_> {
         }
     }
 
+    /// The bulk K(x + lo) − b in difference form ([`Problem::residual`]) and each face's
+    /// [`Nitsche::linearised_face_terms`]: P_γ(u_prev) and the increment u − u_prev, with
+    /// u_h·ν − g from the compensated jump (docs/method.md §5.2).
+    fn linearised_residual(&self, x: &[f64], lo: &[f64], x_prev: &[f64]) -> Option<Vec<f64>> {
+        let (problem, disc) = (self.problem, self.disc);
+        let u = Refined { x: x.to_vec(), lo: lo.to_vec() }.displacement(problem, disc);
+        let lo_nodes = u.lo.as_ref().expect("a refined displacement has lo");
+        let prev = problem.displacement(disc, x_prev);
+        let mut residual: Vec<f64> = problem.residual(disc, &u).iter().map(|r| -r).collect();
+        let (mut r_local, mut dofs) = (vec![0.0; self.nitsche.n_local()], Vec::new());
+        let at = |nodes: &[[f64; 2]], dofs: &[usize]| dofs.iter().map(|&g| nodes[g / 2][g % 2]).collect::<Vec<f64>>();
+        for k in 0..self.nitsche.faces.len() {
+            self.nitsche.face_dofs(&problem.mesh, k, &mut dofs);
+            let (hi, lo, hi_prev) = (at(&u.hi, &dofs), at(lo_nodes, &dofs), at(&prev, &dofs));
+            let nitsche = &self.nitsche;
+            let (u_k, u_prev) = (nitsche.local(k, &hi, Some(&lo)), nitsche.local(k, &hi_prev, None));
+            let step = nitsche.increment(k, &hi, Some(&lo), &hi_prev);
+            nitsche.linearised_face_terms(k, &u_prev, &u_k, &step, self.smoothing, &mut r_local);
+            for (&g, r) in dofs.iter().zip(&r_local) {
+                if disc.dofs.free[g] != FIXED {
+                    residual[disc.dofs.free[g]] += r;
+                }
+            }
+        }
+        Some(residual)
+    }
+
     fn schur(&self) -> Option<&LayerSchur> {
         let build = || LayerSchur::new(self.pattern(), &self.bulk.values, self.layer());
         self.schur.get_or_init(build).as_ref()
@@ -416,6 +445,9 @@ pub struct Continuation {
 pub struct ContactSolution {
     /// Free unknowns.
     pub x: Vec<f64>,
+    /// The refinement of x by its last Newton step's factors: the iterate is the pair x + lo
+    /// (docs/method.md §5.2); None: x.
+    pub lo: Option<Vec<f64>>,
     /// The iterate before the last Newton step: the linearisation point of x.
     pub x_prev: Vec<f64>,
     /// The smoothing of the last Newton step.
@@ -547,6 +579,14 @@ impl ContactSolution {
     /// With friction, the total length of the closed part that slips.
     pub fn slip_length(&self) -> f64 {
         self.faces.iter().map(|f| f.slip_length).sum()
+    }
+
+    /// The nodal displacements: the pair x + lo, or x without a refinement.
+    pub fn displacement(&self, problem: &Problem, disc: &Discretisation) -> Displacement {
+        match &self.lo {
+            Some(lo) => Refined { x: self.x.clone(), lo: lo.clone() }.displacement(problem, disc),
+            None => problem.displacement(disc, &self.x).into(),
+        }
     }
 
     /// What the estimator needs of this iterate.
@@ -808,11 +848,12 @@ impl Solution {
         }
     }
 
-    /// The nodal displacements: the refined pair without Γ_C, the double iterate with it.
+    /// The nodal displacements: the refined pair of the linear solve, or of the last Newton
+    /// step.
     pub fn displacement(&self, problem: &Problem, disc: &Discretisation) -> Displacement {
         match self {
             Solution::Linear(r) => r.displacement(problem, disc),
-            Solution::Contact(c) => problem.displacement(disc, &c.x).into(),
+            Solution::Contact(c) => c.displacement(problem, disc),
         }
     }
 
