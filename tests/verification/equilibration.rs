@@ -200,9 +200,9 @@ fn scene_a_p2_adaptive_run_stays_equilibrated() {
 /// exceeds 10⁻¹² at the last step: the double iterates read up to 1.0·10⁻¹² for P2 and
 /// 5.4·10⁻¹² for P1 there). Measured: ≤ 1.2·10⁻¹⁴ (P2), ≤ 4.6·10⁻¹⁴ (P1). And the pair solves
 /// the linearised problem of its last Newton step better than its rounding x = fl(x + lo) can:
-/// at the last step ‖F_lin(x + lo)‖ ≤ 0.1 ‖F_lin(x)‖ (both in difference form, relative sizes
-/// as measured: 4.6·10⁻¹⁵ against 1.0·10⁻¹³ for P2, 1.5·10⁻¹⁵ against 2.4·10⁻¹³ for P1; absolute
-/// norms of the free rows).
+/// at the last step ‖F_lin(x + lo)‖ ≤ 0.1 ‖F_lin(x)‖ over the free rows, both in difference form
+/// (measured: 4.6·10⁻¹⁵ against 1.0·10⁻¹³ for P2, 1.5·10⁻¹⁵ against 2.4·10⁻¹³ for P1, with
+/// loads of order 1).
 /// Parameters: geo/hertz.toml, size factor 2, default adaptive settings; P2 five steps, P1
 /// five steps (to about 72 000 unknowns).
 #[test]
