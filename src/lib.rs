@@ -21,7 +21,8 @@
 //!    │                  its steps by the dense Schur complement on the contact layer, started
 //!    │                  by nested iteration on coarser meshes of the .geo (Scene::solve_contact)
 //!    ▼
-//!  contact::ContactSolution   the iterate, its linearisation point and smoothing, face states;
+//!  contact::ContactSolution   the iterate (refined to a pair x + lo after a full Newton
+//!    │                  step), its linearisation point and smoothing, face states;
 //!    │                  the joint's N, T, U, resultant, crack and base stresses (resultant)
 //!    ▼
 //!  estimate             AFW patch problems → σ_h1 + σ_h2 + σ_h3 → η_osc … η_lin, checks

@@ -4,9 +4,9 @@
 use super::{AdaptError, AdaptSettings};
 use crate::contact::projection::Smoothing;
 use crate::contact::{settle_crack, ContactJoint, ContactProblem, Crack, Linearisation, Solution, Stage};
-use crate::elasticity::{Discretisation, Problem};
+use crate::elasticity::{Discretisation, Problem, Refined};
 use crate::estimate::estimators::GlobalEstimators;
-use crate::estimate::{estimate_displacement, estimate_iterate, Estimate};
+use crate::estimate::{estimate_displacement, Estimate};
 use crate::solve::{newton_until, Iterate, NewtonOptions};
 use std::time::Instant;
 
@@ -52,16 +52,21 @@ struct EstimateCount {
     seconds: f64,
 }
 
-/// The estimate of the contact iterate `x` and its global values, counted in `count`.
+/// The estimate of the contact iterate x + lo (`lo` None: x) and its global values, counted
+/// in `count`.
 fn estimate_timed(
     problem: &Problem,
     disc: &Discretisation,
-    x: &[f64],
+    (x, lo): (&[f64], Option<&[f64]>),
     state: &Linearisation,
     count: &mut EstimateCount,
 ) -> Result<(Estimate, GlobalEstimators), AdaptError> {
     let clock = Instant::now();
-    let e = estimate_iterate(problem, disc, x, Some(state))?;
+    let u = match lo {
+        Some(lo) => Refined { x: x.to_vec(), lo: lo.to_vec() }.displacement(problem, disc),
+        None => problem.displacement(disc, x).into(),
+    };
+    let e = estimate_displacement(problem, &disc.topology, &u, Some(state))?;
     count.n += 1;
     count.seconds += clock.elapsed().as_secs_f64();
     let global = e.estimators.global();
@@ -186,12 +191,14 @@ pub fn contact_level(
                 return false;
             }
             let state = Linearisation::new(problem, disc, &contact.nitsche, smoothing, it.x_prev);
-            let e = estimate_timed(problem, disc, it.x, &state, &mut inside);
+            // the pair of the refinement round, which the returned iterate will be
+            let (x, lo) = it.refined().map_or((it.x, None), |(x, lo)| (&x[..], Some(&lo[..])));
+            let e = estimate_timed(problem, disc, (x, lo), &state, &mut inside);
             let stop = e.as_ref().map_or(true, |(_, g)| linearisation_small(g, settings.gamma_lin));
             if let Ok((_, g)) = &e {
                 trend = Trend::new(g, it.residual).or(trend);
             }
-            latest = Some((it.x.to_vec(), e));
+            latest = Some((x.to_vec(), e));
             stop
         })
         .map_err(|source| AdaptError::Newton { delta, source })?;
@@ -202,7 +209,8 @@ pub fn contact_level(
             Some((at, e)) if at == report.x => e?,
             _ => {
                 let state = Linearisation::new(problem, disc, &contact.nitsche, smoothing, &report.x_prev);
-                let (estimate, global) = estimate_timed(problem, disc, &report.x, &state, &mut estimates)?;
+                let (estimate, global) =
+                    estimate_timed(problem, disc, (&report.x, report.lo.as_deref()), &state, &mut estimates)?;
                 trend = Trend::new(&global, report.residual).or(trend);
                 (estimate, global)
             }

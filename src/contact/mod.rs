@@ -25,7 +25,7 @@ use crate::fem::sparse::{LinearSystem, SparsePattern};
 use crate::mesh::Mesh;
 use crate::solve::{newton, newton_until, LayerSchur, NewtonError, NewtonOptions, NewtonReport, NonlinearSystem};
 pub use law::JointLaw;
-use nitsche::{ContactFace, Nitsche, NitscheParameters};
+use nitsche::{ContactFace, FaceDisplacement, Nitsche, NitscheParameters};
 use projection::{negative_part, Smoothing};
 pub use resultant::{JointLine, Resultant};
 use std::sync::OnceLock;
@@ -250,11 +250,13 @@ impl<'a> ContactProblem<'a> {
     }
 
     /// The solution `x` reached by `stages`, with the state of every face.
+    /// The refinement lo of the last stage's report is kept if that report ends at `x`.
     pub fn solution(self, x: Vec<f64>, stages: Vec<Stage>, crack: Option<Crack>) -> ContactSolution {
         let faces = self.face_states(&x);
         let x_prev = stages.last().map_or_else(|| x.clone(), |s| s.report.x_prev.clone());
+        let lo = stages.last().filter(|s| s.report.x == x).and_then(|s| s.report.lo.clone());
         let smoothing = self.smoothing;
-        ContactSolution { x, x_prev, smoothing, stages, faces, nitsche: self.nitsche, crack, coarse: Vec::new() }
+        ContactSolution { x, lo, x_prev, smoothing, stages, faces, nitsche: self.nitsche, crack, coarse: Vec::new() }
     }
 
     /// The length of the crack open at the heel for `x` ([`open_from_heel`]); 0 without uplift.
@@ -285,14 +287,19 @@ pub fn open_from_heel(faces: &[FaceState], line: &JointLine) -> f64 {
 }
 
 /// The dofs of face k ([`Nitsche::face_dofs`]) and the displacement there.
-fn local(mesh: &Mesh, nitsche: &Nitsche, k: usize, u_full: &[f64], dofs: &mut Vec<usize>) -> Vec<f64> {
+fn local(mesh: &Mesh, nitsche: &Nitsche, k: usize, u_full: &[f64], dofs: &mut Vec<usize>) -> FaceDisplacement {
+    nitsche.local(k, &values(mesh, nitsche, k, u_full, dofs), None)
+}
+
+/// The values of `u_full` at the dofs of face k ([`Nitsche::face_dofs`]).
+fn values(mesh: &Mesh, nitsche: &Nitsche, k: usize, u_full: &[f64], dofs: &mut Vec<usize>) -> Vec<f64> {
     nitsche.face_dofs(mesh, k, dofs);
     dofs.iter().map(|&g| u_full[g]).collect()
 }
 
 /// The state of face k for the local displacement `u` of its cell, integrated on pieces
 /// split at the kinks of the smoothing and of the plain projection.
-fn face_state(nitsche: &Nitsche, smoothing: Smoothing, k: usize, u: &[f64]) -> FaceState {
+fn face_state(nitsche: &Nitsche, smoothing: Smoothing, k: usize, u: &FaceDisplacement) -> FaceState {
     let length = nitsche.faces[k].length;
     let mut state = FaceState { length, ..Default::default() };
     let mut cuts = nitsche.kinks(k, u, smoothing);
@@ -306,14 +313,15 @@ fn face_state(nitsche: &Nitsche, smoothing: Smoothing, k: usize, u: &[f64]) -> F
         for (m, x) in state.pressure_moment.iter_mut().zip(pt.x) {
             *m -= x * negative_part(p) * w;
         }
-        state.normal_displacement += dot(&pt.u_n, u) * mean;
+        let [normal, tangential] = nitsche.displacement_at(k, &pt, u);
+        state.normal_displacement += normal * mean;
         state.contact_length += if p < 0.0 { w } else { 0.0 };
         let error = (smoothing.value(p) - negative_part(p)).abs();
         state.regularisation_error = state.regularisation_error.max(error);
         state.uplift += nitsche.uplift_at(pt.x) * mean;
         if nitsche.law.has_friction() {
             state.tangential_traction += nitsche.tangential(k, &pt, u, smoothing).value * mean;
-            state.slip += dot(&pt.u_t, u) * mean;
+            state.slip += tangential * mean;
             let plain = nitsche.tangential(k, &pt, u, Smoothing::NONE);
             let sticks = nitsche.p_tangential(k, &pt, u).abs() < plain.threshold;
             if p < 0.0 {
@@ -330,10 +338,6 @@ fn face_state(nitsche: &Nitsche, smoothing: Smoothing, k: usize, u: &[f64]) -> F
         state.closed = Some([nitsche.position(k, first[0]), nitsche.position(k, last[1])]);
     }
     state
-}
-
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 impl NonlinearSystem for ContactProblem<'_> {
@@ -379,6 +383,33 @@ impl NonlinearSystem for ContactProblem<'_> {
                 }
             }
         }
+    }
+
+    /// The bulk K(x + lo) − b in difference form ([`Problem::residual`]) and each face's
+    /// [`Nitsche::linearised_face_terms`]: P_γ(u_prev) and the increment u − u_prev, with
+    /// u_h·ν − g from the compensated jump (docs/method.md §5.2).
+    fn linearised_residual(&self, x: &[f64], lo: &[f64], x_prev: &[f64]) -> Option<Vec<f64>> {
+        let (problem, disc) = (self.problem, self.disc);
+        let u = Refined { x: x.to_vec(), lo: lo.to_vec() }.displacement(problem, disc);
+        let lo_nodes = u.lo.as_ref().expect("a refined displacement has lo");
+        let prev = problem.displacement(disc, x_prev);
+        let mut residual: Vec<f64> = problem.residual(disc, &u).iter().map(|r| -r).collect();
+        let (mut r_local, mut dofs) = (vec![0.0; self.nitsche.n_local()], Vec::new());
+        let at = |nodes: &[[f64; 2]], dofs: &[usize]| dofs.iter().map(|&g| nodes[g / 2][g % 2]).collect::<Vec<f64>>();
+        for k in 0..self.nitsche.faces.len() {
+            self.nitsche.face_dofs(&problem.mesh, k, &mut dofs);
+            let (hi, lo, hi_prev) = (at(&u.hi, &dofs), at(lo_nodes, &dofs), at(&prev, &dofs));
+            let nitsche = &self.nitsche;
+            let (u_k, u_prev) = (nitsche.local(k, &hi, Some(&lo)), nitsche.local(k, &hi_prev, None));
+            let step = nitsche.increment(k, &hi, Some(&lo), &hi_prev);
+            nitsche.linearised_face_terms(k, &u_prev, &u_k, &step, self.smoothing, &mut r_local);
+            for (&g, r) in dofs.iter().zip(&r_local) {
+                if disc.dofs.free[g] != FIXED {
+                    residual[disc.dofs.free[g]] += r;
+                }
+            }
+        }
+        Some(residual)
     }
 
     fn schur(&self) -> Option<&LayerSchur> {
@@ -440,6 +471,9 @@ pub struct Continuation {
 pub struct ContactSolution {
     /// Free unknowns.
     pub x: Vec<f64>,
+    /// The refinement of x by its last Newton step's factors: the iterate is the pair x + lo
+    /// (docs/method.md §5.2); None: x.
+    pub lo: Option<Vec<f64>>,
     /// The iterate before the last Newton step: the linearisation point of x.
     pub x_prev: Vec<f64>,
     /// The smoothing of the last Newton step.
@@ -593,6 +627,14 @@ impl ContactSolution {
     /// With friction, the total length of the closed part that slips.
     pub fn slip_length(&self) -> f64 {
         self.faces.iter().map(|f| f.slip_length).sum()
+    }
+
+    /// The nodal displacements: the pair x + lo, or x without a refinement.
+    pub fn displacement(&self, problem: &Problem, disc: &Discretisation) -> Displacement {
+        match &self.lo {
+            Some(lo) => Refined { x: self.x.clone(), lo: lo.clone() }.displacement(problem, disc),
+            None => problem.displacement(disc, &self.x).into(),
+        }
     }
 
     /// What the estimator needs of this iterate.
@@ -876,11 +918,12 @@ impl Solution {
         }
     }
 
-    /// The nodal displacements: the refined pair without Γ_C, the double iterate with it.
+    /// The nodal displacements: the refined pair of the linear solve, or of the last Newton
+    /// step.
     pub fn displacement(&self, problem: &Problem, disc: &Discretisation) -> Displacement {
         match self {
             Solution::Linear(r) => r.displacement(problem, disc),
-            Solution::Contact(c) => problem.displacement(disc, &c.x).into(),
+            Solution::Contact(c) => c.displacement(problem, disc),
         }
     }
 

@@ -15,7 +15,10 @@
 //!
 //!   J_F(u; w, v) = −(θ/γ) ∫_F σ^n(w) σ^n(v) + (1/γ) ∫_F ∂[P_γ(u)] (σ^n(w) − γ w^n)(θ σ^n(v) − γ v^n).
 //!
-//! γ|_F = γ₀ E / h_F. P_γ(u_h) is a polynomial of degree p along a straight face, so each face
+//! γ|_F = γ₀ E / h_F. The terms read u_h through a [`FaceDisplacement`]: σ^n from nodal
+//! differences, u_h·ν − g from the jump at the cells' first nodes, compensated, plus the
+//! differences (docs/method.md §5.2), so that P_γ(u_h) carries no rounding of |u_h| itself.
+//! P_γ(u_h) is a polynomial of degree p along a straight face, so each face
 //! is split at the roots of P_γ(u_h) = b for every breakpoint b of the projection, and each
 //! piece is integrated with the Gauss rule of [`JointLaw::face_points`], exact for the
 //! polynomial integrands.
@@ -30,6 +33,7 @@ use crate::fem::lagrange;
 use crate::fem::quadrature::gauss_segment_cached;
 use crate::fem::sparse::vector_dofs;
 use crate::mesh::{distance, Mesh, Segment, Topology};
+use crate::solve::two_sum;
 
 /// Normal gap to the foundation, g(x) = g₀ + ∇g · x (u^n ≤ g).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -100,7 +104,8 @@ pub struct Opposite {
 /// Shape data of the cell basis at one point of a face.
 pub struct FacePoint {
     pub x: [f64; 2],
-    /// The gap g at the point, from the cell's origin x₀ as g(x₀) + ∇g·(x − x₀).
+    /// g − g₀, the gap at the point less its value g₀ at the face's origin
+    /// ([`Nitsche::gap_origin`]): ∇g·(x − x₀), with (y − x)·ν − (y₀ − x₀)·ν on a joint.
     pub gap: f64,
     /// σ^n(φ_i e_a) = (σ(φ_i e_a)n)·ν = λ ∂_a φ_i (n·ν) + μ((∇φ_i·n) ν_a + (∇φ_i·ν) n_a) at index
     /// 2i + a.
@@ -110,6 +115,21 @@ pub struct FacePoint {
     /// σ^t(φ_i e_a) = (σ(φ_i e_a)n)·τ and (φ_i e_a)·τ along the tangent τ = (−ν_y, ν_x).
     pub sigma_t: Vec<f64>,
     pub u_t: Vec<f64>,
+}
+
+/// The displacement of a contact face's cells as the Nitsche terms read it (docs/method.md
+/// §5.2): the nodal differences u_k − u_0 of each cell (index 2i + a, the master cell's after
+/// the slave's, each from its own first node), and the jump at the first nodes along ν less the
+/// gap there, (u¹_0 − u²_0)·ν − g₀, and along τ, (u¹_0 − u²_0)·τ (u² = 0 on a rigid
+/// foundation), summed in compensated arithmetic. Then, with Σ_k φ_k = 1,
+/// u_h·ν − g = ((u¹_0 − u²_0)·ν − g₀) + Σ_k φ_k (u_k − u_0)·ν − (g − g₀): no term carries the
+/// rounding ε |u_h| of the nodal values. An increment w = u − u_prev ([`Nitsche::increment`])
+/// takes no gap.
+#[derive(Debug, Clone)]
+pub struct FaceDisplacement {
+    pub relative: Vec<f64>,
+    pub normal: f64,
+    pub tangential: f64,
 }
 
 /// All contact faces of a mesh with the Nitsche parameters.
@@ -194,10 +214,10 @@ impl Nitsche {
         let tau = [-nu[1], nu[0]];
         let (mut sigma_n, mut u_n) = along(nu);
         let (mut sigma_t, mut u_t) = along(tau);
-        // g(x₀) + ∇g·Jξ from the cell's origin x₀: without the rounding ε|x| of the point itself
+        // g − g₀ = ∇g·Jξ from the cell's origin x₀: without the rounding ε|x| of the point itself
         let offset = linear(&face.map, xi);
-        let gap = &self.parameters.gap;
-        let mut gap = gap.at(face.map.origin) + gap.gradient[0] * offset[0] + gap.gradient[1] * offset[1];
+        let gradient = self.parameters.gap.gradient;
+        let mut gap = gradient[0] * offset[0] + gradient[1] * offset[1];
         if let Some(opposite) = &face.opposite {
             // the jump [v] = v¹(x) − v²(y) at the point y of the master cell facing x:
             // −φ²_j(y) ν_a and −φ²_j(y) τ_a; σ^n(v) and σ^t(v) are the slave's
@@ -209,21 +229,83 @@ impl Nitsche {
             }
             sigma_n.resize(4 * nb, 0.0);
             sigma_t.resize(4 * nb, 0.0);
-            // g = (y − x)·ν, from the two cells' origins
+            // g = (y − x)·ν, from the two cells' origins: (y₀ − x₀)·ν is in g₀
             let [y, x] = [linear(&opposite.map, eta), offset];
-            let o = [opposite.map.origin[0] - face.map.origin[0], opposite.map.origin[1] - face.map.origin[1]];
-            gap += (o[0] + y[0] - x[0]) * nu[0] + (o[1] + y[1] - x[1]) * nu[1];
+            gap += (y[0] - x[0]) * nu[0] + (y[1] - x[1]) * nu[1];
         }
         FacePoint { x: face.map.to_physical(xi), gap, sigma_n, u_n, sigma_t, u_t }
     }
 
-    /// P_γ(u_h) = σ^n(u_h) + p_u − γ(u_h^n − g) at a face point, for local nodal displacements
-    /// `u` (index 2i + a).
-    pub fn p_gamma(&self, k: usize, point: &FacePoint, u: &[f64]) -> f64 {
+    /// g₀, the gap at the origin x₀ of face k's cell: g(x₀), plus (y₀ − x₀)·ν on a joint, y₀
+    /// the origin of the master cell.
+    pub fn gap_origin(&self, k: usize) -> f64 {
+        let face = &self.faces[k];
+        let (x0, nu) = (face.map.origin, face.direction);
+        let apart = face.opposite.as_ref().map_or(0.0, |o| {
+            let y0 = o.map.origin;
+            (y0[0] - x0[0]) * nu[0] + (y0[1] - x0[1]) * nu[1]
+        });
+        self.parameters.gap.at(x0) + apart
+    }
+
+    /// The [`FaceDisplacement`] of face k for the local nodal values `hi` + `lo` (index 2i + a,
+    /// as [`Nitsche::face_dofs`]; `lo` None: a double u_h).
+    pub fn local(&self, k: usize, hi: &[f64], lo: Option<&[f64]>) -> FaceDisplacement {
+        self.relative_to(k, hi, lo, self.gap_origin(k))
+    }
+
+    /// The [`FaceDisplacement`] of the increment w = (hi − hi_prev) + lo from the local values
+    /// `hi_prev` to `hi` + `lo`: no gap.
+    pub fn increment(&self, k: usize, hi: &[f64], lo: Option<&[f64]>, hi_prev: &[f64]) -> FaceDisplacement {
+        let w: Vec<f64> = hi.iter().zip(hi_prev).map(|(a, b)| a - b).collect();
+        self.relative_to(k, &w, lo, 0.0)
+    }
+
+    /// Nodal differences of `hi` + `lo` per cell, and the jump of the first nodes along ν less
+    /// `g0` and along τ, each as the compensated sum of the exact products hi·d (by FMA), lo·d
+    /// and −g0.
+    fn relative_to(&self, k: usize, hi: &[f64], lo: Option<&[f64]>, g0: f64) -> FaceDisplacement {
+        let block = 2 * lagrange::n_basis(self.order);
+        let lo_at = |i: usize| lo.map_or(0.0, |lo| lo[i]);
+        let relative = (0..hi.len())
+            .map(|i| {
+                let first = i / block * block + i % 2;
+                (hi[i] - hi[first]) + (lo_at(i) - lo_at(first))
+            })
+            .collect();
+        let nu = self.faces[k].direction;
+        let jump = |d: [f64; 2], offset: f64| {
+            let mut terms = vec![-offset];
+            // the slave's first node, then minus the master's
+            for (first, sign) in (0..hi.len()).step_by(block).zip([1.0, -1.0]) {
+                for a in 0..2 {
+                    let product = sign * hi[first + a] * d[a];
+                    terms.extend([
+                        product,
+                        (sign * hi[first + a]).mul_add(d[a], -product),
+                        sign * lo_at(first + a) * d[a],
+                    ]);
+                }
+            }
+            compensated_sum(&terms)
+        };
+        FaceDisplacement { relative, normal: jump(nu, g0), tangential: jump([-nu[1], nu[0]], 0.0) }
+    }
+
+    /// P_γ(u_h) = σ^n(u_h) + p_u − γ(u_h^n − g) at a face point, with σ^n(u_h) from the nodal
+    /// differences and u_h^n − g = (u¹_0 − u²_0)·ν − g₀ + Σ_k φ_k (u_k − u_0)·ν − (g − g₀)
+    /// ([`FaceDisplacement`]).
+    pub fn p_gamma(&self, k: usize, point: &FacePoint, u: &FaceDisplacement) -> f64 {
         let gamma = self.faces[k].gamma;
-        let sigma_n = dot(&point.sigma_n, u);
-        let u_n = dot(&point.u_n, u);
-        sigma_n + self.uplift_at(point.x) - gamma * (u_n - point.gap)
+        let sigma_n = dot(&point.sigma_n, &u.relative);
+        let gap = u.normal + (dot(&point.u_n, &u.relative) - point.gap);
+        sigma_n + self.uplift_at(point.x) - gamma * gap
+    }
+
+    /// P_γ(u) − P_γ(u_prev) = σ^n(w) − γ w^n at a face point, for the increment w = u − u_prev
+    /// ([`Nitsche::increment`]).
+    pub fn p_increment(&self, k: usize, point: &FacePoint, w: &FaceDisplacement) -> f64 {
+        dot(&point.sigma_n, &w.relative) - self.faces[k].gamma * (w.normal + dot(&point.u_n, &w.relative))
     }
 
     /// The uplift p_u at a point of the joint (0 without uplift).
@@ -231,44 +313,64 @@ impl Nitsche {
         self.uplift.as_ref().map_or(0.0, |up| up.pressure(up.distance(x), up.crack))
     }
 
-    /// P^t_γ(u_h) = σ^t(u_h) − γ u_h^t at a face point.
-    pub fn p_tangential(&self, k: usize, point: &FacePoint, u: &[f64]) -> f64 {
-        dot(&point.sigma_t, u) - self.faces[k].gamma * dot(&point.u_t, u)
+    /// P^t_γ(u_h) = σ^t(u_h) − γ u_h^t at a face point, u_h^t = (u¹_0 − u²_0)·τ + Σ_k φ_k (u_k − u_0)·τ
+    /// (of an increment too).
+    pub fn p_tangential(&self, k: usize, point: &FacePoint, u: &FaceDisplacement) -> f64 {
+        dot(&point.sigma_t, &u.relative) - self.faces[k].gamma * (u.tangential + dot(&point.u_t, &u.relative))
+    }
+
+    /// u_h·ν and u_h·τ at a face point (the jump on a joint).
+    pub fn displacement_at(&self, k: usize, point: &FacePoint, u: &FaceDisplacement) -> [f64; 2] {
+        [u.normal + self.gap_origin(k) + dot(&point.u_n, &u.relative), u.tangential + dot(&point.u_t, &u.relative)]
     }
 
     /// The joint law's tangential traction Π_S(P^t_γ(u_h)) at a face point.
-    pub fn tangential(&self, k: usize, point: &FacePoint, u: &[f64], smoothing: Smoothing) -> Tangential {
+    pub fn tangential(&self, k: usize, point: &FacePoint, u: &FaceDisplacement, smoothing: Smoothing) -> Tangential {
         self.law.tangential(self.p_gamma(k, point, u), self.p_tangential(k, point, u), smoothing)
     }
 
     /// The Γ_C traction t = (q(P_γ(u_h)) − p_u) ν + Π_S(P^t_γ(u_h)) τ at a face point, with q
     /// the smoothing (`Smoothing::NONE`: the exact traction).
-    pub fn traction(&self, k: usize, point: &FacePoint, u: &[f64], smoothing: Smoothing) -> [f64; 2] {
+    pub fn traction(&self, k: usize, point: &FacePoint, u: &FaceDisplacement, smoothing: Smoothing) -> [f64; 2] {
         let normal = smoothing.value(self.p_gamma(k, point, u)) - self.uplift_at(point.x);
         let tangential = if self.law.has_friction() { self.tangential(k, point, u, smoothing).value } else { 0.0 };
         self.along(k, normal, tangential)
     }
 
-    /// The traction linearised at `u_prev`, evaluated at `u`: t(u_prev) + t'(u_prev)(u − u_prev),
-    /// the Γ_C traction of the Newton step from `u_prev`.
+    /// The traction linearised at `u_prev`, evaluated at u = u_prev + `step`:
+    /// t(u_prev) + t'(u_prev) w with w = u − u_prev ([`Nitsche::increment`]), the Γ_C traction
+    /// of the Newton step from `u_prev`.
     pub fn linearised_traction(
         &self,
         k: usize,
         point: &FacePoint,
-        u: &[f64],
-        u_prev: &[f64],
+        u_prev: &FaceDisplacement,
+        step: &FaceDisplacement,
         smoothing: Smoothing,
     ) -> [f64; 2] {
-        let (p, p_prev) = (self.p_gamma(k, point, u), self.p_gamma(k, point, u_prev));
-        let normal = smoothing.value(p_prev) + smoothing.derivative(p_prev) * (p - p_prev) - self.uplift_at(point.x);
+        let [normal, tangential] = self.linearised(k, point, u_prev, step, smoothing);
+        self.along(k, normal - self.uplift_at(point.x), tangential)
+    }
+
+    /// [P_γ(u_prev)] + ∂[P_γ(u_prev)] P_γ'(w) and, with friction, Π(u_prev) + ∂_tΠ P^t_γ'(w) +
+    /// ∂_nΠ P_γ'(w) (else 0), for the increment w = `step`: the linearised projections.
+    fn linearised(
+        &self,
+        k: usize,
+        point: &FacePoint,
+        u_prev: &FaceDisplacement,
+        step: &FaceDisplacement,
+        smoothing: Smoothing,
+    ) -> [f64; 2] {
+        let (p_prev, dp) = (self.p_gamma(k, point, u_prev), self.p_increment(k, point, step));
+        let normal = smoothing.value(p_prev) + smoothing.derivative(p_prev) * dp;
         let tangential = if self.law.has_friction() {
             let t = self.tangential(k, point, u_prev, smoothing);
-            let dt = self.p_tangential(k, point, u) - self.p_tangential(k, point, u_prev);
-            t.value + t.d_tangential * dt + t.d_normal * (p - p_prev)
+            t.value + t.d_tangential * self.p_tangential(k, point, step) + t.d_normal * dp
         } else {
             0.0
         };
-        self.along(k, normal, tangential)
+        [normal, tangential]
     }
 
     /// t_n ν + t_t τ on face k, τ = (−ν_y, ν_x).
@@ -279,7 +381,7 @@ impl Nitsche {
 
     /// Quadrature on face k split at the kinks of `smoothing` ∘ P_γ(u_h) and, with friction,
     /// of Π_S(P^t_γ(u_h)): (s, weight·|F|).
-    pub fn quadrature(&self, k: usize, u: &[f64], smoothing: Smoothing) -> Vec<(f64, f64)> {
+    pub fn quadrature(&self, k: usize, u: &FaceDisplacement, smoothing: Smoothing) -> Vec<(f64, f64)> {
         self.split_rule(k, &self.kinks(k, u, smoothing))
     }
 
@@ -287,7 +389,7 @@ impl Nitsche {
     /// parameters where S − P^t or P^t + S crosses a breakpoint, sorted. Between two normal
     /// cuts both are polynomials of degree ≤ 4 in s; their crossings are bracketed on eight
     /// sub-intervals and bisected to round-off.
-    pub fn kinks(&self, k: usize, u: &[f64], smoothing: Smoothing) -> Vec<f64> {
+    pub fn kinks(&self, k: usize, u: &FaceDisplacement, smoothing: Smoothing) -> Vec<f64> {
         let mut cuts = self.cuts(k, u, &smoothing.breakpoints());
         let levels = self.law.breakpoints(smoothing);
         if levels.is_empty() {
@@ -314,7 +416,7 @@ impl Nitsche {
 
     /// 0, 1, the kinks of the uplift and the parameters s ∈ (0, 1) where P_γ(u_h)(s) equals one
     /// of `levels`, sorted. Between the uplift's kinks P_γ is a polynomial of degree ≤ p.
-    pub fn cuts(&self, k: usize, u: &[f64], levels: &[f64]) -> Vec<f64> {
+    pub fn cuts(&self, k: usize, u: &FaceDisplacement, levels: &[f64]) -> Vec<f64> {
         let mut cuts = vec![0.0, 1.0];
         cuts.extend(self.uplift_kinks(k));
         cuts.sort_by(f64::total_cmp);
@@ -356,7 +458,37 @@ impl Nitsche {
     pub fn face_terms(
         &self,
         k: usize,
-        u: &[f64],
+        u: &FaceDisplacement,
+        smoothing: Smoothing,
+        residual: &mut [f64],
+        jacobian: Option<&mut [f64]>,
+    ) {
+        self.terms(k, u, None, smoothing, residual, jacobian)
+    }
+
+    /// R_F(u_prev; φ_k) + J_F(u_prev; w, φ_k) of face k: its residual of the Newton equation
+    /// linearised at `u_prev`, evaluated at u = u_prev + w, with `step` = w
+    /// ([`Nitsche::increment`]); its projections from P_γ(u_prev) and the increment alone.
+    pub fn linearised_face_terms(
+        &self,
+        k: usize,
+        u_prev: &FaceDisplacement,
+        u: &FaceDisplacement,
+        step: &FaceDisplacement,
+        smoothing: Smoothing,
+        residual: &mut [f64],
+    ) {
+        self.terms(k, u_prev, Some((u, step)), smoothing, residual, None)
+    }
+
+    /// The face terms at `u`, or with `moved` = (u_new, w), those linearised at `u` evaluated
+    /// at u_new = u + w, on the rule of `u` (the linearised integrands are polynomial between
+    /// its kinks).
+    fn terms(
+        &self,
+        k: usize,
+        u: &FaceDisplacement,
+        moved: Option<(&FaceDisplacement, &FaceDisplacement)>,
         smoothing: Smoothing,
         residual: &mut [f64],
         mut jacobian: Option<&mut [f64]>,
@@ -369,12 +501,14 @@ impl Nitsche {
         }
         let mut test = vec![0.0; n];
         let mut trial = vec![0.0; n];
+        let zero = FaceDisplacement { relative: vec![0.0; u.relative.len()], normal: 0.0, tangential: 0.0 };
+        let (u_new, step) = moved.unwrap_or((u, &zero));
         for (s, w) in self.quadrature(k, u, smoothing) {
             let pt = self.point(k, s);
             let p = self.p_gamma(k, &pt, u);
             let p_u = self.uplift_at(pt.x);
-            let sigma_n_u = dot(&pt.sigma_n, u) + p_u; // σ'^n(u) = σ^n(u) + p_u
-            let (value, slope) = (smoothing.value(p), smoothing.derivative(p));
+            let sigma_n_u = dot(&pt.sigma_n, &u_new.relative) + p_u; // σ'^n(u) = σ^n(u) + p_u
+            let [value, tangential] = self.linearised(k, &pt, u, step, smoothing);
             for i in 0..n {
                 test[i] = theta * pt.sigma_n[i] - gamma * pt.u_n[i]; // θ σ^n(v) − γ v^n
                 trial[i] = pt.sigma_n[i] - gamma * pt.u_n[i]; // σ^n(w) − γ w^n
@@ -384,6 +518,7 @@ impl Nitsche {
                     * w;
             }
             if let Some(j) = jacobian.as_deref_mut() {
+                let slope = smoothing.derivative(p);
                 for r in 0..n {
                     for c in 0..n {
                         j[r * n + c] += (-theta / gamma * pt.sigma_n[c] * pt.sigma_n[r] // −(θ/γ) σ^n(w) σ^n(v)
@@ -393,13 +528,17 @@ impl Nitsche {
                 }
             }
             if self.law.has_friction() {
-                self.tangential_terms(k, &pt, u, smoothing, w, &trial, residual, jacobian.as_deref_mut());
+                let sigma_t_u = dot(&pt.sigma_t, &u_new.relative);
+                let t = self.tangential(k, &pt, u, smoothing);
+                let traction = [sigma_t_u, tangential];
+                self.tangential_terms(k, &pt, &t, traction, w, &trial, residual, jacobian.as_deref_mut());
             }
         }
     }
 
     /// The tangential terms of R_F at one point of face k (weight `w`, `normal_trial` the
-    /// σ^n(w) − γ w^n of the basis):
+    /// σ^n(w) − γ w^n of the basis, `t` the projection there, `traction` = (σ^t(u), Π_S(P^t_γ(u)))
+    /// or its linearisation):
     ///
     ///   −(θ/γ) σ^t(u) σ^t(v) + (1/γ) Π_S(P^t_γ(u)) (θ σ^t(v) − γ v^t),
     ///
@@ -411,8 +550,8 @@ impl Nitsche {
         &self,
         k: usize,
         pt: &FacePoint,
-        u: &[f64],
-        smoothing: Smoothing,
+        t: &Tangential,
+        [sigma_t_u, value]: [f64; 2],
         w: f64,
         normal_trial: &[f64],
         residual: &mut [f64],
@@ -420,12 +559,10 @@ impl Nitsche {
     ) {
         let n = self.n_local();
         let (gamma, theta) = (self.faces[k].gamma, self.parameters.theta);
-        let t = self.tangential(k, pt, u, smoothing);
-        let sigma_t_u = dot(&pt.sigma_t, u);
         let test: Vec<f64> = (0..n).map(|i| theta * pt.sigma_t[i] - gamma * pt.u_t[i]).collect(); // θ σ^t(v) − γ v^t
         for i in 0..n {
             residual[i] += (-theta / gamma * sigma_t_u * pt.sigma_t[i] // −(θ/γ) σ^t(u) σ^t(v)
-                + t.value * test[i] / gamma) // (1/γ) Π_S(P^t)(θσ^t(v) − γv^t)
+                + value * test[i] / gamma) // (1/γ) Π_S(P^t)(θσ^t(v) − γv^t)
                 * w;
         }
         if let Some(j) = jacobian {
@@ -541,6 +678,17 @@ fn face(
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// Σ terms in compensated arithmetic (TwoSum on each addition, the errors summed apart): as
+/// accurate as if summed in twice the working precision, then rounded.
+fn compensated_sum(terms: &[f64]) -> f64 {
+    let (mut sum, mut error) = (0.0, 0.0);
+    for &t in terms {
+        let (s, e) = two_sum(sum, t);
+        (sum, error) = (s, error + e);
+    }
+    sum + error
 }
 
 /// The parameters s ∈ (0, 1) where a polynomial P of degree ≤ 2 equals one of `levels`, from

@@ -18,7 +18,7 @@ use crate::fem::sparse::{vector_dofs, LinearSystem, Local, SparsePattern};
 use crate::fem::tabulate::Tabulation;
 use crate::fem::transfer::interpolate;
 use crate::mesh::{Mesh, Topology};
-use crate::solve::{Cholesky, SolveError};
+use crate::solve::{two_sum, Cholesky, SolveError};
 use rayon::prelude::*;
 use std::sync::Arc;
 
@@ -137,13 +137,6 @@ impl Refined {
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
-}
-
-/// a + b = s + e exactly, s = fl(a + b) (Knuth's TwoSum).
-fn two_sum(a: f64, b: f64) -> (f64, f64) {
-    let s = a + b;
-    let v = s - a;
-    (s, (a - (s - v)) + (b - v))
 }
 
 /// Dof numbering and matrix pattern of a problem, built once per mesh.

@@ -114,11 +114,16 @@ impl ContactFacet {
         let mut dofs = Vec::new();
         for piece in &self.pieces {
             state.nitsche.face_dofs(mesh, piece.face, &mut dofs);
-            let uk: Vec<f64> = dofs.iter().map(|&g| u.value(g / 2)[g % 2]).collect();
-            let u_prev: Vec<f64> = dofs.iter().map(|&g| state.u_prev[g / 2][g % 2]).collect();
+            let hi: Vec<f64> = dofs.iter().map(|&g| u.hi[g / 2][g % 2]).collect();
+            let lo: Option<Vec<f64>> = u.lo.as_ref().map(|lo| dofs.iter().map(|&g| lo[g / 2][g % 2]).collect());
+            let hi_prev: Vec<f64> = dofs.iter().map(|&g| state.u_prev[g / 2][g % 2]).collect();
+            let nitsche = state.nitsche;
+            let uk = nitsche.local(piece.face, &hi, lo.as_deref());
+            let u_prev = nitsche.local(piece.face, &hi_prev, None);
+            let step = nitsche.increment(piece.face, &hi, lo.as_deref(), &hi_prev);
             let scale = piece.sign / piece.dy_dx;
             for (s, w) in contact_rule(state, piece.face, &uk, &u_prev) {
-                let t = tractions(state, piece.face, s, &uk, &u_prev).map(|t| t.map(|ti| scale * ti));
+                let t = tractions(state, piece.face, s, [&uk, &u_prev, &step]).map(|t| t.map(|ti| scale * ti));
                 samples.push(Sample { r: piece.r[0] + s * (piece.r[1] - piece.r[0]), weight: w * piece.dy_dx, t });
             }
             covered.push([piece.r[0].min(piece.r[1]), piece.r[0].max(piece.r[1])]);

@@ -16,6 +16,7 @@ use super::afw::{self, cell_integrals, face_moments, CellIntegrals, COMPONENTS};
 use super::facets::{contact_facets, ContactFacet};
 use super::patch::{self, FaceKind, PatchFace, PatchInput};
 use super::EstimateError;
+use crate::contact::nitsche::FaceDisplacement;
 use crate::contact::projection::Smoothing;
 use crate::contact::Linearisation;
 use crate::elasticity::kernels::{displacement_gradient, stress};
@@ -397,20 +398,31 @@ fn traction_moments(ctx: &Context, traction: &Traction, a: usize, ends: [usize; 
     }
 }
 
-/// The Γ_C tractions (t₁, t₂, t₃) at parameter `s` of contact face k, for the local
-/// displacements `u` and `u_prev` of its cell: the exact traction, the smoothing's part and
-/// the linearisation's part, t₁ + t₂ + t₃ the traction of the Newton step (docs/method.md §4.3).
-pub(crate) fn tractions(c: &Linearisation, k: usize, s: f64, u: &[f64], u_prev: &[f64]) -> [[f64; 2]; 3] {
+/// The Γ_C tractions (t₁, t₂, t₃) at parameter `s` of contact face k, for the displacements
+/// `u` and `u_prev` of its cells and the increment `step` = u − u_prev: the exact traction, the
+/// smoothing's part and the linearisation's part, t₁ + t₂ + t₃ the traction of the Newton step
+/// (docs/method.md §4.3).
+pub(crate) fn tractions(
+    c: &Linearisation,
+    k: usize,
+    s: f64,
+    [u, u_prev, step]: [&FaceDisplacement; 3],
+) -> [[f64; 2]; 3] {
     let point = c.nitsche.point(k, s);
     let exact = c.nitsche.traction(k, &point, u, Smoothing::NONE);
     let regularised = c.nitsche.traction(k, &point, u, c.smoothing);
-    let linearised = c.nitsche.linearised_traction(k, &point, u, u_prev, c.smoothing);
+    let linearised = c.nitsche.linearised_traction(k, &point, u_prev, step, c.smoothing);
     let minus = |a: [f64; 2], b: [f64; 2]| [a[0] - b[0], a[1] - b[1]];
     [exact, minus(regularised, exact), minus(linearised, regularised)]
 }
 
 /// The rule on contact face k split at every kink of t₁, t₂ and t₃: (s, weight · |F|).
-pub(crate) fn contact_rule(c: &Linearisation, k: usize, u: &[f64], u_prev: &[f64]) -> Vec<(f64, f64)> {
+pub(crate) fn contact_rule(
+    c: &Linearisation,
+    k: usize,
+    u: &FaceDisplacement,
+    u_prev: &FaceDisplacement,
+) -> Vec<(f64, f64)> {
     let mut cuts = c.nitsche.kinks(k, u, Smoothing::NONE);
     cuts.extend(c.nitsche.kinks(k, u, c.smoothing));
     cuts.extend(c.nitsche.kinks(k, u_prev, c.smoothing));

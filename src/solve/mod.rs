@@ -10,7 +10,7 @@ pub mod schur;
 
 pub use cholesky::Cholesky;
 pub use lu::SparseLu;
-pub use newton::{newton, newton_until, Iterate, NewtonError, NewtonOptions, NewtonReport, NonlinearSystem};
+pub use newton::{newton, newton_until, Iterate, NewtonError, NewtonOptions, NewtonReport, NonlinearSystem, Pair};
 pub use schur::LayerSchur;
 
 /// faer's factorisations run on one thread. On the small supernodes of 2D meshes the task
@@ -24,6 +24,13 @@ const PARALLELISM: faer::Par = faer::Par::Seq;
 /// A workspace of the size faer asks for.
 fn workspace(request: faer::dyn_stack::StackReq) -> Result<faer::dyn_stack::MemBuffer, SolveError> {
     faer::dyn_stack::MemBuffer::try_new(request).map_err(|_| SolveError::Factorisation("out of memory".into()))
+}
+
+/// a + b = s + e exactly, s = fl(a + b) (Knuth's TwoSum).
+pub fn two_sum(a: f64, b: f64) -> (f64, f64) {
+    let s = a + b;
+    let v = s - a;
+    (s, (a - (s - v)) + (b - v))
 }
 
 /// Failure of a sparse factorisation.

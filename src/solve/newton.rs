@@ -12,12 +12,20 @@
 //! so that the iterate it returns solves the linearised problem of its last step (what the
 //! estimator's bound assumes). Running out of iterations is an error that carries the whole
 //! history: never a silent wrong answer.
+//!
+//! A system with a linearised residual in difference form
+//! ([`NonlinearSystem::linearised_residual`]) gets a refinement round on the iterate it
+//! returns after a full step (and on the iterates a stopping rule asks for,
+//! [`Iterate::refined`]): lo = −J⁻¹ F_lin(x) with the last step's factors, so that the pair
+//! x + lo solves the linearised problem of that step to the round-off of the strain, not of
+//! the values of x (docs/method.md §5.2).
 
 use super::lu::{LuFactors, SparseLu};
 use super::schur::{LayerSchur, SchurFactors};
-use super::SolveError;
+use super::{two_sum, SolveError};
 use crate::fem::sparse::SparsePattern;
 use serde::Serialize;
+use std::cell::OnceCell;
 use std::time::Instant;
 
 /// A nonlinear system F(x) = 0 whose Jacobian lives on a fixed pattern.
@@ -38,6 +46,13 @@ pub trait NonlinearSystem {
     /// The constant part of the Jacobian factorised once, with the layer of dofs that the
     /// nonlinear part touches; None (the default): every step factors J by sparse LU.
     fn schur(&self) -> Option<&LayerSchur> {
+        None
+    }
+    /// F(x_prev) + J(x_prev)(x + lo − x_prev), the residual at the pair x + lo of the Newton
+    /// equation linearised at `x_prev`, computed without the rounding of the values of x
+    /// (differences of nearby nodal values, compensated sums); None (the default): iterates
+    /// stay double.
+    fn linearised_residual(&self, _x: &[f64], _lo: &[f64], _x_prev: &[f64]) -> Option<Vec<f64>> {
         None
     }
 }
@@ -132,6 +147,9 @@ pub struct NewtonReport {
     /// needs it for the linearisation error.
     #[serde(skip)]
     pub x_prev: Vec<f64>,
+    /// The refinement of x after a full last step: the iterate is the pair x + lo (None: x).
+    #[serde(skip)]
+    pub lo: Option<Vec<f64>>,
     pub iterations: Vec<Iteration>,
     /// Final residual norm ‖F(x)‖.
     pub residual: f64,
@@ -199,6 +217,20 @@ pub struct Iterate<'a> {
     pub last: &'a Iteration,
     /// ‖F(x_k)‖.
     pub residual: f64,
+    refined: &'a OnceCell<Option<Pair>>,
+    refine: &'a dyn Fn() -> Option<Pair>,
+}
+
+/// An iterate as the pair (x, lo) of the refinement round, x = fl(x + lo).
+pub type Pair = (Vec<f64>, Vec<f64>);
+
+impl Iterate<'_> {
+    /// x_k refined to the pair (x, lo) with the factors of its step, computed once when asked
+    /// (docs/method.md §5.2); None after a damped step, or if the system has no
+    /// [`NonlinearSystem::linearised_residual`].
+    pub fn refined(&self) -> Option<&Pair> {
+        self.refined.get_or_init(self.refine).as_ref()
+    }
 }
 
 /// Newton that also stops when `stop` accepts an iterate. `stop` sees every iterate after
@@ -220,6 +252,7 @@ pub fn newton_until(
     let mut history = Vec::new();
     let mut seconds = NewtonTimings::default();
     let mut polished = false;
+    let mut factors_of_last_step = None;
     for step in 0..=options.max_iter {
         let clock = Instant::now();
         system.evaluate(&x, &mut residual, Some(&mut jacobian));
@@ -233,13 +266,24 @@ pub fn newton_until(
             history.last().is_some_and(|it: &Iteration| it.increment <= 1e-10 * norm(&x) && r >= 0.5 * it.residual);
         let converged = r <= options.rtol * scale || stagnated;
         let due = step >= options.min_steps;
-        let accepted =
-            due && history.last().is_some_and(|last| stop(&Iterate { x: &x, x_prev: &x_prev, last, residual: r }));
+        let full_step = history.last().filter(|it| it.step == 1.0).and(factors_of_last_step.as_ref());
+        let refine = || refinement(system, &x, &x_prev, full_step?);
+        let refined = OnceCell::new();
+        let accepted = due
+            && history.last().is_some_and(|last| {
+                stop(&Iterate { x: &x, x_prev: &x_prev, last, residual: r, refined: &refined, refine: &refine })
+            });
         // a converged iterate should solve the linearised problem of its step, which the
         // estimator's bound assumes: after a damped step, one full step more (once)
         let polish = !polished && step < options.max_iter && history.last().is_some_and(|it| it.step < 1.0);
         if accepted || (due && converged && !polish) {
-            return Ok(NewtonReport { x, x_prev, iterations: history, residual: r, scale, seconds });
+            let clock = Instant::now();
+            let (x, lo) = match refined.into_inner().unwrap_or_else(refine) {
+                Some((x, lo)) => (x, Some(lo)),
+                None => (x.clone(), None),
+            };
+            seconds.solve += clock.elapsed().as_secs_f64();
+            return Ok(NewtonReport { x, x_prev, lo, iterations: history, residual: r, scale, seconds });
         }
         polished |= due && converged;
         if step == options.max_iter {
@@ -262,6 +306,7 @@ pub fn newton_until(
         if !delta.iter().all(|v| v.is_finite()) {
             return Err(NewtonError::NonFinite { step });
         }
+        factors_of_last_step = Some(factors);
         let clock = Instant::now();
         let t = if due && converged {
             1.0
@@ -276,6 +321,18 @@ pub fn newton_until(
         history.push(Iteration { residual: r, increment: t * norm(&delta), step: t });
     }
     Err(NewtonError::NotConverged { history, scale })
+}
+
+/// The refinement round of the iterate `x` reached by a full step from `x_prev` with the
+/// `factors` of J(x_prev): lo = −J⁻¹ F_lin(x), F_lin the system's linearised residual, and
+/// (x, lo) renormalised by TwoSum so that x = fl(x + lo). None if the system has no linearised
+/// residual, or if the solve fails (the double iterate then stands, and the estimator's checks
+/// judge it as such).
+fn refinement(system: &impl NonlinearSystem, x: &[f64], x_prev: &[f64], factors: &Factors) -> Option<Pair> {
+    let residual = system.linearised_residual(x, &vec![0.0; x.len()], x_prev)?;
+    let minus_r: Vec<f64> = residual.iter().map(|v| -v).collect();
+    let lo = factors.solve(&minus_r).ok()?;
+    Some(x.iter().zip(lo).map(|(&x, d)| two_sum(x, d)).unzip())
 }
 
 /// The step length: the largest t = 2^−j with ‖F(x + tΔ)‖ ≤ κ‖F(x)‖ (for a monotone system,

@@ -458,6 +458,7 @@ impl ContactFaces {
         let mut phi = [0.0; 3];
         for (k, sides) in self.sides.iter().enumerate() {
             let u: Vec<f64> = self.face_dofs[k].iter().map(|&g| u_h[g / 2][g % 2]).collect();
+            let u = self.nitsche.local(k, &u, None);
             let length = self.nitsche.faces[k].length;
             let facets: Vec<Vec<FineFacet>> = sides.iter().map(|side| self.fine_facets(fine, side)).collect();
             let mut cuts: Vec<f64> = self.nitsche.kinks(k, &u, Smoothing::NONE);

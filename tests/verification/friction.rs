@@ -1,7 +1,7 @@
 //! Verification of frictional Nitsche contact (docs/method.md §1.7).
 
 use crate::common;
-use damfem::contact::nitsche::NitscheParameters;
+use damfem::contact::nitsche::{FaceDisplacement, NitscheParameters};
 use damfem::contact::{solve_by_continuation, ContactError, ContactJoint, Continuation, JointLaw};
 use damfem::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};
 use damfem::mesh::structured::{unit_square, BOTTOM, LEFT, RIGHT, TOP};
@@ -531,18 +531,18 @@ fn face_local(contact: &damfem::contact::ContactProblem, k: usize, u_full: &[f64
 }
 
 /// −∫_F t_lin · φ_i on face k over `rule` (θ = 0): the linearised traction t(u_prev) +
-/// t'(u_prev)(u − u_prev) tested by the local basis.
+/// t'(u_prev) w tested by the local basis, w = u − u_prev the increment `step`.
 fn linearised_face_residual(
     nitsche: &damfem::contact::nitsche::Nitsche,
     smoothing: damfem::contact::projection::Smoothing,
     k: usize,
-    (u, u_prev): (&[f64], &[f64]),
+    (u_prev, step): (&FaceDisplacement, &FaceDisplacement),
     rule: &[(f64, f64)],
 ) -> Vec<f64> {
     let mut out = vec![0.0; nitsche.n_local()];
     for &(s, w) in rule {
         let point = nitsche.point(k, s);
-        let t = nitsche.linearised_traction(k, &point, u, u_prev, smoothing);
+        let t = nitsche.linearised_traction(k, &point, u_prev, step, smoothing);
         for (i, r) in out.iter_mut().enumerate() {
             // φ_i e_a = (φ_i e_a · ν) ν + (φ_i e_a · τ) τ
             let nu = nitsche.faces[k].direction;
@@ -559,7 +559,8 @@ fn linearised_face_residual(
 /// same integrals as the Newton step, which splits at the kinks of u^{k−1} only. Goal: on every
 /// contact face, R_F(u^{k−1}) + J_F(u^{k−1})(u^k − u^{k−1}) equals −∫_F t_lin · φ_i computed
 /// with every piece between the cuts of both iterates cut again into 32, to 10⁻¹² of its
-/// largest entry, for every law, P1 and P2, at points where |P_γ| < δ and |S ∓ P^t| < δ
+/// largest entry, and so does the linearised face residual of the refinement round
+/// (`Nitsche::linearised_face_terms`, from P_γ(u^{k−1}) and the increment), for every law, P1 and P2, at points where |P_γ| < δ and |S ∓ P^t| < δ
 /// (there Coulomb's tangential traction has degree 4p along the face). Parameters: the
 /// stick–slip problem (slip data) on a 4 × 4 grid, θ = 0, γ₀ = 1, u^{k−1} a seeded random
 /// displacement of size 10⁻², δ = max |P_γ(u^{k−1})|, u^k − u^{k−1} another random field.
@@ -584,11 +585,16 @@ fn the_face_integrals_are_exact_where_both_projections_are_smoothed() {
             let (mut both, mut worst) = (0, 0.0f64);
             let n = nitsche.n_local();
             for k in 0..nitsche.faces.len() {
-                let (u, u_prev) = (face_local(&contact, k, &u_full), face_local(&contact, k, &u_prev_full));
+                let (values, values_prev) = (face_local(&contact, k, &u_full), face_local(&contact, k, &u_prev_full));
+                let (u, u_prev) = (nitsche.local(k, &values, None), nitsche.local(k, &values_prev, None));
+                let step = nitsche.increment(k, &values, None, &values_prev);
                 let (mut r, mut j) = (vec![0.0; n], vec![0.0; n * n]);
                 nitsche.face_terms(k, &u_prev, smoothing, &mut r, Some(&mut j));
-                let newton: Vec<f64> =
-                    (0..n).map(|i| r[i] + (0..n).map(|c| j[i * n + c] * (u[c] - u_prev[c])).sum::<f64>()).collect();
+                let newton: Vec<f64> = (0..n)
+                    .map(|i| r[i] + (0..n).map(|c| j[i * n + c] * (values[c] - values_prev[c])).sum::<f64>())
+                    .collect();
+                let mut refinement = vec![0.0; n];
+                nitsche.linearised_face_terms(k, &u_prev, &u, &step, smoothing, &mut refinement);
                 let mut cuts = nitsche.kinks(k, &u, smoothing);
                 cuts.extend(nitsche.kinks(k, &u_prev, smoothing));
                 cuts.sort_by(f64::total_cmp);
@@ -598,10 +604,12 @@ fn the_face_integrals_are_exact_where_both_projections_are_smoothed() {
                     .collect();
                 let fine = [fine, vec![1.0]].concat();
                 let reference =
-                    linearised_face_residual(nitsche, smoothing, k, (&u, &u_prev), &nitsche.split_rule(k, &fine));
+                    linearised_face_residual(nitsche, smoothing, k, (&u_prev, &step), &nitsche.split_rule(k, &fine));
                 let size = reference.iter().map(|v| v.abs()).fold(0.0, f64::max);
-                let error = newton.iter().zip(&reference).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
-                worst = worst.max(error / size);
+                for computed in [&newton, &refinement] {
+                    let error = computed.iter().zip(&reference).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+                    worst = worst.max(error / size);
+                }
                 for (s, _) in nitsche.quadrature(k, &u_prev, smoothing) {
                     let point = nitsche.point(k, s);
                     let p_n = nitsche.p_gamma(k, &point, &u_prev);

@@ -105,6 +105,7 @@ fn two_body_hertz_half_width_and_peak_pressure() {
     for k in 0..nitsche.faces.len() {
         nitsche.face_dofs(&problem.mesh, k, &mut dofs);
         let u: Vec<f64> = dofs.iter().map(|&g| u_full[g]).collect();
+        let u = nitsche.local(k, &u, None);
         for (s, w) in nitsche.quadrature(k, &u, Smoothing::NONE) {
             let point = nitsche.point(k, s);
             profile.push((point.x[0], -negative_part(nitsche.p_gamma(k, &point, &u)), w));
