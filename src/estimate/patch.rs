@@ -641,7 +641,9 @@ const DEPENDENT_LOCAL: f64 = 1e-13;
 /// diagonal)) under it, τ_j in `tau`. By hand because the patch matrices are small (at most
 /// 24 × 12 per cell and about 70 × 40 per patch): reflectors applied to the few right-hand
 /// sides replace nalgebra's QR with the explicit Q it needs, and the estimate costs about 0.6
-/// times as much (docs/results.md, Error estimation).
+/// times as much; the local bases of [`orthonormalise`] apply them to a few columns of the
+/// identity in reused scratch, without nalgebra's allocations (docs/results.md, Error
+/// estimation).
 fn householder_qr(a: &mut [f64], m: usize, n: usize, tau: &mut [f64]) {
     for j in 0..n {
         let column = &mut a[j * m..(j + 1) * m];
