@@ -6,7 +6,7 @@
 
 use super::afw::{self, COMPONENTS};
 use super::face::FaceProjection;
-use super::facets::contact_facets;
+use super::facets::{sampled_facets, SampledFacet};
 use super::reconstruction::Reconstruction;
 use crate::contact::Linearisation;
 use crate::elasticity::problem::{load_degree, traction_rule};
@@ -18,6 +18,7 @@ use crate::fem::quadrature::{gauss_segment_cached, triangle_cached};
 use crate::mesh::topology::NONE;
 use crate::mesh::Segment;
 use crate::mesh::Topology;
+use rayon::prelude::*;
 use serde::Serialize;
 
 /// Largest relative violation of each equilibration condition.
@@ -66,6 +67,12 @@ impl Worst {
         } else {
             self
         }
+    }
+
+    /// The larger of two, the first on ties: reducing in order, as rayon does, gives the
+    /// place that a sequential scan finds, on any number of threads.
+    fn larger(self, other: Worst) -> Worst {
+        self.max(other.value, other.at)
     }
 }
 
@@ -121,14 +128,26 @@ pub fn check(
     rec: &Reconstruction,
     contact: Option<&Linearisation>,
 ) -> Equilibration {
+    let facets = contact.map_or_else(Vec::new, |c| sampled_facets(&problem.mesh, topology, c, u));
+    check_sampled(problem, topology, rec, &facets)
+}
+
+/// [`check`] with the facets of Γ_C sampled at the iterate ([`sampled_facets`]; none without
+/// Γ_C).
+pub(crate) fn check_sampled(
+    problem: &Problem,
+    topology: &Topology,
+    rec: &Reconstruction,
+    facets: &[SampledFacet],
+) -> Equilibration {
     let traces = Traces::new(problem, topology, rec);
-    let contact = contact.map_or(Worst::default(), |c| contact_traces(problem, topology, u, rec, c));
+    let (divergence, weak_symmetry) = cell_checks(problem, rec);
     let checks = [
-        divergence(problem, rec),
+        divergence,
         traces.relative(traces.continuity()),
         traces.relative(traces.neumann()),
-        traces.relative(contact),
-        weak_symmetry(problem, rec),
+        traces.relative(contact_traces(problem, rec, facets)),
+        weak_symmetry,
         Worst { value: rec.compatibility, at: rec.compatibility_at },
     ];
     Equilibration {
@@ -177,75 +196,85 @@ fn centroid(problem: &Problem, c: usize) -> [f64; 2] {
     [(v[0][0] + v[1][0] + v[2][0]) / 3.0, (v[0][1] + v[1][1] + v[2][1]) / 3.0]
 }
 
-/// ‖∇·σ_h + Π^{p−1} f‖_T relative to the scale of the terms.
-fn divergence(problem: &Problem, rec: &Reconstruction) -> Worst {
+/// The divergence check, ‖∇·σ_h + Π^{p−1} f‖_T relative to the scale of the terms, and the
+/// weak-symmetry check, max_T |(σ_h, ψ_m J)_T| / (‖σ_h‖_T ‖ψ_m‖_T), cell by cell in parallel.
+fn cell_checks(problem: &Problem, rec: &Reconstruction) -> (Worst, Worst) {
+    let identity = || (Worst::default(), 0.0, Worst::default());
+    let (divergence, scale, symmetry) = (0..problem.mesh.n_cells())
+        .into_par_iter()
+        .map(|c| {
+            let map = AffineMap::new(problem.mesh.cell_vertices(c));
+            let ints = afw::cell_integrals(problem.mesh.order, &map);
+            let sigma = rec.total(c);
+            let (defect, scale) = divergence(problem, c, &map, &ints, &sigma);
+            let at = centroid(problem, c);
+            (Worst::default().max(defect, at), scale, Worst::default().max(weak_symmetry(problem, &ints, &sigma), at))
+        })
+        .reduce(identity, |a, b| (a.0.larger(b.0), a.1.max(b.1), a.2.larger(b.2)));
+    (Worst { value: divergence.value / scale.max(f64::MIN_POSITIVE), at: divergence.at }, symmetry)
+}
+
+/// ‖∇·σ_h + Π^{p−1} f‖_T on cell c with the coefficients `sigma`, and the scale
+/// ‖Π^{p−1} f‖_T + ‖σ_h‖_T / h_T of its terms.
+fn divergence(problem: &Problem, c: usize, map: &AffineMap, ints: &afw::CellIntegrals, sigma: &[f64]) -> (f64, f64) {
     let mesh = &problem.mesh;
     let order = mesh.order;
     let nl = afw::n_lower(order);
     let rule = triangle_cached(load_degree(order));
-    let (mut worst, mut scale) = (Worst::default(), 0.0_f64);
-    for c in 0..mesh.n_cells() {
-        let map = AffineMap::new(mesh.cell_vertices(c));
-        let ints = afw::cell_integrals(order, &map);
-        let gram = nalgebra::DMatrix::from_row_slice(nl, nl, &ints.lower_gram).cholesky().expect("positive definite");
-        let sigma = rec.total(c);
-        let f = |x: [f64; 2]| problem.body_force_at(c, x);
-        let mut psi = [0.0; 3];
-        let mut moments = [nalgebra::DVector::zeros(nl), nalgebra::DVector::zeros(nl)];
-        let (mut defect, mut size, mut norm_sigma) = (0.0, 0.0, 0.0);
-        for (&xi, &w) in rule.points.iter().zip(&rule.weights) {
-            afw::lower_values(order, xi, &mut psi[..nl]);
-            let fx = f(map.to_physical(xi));
-            for i in 0..2 {
-                for m in 0..nl {
-                    moments[i][m] += fx[i] * psi[m] * w * map.det.abs();
-                }
+    let gram = nalgebra::DMatrix::from_row_slice(nl, nl, &ints.lower_gram).cholesky().expect("positive definite");
+    let f = |x: [f64; 2]| problem.body_force_at(c, x);
+    let mut psi = [0.0; 3];
+    let mut moments = [nalgebra::DVector::zeros(nl), nalgebra::DVector::zeros(nl)];
+    let (mut defect, mut size, mut norm_sigma) = (0.0, 0.0, 0.0);
+    for (&xi, &w) in rule.points.iter().zip(&rule.weights) {
+        afw::lower_values(order, xi, &mut psi[..nl]);
+        let fx = f(map.to_physical(xi));
+        for i in 0..2 {
+            for m in 0..nl {
+                moments[i][m] += fx[i] * psi[m] * w * map.det.abs();
             }
         }
-        let alpha = [gram.solve(&moments[0]), gram.solve(&moments[1])];
-        for (&xi, &w) in rule.points.iter().zip(&rule.weights) {
-            afw::lower_values(order, xi, &mut psi[..nl]);
-            let div = afw::divergence(order, &map, &sigma, xi);
-            let t = afw::evaluate(order, &sigma, xi);
-            let w = w * map.det.abs();
-            for i in 0..2 {
-                let pf: f64 = (0..nl).map(|m| alpha[i][m] * psi[m]).sum();
-                defect += (div[i] + pf).powi(2) * w;
-                size += pf * pf * w;
-            }
-            norm_sigma += t.iter().map(|v| v * v).sum::<f64>() * w;
-        }
-        worst = worst.max(defect.sqrt(), centroid(problem, c));
-        scale = scale.max(size.sqrt() + norm_sigma.sqrt() / mesh.cell_diameter(c));
     }
-    Worst { value: worst.value / scale.max(f64::MIN_POSITIVE), at: worst.at }
+    let alpha = [gram.solve(&moments[0]), gram.solve(&moments[1])];
+    for (&xi, &w) in rule.points.iter().zip(&rule.weights) {
+        afw::lower_values(order, xi, &mut psi[..nl]);
+        let div = afw::divergence(order, map, sigma, xi);
+        let t = afw::evaluate(order, sigma, xi);
+        let w = w * map.det.abs();
+        for i in 0..2 {
+            let pf: f64 = (0..nl).map(|m| alpha[i][m] * psi[m]).sum();
+            defect += (div[i] + pf).powi(2) * w;
+            size += pf * pf * w;
+        }
+        norm_sigma += t.iter().map(|v| v * v).sum::<f64>() * w;
+    }
+    (defect.sqrt(), size.sqrt() + norm_sigma.sqrt() / mesh.cell_diameter(c))
 }
 
-/// max_T |(σ_h, ψ_m J)_T| / (‖σ_h‖_T ‖ψ_m‖_T).
-fn weak_symmetry(problem: &Problem, rec: &Reconstruction) -> Worst {
-    let mesh = &problem.mesh;
-    let order = mesh.order;
+/// max_m |(σ_h, ψ_m J)_T| / (‖σ_h‖_T ‖ψ_m‖_T) on a cell with the integrals `ints` and the
+/// coefficients `sigma`.
+fn weak_symmetry(problem: &Problem, ints: &afw::CellIntegrals, sigma: &[f64]) -> f64 {
+    let order = problem.mesh.order;
     let (nb, nl) = (lagrange::n_basis(order), afw::n_lower(order));
-    let mut worst = Worst::default();
-    for c in 0..mesh.n_cells() {
-        let ints = afw::cell_integrals(order, &AffineMap::new(mesh.cell_vertices(c)));
-        let sigma = rec.total(c);
-        let norm: f64 = (0..COMPONENTS)
-            .map(|comp| {
-                (0..nb)
-                    .flat_map(|k| (0..nb).map(move |l| (k, l)))
-                    .map(|(k, l)| sigma[comp * nb + k] * ints.mass[k * nb + l] * sigma[comp * nb + l])
-                    .sum::<f64>()
-            })
-            .sum::<f64>()
-            .sqrt();
-        for m in 0..nl {
-            let skew: f64 = (0..nb).map(|k| (sigma[nb + k] - sigma[2 * nb + k]) * ints.lower_mass[m * nb + k]).sum();
-            let psi_norm = ints.lower_gram[m * nl + m].sqrt();
-            worst = worst.max(skew.abs() / (norm * psi_norm).max(f64::MIN_POSITIVE), centroid(problem, c));
+    let norm: f64 = (0..COMPONENTS)
+        .map(|comp| {
+            (0..nb)
+                .flat_map(|k| (0..nb).map(move |l| (k, l)))
+                .map(|(k, l)| sigma[comp * nb + k] * ints.mass[k * nb + l] * sigma[comp * nb + l])
+                .sum::<f64>()
+        })
+        .sum::<f64>()
+        .sqrt();
+    (0..nl).fold(0.0, |worst, m| {
+        let skew: f64 = (0..nb).map(|k| (sigma[nb + k] - sigma[2 * nb + k]) * ints.lower_mass[m * nb + k]).sum();
+        let psi_norm = ints.lower_gram[m * nl + m].sqrt();
+        let value = skew.abs() / (norm * psi_norm).max(f64::MIN_POSITIVE);
+        if value > worst {
+            value
+        } else {
+            worst
         }
-    }
-    worst
+    })
 }
 
 /// Normal traces of σ_h on every face.
@@ -261,8 +290,9 @@ impl<'a> Traces<'a> {
     fn new(problem: &'a Problem, topology: &'a Topology, rec: &'a Reconstruction) -> Self {
         let mut t = Traces { problem, topology, rec, scale: 0.0 };
         t.scale = (0..topology.n_edges())
+            .into_par_iter()
             .map(|e| t.norm(e, topology.edge_cells[e][0], |_| [0.0; 2]))
-            .fold(f64::MIN_POSITIVE, f64::max);
+            .reduce(|| f64::MIN_POSITIVE, f64::max);
         t
     }
 
@@ -276,23 +306,25 @@ impl<'a> Traces<'a> {
         (rule.points.iter().zip(&rule.weights).map(|(&s, &w)| (s, w * length)).collect(), ends)
     }
 
-    /// σ_h n_e (n_e the normal of the edge's ends a → b, rotated clockwise) of cell c at s.
-    fn trace(&self, e: usize, c: usize, s: f64) -> [f64; 2] {
+    /// σ_h n_e (n_e the normal of the edge's ends a → b, rotated clockwise) of cell c, with
+    /// the coefficients `sigma` of σ_h there, at s.
+    fn trace(&self, e: usize, c: usize, sigma: &[f64], s: f64) -> [f64; 2] {
         let mesh = &self.problem.mesh;
         let [a, b] = self.topology.edges[e];
         let (pa, pb) = (mesh.points[a], mesh.points[b]);
         let length = crate::mesh::distance(pa, pb);
         let n = [(pb[1] - pa[1]) / length, -(pb[0] - pa[0]) / length];
-        let t = afw::evaluate(mesh.order, &self.rec.total(c), reference_point(mesh.cell(c), a, b, s));
+        let t = afw::evaluate(mesh.order, sigma, reference_point(mesh.cell(c), a, b, s));
         [t[0] * n[0] + t[1] * n[1], t[2] * n[0] + t[3] * n[1]]
     }
 
     /// ‖σ_h n − g‖_F on edge e from cell c, for a field g(s).
     fn norm(&self, e: usize, c: usize, g: impl Fn(f64) -> [f64; 2]) -> f64 {
         let (rule, _) = self.rule(e);
+        let sigma = self.rec.total(c);
         rule.iter()
             .map(|&(s, w)| {
-                let (t, v) = (self.trace(e, c, s), g(s));
+                let (t, v) = (self.trace(e, c, &sigma, s), g(s));
                 ((t[0] - v[0]).powi(2) + (t[1] - v[1]).powi(2)) * w
             })
             .sum::<f64>()
@@ -311,13 +343,15 @@ impl<'a> Traces<'a> {
     }
 
     fn continuity(&self) -> Worst {
-        (0..self.topology.n_edges()).filter(|&e| self.topology.edge_cells[e][1] != NONE).fold(
-            Worst::default(),
-            |w, e| {
+        (0..self.topology.n_edges())
+            .into_par_iter()
+            .filter(|&e| self.topology.edge_cells[e][1] != NONE)
+            .map(|e| {
                 let [c1, c2] = self.topology.edge_cells[e];
-                w.max(self.norm(e, c1, |s| self.trace(e, c2, s)), self.midpoint(e))
-            },
-        )
+                let sigma = self.rec.total(c2);
+                Worst::default().max(self.norm(e, c1, |s| self.trace(e, c2, &sigma, s)), self.midpoint(e))
+            })
+            .reduce(Worst::default, Worst::larger)
     }
 
     /// ‖σ_h n − Π_F^p g_N‖_F on Neumann faces.
@@ -343,9 +377,10 @@ impl<'a> Traces<'a> {
             let [a, b] = ends;
             let own = [(b[1] - a[1]), -(b[0] - a[0])];
             let sign = if own[0] * normal[0] + own[1] * normal[1] > 0.0 { 1.0 } else { -1.0 };
+            let sigma = self.rec.total(c);
             let mut defect = 0.0;
             for i in 0..2 {
-                let w: Vec<f64> = rule.iter().map(|&(s, _)| sign * self.trace(e, c, s)[i]).collect();
+                let w: Vec<f64> = rule.iter().map(|&(s, _)| sign * self.trace(e, c, &sigma, s)[i]).collect();
                 let g: Vec<f64> = rule
                     .iter()
                     .map(|&(s, _)| bc.traction.at([a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1])], normal)[i])
@@ -367,18 +402,11 @@ fn reference_point(cell: &[usize], a: usize, b: usize, s: f64) -> [f64; 2] {
 }
 
 /// max over the facets of Γ_C (on both sides of a joint) and i = 1, 2, 3 of
-/// ‖σ_hi n − Π_F^p t_i‖_F, t_i the facet's datum ([`ContactFacet::samples`]).
-fn contact_traces(
-    problem: &Problem,
-    topology: &Topology,
-    u: &Displacement,
-    rec: &Reconstruction,
-    state: &Linearisation,
-) -> Worst {
+/// ‖σ_hi n − Π_F^p t_i‖_F, t_i the facet's datum ([`super::facets::ContactFacet::samples`]).
+fn contact_traces(problem: &Problem, rec: &Reconstruction, facets: &[SampledFacet]) -> Worst {
     let mesh = &problem.mesh;
     let mut worst = Worst::default();
-    for facet in contact_facets(mesh, topology, state) {
-        let samples = facet.samples(mesh, state, u);
+    for SampledFacet { facet, samples } in facets {
         let rule: Vec<(f64, f64)> = samples.iter().map(|p| (p.r, p.weight)).collect();
         let projection = FaceProjection::new(mesh.order, &rule);
         for i in 0..3 {

@@ -16,7 +16,7 @@
 
 use super::afw::{self, COMPONENTS};
 use super::face::FaceProjection;
-use super::facets::contact_facets;
+use super::facets::{sampled_facets, SampledFacet};
 use super::reconstruction::Reconstruction;
 use crate::contact::Linearisation;
 use crate::elasticity::kernels::{displacement_gradient, stress};
@@ -26,6 +26,7 @@ use crate::fem::lagrange;
 use crate::fem::quadrature::{gauss_segment_cached, split_rule, triangle_cached};
 use crate::mesh::Segment;
 use crate::mesh::Topology;
+use rayon::prelude::*;
 use serde::Serialize;
 use std::f64::consts::PI;
 
@@ -84,22 +85,35 @@ pub fn estimate(
     rec: &Reconstruction,
     contact: Option<&Linearisation>,
 ) -> Estimators {
+    let facets = contact.map(|c| sampled_facets(&problem.mesh, topology, c, u));
+    estimate_sampled(problem, topology, u, rec, facets.as_deref())
+}
+
+/// [`estimate`] with the facets of Γ_C sampled at `u` ([`sampled_facets`]), None without Γ_C.
+pub(crate) fn estimate_sampled(
+    problem: &Problem,
+    topology: &Topology,
+    u: &Displacement,
+    rec: &Reconstruction,
+    facets: Option<&[SampledFacet]>,
+) -> Estimators {
     let n = problem.mesh.n_cells();
+    let norms = |i: usize, u: Option<&Displacement>| -> Vec<f64> {
+        (0..n).into_par_iter().map(|c| volume_norm(problem, rec.cell(i, c), c, u)).collect()
+    };
     let mut e = Estimators {
         osc: oscillation(problem),
-        flux: (0..n).map(|c| volume_norm(problem, rec.cell(0, c), c, Some(u))).collect(),
+        flux: norms(0, Some(u)),
         neu: neumann(problem, topology),
         disc: vec![0.0; n],
         reg: vec![0.0; n],
         lin: vec![0.0; n],
         tot: vec![0.0; n],
     };
-    if let Some(state) = contact {
-        for c in 0..n {
-            e.reg[c] = volume_norm(problem, rec.cell(1, c), c, None);
-            e.lin[c] = volume_norm(problem, rec.cell(2, c), c, None);
-        }
-        contact_facet_terms(problem, topology, u, rec, state, &mut e);
+    if let Some(facets) = facets {
+        e.reg = norms(1, None);
+        e.lin = norms(2, None);
+        contact_facet_terms(problem, rec, facets, &mut e);
     }
     for c in 0..n {
         e.tot[c] = e.osc[c] + e.flux[c] + e.neu[c] + e.disc[c] + e.reg[c] + e.lin[c];
@@ -152,6 +166,7 @@ fn oscillation(problem: &Problem) -> Vec<f64> {
     let nl = afw::n_lower(order);
     let rule = triangle_cached(2 * order + 6);
     (0..mesh.n_cells())
+        .into_par_iter()
         .map(|c| {
             let map = AffineMap::new(mesh.cell_vertices(c));
             let ints = afw::cell_integrals(order, &map);
@@ -224,17 +239,9 @@ fn neumann(problem: &Problem, topology: &Topology) -> Vec<f64> {
 
 /// The parts of η_disc, η_reg and η_lin on the facets of Γ_C (on both sides of a joint):
 /// h_F^{1/2} ‖t₁ − Π_F^p t₁‖_F and h_F^{1/2} ‖σ_hi n‖_F, i = 2, 3, added to the facet's cell.
-fn contact_facet_terms(
-    problem: &Problem,
-    topology: &Topology,
-    u: &Displacement,
-    rec: &Reconstruction,
-    state: &Linearisation,
-    e: &mut Estimators,
-) {
+fn contact_facet_terms(problem: &Problem, rec: &Reconstruction, facets: &[SampledFacet], e: &mut Estimators) {
     let mesh = &problem.mesh;
-    for facet in contact_facets(mesh, topology, state) {
-        let samples = facet.samples(mesh, state, u);
+    for SampledFacet { facet, samples } in facets {
         let rule: Vec<(f64, f64)> = samples.iter().map(|p| (p.r, p.weight)).collect();
         let projection = FaceProjection::new(mesh.order, &rule);
         let root_h = facet.length.sqrt();

@@ -16,6 +16,7 @@ use crate::elasticity::Displacement;
 use crate::fem::lagrange::reference_vertex;
 use crate::fem::quadrature::gauss_segment_cached;
 use crate::mesh::{distance, Mesh, Segment, Topology};
+use rayon::prelude::*;
 use std::collections::HashMap;
 
 /// A facet of Γ_C, on the slave side or on the master side of a joint.
@@ -76,6 +77,21 @@ pub fn contact_facets(mesh: &Mesh, topology: &Topology, state: &Linearisation) -
         add(master, Piece { face: k, r: r_master, sign: -1.0, dy_dx });
     }
     facets
+}
+
+/// A facet of Γ_C with its samples at one iterate ([`ContactFacet::samples`]).
+pub struct SampledFacet {
+    pub facet: ContactFacet,
+    pub samples: Vec<Sample>,
+}
+
+/// The facets of Γ_C of `state` with their samples at `u`, computed once for the
+/// reconstruction, the checks and the estimators of one estimate.
+pub fn sampled_facets(mesh: &Mesh, topology: &Topology, state: &Linearisation, u: &Displacement) -> Vec<SampledFacet> {
+    contact_facets(mesh, topology, state)
+        .into_par_iter()
+        .map(|facet| SampledFacet { samples: facet.samples(mesh, state, u), facet })
+        .collect()
 }
 
 fn new_facet(mesh: &Mesh, edge: usize, cell: usize, ends: [usize; 2]) -> ContactFacet {

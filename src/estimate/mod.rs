@@ -12,9 +12,10 @@ pub mod reconstruction;
 use crate::contact::Linearisation;
 use crate::elasticity::{Discretisation, Displacement, Problem};
 use crate::mesh::Topology;
-use checks::{check, Equilibration, Violation};
-use estimators::{estimate, Estimators};
-use reconstruction::{reconstruct, Reconstruction};
+use checks::{check_sampled, Equilibration, Violation};
+use estimators::{estimate_sampled, Estimators};
+use facets::sampled_facets;
+use reconstruction::{covered, reconstruct_sampled, Reconstruction};
 
 /// Why an iterate has no estimate.
 #[derive(Debug, thiserror::Error)]
@@ -101,12 +102,16 @@ pub fn estimate_displacement(
     u: &Displacement,
     contact: Option<&Linearisation>,
 ) -> Result<Estimate, EstimateError> {
-    let reconstruction = reconstruct(problem, topology, u, contact)?;
-    let equilibration = check(problem, topology, u, &reconstruction, contact);
+    covered(contact)?;
+    // the Γ_C data, sampled once for the reconstruction, the checks and the estimators
+    let facets = contact.map(|c| sampled_facets(&problem.mesh, topology, c, u));
+    let facets = facets.as_deref();
+    let reconstruction = reconstruct_sampled(problem, topology, u, contact.is_some(), facets.unwrap_or_default())?;
+    let equilibration = check_sampled(problem, topology, &reconstruction, facets.unwrap_or_default());
     let violation = equilibration.violation(problem.mesh.order);
     if violation.value.is_nan() || violation.value > equilibration_tolerance(problem, u, contact) {
         return Err(EstimateError::NotEquilibrated(violation));
     }
-    let estimators = estimate(problem, topology, u, &reconstruction, contact);
+    let estimators = estimate_sampled(problem, topology, u, &reconstruction, facets);
     Ok(Estimate { reconstruction, estimators, equilibration })
 }

@@ -118,8 +118,13 @@ struct FaceRow {
     face: usize,
     m: usize,
     i: usize,
-    rhs: Vec<f64>,
+    /// One entry per case (at most [`MAX_CASES`]).
+    rhs: [f64; MAX_CASES],
 }
+
+/// Most right-hand sides of a patch problem: the total, the regularisation and the
+/// linearisation.
+const MAX_CASES: usize = 3;
 
 /// Scratch matrices of one thread, reused from patch to patch: a matrix is reallocated only
 /// when its shape changes, so the condensation of the many cells with the usual shapes does
@@ -291,12 +296,10 @@ fn face_rows(input: &PatchInput) -> Vec<FaceRow> {
         let active = face.active();
         for m in 0..=input.order {
             for i in (0..2).filter(|&i| active[i]) {
-                let rhs = (0..cases)
-                    .map(|case| match &face.kind {
-                        FaceKind::Trace { data, .. } => data[case][m * 2 + i],
-                        _ => 0.0,
-                    })
-                    .collect();
+                let rhs = std::array::from_fn(|case| match &face.kind {
+                    FaceKind::Trace { data, .. } if case < cases => data[case][m * 2 + i],
+                    _ => 0.0,
+                });
                 rows.push(FaceRow { face: f, m, i, rhs });
             }
         }
@@ -354,6 +357,8 @@ struct Condensed {
     /// Zᵀ s₀, with s₀ per case (4 n_basis × cases).
     trace: DMatrix<f64>,
     s0: DMatrix<f64>,
+    /// Scratch of [`orthonormalise`].
+    reflectors: Reflectors,
 }
 
 impl Default for Condensed {
@@ -372,6 +377,7 @@ impl Default for Condensed {
             tau: Vec::new(),
             trace: empty(),
             s0: empty(),
+            reflectors: Reflectors::default(),
         }
     }
 }
@@ -449,7 +455,8 @@ impl Condensed {
             }
         }
         to_orthonormal_columns(&cell.orthonormal, nb, w);
-        orthonormalise(w, &mut self.r1).ok_or_else(|| "the local constraints of a cell are not independent".into())
+        orthonormalise(w, &mut self.r1, &mut self.reflectors)
+            .ok_or_else(|| "the local constraints of a cell are not independent".into())
     }
 
     /// Q_S and R_Sᵀ from the weak-symmetry columns Y, (τ, ψ_m J)_T = (τ_xy − τ_yx, ψ_m)_T,
@@ -470,7 +477,8 @@ impl Condensed {
             project_off(&self.q1, first);
             project_off(&self.q1, second);
         }
-        orthonormalise(y, &mut self.rs).ok_or_else(|| "the weak symmetry rows of a cell are not independent".into())
+        orthonormalise(y, &mut self.rs, &mut self.reflectors)
+            .ok_or_else(|| "the weak symmetry rows of a cell are not independent".into())
     }
 
     /// The face rows through a that touch cell t, on their row of σ and in orthonormal
@@ -590,17 +598,39 @@ fn to_orthonormal_columns(c: &[f64], nb: usize, w: &mut DMatrix<f64>) {
 /// W ← Q and `r` ← Rᵀ for W = Q R with orthonormal columns Q and R upper triangular
 /// (Householder QR, which keeps Q orthonormal to ε whatever the condition of W; Cholesky
 /// QR through WᵀW loses orthogonality like ε κ(W)², and κ(W) grows with the aspect ratio
-/// of the cell); None if W is rank deficient.
-fn orthonormalise(w: &mut DMatrix<f64>, r: &mut DMatrix<f64>) -> Option<()> {
-    let n = w.ncols();
-    let (q, upper) = std::mem::replace(w, empty()).qr().unpack();
-    let largest = upper.diagonal().amax();
-    if !(0..n).all(|j| upper[(j, j)].abs() > DEPENDENT_LOCAL * largest) {
+/// of the cell); None if W is rank deficient. The reflectors are kept in `factors` and Q is
+/// formed in W by applying them to the first columns of the identity.
+fn orthonormalise(w: &mut DMatrix<f64>, r: &mut DMatrix<f64>, factors: &mut Reflectors) -> Option<()> {
+    let (m, n) = w.shape();
+    let Reflectors { a, tau } = factors;
+    a.clear();
+    a.extend_from_slice(w.as_slice());
+    tau.resize(n, 0.0);
+    householder_qr(a, m, n, tau);
+    let diagonal = |j: usize| a[j * m + j].abs();
+    let largest = (0..n).map(diagonal).fold(0.0, f64::max);
+    if !(0..n).all(|j| diagonal(j) > DEPENDENT_LOCAL * largest) {
         return None;
     }
-    *w = q;
-    *r = upper.transpose();
+    let r = zeroed(r, n, n);
+    for j in 0..n {
+        for i in 0..=j {
+            r[(j, i)] = a[j * m + i];
+        }
+    }
+    for (j, q) in w.as_mut_slice().chunks_exact_mut(m).enumerate() {
+        q.fill(0.0);
+        q[j] = 1.0;
+        householder_apply(a, m, tau, q);
+    }
     Some(())
+}
+
+/// Householder factors of one matrix ([`householder_qr`]), kept between cells.
+#[derive(Default)]
+struct Reflectors {
+    a: Vec<f64>,
+    tau: Vec<f64>,
 }
 
 /// Below this, a diagonal entry of R relative to the largest marks dependent local rows.
@@ -611,7 +641,9 @@ const DEPENDENT_LOCAL: f64 = 1e-13;
 /// diagonal)) under it, τ_j in `tau`. By hand because the patch matrices are small (at most
 /// 24 × 12 per cell and about 70 × 40 per patch): reflectors applied to the few right-hand
 /// sides replace nalgebra's QR with the explicit Q it needs, and the estimate costs about 0.6
-/// times as much (docs/results.md, Error estimation).
+/// times as much; the local bases of [`orthonormalise`] apply them to a few columns of the
+/// identity in reused scratch, without nalgebra's allocations (docs/results.md, Error
+/// estimation).
 fn householder_qr(a: &mut [f64], m: usize, n: usize, tau: &mut [f64]) {
     for j in 0..n {
         let column = &mut a[j * m..(j + 1) * m];
@@ -822,7 +854,7 @@ mod tests {
     fn orthonormalise_gives_an_orthonormal_basis_of_the_same_span() {
         let w = DMatrix::from_fn(7, 3, |i, j| ((i * 5 + j * 3) % 7) as f64 - 2.5 + if i == j { 4.0 } else { 0.0 });
         let (mut q, mut r) = (w.clone(), empty());
-        orthonormalise(&mut q, &mut r).expect("independent columns");
+        orthonormalise(&mut q, &mut r, &mut Reflectors::default()).expect("independent columns");
         assert!((q.transpose() * &q - DMatrix::identity(3, 3)).amax() < 1e-13, "QᵀQ = I");
         assert!((&q * r.lower_triangle().transpose() - &w).amax() < 1e-12 * w.amax(), "W = Q Lᵀ");
         let mut v: Vec<f64> = w.column(1).iter().copied().collect();
@@ -833,7 +865,7 @@ mod tests {
     #[test]
     fn orthonormalise_refuses_dependent_columns() {
         let mut w = DMatrix::from_fn(5, 2, |i, _| i as f64 + 1.0);
-        assert!(orthonormalise(&mut w, &mut empty()).is_none());
+        assert!(orthonormalise(&mut w, &mut empty(), &mut Reflectors::default()).is_none());
     }
 
     #[test]

@@ -13,7 +13,7 @@
 //! ∇·σ_h = −Π^{p−1} f. Patches are solved in parallel.
 
 use super::afw::{self, cell_integrals, face_moments, CellIntegrals, COMPONENTS};
-use super::facets::{contact_facets, ContactFacet};
+use super::facets::{sampled_facets, SampledFacet};
 use super::patch::{self, FaceKind, PatchFace, PatchInput};
 use super::EstimateError;
 use crate::contact::nitsche::FaceDisplacement;
@@ -106,9 +106,8 @@ struct Context<'a> {
     problem: &'a Problem,
     topology: &'a Topology,
     u: &'a Displacement,
-    contact: Option<&'a Linearisation<'a>>,
-    /// The facets of Γ_C on every side ([`contact_facets`]).
-    facets: Vec<ContactFacet>,
+    /// The facets of Γ_C on every side with their samples ([`sampled_facets`]).
+    facets: &'a [SampledFacet],
     maps: Vec<AffineMap>,
     integrals: Vec<CellIntegrals>,
     /// The volume data of every cell for each of its vertices, from [`volume_data`].
@@ -125,20 +124,35 @@ pub fn reconstruct(
     u: &Displacement,
     contact: Option<&Linearisation>,
 ) -> Result<Reconstruction, EstimateError> {
-    if let Some(c) = contact {
-        if c.nitsche.parameters.theta != 0.0 {
-            return Err(EstimateError::Theta(c.nitsche.parameters.theta));
-        }
+    covered(contact)?;
+    let facets = contact.map_or_else(Vec::new, |c| sampled_facets(&problem.mesh, topology, c, u));
+    reconstruct_sampled(problem, topology, u, contact.is_some(), &facets)
+}
+
+/// Fails unless the estimator covers the Nitsche variant of `contact` (θ = 0 only).
+pub(crate) fn covered(contact: Option<&Linearisation>) -> Result<(), EstimateError> {
+    match contact {
+        Some(c) if c.nitsche.parameters.theta != 0.0 => Err(EstimateError::Theta(c.nitsche.parameters.theta)),
+        _ => Ok(()),
     }
+}
+
+/// [`reconstruct`] of a [`covered`] iterate, with (if `contact`) the facets of Γ_C sampled at
+/// `u` ([`sampled_facets`]).
+pub(crate) fn reconstruct_sampled(
+    problem: &Problem,
+    topology: &Topology,
+    u: &Displacement,
+    contact: bool,
+    facets: &[SampledFacet],
+) -> Result<Reconstruction, EstimateError> {
     let mesh = &problem.mesh;
     let order = mesh.order;
     let maps: Vec<AffineMap> = (0..mesh.n_cells()).map(|c| AffineMap::new(mesh.cell_vertices(c))).collect();
     let integrals = maps.par_iter().map(|m| cell_integrals(order, m)).collect();
-    let facets = contact.map_or_else(Vec::new, |c| contact_facets(mesh, topology, c));
-    let edge_role = edge_roles(problem, topology, &facets);
-    let cases = if contact.is_some() { 3 } else { 1 };
-    let mut ctx =
-        Context { problem, topology, u, contact, facets, maps, integrals, volume: Vec::new(), edge_role, cases };
+    let edge_role = edge_roles(problem, topology, facets);
+    let cases = if contact { 3 } else { 1 };
+    let mut ctx = Context { problem, topology, u, facets, maps, integrals, volume: Vec::new(), edge_role, cases };
     let volume = (0..mesh.n_cells()).into_par_iter().map(|c| volume_data(&ctx, c)).collect();
     ctx.volume = volume;
     let results: Vec<_> = (0..topology.vertices.len())
@@ -177,7 +191,7 @@ pub fn reconstruct(
 }
 
 /// Role of every edge.
-fn edge_roles(problem: &Problem, topology: &Topology, facets: &[ContactFacet]) -> Vec<Role> {
+fn edge_roles(problem: &Problem, topology: &Topology, facets: &[SampledFacet]) -> Vec<Role> {
     let mesh = &problem.mesh;
     let mut role = vec![Role::Free; topology.n_edges()];
     for f in 0..mesh.n_facets() {
@@ -189,8 +203,8 @@ fn edge_roles(problem: &Problem, topology: &Topology, facets: &[ContactFacet]) -
             role[e] = Role::Neumann(i);
         }
     }
-    for (k, facet) in facets.iter().enumerate() {
-        role[facet.edge] = Role::Contact(k);
+    for (k, sampled) in facets.iter().enumerate() {
+        role[sampled.facet.edge] = Role::Contact(k);
     }
     role
 }
@@ -430,15 +444,13 @@ pub(crate) fn contact_rule(
     c.nitsche.split_rule(k, &cuts)
 }
 
-/// ∫_F ψ_a t_i q_m for the three cases on contact facet k, with the samples of its datum
-/// ([`ContactFacet::samples`]).
+/// ∫_F ψ_a t_i q_m for the three cases on contact facet k, with the samples of its datum.
 fn contact_moments(ctx: &Context, k: usize, a: usize, ends: [usize; 2], data: &mut [Vec<f64>]) {
-    let c = ctx.contact.expect("a contact facet implies a contact state");
     let mesh = &ctx.problem.mesh;
-    let facet = &ctx.facets[k];
+    let SampledFacet { facet, samples } = &ctx.facets[k];
     let reversed = facet.ends[0] != ends[0];
     let mut q = [0.0; 3];
-    for sample in facet.samples(mesh, c, ctx.u) {
+    for sample in samples {
         let s = if reversed { 1.0 - sample.r } else { sample.r };
         let psi = if ends[0] == a { 1.0 - s } else { s };
         let [t1, t2, t3] = sample.t;
