@@ -247,26 +247,21 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
         let mut s = Sample::default();
         ((), s.evaluate) = timed(|| system.evaluate(&x, &mut residual, Some(&mut jacobian)));
         let minus_r: Vec<f64> = residual.iter().map(|v| -v).collect();
-        // one Newton step by the Schur complement: the dense LU, the solve and its refinement
-        let (factors, schur_factor) = timed(|| schur.factor(&jacobian).expect("Schur LU"));
-        s.schur_factor = schur_factor;
-        let (delta_schur, schur_solve) = timed(|| {
-            let delta = factors.solve(&minus_r).expect("Schur solve");
-            factors.solve(&delta).expect("Schur solve"); // stands for the refinement's solve
-            delta
-        });
-        s.schur_solve = schur_solve;
-        drop(factors);
-        // the same step with the LU on the whole layer
-        let (factors, whole_factor) = timed(|| whole.factor(&jacobian).expect("Schur LU on the whole layer"));
-        s.whole_factor = whole_factor;
-        let (delta_whole, whole_solve) = timed(|| {
-            let delta = factors.solve(&minus_r).expect("Schur solve");
-            factors.solve(&delta).expect("Schur solve"); // stands for the refinement's solve
-            delta
-        });
-        s.whole_solve = whole_solve;
-        drop(factors);
+        // one Newton step by the Schur complement: the dense LU, the solve and its refinement,
+        // on the rows R and on the whole layer
+        let step = |layer: &LayerSchur| {
+            let (factors, factor) = timed(|| layer.factor(&jacobian).expect("Schur LU"));
+            let (delta, solve) = timed(|| {
+                let delta = factors.solve(&minus_r).expect("Schur solve");
+                factors.solve(&delta).expect("Schur solve"); // stands for the refinement's solve
+                delta
+            });
+            (delta, factor, solve)
+        };
+        let delta_schur;
+        (delta_schur, s.schur_factor, s.schur_solve) = step(&schur);
+        let delta_whole;
+        (delta_whole, s.whole_factor, s.whole_solve) = step(&whole);
         let difference: Vec<f64> = delta_whole.iter().zip(&delta_schur).map(|(a, b)| a - b).collect();
         assert!(norm(&difference) <= 1e-8 * norm(&delta_whole), "the steps on R and on the whole layer disagree");
         // the same step by sparse LU with the symbolic factorisation reused
