@@ -144,6 +144,9 @@ fn first_iterate(
     Ok((Stage { delta, report }, delta0 * scale))
 }
 
+/// How many times a level raises δ by ρ_δ after a Newton run that did not converge.
+const MAX_RETRIES: usize = 4;
+
 /// With contact on `joint`: Newton from `x0` at δ, stopped by (S_lin), and δ ← δ/ρ_δ until
 /// (S_reg); with the reservoir's pressure in the crack at the heel, solved again at that δ
 /// until the crack settles. On the first mesh δ₀ comes from the first Newton iterate, which counts in N_lin.
@@ -176,7 +179,7 @@ pub fn contact_level(
         }
     };
     let (mut solve_seconds, mut estimates, mut n_reg) = (clock.elapsed().as_secs_f64(), EstimateCount::default(), 0);
-    let mut crack_solves = 0;
+    let (mut crack_solves, mut retries) = (0, 0);
     // the δ at which the crack was last settled, and how
     let mut settled: Option<(f64, Crack)> = None;
     loop {
@@ -185,7 +188,7 @@ pub fn contact_level(
         let mut latest = None;
         let mut inside = EstimateCount::default();
         let clock = Instant::now();
-        let report = newton_until(&contact, x, newton, |it: &Iterate| {
+        let attempt = newton_until(&contact, x.clone(), newton, |it: &Iterate| {
             let contracted = it.last.step == 1.0 && it.residual <= 0.5 * it.last.residual;
             if !contracted || trend.is_some_and(|t| !t.promising(it.residual, settings.gamma_lin)) {
                 return false;
@@ -200,8 +203,18 @@ pub fn contact_level(
             }
             latest = Some((x.to_vec(), e));
             stop
-        })
-        .map_err(|source| AdaptError::Newton { delta, source })?;
+        });
+        // a Newton run that stalls at δ (nonsmooth Newton cycling between active sets) starts
+        // again from the same iterate at ρ_δ δ, a smoother problem; (S_reg) then brings δ down
+        let report = match attempt {
+            Ok(report) => report,
+            Err(_) if retries < MAX_RETRIES => {
+                retries += 1;
+                delta *= settings.rho_delta;
+                continue;
+            }
+            Err(source) => return Err(AdaptError::Newton { delta, source }),
+        };
         solve_seconds += clock.elapsed().as_secs_f64() - inside.seconds;
         estimates.n += inside.n;
         estimates.seconds += inside.seconds;
