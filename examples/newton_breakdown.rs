@@ -259,7 +259,7 @@ fn measure(scene: &Scene, size_factor: f64, label: &'static str, repeats: usize)
             (delta, factor, solve)
         };
         let delta_schur;
-        (delta_schur, s.schur_factor, s.schur_solve) = step(&schur);
+        (delta_schur, s.schur_factor, s.schur_solve) = step(schur);
         let delta_whole;
         (delta_whole, s.whole_factor, s.whole_solve) = step(&whole);
         let difference: Vec<f64> = delta_whole.iter().zip(&delta_schur).map(|(a, b)| a - b).collect();
