@@ -7,7 +7,7 @@ use crate::contact::{settle_crack, ContactJoint, ContactProblem, Crack, Linearis
 use crate::elasticity::{Discretisation, Problem, Refined};
 use crate::estimate::estimators::GlobalEstimators;
 use crate::estimate::{estimate_displacement, Estimate};
-use crate::solve::{newton_until, Iterate, NewtonOptions};
+use crate::solve::{newton_until, Iterate, NewtonError, NewtonOptions};
 use std::time::Instant;
 
 /// The result of one mesh level.
@@ -179,7 +179,8 @@ pub fn contact_level(
         }
     };
     let (mut solve_seconds, mut estimates, mut n_reg) = (clock.elapsed().as_secs_f64(), EstimateCount::default(), 0);
-    let (mut crack_solves, mut retries) = (0, 0);
+    // the restarts at a larger δ, and the Newton steps of the runs they discarded
+    let (mut crack_solves, mut retries, mut discarded_steps) = (0, 0, 0);
     // the δ at which the crack was last settled, and how
     let mut settled: Option<(f64, Crack)> = None;
     loop {
@@ -208,8 +209,12 @@ pub fn contact_level(
         // again from the same iterate at ρ_δ δ, a smoother problem; (S_reg) then brings δ down
         let report = match attempt {
             Ok(report) => report,
-            Err(_) if retries < MAX_RETRIES => {
+            Err(failed) if retries < MAX_RETRIES => {
                 retries += 1;
+                discarded_steps += match failed {
+                    NewtonError::NotConverged { history, .. } => history.len(),
+                    NewtonError::NonFinite { step } | NewtonError::Solve { step, .. } => step,
+                };
                 delta *= settings.rho_delta;
                 continue;
             }
@@ -251,7 +256,7 @@ pub fn contact_level(
                 };
                 crack = Some(Crack { iterations: crack_solves + 1, ..found });
             }
-            let n_lin = stages.iter().map(|s| s.report.iterations.len()).sum();
+            let n_lin = discarded_steps + stages.iter().map(|s| s.report.iterations.len()).sum::<usize>();
             return Ok(Level {
                 solution: Solution::Contact(Box::new(contact.solution(x, stages, crack))),
                 estimate,
