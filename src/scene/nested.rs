@@ -1,5 +1,6 @@
 //! The contact solve of `damfem solve` started by nested iteration on coarser meshes of the
-//! scene's geometry (docs/method.md §1.5).
+//! scene's geometry, or on the degree-1 problem on the triangles of a degree-2 `.msh`
+//! (docs/method.md §1.5).
 
 use super::Scene;
 use crate::contact::projection::Smoothing;
