@@ -4,15 +4,16 @@ Scene A with its 70 m flood (geo/scene_a.toml): P2, theta = 0, gamma0 = 100, fri
 contact without regularisation (damfem --semismooth, delta = 0). For each size, `damfem mesh
 --order 1` writes an order-1 .msh; GetFEM 5.4 (Debian's python3-getfem, run with
 /usr/bin/python3) solves it at P2 from u = 0, and damfem solves the same mesh twice, each in
-its own process: from the .msh (`damfem solve --order 2 --semismooth`, from u = 0, as GetFEM)
-and from the .geo at the same size factor (`damfem solve --size-factor F --semismooth`: gmsh
-meshes the same mesh, which the node-by-node comparison checks, and damfem starts Newton by
-nested iteration on coarser meshes of the .geo). The three runs of a size follow one another.
-Per size and damfem input the table gives the unknowns, the Newton steps of each code (for
-the .geo: on the coarse meshes, coarsest first, + on the given mesh), the time of the
-contact solve (GetFEM's Model.solve, which assembles its linear bricks on the first step;
-damfem's `assemble` and `solve` stages from summary.json, the latter holding, from the .geo,
-the coarse meshes' meshing by gmsh and their solves), the whole process (wall and CPU time,
+its own process: from the .msh (`damfem solve --order 2 --semismooth`: Newton starts from the
+solution of the P1 problem on the same triangles) and from the .geo at the same size factor
+(`damfem solve --size-factor F --semismooth`: gmsh meshes the same mesh, which the
+node-by-node comparison checks, and damfem starts Newton by nested iteration on coarser
+meshes of the .geo). The three runs of a size follow one another. Per size and damfem input
+the table gives the unknowns, the Newton steps of each code (for damfem: on the coarse
+levels, coarsest first, + on the given mesh), the time of the contact solve (GetFEM's
+Model.solve, which assembles its linear bricks on the first step; damfem's `assemble` and
+`solve` stages from summary.json, the latter holding the coarse levels' solves and, from the
+.geo, gmsh's meshing of the coarse meshes), the whole process (wall and CPU time,
 the latter from wait4 and less sensitive to other loads of the machine; from the .geo it
 includes gmsh's meshing of the given mesh, which GetFEM reads from the .msh), the ratios
 GetFEM / damfem of the contact solves and of the CPU times (above 1: damfem is faster), the

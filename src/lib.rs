@@ -19,7 +19,8 @@
 //!    ▼
 //!  solve                sparse Cholesky / LU (faer), symbolic factorisation reused; Newton,
 //!    │                  its steps by the dense Schur complement on the contact layer, started
-//!    │                  by nested iteration on coarser meshes of the .geo (Scene::solve_contact)
+//!    │                  by nested iteration on coarser meshes of the .geo, or on the P1
+//!    │                  problem of a P2 .msh's triangles (Scene::solve_contact)
 //!    ▼
 //!  contact::ContactSolution   the iterate (refined to a pair x + lo after a full Newton
 //!    │                  step), its linearisation point and smoothing, face states;

@@ -283,8 +283,11 @@ fn describe_solution(solution: &Solution) -> String {
     match solution.contact() {
         None => "sparse Cholesky".into(),
         Some(c) => {
-            let coarse: Vec<String> =
-                c.coarse.iter().map(|s| format!("{} on {} unknowns", s.newton_steps, s.unknowns)).collect();
+            let coarse: Vec<String> = c
+                .coarse
+                .iter()
+                .map(|s| format!("{} on {} P{} unknowns", s.newton_steps, s.unknowns, s.order))
+                .collect();
             let started = if coarse.is_empty() { String::new() } else { format!(" (after {})", coarse.join(", ")) };
             format!(
                 "Newton, {} steps{started}, δ = {:.3e}, contact length {:.4}",

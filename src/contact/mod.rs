@@ -491,9 +491,12 @@ pub struct ContactSolution {
     pub coarse: Vec<CoarseSolve>,
 }
 
-/// A solve of nested iteration on a coarser mesh: its unknowns, Newton steps and times.
+/// A solve of nested iteration on a coarser level: its element degree, unknowns, Newton steps
+/// and times.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct CoarseSolve {
+    /// 1 on the degree-1 problem of the given mesh's triangles (docs/method.md §1.5).
+    pub order: usize,
     pub unknowns: usize,
     pub newton_steps: usize,
     pub seconds: CoarseTimings,
@@ -502,7 +505,8 @@ pub struct CoarseSolve {
 /// Wall times of a level of nested iteration, in seconds.
 #[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
 pub struct CoarseTimings {
-    /// gmsh's mesh and the scene's problem on it ([`CoarseLevel::seconds`]).
+    /// The level's mesh and problem: gmsh's mesh, or the vertices of the given mesh
+    /// ([`CoarseLevel::seconds`]).
     pub mesh: f64,
     /// Dofs, pattern and the bulk stiffness and load.
     pub assemble: f64,
@@ -512,8 +516,9 @@ pub struct CoarseTimings {
     pub newton: f64,
 }
 
-/// A coarser mesh of nested iteration: its problem, its joint, and the wall time that gmsh
-/// and the scene took to make them \[s\].
+/// A coarser level of nested iteration: its problem (on a coarser mesh of the geometry, or at
+/// degree 1 on the given mesh's triangles), its joint, and the wall time taken to make them
+/// \[s\].
 pub struct CoarseLevel {
     pub problem: Problem,
     pub joint: ContactJoint,
@@ -747,8 +752,9 @@ pub fn solve_system_from(
 }
 
 /// Nested iteration (docs/method.md §1.5): Newton on each level of `coarse` (coarser meshes
-/// of the same geometry, coarsest first, taken one at a time), from u = 0 along the δ path of
-/// `settings` on the first and at δ from the previous solution interpolated on the others.
+/// of the same geometry, or the degree-1 problem on the triangles of `problem`, coarsest
+/// first, taken one at a time), from u = 0 along the δ path of `settings` on the first and at
+/// δ from the previous solution interpolated on the others.
 /// Returns the last solution interpolated at the nodes of `problem` (free unknowns of `disc`),
 /// the start of Newton there, and the coarse solves; None without levels or if one of them is
 /// None (it could not be made). The crack that uplift fills keeps the length of each coarse
@@ -778,7 +784,7 @@ pub fn nested_start(
         let newton = clock.elapsed().as_secs_f64();
         let newton_steps = stages.iter().map(|s| s.report.iterations.len()).sum();
         let seconds = CoarseTimings { mesh, assemble, start, newton };
-        solves.push(CoarseSolve { unknowns: level_disc.dofs.n_free, newton_steps, seconds });
+        solves.push(CoarseSolve { order: level.mesh.order, unknowns: level_disc.dofs.n_free, newton_steps, seconds });
         let u = level.displacement(&level_disc, &x);
         drop(contact);
         previous = Some((level, u));

@@ -1,4 +1,5 @@
-//! Edge midpoint nodes, and the degree-2 mesh they make of a degree-1 mesh.
+//! Edge midpoint nodes, the degree-2 mesh they make of a degree-1 mesh, and the degree-1 mesh
+//! of the vertices of a degree-2 mesh.
 
 use super::Mesh;
 use std::collections::HashMap;
@@ -60,6 +61,36 @@ pub fn elevate_to_p2(mesh: &Mesh) -> Mesh {
     Mesh {
         points,
         order: 2,
+        cell_nodes,
+        cell_tags: mesh.cell_tags.clone(),
+        facet_nodes,
+        facet_tags: mesh.facet_tags.clone(),
+        groups: mesh.groups.clone(),
+    }
+}
+
+/// The degree-1 mesh of the vertices of `mesh`, its nodes renumbered (cells, facets, tags and
+/// groups kept).
+pub fn vertex_mesh(mesh: &Mesh) -> Mesh {
+    if mesh.order == 1 {
+        return mesh.clone();
+    }
+    let mut index = vec![usize::MAX; mesh.n_points()];
+    let mut points = Vec::new();
+    let mut renumber = |n: usize| {
+        if index[n] == usize::MAX {
+            index[n] = points.len();
+            points.push(mesh.points[n]);
+        }
+        index[n]
+    };
+    let cell_nodes: Vec<usize> =
+        (0..mesh.n_cells()).flat_map(|c| mesh.cell(c)[..3].to_vec()).map(&mut renumber).collect();
+    let facet_nodes: Vec<usize> =
+        (0..mesh.n_facets()).flat_map(|f| mesh.facet(f)[..2].to_vec()).map(&mut renumber).collect();
+    Mesh {
+        points,
+        order: 1,
         cell_nodes,
         cell_tags: mesh.cell_tags.clone(),
         facet_nodes,

@@ -1,5 +1,6 @@
 //! The contact solve of `damfem solve` started by nested iteration on coarser meshes of the
-//! scene's geometry (docs/method.md §1.5).
+//! scene's geometry, or on the degree-1 problem on the triangles of a degree-2 `.msh`
+//! (docs/method.md §1.5).
 
 use super::Scene;
 use crate::contact::projection::Smoothing;
@@ -7,6 +8,7 @@ use crate::contact::{nested_start, solve_by_continuation, solve_system_from, Coa
 use crate::contact::{ContactProblem, ContactSolution, Continuation, NestedStart};
 use crate::elasticity::{Discretisation, Problem};
 use crate::io::gmsh::{mesh_geo, MeshOptions};
+use crate::mesh::midpoints::vertex_mesh;
 use crate::solve::{NewtonOptions, NonlinearSystem};
 use std::sync::mpsc::sync_channel;
 use std::time::Instant;
@@ -33,15 +35,19 @@ const COARSE_RTOL: f64 = 1e-3;
 
 impl Scene {
     /// The contact solve on `problem` (meshed from this scene's geometry with its `[mesh]`
-    /// options) along the δ path of `settings`. A mesh of N ≥ 1.5² × 5 000 unknowns meshed
-    /// from a `.geo` starts Newton from nested iteration ([`nested_start`]) on the geometry
-    /// meshed 1.5 × 4^k times coarser, k = 0, 1, … (about N / (1.5² 16^k) unknowns, while ≥
-    /// 5 000, the coarsest possibly only twice as coarse as the next), solved to
-    /// ‖F‖ ≤ 10⁻³ ‖b‖, and goes straight to δ; any other mesh, or a failure on the way, starts
-    /// from u = 0 as [`solve_by_continuation`]. Both reach the same solution, to the Newton
-    /// tolerance (docs/method.md §1.5). gmsh meshes each level on a thread of its own while
-    /// Newton solves the level below, and a third thread factorises the stiffness of
-    /// `problem` meanwhile.
+    /// options) along the δ path of `settings`, started by nested iteration ([`nested_start`];
+    /// docs/method.md §1.5) on coarser levels solved to ‖F‖ ≤ 10⁻³ ‖b‖, then straight to δ:
+    /// - a mesh of N ≥ 1.5² × 5 000 unknowns meshed from a `.geo`: the geometry meshed
+    ///   1.5 × 4^k times coarser, k = 0, 1, … (about N / (1.5² 16^k) unknowns, while ≥ 5 000,
+    ///   the coarsest possibly only twice as coarse as the next); gmsh meshes each level on a
+    ///   thread of its own while Newton solves the level below;
+    /// - a degree-2 mesh read from a `.msh` (no geometry to mesh coarser): the degree-1
+    ///   problem on the same triangles (about N / 4 unknowns), whose solution is a degree-2
+    ///   field of the mesh.
+    ///
+    /// Any other mesh, or a failure on the way, starts from u = 0 as [`solve_by_continuation`].
+    /// Both reach the same solution, to the Newton tolerance. A thread factorises the
+    /// stiffness of `problem` while the levels are solved.
     pub fn solve_contact(
         &self,
         problem: &Problem,
@@ -51,11 +57,22 @@ impl Scene {
         allow_system_calls: bool,
     ) -> Result<ContactSolution, ContactError> {
         let size_factors = self.coarse_size_factors(disc.dofs.n_free);
+        let degree_one = self.degree_one_level(problem, joint);
         let contact = ContactProblem::new(problem, disc, joint, Smoothing { delta: settings.delta });
-        if size_factors.is_empty() {
+        if size_factors.is_empty() && degree_one.is_none() {
             return solve_system_from(contact, joint, settings, vec![0.0; disc.dofs.n_free]);
         }
+        let rtol = COARSE_RTOL.max(settings.newton.rtol);
+        let coarse = Continuation { newton: NewtonOptions { rtol, ..settings.newton }, ..*settings };
         let nested = std::thread::scope(|scope| {
+            // the given mesh's stiffness factorised meanwhile (assembled before: the assembly's
+            // threads would hold up those of the coarse levels)
+            scope.spawn(|| {
+                contact.schur();
+            });
+            if let Some(level) = degree_one {
+                return nested_start(problem, disc, [Some(level)], &coarse);
+            }
             // a level is meshed while the one below is solved, and waits for it to finish
             let (send, levels) = sync_channel(0);
             scope.spawn(move || {
@@ -67,13 +84,6 @@ impl Scene {
                     }
                 }
             });
-            // the given mesh's stiffness factorised meanwhile (assembled before: the assembly's
-            // threads would hold up those of the coarse levels)
-            scope.spawn(|| {
-                contact.schur();
-            });
-            let rtol = COARSE_RTOL.max(settings.newton.rtol);
-            let coarse = Continuation { newton: NewtonOptions { rtol, ..settings.newton }, ..*settings };
             nested_start(problem, disc, levels, &coarse)
         });
         if let Ok(Some(NestedStart { x0, solves })) = nested {
@@ -86,12 +96,32 @@ impl Scene {
         solve_system_from(contact, joint, settings, vec![0.0; disc.dofs.n_free])
     }
 
+    /// The degree-1 problem on the vertices of the degree-2 mesh of `problem` read from a
+    /// `.msh` (its cells, materials, conditions and joint), the coarse level of nested
+    /// iteration there; None for a `.geo` or a degree-1 mesh. Its continuous piecewise-linear
+    /// solution is a degree-2 field of the same triangles, interpolated exactly at the
+    /// midpoint nodes of straight edges.
+    fn degree_one_level(&self, problem: &Problem, joint: &ContactJoint) -> Option<CoarseLevel> {
+        if !self.is_msh() || problem.mesh.order != 2 {
+            return None;
+        }
+        let clock = Instant::now();
+        let level = Problem {
+            mesh: vertex_mesh(&problem.mesh),
+            materials: problem.materials.clone(),
+            dirichlet: problem.dirichlet.clone(),
+            neumann: problem.neumann.clone(),
+            body_force: problem.body_force.clone(),
+        };
+        Some(CoarseLevel { problem: level, joint: joint.clone(), seconds: clock.elapsed().as_secs_f64() })
+    }
+
     /// The size factors of the coarser meshes of nested iteration for a mesh of `unknowns`
     /// unknowns, coarsest first: the size factor × 1.5, then × 4 for each level below (× 2 for
     /// the last if × 4 leaves too few), each kept while it has ≥ 5 000 unknowns (about N / r²
     /// for a mesh r times coarser); none for a `.msh` geometry or a small mesh.
     fn coarse_size_factors(&self, unknowns: usize) -> Vec<f64> {
-        if self.geometry.extension().is_some_and(|e| e == "msh") {
+        if self.is_msh() {
             return Vec::new();
         }
         let kept = |r: f64| unknowns as f64 / (r * r) >= COARSEST_UNKNOWNS as f64;
@@ -114,5 +144,10 @@ impl Scene {
             (problem, Some(joint)) => Some(CoarseLevel { problem, joint, seconds: clock.elapsed().as_secs_f64() }),
             (_, None) => None,
         }
+    }
+
+    /// Whether the geometry is a mesh file.
+    fn is_msh(&self) -> bool {
+        self.geometry.extension().is_some_and(|e| e == "msh")
     }
 }

@@ -90,36 +90,6 @@ pub fn refine(mesh: &Mesh) -> Refinement {
     Refinement { mesh: fine, cell_parents, facet_parents }
 }
 
-/// The degree-1 mesh of the vertices of `mesh`, its nodes renumbered (cells, facets, tags and
-/// groups kept).
-pub fn vertex_mesh(mesh: &Mesh) -> Mesh {
-    if mesh.order == 1 {
-        return mesh.clone();
-    }
-    let mut index = vec![usize::MAX; mesh.n_points()];
-    let mut points = Vec::new();
-    let mut renumber = |n: usize| {
-        if index[n] == usize::MAX {
-            index[n] = points.len();
-            points.push(mesh.points[n]);
-        }
-        index[n]
-    };
-    let cell_nodes: Vec<usize> =
-        (0..mesh.n_cells()).flat_map(|c| mesh.cell(c)[..3].to_vec()).map(&mut renumber).collect();
-    let facet_nodes: Vec<usize> =
-        (0..mesh.n_facets()).flat_map(|f| mesh.facet(f)[..2].to_vec()).map(&mut renumber).collect();
-    Mesh {
-        points,
-        order: 1,
-        cell_nodes,
-        cell_tags: mesh.cell_tags.clone(),
-        facet_nodes,
-        facet_tags: mesh.facet_tags.clone(),
-        groups: mesh.groups.clone(),
-    }
-}
-
 /// Newest-vertex bisection of the degree-1 `refined.mesh`: every cell with `marked[c]` is
 /// bisected once, and as many more as conformity asks. Parents are kept relative to the
 /// mesh `refined` itself refers to.
@@ -206,7 +176,7 @@ pub fn refine_levels(mesh: &Mesh, levels: usize) -> Refinement {
 mod tests {
     use super::*;
     use crate::fem::affine::AffineMap;
-    use crate::mesh::midpoints::elevate_to_p2;
+    use crate::mesh::midpoints::{elevate_to_p2, vertex_mesh};
     use crate::mesh::structured::{rectangle, BOTTOM, LEFT, RIGHT, TOP};
     use crate::mesh::Topology;
 

@@ -1,8 +1,9 @@
 //! Nested iteration (docs/method.md §1.5): the contact solve of `damfem solve` started on
-//! coarser meshes of the scene's geometry.
+//! coarser meshes of the scene's geometry, or on the degree-1 problem of a `.msh`.
 
 use damfem::contact::solve_by_continuation;
-use damfem::io::gmsh::mesh_geo;
+use damfem::io::gmsh::{mesh_geo, read_msh, save_geo_mesh, MeshOptions};
+use damfem::mesh::midpoints::elevate_to_p2;
 use damfem::scene::Scene;
 use std::path::Path;
 
@@ -43,6 +44,49 @@ fn nested_start_reaches_the_cold_solution() {
         let expected = n / (ratio * ratio);
         assert!((level / expected - 1.0).abs() < 0.15, "a level of {level} unknowns, expected about {expected:.0}");
     }
+    assert!(nested.newton_steps() < cold.newton_steps());
+    let relative = distance(&cold.x, &nested.x) / distance(&cold.x, &vec![0.0; cold.x.len()]);
+    assert!(relative <= 1e-9, "‖u_cold − u_nested‖ / ‖u_cold‖ = {relative:.1e}");
+}
+
+/// A degree-2 mesh read from a `.msh` starts from the degree-1 problem on its triangles.
+/// Source: docs/method.md §1.5 (the degree-1 level of a `.msh`, solved to ‖F‖ ≤ 10⁻³ ‖b‖, its
+/// solution a degree-2 field of the same triangles). Goal: `Scene::solve_contact` on the
+/// order-1 `.msh` that gmsh writes, raised to degree 2 as `--order 2` raises it, solves one
+/// coarse level, of degree 1 and about N / 4 unknowns, then ends at the solution of the solve
+/// from u = 0 to the Newton tolerance in fewer steps on the given mesh. Parameters: Scene A
+/// (geo/scene_a.toml: 70 m flood, frictionless, γ₀ = 100, θ = 0, δ = 10⁻⁴ S, rtol = 10⁻¹⁰)
+/// meshed by gmsh at order 1 and size factor 0.6 (about 2·10⁴ unknowns at degree 2);
+/// ‖u_cold − u_nested‖ ≤ 10⁻⁹ ‖u_cold‖.
+#[test]
+fn msh_starts_from_its_degree_one_problem() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("geo/scene_a.toml");
+    let mut scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let dir = std::env::temp_dir().join(format!("damfem-nested-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let msh = dir.join("scene_a.msh");
+    let options = MeshOptions { order: 1, size_factor: 0.6, ..scene.mesh_options() };
+    save_geo_mesh(&scene.geometry, &options, &msh, false, false).expect("gmsh meshes scene A");
+    let mesh = elevate_to_p2(&read_msh(&msh, false).expect("gmsh reads its .msh"));
+    std::fs::remove_dir_all(&dir).ok();
+    scene.geometry = msh;
+    let (problem, joint) = scene.problem(mesh).unwrap_or_else(|e| panic!("{e}"));
+    let (disc, joint) = (problem.discretise(), joint.expect("Scene A has a contact curve"));
+    let settings = scene.continuation(&problem, &disc.topology);
+    let cold = solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("{e}"));
+    let nested = scene.solve_contact(&problem, &disc, &joint, &settings, false).unwrap_or_else(|e| panic!("{e}"));
+    let n = disc.dofs.n_free as f64;
+    println!(
+        "{n} unknowns: {} steps from u = 0; from the degree-1 level: {:?}, then {}",
+        cold.newton_steps(),
+        nested.coarse,
+        nested.newton_steps()
+    );
+    assert_eq!(nested.coarse.len(), 1, "one coarse level for a .msh");
+    let level = nested.coarse[0];
+    assert_eq!(level.order, 1);
+    let ratio = n / level.unknowns as f64;
+    assert!((ratio / 4.0 - 1.0).abs() < 0.15, "{n} unknowns against {} on the degree-1 level", level.unknowns);
     assert!(nested.newton_steps() < cold.newton_steps());
     let relative = distance(&cold.x, &nested.x) / distance(&cold.x, &vec![0.0; cold.x.len()]);
     assert!(relative <= 1e-9, "‖u_cold − u_nested‖ / ‖u_cold‖ = {relative:.1e}");
