@@ -83,7 +83,8 @@ pub struct ContactProblem<'a> {
 pub struct FaceState {
     /// |F|.
     pub length: f64,
-    /// Mean contact pressure −(1/|F|) ∫_F [P_γ(u_h)]_{R⁻} ≥ 0.
+    /// Mean contact pressure −(1/|F|) ∫_F \[P_γ(u_h)\]_{reg,δ} ≥ 0: the normal traction of the
+    /// solved equations, at the δ of the solve (docs/method.md §1.9).
     pub pressure: f64,
     /// Mean normal displacement (1/|F|) ∫_F u_h^n.
     pub normal_displacement: f64,
@@ -103,6 +104,9 @@ pub struct FaceState {
     pub uplift: f64,
     /// The first moment ∫_F x p_c ds of the contact pressure.
     pub pressure_moment: [f64; 2],
+    /// ∫_F q'(P_γ(u_h)) ds, the length over which the solved equations apply a cohesion: the
+    /// smoothed closed indicator of docs/method.md §1.7 (the closed length at δ = 0).
+    pub cohesive_length: f64,
     /// The ends of the closed part of F (from its first closed point to its last), if any.
     pub closed: Option<[[f64; 2]; 2]>,
 }
@@ -122,6 +126,7 @@ impl FaceState {
             sum.slip += part.slip * w;
             sum.uplift += part.uplift * w;
             sum.contact_length += part.contact_length;
+            sum.cohesive_length += part.cohesive_length;
             sum.stick_length += part.stick_length;
             sum.slip_length += part.slip_length;
             sum.regularisation_error = sum.regularisation_error.max(part.regularisation_error);
@@ -309,10 +314,13 @@ fn face_state(nitsche: &Nitsche, smoothing: Smoothing, k: usize, u: &FaceDisplac
         let pt = nitsche.point(k, s);
         let p = nitsche.p_gamma(k, &pt, u);
         let mean = w / length;
-        state.pressure -= negative_part(p) * mean;
+        // the solved normal traction q(P_γ): p_c = −q(P_γ)
+        let t_n = smoothing.value(p);
+        state.pressure -= t_n * mean;
         for (m, x) in state.pressure_moment.iter_mut().zip(pt.x) {
-            *m -= x * negative_part(p) * w;
+            *m -= x * t_n * w;
         }
+        state.cohesive_length += smoothing.derivative(p) * w;
         let [normal, tangential] = nitsche.displacement_at(k, &pt, u);
         state.normal_displacement += normal * mean;
         state.contact_length += if p < 0.0 { w } else { 0.0 };
@@ -555,13 +563,14 @@ impl ContactSolution {
         self.faces.iter().map(|f| f.tangential_traction * f.length).sum()
     }
 
-    /// The sliding safety factor by limit equilibrium along the joint, from the computed
-    /// tractions: FS_LE = ∫_{Γ_C} (c 1_closed + F p_c) ds / |∫_{Γ_C} t^t ds| (s 1_closed for
-    /// Tresca); None without friction or shear.
+    /// The sliding safety factor by limit equilibrium along the joint, from the tractions of
+    /// the solved equations: FS_LE = ∫_{Γ_C} (c q'(P_γ) + F p_c) ds / |∫_{Γ_C} t^t ds|
+    /// (s q'(P_γ) for Tresca; q'(P_γ) = 1_closed at δ = 0); None without friction or shear.
     pub fn sliding_safety_factor(&self) -> Option<f64> {
         let shear = self.tangential_force().abs();
         let law = self.nitsche.law;
-        (law.has_friction() && shear > 0.0).then(|| law.capacity(self.normal_force(), self.contact_length()) / shear)
+        let cohesive_length = self.faces.iter().map(|f| f.cohesive_length).sum();
+        (law.has_friction() && shear > 0.0).then(|| law.capacity(self.normal_force(), cohesive_length) / shear)
     }
 
     /// The uplift force U = ∫_{Γ_C} p_u ds \[N/m\].
@@ -583,9 +592,9 @@ impl ContactSolution {
         open_from_heel(&self.faces, line)
     }
 
-    /// The mean effective normal stress σ'^n = −p_c \[Pa\] (tension positive) over the part of
-    /// `line` at the distances `window` = \[s₀, s₁\] from the heel, integrated exactly on pieces
-    /// split at the kinks of p_c and at s₀, s₁.
+    /// The mean effective normal stress σ'^n = q(P_γ) = −p_c \[Pa\] (tension positive) of the
+    /// solved equations over the part of `line` at the distances `window` = \[s₀, s₁\] from the
+    /// heel, integrated exactly on pieces split at the kinks of p_c and at s₀, s₁.
     pub fn mean_normal_stress(
         &self,
         problem: &Problem,
@@ -605,7 +614,7 @@ impl ContactSolution {
                 continue;
             }
             let u = local(&problem.mesh, &self.nitsche, k, &u_full, &mut dofs);
-            let mut cuts = self.nitsche.kinks(k, &u, Smoothing::NONE);
+            let mut cuts = self.nitsche.kinks(k, &u, self.smoothing);
             cuts.extend([lo, hi]);
             cuts.sort_by(f64::total_cmp);
             integral += self
@@ -613,7 +622,7 @@ impl ContactSolution {
                 .split_rule(k, &cuts)
                 .into_iter()
                 .filter(|&(t, _)| t > lo && t < hi)
-                .map(|(t, w)| negative_part(self.nitsche.p_gamma(k, &self.nitsche.point(k, t), &u)) * w)
+                .map(|(t, w)| self.smoothing.value(self.nitsche.p_gamma(k, &self.nitsche.point(k, t), &u)) * w)
                 .sum::<f64>();
         }
         integral / (window[1] - window[0])
