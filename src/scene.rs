@@ -604,7 +604,7 @@ impl Scene {
         };
         Continuation {
             delta,
-            delta_start: delta.max(c.delta_start.unwrap_or(if self.law().has_friction() { 0.1 } else { 0.0 }) * scale),
+            delta_start: delta.max(c.delta_start.unwrap_or(if self.has_friction() { 0.1 } else { 0.0 }) * scale),
             newton: self.newton_options(),
         }
     }
@@ -635,14 +635,8 @@ impl Scene {
     /// The contact joint of the curves with role "contact" on `mesh`, if there are any.
     fn joint(&self, mesh: &Mesh) -> Result<Option<ContactJoint>, SceneError> {
         let tags = self.contact_tags(mesh)?;
-        let law = self.contact.law();
-        Ok((!tags.is_empty()).then(|| ContactJoint {
-            tags,
-            masters: Vec::new(),
-            law,
-            parameters: self.nitsche_parameters(),
-            uplift: None,
-        }))
+        Ok((!tags.is_empty())
+            .then(|| ContactJoint::uniform(tags, Vec::new(), self.contact.law(), self.nitsche_parameters())))
     }
 
     /// The elasticity problem of this scene on `mesh` and its contact joint (None without
@@ -702,7 +696,7 @@ impl Scene {
                 self.contact.law()
             )));
         }
-        let friction = joint.as_ref().is_some_and(|j| j.law.has_friction());
+        let friction = joint.as_ref().is_some_and(ContactJoint::has_friction);
         if problem.dirichlet.is_empty() && !friction {
             return Err(self.invalid(format!(
                 "no Dirichlet boundary and no frictional joint: the body could move as a rigid body; {how} (curves: {})",
@@ -783,6 +777,11 @@ impl Scene {
         let at = |x: &[f64; 2]| x[0] * along[0] + x[1] * along[1];
         let first = *ends.iter().min_by(|a, b| at(a).total_cmp(&at(b))).expect("a joint has faces");
         let last = *ends.iter().max_by(|a, b| at(a).total_cmp(&at(b))).expect("a joint has faces");
+        // parallel joints (a lift joint above the dam's base) are not one line
+        let offset = |x: &[f64; 2]| (x[0] - first[0]) * nu[0] + (x[1] - first[1]) * nu[1];
+        if ends.iter().any(|x| offset(x).abs() > 1e-9 * distance(first, last)) {
+            return Err("the contact curves are not on one line".into());
+        }
         let water: Vec<[f64; 2]> = problem
             .neumann
             .iter()
@@ -855,16 +854,19 @@ impl Scene {
         // the uplift without a crack: a crack only adds to it
         let uplift = joint.uplift.as_ref().map_or(0.0, |up| up.force(0.0));
         let (normal, shear) = (r[0] * nu[0] + r[1] * nu[1] - uplift, r[1] * nu[0] - r[0] * nu[1]);
-        let length: f64 = facets.iter().map(|&(f, _)| problem.mesh.facet_length(f)).sum();
-        let capacity = joint.law.capacity(normal.max(0.0), length);
+        // at most the largest friction's F N plus every curve's cohesion or threshold over its length
+        let length = |tag: i32| problem.mesh.boundary_length(tag);
+        let laws = || joint.tags.iter().zip(&joint.laws);
+        let friction = laws().map(|(_, c)| c.law.capacity(normal.max(0.0), 0.0)).fold(0.0, f64::max);
+        let capacity = friction + laws().map(|(&tag, c)| c.law.capacity(0.0, length(tag))).sum::<f64>();
         if normal <= 0.0 || shear.abs() > capacity {
             return Err(self.invalid(format!(
                 "no equilibrium: nothing but the joint holds the body, and the loads push along it with \
-                 |T| = {:.4e} N/m against a normal force N = {normal:.4e} N/m, more than the joint law {:?} \
+                 |T| = {:.4e} N/m against a normal force N = {normal:.4e} N/m, more than the joint law {} \
                  can carry ({capacity:.4e} N/m); raise contact.friction, contact.cohesion or \
                  contact.threshold, or support the body with a Dirichlet curve",
                 shear.abs(),
-                joint.law
+                joint.laws.iter().map(|c| format!("{:?}", c.law)).collect::<Vec<_>>().join(", ")
             )));
         }
         Ok(())

@@ -214,7 +214,7 @@ fn analyse(
     let (problem, joint, solution) = last.context("the adaptive run made no step")?;
     let record = history.last().context("the adaptive run made no step")?;
     let disc = problem.discretise();
-    let (strength, note) = match joint.law.has_friction() {
+    let (strength, note) = match joint.has_friction() {
         false => (None, Some(FRICTIONLESS.to_string())),
         true => {
             let newton = NewtonOptions { trace: args.input.newton_trace(), ..scene.newton_options() };

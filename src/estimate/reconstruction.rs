@@ -132,7 +132,9 @@ pub fn reconstruct(
 /// Fails unless the estimator covers the Nitsche variant of `contact` (θ = 0 only).
 pub(crate) fn covered(contact: Option<&Linearisation>) -> Result<(), EstimateError> {
     match contact {
-        Some(c) if c.nitsche.parameters.theta != 0.0 => Err(EstimateError::Theta(c.nitsche.parameters.theta)),
+        Some(c) if let Some(theta) = c.nitsche.laws.iter().map(|l| l.parameters.theta).find(|&t| t != 0.0) => {
+            Err(EstimateError::Theta(theta))
+        }
         _ => Ok(()),
     }
 }

@@ -19,7 +19,10 @@ def test_the_joint_forces_balance_weight_and_thrust(solved):
     contact = summary["contact"]
     weight = RHO_G * (B + C) / 2 * H
     thrust = WATER_G * (LEVEL * H - H**2 / 2)
-    assert contact["joint"] == {"law": "coulomb", "friction": F}
+    [base] = contact["curves"]
+    assert {k: base[k] for k in ("curve", "law", "friction", "gamma0", "theta")} == {
+        "curve": "base", "law": "coulomb", "friction": F, "gamma0": 100.0, "theta": 0.0}
+    assert base["normal_force"] == contact["normal_force"] and base["tangential_force"] == contact["tangential_force"]
     assert contact["normal_force"] == pytest.approx(weight, rel=1e-8)
     # τ = (−ν_y, ν_x) = (1, 0) on the base: the joint pushes upstream, against the thrust
     assert contact["tangential_force"] == pytest.approx(-thrust, rel=1e-8)
