@@ -297,6 +297,15 @@ impl Default for OutputSection {
     }
 }
 
+/// `[safety]`: what `damfem safety` analyses (docs/method.md §1.9).
+#[derive(Debug, Clone, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SafetySection {
+    /// The curve of the sliding plane, a `[joints]` curve or a curve of role contact; None:
+    /// every joint curve, which must then lie on one line.
+    pub joint: Option<String>,
+}
+
 /// A scene file.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -319,6 +328,8 @@ pub struct Scene {
     #[serde(default)]
     pub joints: BTreeMap<String, JointSection>,
     pub uplift: Option<UpliftSection>,
+    #[serde(default)]
+    pub safety: SafetySection,
     #[serde(default)]
     pub adapt: AdaptSettings,
     #[serde(default)]
@@ -410,6 +421,7 @@ impl Scene {
             contact: ContactSection::default(),
             joints: BTreeMap::new(),
             uplift: None,
+            safety: SafetySection::default(),
             adapt: AdaptSettings::default(),
             output: OutputSection::default(),
             combinations: BTreeMap::new(),
@@ -480,6 +492,7 @@ impl Scene {
         }
         self.check_sizes()?;
         self.check_joints()?;
+        self.check_safety()?;
         self.adapt.validate().map_err(|message| self.invalid(message))?;
         for (name, m) in &self.materials {
             m.validate().map_err(|message| SceneError::Material {
@@ -749,15 +762,32 @@ impl Model for Scene {
 }
 
 impl Scene {
-    /// The straight joint of the contact curves (or of the `[joints]` curves, on their slave
-    /// side) on `problem`'s mesh from its heel to its toe (docs/method.md §1.9); None without
-    /// them, on a joint that is not straight, or when nothing shows its upstream end (no
-    /// `[uplift] heel`, no hydrostatic curve).
+    /// `[safety] joint` names a joint curve or a curve of role contact.
+    fn check_safety(&self) -> Result<(), SceneError> {
+        let Some(name) = &self.safety.joint else { return Ok(()) };
+        let contact = self.boundary.get(name).is_some_and(|b| b.role == Role::Contact);
+        if self.joints.contains_key(name) || contact {
+            return Ok(());
+        }
+        let joints: Vec<&str> = (self.joints.keys().map(String::as_str))
+            .chain(self.boundary.iter().filter(|(_, b)| b.role == Role::Contact).map(|(n, _)| n.as_str()))
+            .collect();
+        Err(self.invalid(format!(
+            "safety.joint = '{name}' is not a joint: name a [joints.<curve>] table or a curve of role contact ({})",
+            if joints.is_empty() { "the scene has none".into() } else { joints.join(", ") }
+        )))
+    }
+
+    /// The straight joint of the sliding plane on `problem`'s mesh from its heel to its toe
+    /// (docs/method.md §1.9): the curve of `[safety] joint`, else every contact curve (or
+    /// every `[joints]` curve, on its slave side); None without them, on a joint that is not
+    /// straight, or when nothing shows its upstream end (no `[uplift] heel`, no hydrostatic
+    /// curve).
     pub fn joint_line(&self, problem: &Problem) -> Option<JointLine> {
-        let tags = if self.joints.is_empty() {
-            self.contact_tags(&problem.mesh).ok()?
-        } else {
-            self.joint_tags(&problem.mesh).ok()?
+        let tags = match (&self.safety.joint, self.joints.is_empty()) {
+            (Some(name), _) => vec![self.group_tag(&problem.mesh, 1, name, "joint").ok()?],
+            (None, true) => self.contact_tags(&problem.mesh).ok()?,
+            (None, false) => self.joint_tags(&problem.mesh).ok()?,
         };
         let facets = contact_facets(&problem.mesh, &Topology::new(&problem.mesh), &tags);
         self.straight_joint(problem, &facets).ok()

@@ -623,18 +623,34 @@ impl ContactSolution {
         self.faces.iter().map(|f| f.uplift * f.length).sum()
     }
 
-    /// The resultant of the joint traction on the straight joint `line` (docs/method.md §1.9);
-    /// None when nothing presses on the joint.
+    /// Whether face k lies on `line` (a sliding plane among other joints).
+    pub fn on_line(&self, k: usize, line: &JointLine) -> bool {
+        [0.0, 1.0].iter().all(|&s| line.holds(self.nitsche.position(k, s)))
+    }
+
+    /// The states of the faces on `line`.
+    fn faces_on(&self, line: &JointLine) -> Vec<FaceState> {
+        (self.faces.iter().enumerate()).filter(|&(k, _)| self.on_line(k, line)).map(|(_, f)| *f).collect()
+    }
+
+    /// The forces on the faces on `line` ([`ContactSolution::forces`]).
+    pub fn forces_on(&self, line: &JointLine) -> JointForces {
+        self.forces(|k| self.on_line(k, line))
+    }
+
+    /// The resultant of the traction of the faces on the straight joint `line` (docs/method.md
+    /// §1.9); None when nothing presses on the joint.
     pub fn resultant(&self, line: &JointLine) -> Option<Resultant> {
-        let moment =
-            self.faces.iter().fold([0.0; 2], |m, f| [m[0] + f.pressure_moment[0], m[1] + f.pressure_moment[1]]);
-        let forces = [self.normal_force(), self.tangential_force(), self.uplift_force()];
-        Resultant::new(line, forces, moment)
+        let faces = self.faces_on(line);
+        let moment = faces.iter().fold([0.0; 2], |m, f| [m[0] + f.pressure_moment[0], m[1] + f.pressure_moment[1]]);
+        let JointForces { normal_force, tangential_force, .. } = self.forces_on(line);
+        let uplift = faces.iter().map(|f| f.uplift * f.length).sum();
+        Resultant::new(line, [normal_force, tangential_force, uplift], moment)
     }
 
     /// The length of `line` open at the heel ([`open_from_heel`]).
     pub fn crack_from_heel(&self, line: &JointLine) -> f64 {
-        open_from_heel(&self.faces, line)
+        open_from_heel(&self.faces_on(line), line)
     }
 
     /// The mean effective normal stress σ'^n = q(P_γ) = −p_c \[Pa\] (tension positive) of the
@@ -650,7 +666,7 @@ impl ContactSolution {
         let u_full = disc.dofs.expand(&self.x);
         let mut dofs = Vec::new();
         let mut integral = 0.0;
-        for k in 0..self.nitsche.faces.len() {
+        for k in (0..self.nitsche.faces.len()).filter(|&k| self.on_line(k, line)) {
             let [d0, d1] = [0.0, 1.0].map(|t| line.distance(self.nitsche.position(k, t)));
             // the window's ends in the face parameter t: s(t) = d0 + t (d1 − d0)
             let [a, b] = window.map(|s| (s - d0) / (d1 - d0));
