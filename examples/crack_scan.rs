@@ -29,14 +29,14 @@ fn main() -> Result<()> {
     let (problem, joint) = scene.problem(mesh)?;
     let mut joint = joint.context("the scene has a joint")?;
     if let Some(friction) = friction {
-        joint.law = JointLaw::Coulomb { friction };
+        joint.laws.iter_mut().for_each(|c| c.law = JointLaw::Coulomb { friction });
     }
     let disc = problem.discretise();
     let path = scene.continuation(&problem, &disc.topology);
     let mut contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: path.delta });
     let x0 = vec![0.0; disc.dofs.n_free];
     let (mut x, _) = continuation(&mut contact, path.delta, path.delta_start, x0, &path.newton)?;
-    println!("{name}, {:?}, δ = {:.3e} Pa", joint.law, path.delta);
+    println!("{name}, {:?}, δ = {:.3e} Pa", joint.laws[0].law, path.delta);
     for i in 0..=24 {
         let crack = 0.25 * i as f64;
         contact.nitsche.uplift.as_mut().context("the joint has uplift")?.crack = crack;

@@ -49,7 +49,7 @@ fn main() {
     println!("|---|---|---|---|---|---|---|");
     for gamma0 in [1.0, 10.0, 100.0, 1000.0] {
         let mut joint = joint.clone().expect("Scene A has a contact curve");
-        joint.parameters.gamma0 = gamma0;
+        joint.laws.iter_mut().for_each(|c| c.parameters.gamma0 = gamma0);
         scene.contact.gamma0 = gamma0;
         settings.newton.max_iter = 100;
         let (cold, cold_time) =

@@ -297,6 +297,15 @@ impl Default for OutputSection {
     }
 }
 
+/// `[safety]`: what `damfem safety` analyses (docs/method.md §1.9).
+#[derive(Debug, Clone, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SafetySection {
+    /// The curve of the sliding plane, a `[joints]` curve or a curve of role contact; None:
+    /// every joint curve, which must then lie on one line.
+    pub joint: Option<String>,
+}
+
 /// A scene file.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -319,6 +328,8 @@ pub struct Scene {
     #[serde(default)]
     pub joints: BTreeMap<String, JointSection>,
     pub uplift: Option<UpliftSection>,
+    #[serde(default)]
+    pub safety: SafetySection,
     #[serde(default)]
     pub adapt: AdaptSettings,
     #[serde(default)]
@@ -410,6 +421,7 @@ impl Scene {
             contact: ContactSection::default(),
             joints: BTreeMap::new(),
             uplift: None,
+            safety: SafetySection::default(),
             adapt: AdaptSettings::default(),
             output: OutputSection::default(),
             combinations: BTreeMap::new(),
@@ -480,6 +492,7 @@ impl Scene {
         }
         self.check_sizes()?;
         self.check_joints()?;
+        self.check_safety()?;
         self.adapt.validate().map_err(|message| self.invalid(message))?;
         for (name, m) in &self.materials {
             m.validate().map_err(|message| SceneError::Material {
@@ -604,7 +617,7 @@ impl Scene {
         };
         Continuation {
             delta,
-            delta_start: delta.max(c.delta_start.unwrap_or(if self.law().has_friction() { 0.1 } else { 0.0 }) * scale),
+            delta_start: delta.max(c.delta_start.unwrap_or(if self.has_friction() { 0.1 } else { 0.0 }) * scale),
             newton: self.newton_options(),
         }
     }
@@ -635,14 +648,8 @@ impl Scene {
     /// The contact joint of the curves with role "contact" on `mesh`, if there are any.
     fn joint(&self, mesh: &Mesh) -> Result<Option<ContactJoint>, SceneError> {
         let tags = self.contact_tags(mesh)?;
-        let law = self.contact.law();
-        Ok((!tags.is_empty()).then(|| ContactJoint {
-            tags,
-            masters: Vec::new(),
-            law,
-            parameters: self.nitsche_parameters(),
-            uplift: None,
-        }))
+        Ok((!tags.is_empty())
+            .then(|| ContactJoint::uniform(tags, Vec::new(), self.contact.law(), self.nitsche_parameters())))
     }
 
     /// The elasticity problem of this scene on `mesh` and its contact joint (None without
@@ -702,7 +709,7 @@ impl Scene {
                 self.contact.law()
             )));
         }
-        let friction = joint.as_ref().is_some_and(|j| j.law.has_friction());
+        let friction = joint.as_ref().is_some_and(ContactJoint::has_friction);
         if problem.dirichlet.is_empty() && !friction {
             return Err(self.invalid(format!(
                 "no Dirichlet boundary and no frictional joint: the body could move as a rigid body; {how} (curves: {})",
@@ -755,15 +762,32 @@ impl Model for Scene {
 }
 
 impl Scene {
-    /// The straight joint of the contact curves (or of the `[joints]` curves, on their slave
-    /// side) on `problem`'s mesh from its heel to its toe (docs/method.md §1.9); None without
-    /// them, on a joint that is not straight, or when nothing shows its upstream end (no
-    /// `[uplift] heel`, no hydrostatic curve).
+    /// `[safety] joint` names a joint curve or a curve of role contact.
+    fn check_safety(&self) -> Result<(), SceneError> {
+        let Some(name) = &self.safety.joint else { return Ok(()) };
+        let contact = self.boundary.get(name).is_some_and(|b| b.role == Role::Contact);
+        if self.joints.contains_key(name) || contact {
+            return Ok(());
+        }
+        let joints: Vec<&str> = (self.joints.keys().map(String::as_str))
+            .chain(self.boundary.iter().filter(|(_, b)| b.role == Role::Contact).map(|(n, _)| n.as_str()))
+            .collect();
+        Err(self.invalid(format!(
+            "safety.joint = '{name}' is not a joint: name a [joints.<curve>] table or a curve of role contact ({})",
+            if joints.is_empty() { "the scene has none".into() } else { joints.join(", ") }
+        )))
+    }
+
+    /// The straight joint of the sliding plane on `problem`'s mesh from its heel to its toe
+    /// (docs/method.md §1.9): the curve of `[safety] joint`, else every contact curve (or
+    /// every `[joints]` curve, on its slave side); None without them, on a joint that is not
+    /// straight, or when nothing shows its upstream end (no `[uplift] heel`, no hydrostatic
+    /// curve).
     pub fn joint_line(&self, problem: &Problem) -> Option<JointLine> {
-        let tags = if self.joints.is_empty() {
-            self.contact_tags(&problem.mesh).ok()?
-        } else {
-            self.joint_tags(&problem.mesh).ok()?
+        let tags = match (&self.safety.joint, self.joints.is_empty()) {
+            (Some(name), _) => vec![self.group_tag(&problem.mesh, 1, name, "joint").ok()?],
+            (None, true) => self.contact_tags(&problem.mesh).ok()?,
+            (None, false) => self.joint_tags(&problem.mesh).ok()?,
         };
         let facets = contact_facets(&problem.mesh, &Topology::new(&problem.mesh), &tags);
         self.straight_joint(problem, &facets).ok()
@@ -783,6 +807,11 @@ impl Scene {
         let at = |x: &[f64; 2]| x[0] * along[0] + x[1] * along[1];
         let first = *ends.iter().min_by(|a, b| at(a).total_cmp(&at(b))).expect("a joint has faces");
         let last = *ends.iter().max_by(|a, b| at(a).total_cmp(&at(b))).expect("a joint has faces");
+        // parallel joints (a lift joint above the dam's base) are not one line
+        let offset = |x: &[f64; 2]| (x[0] - first[0]) * nu[0] + (x[1] - first[1]) * nu[1];
+        if ends.iter().any(|x| offset(x).abs() > 1e-9 * distance(first, last)) {
+            return Err("the contact curves are not on one line".into());
+        }
         let water: Vec<[f64; 2]> = problem
             .neumann
             .iter()
@@ -855,16 +884,19 @@ impl Scene {
         // the uplift without a crack: a crack only adds to it
         let uplift = joint.uplift.as_ref().map_or(0.0, |up| up.force(0.0));
         let (normal, shear) = (r[0] * nu[0] + r[1] * nu[1] - uplift, r[1] * nu[0] - r[0] * nu[1]);
-        let length: f64 = facets.iter().map(|&(f, _)| problem.mesh.facet_length(f)).sum();
-        let capacity = joint.law.capacity(normal.max(0.0), length);
+        // at most the largest friction's F N plus every curve's cohesion or threshold over its length
+        let length = |tag: i32| problem.mesh.boundary_length(tag);
+        let laws = || joint.tags.iter().zip(&joint.laws);
+        let friction = laws().map(|(_, c)| c.law.capacity(normal.max(0.0), 0.0)).fold(0.0, f64::max);
+        let capacity = friction + laws().map(|(&tag, c)| c.law.capacity(0.0, length(tag))).sum::<f64>();
         if normal <= 0.0 || shear.abs() > capacity {
             return Err(self.invalid(format!(
                 "no equilibrium: nothing but the joint holds the body, and the loads push along it with \
-                 |T| = {:.4e} N/m against a normal force N = {normal:.4e} N/m, more than the joint law {:?} \
+                 |T| = {:.4e} N/m against a normal force N = {normal:.4e} N/m, more than the joint law {} \
                  can carry ({capacity:.4e} N/m); raise contact.friction, contact.cohesion or \
                  contact.threshold, or support the body with a Dirichlet curve",
                 shear.abs(),
-                joint.law
+                joint.laws.iter().map(|c| format!("{:?}", c.law)).collect::<Vec<_>>().join(", ")
             )));
         }
         Ok(())

@@ -33,8 +33,9 @@ pub fn run(args: Args) -> Result<()> {
     for (tag, name, b) in &roles {
         progress.result(&format!("curve    {name:<20} {:?}, length {:.4}", b.role, mesh.boundary_length(*tag)));
     }
-    for (name, tag) in scene.joints.keys().filter_map(|name| mesh.group(1, name).map(|g| (name, g.tag))) {
-        progress.result(&format!("joint    {name:<20} {:?}, length {:.4}", scene.law(), mesh.boundary_length(tag)));
+    for (name, joint) in &scene.joints {
+        let Some(tag) = mesh.group(1, name).map(|g| g.tag) else { continue };
+        progress.result(&format!("joint    {name:<20} {:?}, length {:.4}", joint.law(), mesh.boundary_length(tag)));
     }
     for g in mesh.groups.iter().filter(|g| g.dim == 2) {
         let m = problem.materials[mesh.cell_tags.iter().position(|&t| t == g.tag).unwrap_or(0)];

@@ -1,6 +1,6 @@
 //! ParaView files and summaries of one solution, shared by `solve` and `adapt`.
 
-use crate::contact::{CoarseSolve, ContactSolution, Crack, FaceState, JointLaw, JointLine, Resultant};
+use crate::contact::{CoarseSolve, ContactSolution, Crack, FaceState, JointForces, JointLaw, JointLine, Resultant};
 use crate::elasticity::kernels::{principal, von_mises};
 use crate::elasticity::{Discretisation, Problem};
 use crate::estimate::estimators::{GlobalEstimators, NAMES};
@@ -152,7 +152,7 @@ fn contact_fields(n_facets: usize, contact: &ContactSolution) -> Vec<Field> {
         ("contact_status", FaceState::status),
         ("regularisation_error", |f| f.regularisation_error),
     ];
-    if contact.nitsche.law.has_friction() {
+    if contact.nitsche.has_friction() {
         columns.extend([
             ("tangential_traction", (|f| f.tangential_traction) as fn(&FaceState) -> f64),
             ("slip", |f| f.slip),
@@ -214,8 +214,6 @@ pub struct ContactSummary {
     /// each (docs/method.md §1.10).
     #[serde(skip_serializing_if = "Option::is_none")]
     pieces: Option<usize>,
-    gamma0: f64,
-    theta: f64,
     /// δ of the last Newton step.
     delta: f64,
     stress_scale: f64,
@@ -230,15 +228,15 @@ pub struct ContactSummary {
     coarse: Vec<CoarseSolve>,
     max_pressure: f64,
     max_regularisation_error: f64,
-    /// The joint law and its parameters.
-    joint: JointLaw,
+    /// Each curve of Γ_C: its law, Nitsche parameters and forces.
+    curves: Vec<CurveSummary>,
     /// With friction, the lengths of the closed part that sticks and that slips \[m\].
     stick_length: f64,
     slip_length: f64,
     /// ∫_{Γ_C} p_c ds and ∫_{Γ_C} t^t ds along τ = (−ν_y, ν_x) \[N/m\].
     pub normal_force: f64,
     pub tangential_force: f64,
-    /// With friction, FS_LE = ∫ (c 1_closed + F p_c) / |∫ t^t| (docs/method.md §1.7).
+    /// With friction, FS_LE = ∫ (c q'(P_γ) + F p_c) / |∫ t^t| (docs/method.md §1.7, §1.9).
     sliding_safety_factor: Option<f64>,
     /// With uplift: U = ∫_{Γ_C} p_u ds \[N/m\], and the crack at the heel that it fills.
     pub uplift_force: Option<f64>,
@@ -248,6 +246,39 @@ pub struct ContactSummary {
     joint_line: Option<JointLine>,
     pub crack_length: Option<f64>,
     pub resultant: Option<Resultant>,
+}
+
+/// One curve of Γ_C in `summary.json`: its physical name (on a joint between two bodies, the
+/// slave side's), law, Nitsche parameters and forces.
+#[derive(Serialize)]
+struct CurveSummary {
+    curve: String,
+    #[serde(flatten)]
+    law: JointLaw,
+    gamma0: f64,
+    theta: f64,
+    #[serde(flatten)]
+    forces: JointForces,
+}
+
+impl CurveSummary {
+    /// Every curve of `c` that has faces.
+    fn of_each(mesh: &Mesh, c: &ContactSolution) -> Vec<CurveSummary> {
+        let faces = &c.nitsche.faces;
+        (c.nitsche.laws.iter().enumerate())
+            .filter_map(|(curve, l)| {
+                let tag = mesh.facet_tags[faces.iter().find(|f| f.curve == curve)?.facet];
+                let name = mesh.groups.iter().find(|g| g.dim == 1 && g.tag == tag).map_or("?", |g| &g.name);
+                Some(CurveSummary {
+                    curve: name.to_string(),
+                    law: l.law,
+                    gamma0: l.parameters.gamma0,
+                    theta: l.parameters.theta,
+                    forces: c.forces(|k| faces[k].curve == curve),
+                })
+            })
+            .collect()
+    }
 }
 
 /// What `summary.json` says of `max_von_mises`.
@@ -320,8 +351,6 @@ impl ContactSummary {
         ContactSummary {
             faces: c.nitsche.faces.iter().map(|f| f.facet).collect::<std::collections::BTreeSet<_>>().len(),
             pieces: c.nitsche.faces.first().and_then(|f| f.opposite.as_ref()).map(|_| c.nitsche.faces.len()),
-            gamma0: c.nitsche.parameters.gamma0,
-            theta: c.nitsche.parameters.theta,
             delta: c.smoothing.delta,
             stress_scale: problem.stress_scale(&disc.topology),
             contact_length: c.contact_length(),
@@ -331,7 +360,7 @@ impl ContactSummary {
             coarse: c.coarse.clone(),
             max_pressure: c.faces.iter().map(|f| f.pressure).fold(0.0, f64::max),
             max_regularisation_error: c.faces.iter().map(|f| f.regularisation_error).fold(0.0, f64::max),
-            joint: c.nitsche.law,
+            curves: CurveSummary::of_each(mesh, c),
             stick_length: c.stick_length(),
             slip_length: c.slip_length(),
             normal_force: c.normal_force(),

@@ -204,7 +204,7 @@ fn analyse(
             eta_relative: r.eta.tot / r.stress_norm,
             crack_length: c.crack_from_heel(&line),
             resultant_position: c.resultant(&line).map(|f| f.position),
-            sliding_safety_factor: c.sliding_safety_factor(),
+            sliding_safety_factor: c.forces_on(&line).sliding_safety_factor,
         });
         let joint = step.joint.context("the step has no joint")?;
         last = Some((step.problem.clone(), joint.clone(), c.clone()));
@@ -214,7 +214,7 @@ fn analyse(
     let (problem, joint, solution) = last.context("the adaptive run made no step")?;
     let record = history.last().context("the adaptive run made no step")?;
     let disc = problem.discretise();
-    let (strength, note) = match joint.law.has_friction() {
+    let (strength, note) = match joint.has_friction() {
         false => (None, Some(FRICTIONLESS.to_string())),
         true => {
             let newton = NewtonOptions { trace: args.input.newton_trace(), ..scene.newton_options() };
@@ -241,11 +241,11 @@ fn analyse(
         eta_tot: record.eta.tot,
         eta_relative,
         joint_line: line,
-        contact_length: solution.contact_length(),
+        contact_length: solution.forces_on(&line).contact_length,
         crack_length: solution.crack_from_heel(&line),
         resultant: solution.resultant(&line),
         base_stresses: base_stresses(&solution, &problem, &disc, &line, average),
-        sliding_safety_factor: solution.sliding_safety_factor(),
+        sliding_safety_factor: solution.forces_on(&line).sliding_safety_factor,
         strength_reduction: strength,
         safety_factor_note: note,
     };
@@ -467,6 +467,7 @@ fn joint_rows(c: &ContactSolution, line: &JointLine) -> Vec<JointRow> {
         .faces
         .iter()
         .enumerate()
+        .filter(|&(k, _)| c.on_line(k, line))
         .map(|(k, f)| {
             let x = c.nitsche.position(k, 0.5);
             JointRow {

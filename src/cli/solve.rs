@@ -94,7 +94,7 @@ pub fn run(args: Args) -> Result<()> {
     // 1. Scene and mesh
     let mut scene = input.scene()?;
     override_contact(&args, &mut scene)?;
-    if args.strength_reduction && !scene.law().has_friction() {
+    if args.strength_reduction && !scene.has_friction() {
         anyhow::bail!("--strength-reduction needs a frictional joint: give --friction, --cohesion or --threshold");
     }
     let dir = args.output.dir(&scene)?;

@@ -2,8 +2,9 @@
 //! bodies (docs/method.md §1.10), by Nitsche's method.
 //!
 //! A [`ContactJoint`] is the one description of a contact boundary, built by the scene: where
-//! (the physical tags of Γ_C), which law, and the Nitsche parameters. On a mesh it becomes the
-//! faces of [`Nitsche`]. [`ContactProblem`] is the nonlinear system F(x) = 0 over the free
+//! (the physical tags of Γ_C) and, for each of its curves, which law and which Nitsche
+//! parameters ([`CurveLaw`]). On a mesh it becomes the faces of [`Nitsche`], each reading the
+//! law of its curve. [`ContactProblem`] is the nonlinear system F(x) = 0 over the free
 //! displacement dofs,
 //!
 //!   F(u; v) = (σ(u), ε(v)) − (f, v) − (g_N, v)_{Γ_N} + Σ_F R_F(u; v),
@@ -32,7 +33,21 @@ use std::sync::OnceLock;
 use std::time::Instant;
 pub use uplift::Uplift;
 
-/// A contact boundary: the curves of Γ_C, the joint law and the Nitsche parameters.
+/// The joint law and the Nitsche parameters of one curve of Γ_C.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CurveLaw {
+    pub law: JointLaw,
+    pub parameters: NitscheParameters,
+}
+
+impl CurveLaw {
+    /// This curve with its strength divided by k ([`JointLaw::reduced`]).
+    pub fn reduced(&self, k: f64) -> CurveLaw {
+        CurveLaw { law: self.law.reduced(k), ..*self }
+    }
+}
+
+/// A contact boundary: the curves of Γ_C, and the joint law and Nitsche parameters of each.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ContactJoint {
     /// Physical tags of the curves of Γ_C (on a joint between two bodies, the slave sides).
@@ -40,16 +55,33 @@ pub struct ContactJoint {
     /// On joints between two bodies, the physical tag of the master side's curve facing each
     /// curve of `tags`; empty: a rigid foundation.
     pub masters: Vec<i32>,
-    pub law: JointLaw,
-    pub parameters: NitscheParameters,
+    /// The law and Nitsche parameters of each curve of `tags`, in the same order.
+    pub laws: Vec<CurveLaw>,
     /// The pore-water pressure in the joint, if any.
     pub uplift: Option<Uplift>,
 }
 
 impl ContactJoint {
+    /// A joint on the curves `tags` (facing the curves `masters` on two bodies, or none: a rigid
+    /// foundation), every curve with `law` and `parameters`.
+    pub fn uniform(tags: Vec<i32>, masters: Vec<i32>, law: JointLaw, parameters: NitscheParameters) -> Self {
+        let laws = vec![CurveLaw { law, parameters }; tags.len()];
+        ContactJoint { tags, masters, laws, uplift: None }
+    }
+
     /// A frictionless joint on the curves `tags`.
     pub fn frictionless(tags: Vec<i32>, parameters: NitscheParameters) -> Self {
-        ContactJoint { tags, masters: Vec::new(), law: JointLaw::Frictionless, parameters, uplift: None }
+        ContactJoint::uniform(tags, Vec::new(), JointLaw::Frictionless, parameters)
+    }
+
+    /// Whether some curve has a tangential traction.
+    pub fn has_friction(&self) -> bool {
+        self.laws.iter().any(|c| c.law.has_friction())
+    }
+
+    /// The joint with the strength of every curve divided by k (strength reduction).
+    pub fn reduced(&self, k: f64) -> ContactJoint {
+        ContactJoint { laws: self.laws.iter().map(|c| c.reduced(k)).collect(), ..self.clone() }
     }
 
     /// The contact faces of the joint on the mesh of `problem`.
@@ -83,7 +115,8 @@ pub struct ContactProblem<'a> {
 pub struct FaceState {
     /// |F|.
     pub length: f64,
-    /// Mean contact pressure −(1/|F|) ∫_F [P_γ(u_h)]_{R⁻} ≥ 0.
+    /// Mean contact pressure −(1/|F|) ∫_F \[P_γ(u_h)\]_{reg,δ} ≥ 0: the normal traction of the
+    /// solved equations, at the δ of the solve (docs/method.md §1.9).
     pub pressure: f64,
     /// Mean normal displacement (1/|F|) ∫_F u_h^n.
     pub normal_displacement: f64,
@@ -103,6 +136,9 @@ pub struct FaceState {
     pub uplift: f64,
     /// The first moment ∫_F x p_c ds of the contact pressure.
     pub pressure_moment: [f64; 2],
+    /// ∫_F q'(P_γ(u_h)) ds, the length over which the solved equations apply a cohesion: the
+    /// smoothed closed indicator of docs/method.md §1.7 (the closed length at δ = 0).
+    pub cohesive_length: f64,
     /// The ends of the closed part of F (from its first closed point to its last), if any.
     pub closed: Option<[[f64; 2]; 2]>,
 }
@@ -122,6 +158,7 @@ impl FaceState {
             sum.slip += part.slip * w;
             sum.uplift += part.uplift * w;
             sum.contact_length += part.contact_length;
+            sum.cohesive_length += part.cohesive_length;
             sum.stick_length += part.stick_length;
             sum.slip_length += part.slip_length;
             sum.regularisation_error = sum.regularisation_error.max(part.regularisation_error);
@@ -192,7 +229,7 @@ impl<'a> ContactProblem<'a> {
     /// contact faces (and of the master facets they face). Otherwise θ σ^n(v) reaches every
     /// dof of the cell: the whole layer.
     pub fn layer_rows(&self) -> Vec<usize> {
-        if self.nitsche.parameters.theta != 0.0 {
+        if (0..self.nitsche.faces.len()).any(|k| self.nitsche.theta(k) != 0.0) {
             return self.layer();
         }
         let mesh = &self.problem.mesh;
@@ -309,17 +346,20 @@ fn face_state(nitsche: &Nitsche, smoothing: Smoothing, k: usize, u: &FaceDisplac
         let pt = nitsche.point(k, s);
         let p = nitsche.p_gamma(k, &pt, u);
         let mean = w / length;
-        state.pressure -= negative_part(p) * mean;
+        // the solved normal traction q(P_γ): p_c = −q(P_γ)
+        let t_n = smoothing.value(p);
+        state.pressure -= t_n * mean;
         for (m, x) in state.pressure_moment.iter_mut().zip(pt.x) {
-            *m -= x * negative_part(p) * w;
+            *m -= x * t_n * w;
         }
+        state.cohesive_length += smoothing.derivative(p) * w;
         let [normal, tangential] = nitsche.displacement_at(k, &pt, u);
         state.normal_displacement += normal * mean;
         state.contact_length += if p < 0.0 { w } else { 0.0 };
         let error = (smoothing.value(p) - negative_part(p)).abs();
         state.regularisation_error = state.regularisation_error.max(error);
         state.uplift += nitsche.uplift_at(pt.x) * mean;
-        if nitsche.law.has_friction() {
+        if nitsche.law(k).has_friction() {
             state.tangential_traction += nitsche.tangential(k, &pt, u, smoothing).value * mean;
             state.slip += tangential * mean;
             let plain = nitsche.tangential(k, &pt, u, Smoothing::NONE);
@@ -347,7 +387,7 @@ impl NonlinearSystem for ContactProblem<'_> {
 
     /// Friction couples the normal traction into the tangential rows (docs/method.md §1.5).
     fn monotone(&self) -> bool {
-        self.nitsche.law.has_friction()
+        self.nitsche.has_friction()
     }
 
     fn evaluate(&self, x: &[f64], residual: &mut [f64], mut jacobian: Option<&mut [f64]>) {
@@ -552,21 +592,35 @@ impl ContactSolution {
 
     /// The normal force the joint carries, N = ∫_{Γ_C} p_c ds \[N/m\] (compression positive).
     pub fn normal_force(&self) -> f64 {
-        self.faces.iter().map(|f| f.pressure * f.length).sum()
+        self.forces(|_| true).normal_force
     }
 
     /// The tangential force T = ∫_{Γ_C} t^t ds \[N/m\] along τ = (−ν_y, ν_x).
     pub fn tangential_force(&self) -> f64 {
-        self.faces.iter().map(|f| f.tangential_traction * f.length).sum()
+        self.forces(|_| true).tangential_force
     }
 
-    /// The sliding safety factor by limit equilibrium along the joint, from the computed
-    /// tractions: FS_LE = ∫_{Γ_C} (c 1_closed + F p_c) ds / |∫_{Γ_C} t^t ds| (s 1_closed for
-    /// Tresca); None without friction or shear.
+    /// FS_LE of the whole of Γ_C ([`JointForces::sliding_safety_factor`]).
     pub fn sliding_safety_factor(&self) -> Option<f64> {
-        let shear = self.tangential_force().abs();
-        let law = self.nitsche.law;
-        (law.has_friction() && shear > 0.0).then(|| law.capacity(self.normal_force(), self.contact_length()) / shear)
+        self.forces(|_| true).sliding_safety_factor
+    }
+
+    /// The forces on the faces k with `on(k)`, each face with its curve's law (docs/method.md
+    /// §1.9): N = ∫ p_c ds, T = ∫ t^t ds, the contact length and FS_LE = ∫ (c q'(P_γ) + F p_c)
+    /// ds / |T| (s q'(P_γ) for Tresca; q'(P_γ) = 1_closed at δ = 0), None without friction or
+    /// shear there.
+    pub fn forces(&self, on: impl Fn(usize) -> bool) -> JointForces {
+        let (mut n, mut t, mut contact_length, mut capacity, mut friction) = (0.0, 0.0, 0.0, 0.0, false);
+        for (k, f) in self.faces.iter().enumerate().filter(|&(k, _)| on(k)) {
+            let law = self.nitsche.law(k);
+            n += f.pressure * f.length;
+            t += f.tangential_traction * f.length;
+            contact_length += f.contact_length;
+            capacity += law.capacity(f.pressure * f.length, f.cohesive_length);
+            friction |= law.has_friction();
+        }
+        let sliding_safety_factor = (friction && t != 0.0).then(|| capacity / t.abs());
+        JointForces { contact_length, normal_force: n, tangential_force: t, sliding_safety_factor }
     }
 
     /// The uplift force U = ∫_{Γ_C} p_u ds \[N/m\].
@@ -574,23 +628,39 @@ impl ContactSolution {
         self.faces.iter().map(|f| f.uplift * f.length).sum()
     }
 
-    /// The resultant of the joint traction on the straight joint `line` (docs/method.md §1.9);
-    /// None when nothing presses on the joint.
+    /// Whether face k lies on `line` (a sliding plane among other joints).
+    pub fn on_line(&self, k: usize, line: &JointLine) -> bool {
+        [0.0, 1.0].iter().all(|&s| line.holds(self.nitsche.position(k, s)))
+    }
+
+    /// The states of the faces on `line`.
+    fn faces_on(&self, line: &JointLine) -> Vec<FaceState> {
+        (self.faces.iter().enumerate()).filter(|&(k, _)| self.on_line(k, line)).map(|(_, f)| *f).collect()
+    }
+
+    /// The forces on the faces on `line` ([`ContactSolution::forces`]).
+    pub fn forces_on(&self, line: &JointLine) -> JointForces {
+        self.forces(|k| self.on_line(k, line))
+    }
+
+    /// The resultant of the traction of the faces on the straight joint `line` (docs/method.md
+    /// §1.9); None when nothing presses on the joint.
     pub fn resultant(&self, line: &JointLine) -> Option<Resultant> {
-        let moment =
-            self.faces.iter().fold([0.0; 2], |m, f| [m[0] + f.pressure_moment[0], m[1] + f.pressure_moment[1]]);
-        let forces = [self.normal_force(), self.tangential_force(), self.uplift_force()];
-        Resultant::new(line, forces, moment)
+        let faces = self.faces_on(line);
+        let moment = faces.iter().fold([0.0; 2], |m, f| [m[0] + f.pressure_moment[0], m[1] + f.pressure_moment[1]]);
+        let JointForces { normal_force, tangential_force, .. } = self.forces_on(line);
+        let uplift = faces.iter().map(|f| f.uplift * f.length).sum();
+        Resultant::new(line, [normal_force, tangential_force, uplift], moment)
     }
 
     /// The length of `line` open at the heel ([`open_from_heel`]).
     pub fn crack_from_heel(&self, line: &JointLine) -> f64 {
-        open_from_heel(&self.faces, line)
+        open_from_heel(&self.faces_on(line), line)
     }
 
-    /// The mean effective normal stress σ'^n = −p_c \[Pa\] (tension positive) over the part of
-    /// `line` at the distances `window` = \[s₀, s₁\] from the heel, integrated exactly on pieces
-    /// split at the kinks of p_c and at s₀, s₁.
+    /// The mean effective normal stress σ'^n = q(P_γ) = −p_c \[Pa\] (tension positive) of the
+    /// solved equations over the part of `line` at the distances `window` = \[s₀, s₁\] from the
+    /// heel, integrated exactly on pieces split at the kinks of p_c and at s₀, s₁.
     pub fn mean_normal_stress(
         &self,
         problem: &Problem,
@@ -601,7 +671,7 @@ impl ContactSolution {
         let u_full = disc.dofs.expand(&self.x);
         let mut dofs = Vec::new();
         let mut integral = 0.0;
-        for k in 0..self.nitsche.faces.len() {
+        for k in (0..self.nitsche.faces.len()).filter(|&k| self.on_line(k, line)) {
             let [d0, d1] = [0.0, 1.0].map(|t| line.distance(self.nitsche.position(k, t)));
             // the window's ends in the face parameter t: s(t) = d0 + t (d1 − d0)
             let [a, b] = window.map(|s| (s - d0) / (d1 - d0));
@@ -610,7 +680,7 @@ impl ContactSolution {
                 continue;
             }
             let u = local(&problem.mesh, &self.nitsche, k, &u_full, &mut dofs);
-            let mut cuts = self.nitsche.kinks(k, &u, Smoothing::NONE);
+            let mut cuts = self.nitsche.kinks(k, &u, self.smoothing);
             cuts.extend([lo, hi]);
             cuts.sort_by(f64::total_cmp);
             integral += self
@@ -618,7 +688,7 @@ impl ContactSolution {
                 .split_rule(k, &cuts)
                 .into_iter()
                 .filter(|&(t, _)| t > lo && t < hi)
-                .map(|(t, w)| negative_part(self.nitsche.p_gamma(k, &self.nitsche.point(k, t), &u)) * w)
+                .map(|(t, w)| self.smoothing.value(self.nitsche.p_gamma(k, &self.nitsche.point(k, t), &u)) * w)
                 .sum::<f64>();
         }
         integral / (window[1] - window[0])
@@ -646,6 +716,16 @@ impl ContactSolution {
     pub fn linearisation(&self, problem: &Problem, disc: &Discretisation) -> Linearisation<'_> {
         Linearisation::new(problem, disc, &self.nitsche, self.smoothing, &self.x_prev)
     }
+}
+
+/// What a part of Γ_C carries: its contact length \[m\], N = ∫ p_c ds and T = ∫ t^t ds \[N/m\], and
+/// FS_LE by limit equilibrium along it.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct JointForces {
+    pub contact_length: f64,
+    pub normal_force: f64,
+    pub tangential_force: f64,
+    pub sliding_safety_factor: Option<f64>,
 }
 
 /// A Newton iterate u^k on Γ_C as the estimator sees it: the faces, the smoothing of its
@@ -895,7 +975,7 @@ pub fn reduce_strength(
     let mut contact = ContactProblem::new(problem, disc, &joint.as_solved(start), start.smoothing);
     while failed - held > tolerance * held {
         let k = if failed.is_finite() { 0.5 * (held + failed) } else { 1.25 * held };
-        contact.nitsche.law = joint.law.reduced(k);
+        contact.nitsche.laws = joint.reduced(k).laws;
         solves += 1;
         match newton(&contact, x.clone(), newton_options) {
             Ok(report) => (held, x) = (k, report.x),

@@ -26,7 +26,7 @@
 use super::law::{JointLaw, Tangential};
 use super::projection::Smoothing;
 use super::uplift::Uplift;
-use super::ContactJoint;
+use super::{ContactJoint, CurveLaw};
 use crate::elasticity::Material;
 use crate::fem::affine::AffineMap;
 use crate::fem::lagrange;
@@ -74,6 +74,8 @@ pub struct ContactFace {
     pub facet: usize,
     /// The cell owning the face.
     pub cell: usize,
+    /// The index of the face's curve in [`Nitsche::laws`].
+    pub curve: usize,
     pub map: AffineMap,
     /// Reference coordinates (in the cell) of the face's end points.
     pub ends: [[f64; 2]; 2],
@@ -132,11 +134,11 @@ pub struct FaceDisplacement {
     pub tangential: f64,
 }
 
-/// All contact faces of a mesh with the Nitsche parameters.
+/// All contact faces of a mesh, with the law and Nitsche parameters of each curve.
 #[derive(Debug, Clone)]
 pub struct Nitsche {
-    pub parameters: NitscheParameters,
-    pub law: JointLaw,
+    /// The law and parameters of each curve, indexed by [`ContactFace::curve`].
+    pub laws: Vec<CurveLaw>,
     pub uplift: Option<Uplift>,
     pub faces: Vec<ContactFace>,
     pub order: usize,
@@ -146,21 +148,44 @@ impl Nitsche {
     /// Contact faces: the boundary facets of the curves of `joint`; on a joint between two
     /// bodies, the pieces of the slave facets that face one master cell each.
     pub fn new(mesh: &Mesh, topology: &Topology, materials: &[Material], joint: &ContactJoint) -> Self {
-        let parameters = joint.parameters;
-        let slave = |tags| mesh.facets_tagged(tags).map(|f| face(mesh, topology, materials, f, &parameters));
-        let faces = if joint.masters.is_empty() {
-            slave(&joint.tags).collect()
-        } else {
-            // each slave curve faces its own master curve
-            let mut faces = Vec::new();
-            for (tag, master) in joint.tags.iter().zip(&joint.masters) {
-                let master: Vec<(usize, usize)> =
-                    mesh.facets_tagged(std::slice::from_ref(master)).map(|f| (f, topology.facet_cell(f))).collect();
-                faces.extend(slave(std::slice::from_ref(tag)).flat_map(|face| pieces(mesh, topology, &face, &master)));
-            }
-            faces
+        let slave = |curve: usize| {
+            let tag = std::slice::from_ref(&joint.tags[curve]);
+            mesh.facets_tagged(tag)
+                .map(move |f| face(mesh, topology, materials, f, curve, &joint.laws[curve].parameters))
         };
-        Nitsche { parameters, law: joint.law, uplift: joint.uplift.clone(), faces, order: mesh.order }
+        let mut faces = Vec::new();
+        for curve in 0..joint.tags.len() {
+            match joint.masters.get(curve) {
+                None => faces.extend(slave(curve)),
+                // each slave curve faces its own master curve
+                Some(master) => {
+                    let master: Vec<(usize, usize)> =
+                        mesh.facets_tagged(std::slice::from_ref(master)).map(|f| (f, topology.facet_cell(f))).collect();
+                    faces.extend(slave(curve).flat_map(|face| pieces(mesh, topology, &face, &master)));
+                }
+            }
+        }
+        Nitsche { laws: joint.laws.clone(), uplift: joint.uplift.clone(), faces, order: mesh.order }
+    }
+
+    /// The joint law of face `k`: its curve's.
+    pub fn law(&self, k: usize) -> JointLaw {
+        self.laws[self.faces[k].curve].law
+    }
+
+    /// The Nitsche parameters of face `k`: its curve's.
+    pub fn parameters(&self, k: usize) -> &NitscheParameters {
+        &self.laws[self.faces[k].curve].parameters
+    }
+
+    /// θ of face `k`.
+    pub fn theta(&self, k: usize) -> f64 {
+        self.parameters(k).theta
+    }
+
+    /// Whether some face has a tangential traction.
+    pub fn has_friction(&self) -> bool {
+        self.laws.iter().any(|c| c.law.has_friction())
     }
 
     /// Number of local dofs of a face: those of the owning cell, and of the master cell on a
@@ -216,7 +241,7 @@ impl Nitsche {
         let (mut sigma_t, mut u_t) = along(tau);
         // g − g₀ = ∇g·Jξ from the cell's origin x₀: without the rounding ε|x| of the point itself
         let offset = linear(&face.map, xi);
-        let gradient = self.parameters.gap.gradient;
+        let gradient = self.parameters(k).gap.gradient;
         let mut gap = gradient[0] * offset[0] + gradient[1] * offset[1];
         if let Some(opposite) = &face.opposite {
             // the jump [v] = v¹(x) − v²(y) at the point y of the master cell facing x:
@@ -245,7 +270,7 @@ impl Nitsche {
             let y0 = o.map.origin;
             (y0[0] - x0[0]) * nu[0] + (y0[1] - x0[1]) * nu[1]
         });
-        self.parameters.gap.at(x0) + apart
+        self.parameters(k).gap.at(x0) + apart
     }
 
     /// The [`FaceDisplacement`] of face k for the local nodal values `hi` + `lo` (index 2i + a,
@@ -326,14 +351,14 @@ impl Nitsche {
 
     /// The joint law's tangential traction Π_S(P^t_γ(u_h)) at a face point.
     pub fn tangential(&self, k: usize, point: &FacePoint, u: &FaceDisplacement, smoothing: Smoothing) -> Tangential {
-        self.law.tangential(self.p_gamma(k, point, u), self.p_tangential(k, point, u), smoothing)
+        self.law(k).tangential(self.p_gamma(k, point, u), self.p_tangential(k, point, u), smoothing)
     }
 
     /// The Γ_C traction t = (q(P_γ(u_h)) − p_u) ν + Π_S(P^t_γ(u_h)) τ at a face point, with q
     /// the smoothing (`Smoothing::NONE`: the exact traction).
     pub fn traction(&self, k: usize, point: &FacePoint, u: &FaceDisplacement, smoothing: Smoothing) -> [f64; 2] {
         let normal = smoothing.value(self.p_gamma(k, point, u)) - self.uplift_at(point.x);
-        let tangential = if self.law.has_friction() { self.tangential(k, point, u, smoothing).value } else { 0.0 };
+        let tangential = if self.law(k).has_friction() { self.tangential(k, point, u, smoothing).value } else { 0.0 };
         self.along(k, normal, tangential)
     }
 
@@ -364,7 +389,7 @@ impl Nitsche {
     ) -> [f64; 2] {
         let (p_prev, dp) = (self.p_gamma(k, point, u_prev), self.p_increment(k, point, step));
         let normal = smoothing.value(p_prev) + smoothing.derivative(p_prev) * dp;
-        let tangential = if self.law.has_friction() {
+        let tangential = if self.law(k).has_friction() {
             let t = self.tangential(k, point, u_prev, smoothing);
             t.value + t.d_tangential * self.p_tangential(k, point, step) + t.d_normal * dp
         } else {
@@ -391,7 +416,7 @@ impl Nitsche {
     /// sub-intervals and bisected to round-off.
     pub fn kinks(&self, k: usize, u: &FaceDisplacement, smoothing: Smoothing) -> Vec<f64> {
         let mut cuts = self.cuts(k, u, &smoothing.breakpoints());
-        let levels = self.law.breakpoints(smoothing);
+        let levels = self.law(k).breakpoints(smoothing);
         if levels.is_empty() {
             return cuts;
         }
@@ -441,7 +466,7 @@ impl Nitsche {
     /// (s, weight·|F|).
     pub fn split_rule(&self, k: usize, cuts: &[f64]) -> Vec<(f64, f64)> {
         let length = self.faces[k].length;
-        let rule = gauss_segment_cached(self.law.face_points(self.order));
+        let rule = gauss_segment_cached(self.law(k).face_points(self.order));
         cuts.windows(2)
             .filter(|w| w[1] > w[0])
             .flat_map(|w| {
@@ -494,7 +519,7 @@ impl Nitsche {
         mut jacobian: Option<&mut [f64]>,
     ) {
         let n = self.n_local();
-        let (gamma, theta) = (self.faces[k].gamma, self.parameters.theta);
+        let (gamma, theta) = (self.faces[k].gamma, self.theta(k));
         residual[..n].fill(0.0);
         if let Some(j) = jacobian.as_deref_mut() {
             j[..n * n].fill(0.0);
@@ -527,7 +552,7 @@ impl Nitsche {
                     }
                 }
             }
-            if self.law.has_friction() {
+            if self.law(k).has_friction() {
                 let sigma_t_u = dot(&pt.sigma_t, &u_new.relative);
                 let t = self.tangential(k, &pt, u, smoothing);
                 let traction = [sigma_t_u, tangential];
@@ -558,7 +583,7 @@ impl Nitsche {
         jacobian: Option<&mut [f64]>,
     ) {
         let n = self.n_local();
-        let (gamma, theta) = (self.faces[k].gamma, self.parameters.theta);
+        let (gamma, theta) = (self.faces[k].gamma, self.theta(k));
         let test: Vec<f64> = (0..n).map(|i| theta * pt.sigma_t[i] - gamma * pt.u_t[i]).collect(); // θ σ^t(v) − γ v^t
         for i in 0..n {
             residual[i] += (-theta / gamma * sigma_t_u * pt.sigma_t[i] // −(θ/γ) σ^t(u) σ^t(v)
@@ -654,6 +679,7 @@ fn face(
     topology: &Topology,
     materials: &[Material],
     f: usize,
+    curve: usize,
     parameters: &NitscheParameters,
 ) -> ContactFace {
     let cell = topology.facet_cell(f);
@@ -664,6 +690,7 @@ fn face(
     ContactFace {
         facet: f,
         cell,
+        curve,
         map: AffineMap::new(mesh.cell_vertices(cell)),
         ends: [nodes[0], nodes[1]].map(|n| lagrange::reference_vertex(mesh.cell(cell), n)),
         normal,

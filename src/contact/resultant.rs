@@ -36,6 +36,12 @@ impl JointLine {
         (x[0] - self.heel[0]) * self.along[0] + (x[1] - self.heel[1]) * self.along[1]
     }
 
+    /// Whether the point x lies on the joint's line (to 10⁻⁹ of its length).
+    pub fn holds(&self, x: [f64; 2]) -> bool {
+        let offset = (x[0] - self.heel[0]) * self.along[1] - (x[1] - self.heel[1]) * self.along[0];
+        offset.abs() <= 1e-9 * self.length
+    }
+
     /// The point at the distance s from the heel.
     pub fn point(&self, s: f64) -> [f64; 2] {
         [self.heel[0] + s * self.along[0], self.heel[1] + s * self.along[1]]

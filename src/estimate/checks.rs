@@ -173,7 +173,7 @@ pub fn representation_bound(problem: &Problem, u: &Displacement, contact: Option
     let mesh = &problem.mesh;
     let mut weight = vec![1.0; mesh.n_cells()];
     if let Some(state) = contact {
-        let gamma0 = state.nitsche.parameters.gamma0.max(1.0);
+        let gamma0 = state.nitsche.laws.iter().map(|c| c.parameters.gamma0).fold(1.0, f64::max);
         for face in &state.nitsche.faces {
             weight[face.cell] = gamma0;
             face.opposite.iter().for_each(|opposite| weight[opposite.cell] = gamma0);

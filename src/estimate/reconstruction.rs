@@ -131,10 +131,8 @@ pub fn reconstruct(
 
 /// Fails unless the estimator covers the Nitsche variant of `contact` (θ = 0 only).
 pub(crate) fn covered(contact: Option<&Linearisation>) -> Result<(), EstimateError> {
-    match contact {
-        Some(c) if c.nitsche.parameters.theta != 0.0 => Err(EstimateError::Theta(c.nitsche.parameters.theta)),
-        _ => Ok(()),
-    }
+    let theta = contact.and_then(|c| c.nitsche.laws.iter().map(|l| l.parameters.theta).find(|&t| t != 0.0));
+    theta.map_or(Ok(()), |theta| Err(EstimateError::Theta(theta)))
 }
 
 /// [`reconstruct`] of a [`covered`] iterate, with (if `contact`) the facets of Γ_C sampled at

@@ -4,7 +4,7 @@
 
 use super::{Role, Scene, SceneError};
 use crate::contact::nitsche::NitscheParameters;
-use crate::contact::{ContactJoint, JointLaw};
+use crate::contact::{ContactJoint, CurveLaw, JointLaw};
 use crate::elasticity::Problem;
 use crate::mesh::interface::{self, Interface};
 use crate::mesh::{Mesh, Topology};
@@ -41,6 +41,12 @@ impl JointSection {
         super::law_of(self.threshold, self.friction, self.cohesion)
     }
 
+    /// The law and Nitsche parameters of the joint.
+    pub fn curve_law(&self) -> CurveLaw {
+        let parameters = NitscheParameters { gamma0: self.gamma0, theta: self.theta, ..Default::default() };
+        CurveLaw { law: self.law(), parameters }
+    }
+
     /// The first key out of range, as "joints.<name>.key = value must …".
     fn check(&self, name: &str) -> Result<(), String> {
         if self.gamma0.is_nan() || self.gamma0 <= 0.0 {
@@ -54,9 +60,9 @@ impl JointSection {
 }
 
 impl Scene {
-    /// The `[joints]` checks that need no mesh: each table's values; one law and one set of
-    /// Nitsche parameters for every joint; no joint curve with a `[boundary]` role; no rigid
-    /// contact beside joints (not supported yet).
+    /// The `[joints]` checks that need no mesh: each table's values (each joint has its own law
+    /// and Nitsche parameters); no joint curve with a `[boundary]` role; no rigid contact beside
+    /// joints (not supported yet).
     pub(super) fn check_joints(&self) -> Result<(), SceneError> {
         for (name, joint) in &self.joints {
             joint.check(name).map_err(|message| self.invalid(message))?;
@@ -67,16 +73,7 @@ impl Scene {
                 )));
             }
         }
-        let Some((first, joint)) = self.joints.iter().next() else { return Ok(()) };
-        let same = |j: &JointSection| {
-            JointSection { slave: None, ..j.clone() } == JointSection { slave: None, ..joint.clone() }
-        };
-        if let Some((other, _)) = self.joints.iter().find(|(_, j)| !same(j)) {
-            return Err(self.invalid(format!(
-                "joints.{first} and joints.{other} have different laws or Nitsche parameters; the joints of a \
-                 scene share them: give both tables the same gamma0, theta, friction, cohesion and threshold"
-            )));
-        }
+        let Some(first) = self.joints.keys().next() else { return Ok(()) };
         if let Some((name, _)) = self.boundary.iter().find(|(_, b)| b.role == Role::Contact) {
             return Err(self.invalid(format!(
                 "boundary '{name}' has role contact beside [joints]: a rigid foundation and joints between meshed \
@@ -136,9 +133,12 @@ impl Scene {
         self.joints.keys().map(|name| self.group_tag(mesh, 1, name, "joint")).collect()
     }
 
-    /// The law of the scene's joints, or of `[contact]` without joints.
-    pub fn law(&self) -> JointLaw {
-        self.joints.values().next().map_or_else(|| self.contact.law(), JointSection::law)
+    /// Whether a joint of the scene (or `[contact]`, without joints) has a tangential law.
+    pub fn has_friction(&self) -> bool {
+        match self.joints.is_empty() {
+            true => self.contact.law().has_friction(),
+            false => self.joints.values().any(|j| j.law().has_friction()),
+        }
     }
 
     /// Each body (a set of cells connected through their nodes) must be held against rigid
@@ -148,7 +148,11 @@ impl Scene {
         let mesh = &problem.mesh;
         let topology = Topology::new(mesh);
         let body = bodies(mesh);
-        let facets: Vec<usize> = mesh.facets_tagged(&joint.tags).chain(mesh.facets_tagged(&joint.masters)).collect();
+        // the facets of both sides of every joint, with whether its law has friction
+        let facets: Vec<(usize, bool)> = (joint.tags.iter().chain(&joint.masters))
+            .zip(joint.laws.iter().chain(&joint.laws))
+            .flat_map(|(tag, c)| mesh.facets_tagged(std::slice::from_ref(tag)).map(move |f| (f, c.law.has_friction())))
+            .collect();
         for b in 0..=body.iter().copied().max().unwrap_or(0) {
             let nodes: Vec<bool> = {
                 let mut nodes = vec![false; mesh.n_points()];
@@ -159,10 +163,10 @@ impl Scene {
             };
             let supports: Vec<([f64; 2], [f64; 2])> = facets
                 .iter()
-                .filter(|&&f| body[topology.facet_cell(f)] == b)
-                .flat_map(|&f| {
+                .filter(|&&(f, _)| body[topology.facet_cell(f)] == b)
+                .flat_map(|&(f, friction)| {
                     let nu = topology.outward_normal(mesh, f);
-                    let directions = if joint.law.has_friction() { vec![nu, [-nu[1], nu[0]]] } else { vec![nu] };
+                    let directions = if friction { vec![nu, [-nu[1], nu[0]]] } else { vec![nu] };
                     mesh.facet(f)
                         .iter()
                         .flat_map(move |&n| directions.clone().into_iter().map(move |d| (mesh.points[n], d)))
@@ -183,15 +187,13 @@ impl Scene {
         Ok(())
     }
 
-    /// The two-body contact joint of `interfaces` (None without joints).
+    /// The two-body contact joint of `interfaces`, one per `[joints]` table in order, each curve
+    /// with its table's law and Nitsche parameters (None without joints).
     pub(super) fn two_body_joint(&self, interfaces: &[Interface]) -> Option<ContactJoint> {
-        let section = self.joints.values().next()?;
-        let parameters = NitscheParameters { gamma0: section.gamma0, theta: section.theta, ..Default::default() };
-        Some(ContactJoint {
+        (!interfaces.is_empty()).then(|| ContactJoint {
             tags: interfaces.iter().map(|i| i.slave_curve).collect(),
             masters: interfaces.iter().map(|i| i.master_curve).collect(),
-            law: section.law(),
-            parameters,
+            laws: self.joints.values().map(JointSection::curve_law).collect(),
             uplift: None,
         })
     }

@@ -234,7 +234,7 @@ pub fn contact_row(row: &mut Row, problem: &Problem, tags: &[i32], knobs: Knobs,
     let delta = knobs.delta * scale;
     let start = knobs.start.map_or(delta, |s| (s * scale).max(delta));
     let parameters = NitscheParameters { gamma0: knobs.gamma0, theta: knobs.theta, ..Default::default() };
-    let joint = ContactJoint { tags: tags.to_vec(), masters: Vec::new(), law: knobs.law, parameters, uplift: None };
+    let joint = ContactJoint::uniform(tags.to_vec(), Vec::new(), knobs.law, parameters);
     let mut contact = ContactProblem::new(problem, &disc, &joint, Smoothing { delta });
     let contact_face = contact.nitsche.faces.iter().map(|f| f.length).fold(0.0, f64::max) * length;
     let options = NewtonOptions { rtol: knobs.rtol, max_iter: knobs.max_iter, ..NewtonOptions::default() };

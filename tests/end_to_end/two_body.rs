@@ -58,7 +58,9 @@ fn dam_on_rock_solves_with_its_joint() {
 }
 
 // Bad input on joints, each one error line, exit 1 and no output: a joint on the outer
-// boundary, a curve both a joint and a boundary curve, a joint law key out of range, a
+// boundary, a curve both a joint and a boundary curve, a joint law key out of range (on the
+// dam on its rock, and on the second of the two joints of geo/dam_lifts_on_rock.toml, whose
+// error names that joint), a sliding plane ([safety] joint) that is no joint, a
 // [contact] law key beside joints, a law on a bonded interface, a slave that is not a side, an
 // unknown joint curve, contact on the interface without a joint, a body that its frictionless
 // joints leave free to slide (the dam on its rock; the upper block of geo/dam_lift_joint.toml,
@@ -90,6 +92,20 @@ fn joints_refuse_bad_input() {
             "solve",
             vec![],
             vec!["joints.joint.friction = -1", "non-negative"],
+        ),
+        (
+            edited(&tmp, "dam_lifts_on_rock", "bad-sliding-plane.toml", |t| {
+                t.replace("joint = \"base\"", "joint = \"crest\"")
+            }),
+            "safety",
+            vec![],
+            vec!["safety.joint = 'crest' is not a joint", "base, lift"],
+        ),
+        (
+            edited(&tmp, "dam_lifts_on_rock", "bad-lift.toml", |t| t.replace("cohesion = 5.0e5", "cohesion = -1.0")),
+            "solve",
+            vec![],
+            vec!["joints.lift.cohesion = -1", "non-negative"],
         ),
         (
             scene(&|t| format!("{t}\n[contact]\nfriction = 0.6\n")),
@@ -191,6 +207,92 @@ fn dam_on_rock_is_estimated_across_its_joint() {
     let (faces, pieces) = (count(&last, "faces"), count(&last, "pieces"));
     println!("adapt, last step: {faces} slave facets, {pieces} pieces");
     assert!(pieces > faces, "{pieces} pieces on {faces} facets");
+}
+
+// One law per joint. Source: geo/dam_lifts_on_rock.toml, the dam of Scene A in two lifts on
+// the rock block of Scene B: [joints.base] a Coulomb joint without cohesion, [joints.lift] a
+// Mohr–Coulomb joint (c = 0.5 MPa) with γ₀ = 50; docs/method.md §1.10. Goal: `damfem solve
+// --estimate --effectivity` solves it; `summary.json` gives each curve its own law, γ₀ and
+// forces, and each block is held by its joint alone, so the lift joint carries the upper
+// block's weight ρ g |A_upper| and the water's thrust on its upstream face ρ_w g (45 − 20)²/2,
+// and the base the whole dam's weight and thrust ρ_w g 45²/2, each to 10⁻⁶; FS_LE ≥ 1 on each
+// (the solved traction satisfies its own law); the estimate is equilibrated to 10⁻¹² on every
+// check and η_tot bounds the sharp reference (I_eff ≥ 1).
+// Parameters: P2, gmsh's sizes × 2.
+#[test]
+fn each_joint_has_its_own_law() {
+    let tmp = TempDir::new("two-laws");
+    let dir = tmp.join("solve");
+    let scene = repo("geo/dam_lifts_on_rock.toml");
+    let args = ["--size-factor", "2", "--estimate", "--effectivity", "-q", "-o", dir.to_str().unwrap()];
+    let out = damfem(&[&["solve", scene.to_str().unwrap()], &args[..]].concat());
+    assert_ok(&out);
+    let summary = check_summary(&dir);
+    let curves = summary["contact"]["curves"].as_array().unwrap().clone();
+    let curve = |name: &str| curves.iter().find(|c| c["curve"] == name).unwrap_or_else(|| panic!("{curves:?}")).clone();
+    let (base, lift) = (curve("base"), curve("lift"));
+    println!("base {base}\nlift {lift}");
+    assert_eq!((base["law"].as_str(), base["gamma0"].as_f64()), (Some("coulomb"), Some(100.0)), "{base}");
+    assert!(base["cohesion"].is_null(), "{base}");
+    assert_eq!((lift["law"].as_str(), lift["gamma0"].as_f64()), (Some("mohr_coulomb"), Some(50.0)), "{lift}");
+    assert_eq!(lift["cohesion"].as_f64(), Some(5.0e5), "{lift}");
+    let rho_g = 2400.0 * 9.81;
+    let thrust = |depth: f64| 0.5 * 1000.0 * 9.81 * depth * depth;
+    let expected = [
+        (&base, rho_g * 0.5 * (40.0 + 5.0) * 50.0, thrust(45.0)),
+        (&lift, rho_g * 0.5 * (26.0 + 5.0) * 30.0, thrust(25.0)),
+    ];
+    for (c, weight, thrust) in expected {
+        let number = |key: &str| c[key].as_f64().unwrap_or_else(|| panic!("{key}: {c}"));
+        let (n, t, fs) = (number("normal_force"), number("tangential_force"), number("sliding_safety_factor"));
+        assert!((n - weight).abs() <= 1e-6 * weight, "{}: N = {n}, the blocks above weigh {weight}", c["curve"]);
+        assert!((t + thrust).abs() <= 1e-6 * thrust, "{}: T = {t}, the thrust is {thrust}", c["curve"]);
+        assert!(fs >= 1.0, "{}: FS_LE = {fs}", c["curve"]);
+    }
+    let checks = summary["estimate"]["equilibration"].as_object().unwrap();
+    assert!(checks.values().all(|v| v.as_f64().unwrap() <= 1e-12), "{checks:?}");
+    let i_eff = summary["effectivity"]["i_eff"].as_f64().unwrap();
+    println!("I_eff = {i_eff:.3}, equilibration {checks:?}");
+    assert!(i_eff >= 1.0, "I_eff = {i_eff}");
+}
+
+// The sliding plane among several joints. Source: geo/dam_lifts_on_rock.toml, whose
+// `[safety] joint = "base"` names the dam–rock joint below the lift joint; docs/method.md §1.9.
+// Goal: `damfem safety` reports the base alone: its joint line from the heel (0, 0) to the toe
+// (40, 0), joint.csv with faces at y = 0 only, N the whole dam's weight (the base carries both
+// lifts; with the lift joint's faces it would be 1.41 times that) to 10⁻⁵, |T| the thrust
+// ρ_w g 45²/2 to 10⁻² (the adaptive loop's Newton stops once its linearisation error is below
+// the discretisation error: 1.6·10⁻³ here), FS_SR's bracket within 0.5 % around F W/thrust, the
+// exact factor of a horizontal Coulomb joint (c = 0) that alone holds the dam, since the lift
+// joint (FS_LE 7.2) holds far longer.
+// Parameters: P1, gmsh's sizes × 2, one mesh.
+#[test]
+fn safety_analyses_the_joint_it_is_given() {
+    let tmp = TempDir::new("sliding-plane");
+    let scene = repo("geo/dam_lifts_on_rock.toml");
+    let dir = tmp.join("safety");
+    let args = ["--size-factor", "2", "--order", "1", "--max-steps", "1", "-q", "-o", dir.to_str().unwrap()];
+    let out = damfem(&[&["safety", scene.to_str().unwrap()], &args[..]].concat());
+    assert_ok(&out);
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("safety.json")).unwrap()).unwrap();
+    let number = |v: &serde_json::Value| v.as_f64().unwrap_or_else(|| panic!("{report}"));
+    let line = &report["joint_line"];
+    assert_eq!((number(&line["heel"][0]), number(&line["heel"][1]), number(&line["length"])), (0.0, 0.0, 40.0));
+    let csv = std::fs::read_to_string(dir.join("joint.csv")).unwrap();
+    let y: Vec<f64> = csv.lines().skip(1).map(|l| l.split(',').nth(1).unwrap().parse().unwrap()).collect();
+    assert!(!y.is_empty() && y.iter().all(|&y| y == 0.0), "{csv}");
+    let r = &report["resultant"];
+    let (n, t) = (number(&r["normal_force"]), number(&r["tangential_force"]));
+    let weight = 2400.0 * 9.81 * 0.5 * (40.0 + 5.0) * 50.0;
+    let thrust = 0.5 * 1000.0 * 9.81 * 45.0 * 45.0;
+    println!("N = {n:.6e} (W {weight:.6e}), T = {t:.6e} (thrust {thrust:.6e}), {}", report["strength_reduction"]);
+    assert!((n - weight).abs() <= 1e-5 * weight, "N = {n}, the dam weighs {weight}");
+    assert!((t.abs() - thrust).abs() <= 1e-2 * thrust, "|T| = {}, the thrust is {thrust}", t.abs());
+    let exact = 0.8391 * weight / thrust;
+    let sr = &report["strength_reduction"];
+    let (held, failed) = (number(&sr["held"]), number(&sr["failed"]));
+    assert!(held <= exact && failed >= exact && failed <= 1.005 * held, "{sr} against {exact}");
 }
 
 // A lift joint inside the dam. Source: geo/dam_lift_joint.toml (Scene A's dam cut at

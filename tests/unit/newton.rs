@@ -262,10 +262,9 @@ impl NonlinearSystem for WithoutSchur<'_> {
 /// Scene A at P2 with the Nitsche variant θ and the joint law `law`, and its contact problem
 /// at δ = 10⁻⁴ S.
 fn scene_a_joint(theta: f64, law: JointLaw) -> (Problem, Discretisation, ContactJoint, f64) {
-    let (problem, disc, mut joint, scale) = scene_a(2);
-    joint.parameters.theta = theta;
-    joint.law = law;
-    (problem, disc, joint, scale)
+    let (problem, disc, joint, scale) = scene_a(2);
+    let parameters = NitscheParameters { theta, ..joint.laws[0].parameters };
+    (problem, disc, ContactJoint::uniform(joint.tags, Vec::new(), law, parameters), scale)
 }
 
 /// The Schur complement on the contact layer. Source: docs/method.md §1.5 and the block
@@ -288,7 +287,8 @@ fn schur_complement_on_the_layer_solves_the_newton_equation() {
     let n = disc.dofs.n_free;
     let laws = [(1.0, JointLaw::Frictionless), (0.0, JointLaw::Frictionless), (-1.0, JointLaw::Frictionless)];
     for (theta, law) in laws.into_iter().chain([(0.0, JointLaw::Coulomb { friction: 0.84 })]) {
-        let joint = ContactJoint { law, parameters: NitscheParameters { theta, ..joint.parameters }, ..joint.clone() };
+        let parameters = NitscheParameters { theta, ..joint.laws[0].parameters };
+        let joint = ContactJoint::uniform(joint.tags.clone(), Vec::new(), law, parameters);
         let contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: settings.delta });
         let schur = contact.schur().expect("the layer of Scene A is factorised dense");
         let m = schur.layer_size();

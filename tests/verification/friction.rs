@@ -74,8 +74,7 @@ fn stick_and_slip_are_exact() {
                         let problem = problem(4, order, a, b, shear);
                         let disc = problem.discretise();
                         let parameters = NitscheParameters { theta, ..Default::default() };
-                        let joint =
-                            ContactJoint { tags: vec![BOTTOM], masters: Vec::new(), law, parameters, uplift: None };
+                        let joint = ContactJoint::uniform(vec![BOTTOM], Vec::new(), law, parameters);
                         let settings = Continuation { delta, delta_start: 1e-2, newton: NewtonOptions::default() };
                         let solution = solve_by_continuation(&problem, &disc, &joint, &settings)
                             .unwrap_or_else(|e| panic!("{law:?} {case} P{order} θ = {theta} δ = {delta}: {e}"));
@@ -117,13 +116,7 @@ fn incline(alpha: f64, n: usize, order: usize) -> Problem {
 
 /// The Coulomb joint of the block's base.
 fn incline_joint(friction: f64) -> ContactJoint {
-    ContactJoint {
-        tags: vec![BOTTOM],
-        masters: Vec::new(),
-        law: JointLaw::Coulomb { friction },
-        parameters: Default::default(),
-        uplift: None,
-    }
+    ContactJoint::uniform(vec![BOTTOM], Vec::new(), JointLaw::Coulomb { friction }, Default::default())
 }
 
 /// Block on an incline. Source: Coulomb's law. A unit square block rests with its base on a
@@ -202,7 +195,7 @@ fn the_jacobian_is_the_derivative_of_the_residual() {
                 let problem = problem(2, order, 0.05, 0.01, 0.015);
                 let disc = problem.discretise();
                 let parameters = NitscheParameters { theta, gamma0: 1.0, ..Default::default() };
-                let joint = ContactJoint { tags: vec![BOTTOM], masters: Vec::new(), law, parameters, uplift: None };
+                let joint = ContactJoint::uniform(vec![BOTTOM], Vec::new(), law, parameters);
                 let contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 1e-3 });
                 let n = disc.dofs.n_free;
                 let mut rng = Rng::new(17);
@@ -269,13 +262,7 @@ fn the_estimator_vanishes_at_the_exact_stick_and_slip_solutions() {
             for order in [1, 2] {
                 let problem = problem(4, order, a, b, shear);
                 let disc = problem.discretise();
-                let joint = ContactJoint {
-                    tags: vec![BOTTOM],
-                    masters: Vec::new(),
-                    law,
-                    parameters: NitscheParameters::default(),
-                    uplift: None,
-                };
+                let joint = ContactJoint::uniform(vec![BOTTOM], Vec::new(), law, NitscheParameters::default());
                 let settings = Continuation { delta: 0.0, delta_start: 1e-2, newton: NewtonOptions::default() };
                 let solution = solve_by_continuation(&problem, &disc, &joint, &settings).expect("Newton converges");
                 let state = solution.linearisation(&problem, &disc);
@@ -372,7 +359,12 @@ fn a_tampered_tangential_traction_fails_the_checks() {
     let state = solution.linearisation(&problem, &disc);
     let rec = reconstruct(&problem, &disc.topology, &u, Some(&state)).expect("reconstruction");
     let honest = check(&problem, &disc.topology, &u, &rec, Some(&state)).contact;
-    let tampered_joint = ContactJoint { law: JointLaw::Coulomb { friction: 1.1 * friction }, ..joint.clone() };
+    let tampered_joint = ContactJoint::uniform(
+        joint.tags.clone(),
+        Vec::new(),
+        JointLaw::Coulomb { friction: 1.1 * friction },
+        joint.laws[0].parameters,
+    );
     let tampered_nitsche = Nitsche::new(&problem.mesh, &disc.topology, &problem.materials, &tampered_joint);
     let tampered = Linearisation { nitsche: &tampered_nitsche, ..state };
     let violated = check(&problem, &disc.topology, &u, &rec, Some(&tampered)).contact;
@@ -485,13 +477,8 @@ fn solve_manufactured(n: usize, order: usize) -> (f64, f64, f64, f64) {
         mesh,
     };
     let disc = problem.discretise();
-    let joint = ContactJoint {
-        tags: vec![BOTTOM],
-        masters: Vec::new(),
-        law: JointLaw::Coulomb { friction: m::F },
-        parameters: Default::default(),
-        uplift: None,
-    };
+    let joint =
+        ContactJoint::uniform(vec![BOTTOM], Vec::new(), JointLaw::Coulomb { friction: m::F }, Default::default());
     let settings = Continuation { delta: 0.0, delta_start: 0.1, newton: NewtonOptions::default() };
     let solution =
         solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("n = {n} P{order}: {e}"));
@@ -574,7 +561,7 @@ fn the_face_integrals_are_exact_where_both_projections_are_smoothed() {
             let problem = problem(4, order, 0.05, 0.01, 0.015);
             let disc = problem.discretise();
             let parameters = NitscheParameters { gamma0: 1.0, ..Default::default() };
-            let joint = ContactJoint { tags: vec![BOTTOM], masters: Vec::new(), law, parameters, uplift: None };
+            let joint = ContactJoint::uniform(vec![BOTTOM], Vec::new(), law, parameters);
             let mut contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 1.0 });
             let mut rng = Rng::new(17);
             let mut random = || (0..disc.dofs.n_free).map(|_| 1e-2 * rng.symmetric()).collect::<Vec<f64>>();

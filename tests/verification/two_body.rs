@@ -16,7 +16,7 @@ use std::sync::Arc;
 /// The joint between the blocks of [`two_blocks`], the upper block's side the slave.
 pub(crate) fn joint(theta: f64) -> ContactJoint {
     let parameters = NitscheParameters { theta, ..Default::default() };
-    ContactJoint { masters: vec![JOINT_LOWER], ..ContactJoint::frictionless(vec![JOINT], parameters) }
+    ContactJoint::uniform(vec![JOINT], vec![JOINT_LOWER], JointLaw::Frictionless, parameters)
 }
 
 /// The materials of the cells of `mesh`: `lower` in the lower block, `upper` in the upper one.
@@ -201,7 +201,11 @@ fn two_body_stick_and_slip_are_exact() {
                     body_force: BodyForce::None,
                     mesh,
                 };
-                let x = solve_at(&problem, &ContactJoint { law, ..joint(0.0) }, 0.0);
+                let x = solve_at(
+                    &problem,
+                    &ContactJoint::uniform(vec![JOINT], vec![JOINT_LOWER], law, Default::default()),
+                    0.0,
+                );
                 let u = problem.displacement(&problem.discretise(), &x);
                 let mesh = &problem.mesh;
                 let mut above = vec![false; mesh.n_points()];
@@ -421,11 +425,8 @@ fn a_closed_sticking_joint_tends_to_the_bonded_interface() {
             let mut problem = problem(two_blocks(n, n, ny, 0.5, order));
             problem.materials = materials(&problem.mesh, lower, upper);
             let parameters = NitscheParameters { gamma0, ..Default::default() };
-            let joint = ContactJoint {
-                law: JointLaw::Tresca { threshold: 1.0 },
-                parameters,
-                ..ContactJoint { masters: vec![JOINT_LOWER], ..ContactJoint::frictionless(vec![JOINT], parameters) }
-            };
+            let joint =
+                ContactJoint::uniform(vec![JOINT], vec![JOINT_LOWER], JointLaw::Tresca { threshold: 1.0 }, parameters);
             let disc = problem.discretise();
             let mut contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 0.0 });
             let x0 = vec![0.0; disc.dofs.n_free];

@@ -27,7 +27,7 @@
 use super::hertz::{fit_profile, moment_half_width, Sample};
 use damfem::contact::nitsche::NitscheParameters;
 use damfem::contact::projection::{negative_part, Smoothing};
-use damfem::contact::{solve_by_continuation, ContactJoint, ContactSolution, Continuation, Linearisation};
+use damfem::contact::{solve_by_continuation, ContactJoint, ContactSolution, Continuation, JointLaw, Linearisation};
 use damfem::elasticity::{BodyForce, Dirichlet, Discretisation, Material, Problem};
 use damfem::estimate::estimate_iterate;
 use damfem::io::gmsh::{mesh_geo, MeshOptions};
@@ -70,10 +70,7 @@ fn disk_on_block() -> (Problem, ContactJoint) {
         body_force: BodyForce::None,
         mesh,
     };
-    let joint = ContactJoint {
-        masters: vec![arc],
-        ..ContactJoint::frictionless(vec![block_top], NitscheParameters::default())
-    };
+    let joint = ContactJoint::uniform(vec![block_top], vec![arc], JointLaw::Frictionless, NitscheParameters::default());
     (problem, joint)
 }
 

@@ -51,11 +51,8 @@ fn uniform_uplift_lowers_the_contact_pressure_by_exactly_p_u() {
                 let disc = problem.discretise();
                 let parameters = NitscheParameters { theta, ..Default::default() };
                 let joint = ContactJoint {
-                    tags: vec![BOTTOM],
-                    masters: Vec::new(),
-                    law,
-                    parameters,
                     uplift: Some(uplift.clone()),
+                    ..ContactJoint::uniform(vec![BOTTOM], Vec::new(), law, parameters)
                 };
                 let settings = Continuation { delta: 0.0, delta_start: 1e-2, newton: NewtonOptions::default() };
                 let solution =

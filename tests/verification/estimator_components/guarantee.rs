@@ -144,7 +144,7 @@ fn damped_and_perturbed_contact_iterates_are_refused_or_bounded() {
 fn sharp_reference_beats_uniform_refinement_near_singularities() {
     for order in [1, 2] {
         let (problem, tags, run) = scene_with_contact("geo/scene_a.toml", order, 1.0);
-        let joint = ContactJoint::frictionless(tags.clone(), run.nitsche.parameters);
+        let joint = ContactJoint::frictionless(tags.clone(), run.nitsche.laws[0].parameters);
         let sharp = sharp_reference(&problem, &run.u, Some(&joint), 0.02, 4_000_000).unwrap();
         let uniform: Vec<_> = [sharp_start(order), 2]
             .iter()
