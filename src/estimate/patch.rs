@@ -476,23 +476,35 @@ impl Condensed {
                 }
             }
         }
-        let z = shaped(&mut self.z, 2 * input.n_basis, self.rows.len());
-        for (a, (&r, &side)) in self.rows.iter().zip(&self.sides).enumerate() {
-            face_coefficients(input.n_basis, &input.faces[rows[r].face], side, rows[r].m, column_mut(z, a));
+        let (nb, h) = (input.n_basis, 2 * input.n_basis);
+        let z = shaped(&mut self.z, h, self.rows.len()).as_mut_slice();
+        for (a, &r) in self.rows.iter().enumerate() {
+            let (face, m) = (rows[r].face, rows[r].m);
+            if a > 0 && (rows[self.rows[a - 1]].face, rows[self.rows[a - 1]].m) == (face, m) {
+                // the same moment on the other row of σ
+                z.copy_within((a - 1) * h..a * h, a * h);
+                continue;
+            }
+            let column = &mut z[a * h..(a + 1) * h];
+            face_coefficients(nb, &input.faces[face], self.sides[a], m, column);
+            column.chunks_exact_mut(nb).for_each(|block| to_orthonormal(&input.cells[t].orthonormal, block));
         }
-        to_orthonormal_columns(&input.cells[t].orthonormal, input.n_basis, z);
     }
 
     /// ẑ of each face row z: (Q₁ᵀ z)_head, then Q_Sᵀ of its tail placed on its row of σ.
+    /// The rows (m, x) and (m, y) of a face have the same z on their rows of σ: Q₁ᵀ z is
+    /// taken once for both.
     fn rotate_face_rows(&mut self) {
         let (h, n1) = (self.z.nrows(), self.w1.n());
         let free = h - n1;
         let z_hat = shaped(&mut self.z_hat, n1 + 2 * free, self.rows.len());
+        let mut w = [0.0; MAX_WIDTH / 2];
+        let w = &mut w[..h];
         for (a, &i) in self.rows_of_sigma.iter().enumerate() {
-            let mut w = [0.0; MAX_WIDTH / 2];
-            let w = &mut w[..h];
-            w.copy_from_slice(column(&self.z, a));
-            self.w1.apply_transpose(w);
+            if a == 0 || column(&self.z, a) != column(&self.z, a - 1) {
+                w.copy_from_slice(column(&self.z, a));
+                self.w1.apply_transpose(w);
+            }
             let (head, tail) = column_mut(z_hat, a).split_at_mut(n1);
             head.copy_from_slice(&w[..n1]);
             tail.fill(0.0);
@@ -579,13 +591,6 @@ fn from_orthonormal(c: &[f64], v: &mut [f64]) {
     let n = v.len();
     for k in 0..n {
         v[k] = (k..n).map(|l| c[l * n + k] * v[l]).sum();
-    }
-}
-
-/// [`to_orthonormal`] on every block of `nb` entries of every column of `w`.
-fn to_orthonormal_columns(c: &[f64], nb: usize, w: &mut DMatrix<f64>) {
-    for block in w.as_mut_slice().chunks_exact_mut(nb) {
-        to_orthonormal(c, block);
     }
 }
 
