@@ -12,24 +12,24 @@
 //!
 //! The last three act on one cell each and are eliminated cell by cell (static
 //! condensation, `Condensed`). In the L²(T)-orthonormal basis of each cell the cell's part
-//! of the objective is |s − f|², so the elimination is an orthogonal projection: with P the
-//! projector onto the coefficients that the local rows leave free, s₀ the point of the local
-//! rows closest to f and Z the face rows through a (as columns),
+//! of the objective is |s − f|², so the elimination is an orthogonal projection: with N an
+//! orthonormal basis of the coefficients that the local rows leave free, s₀ the point of the
+//! local rows closest to f and Z the face rows through a (as columns),
 //!
-//!   s = s₀ − P Z λ,
+//!   s = s₀ − N Nᵀ Z λ,
 //!
-//! and only the multipliers λ of the face rows remain: (Σ_T Zᵀ P Z) λ = Σ_T Zᵀ s₀ − b_G.
+//! and only the multipliers λ of the face rows remain: (Σ_T Zᵀ N Nᵀ Z) λ = Σ_T Zᵀ s₀ − b_G.
 //! The divergence and opposite-side rows act on each row of σ alone, with the same
-//! coefficients in both rows, and only weak symmetry couples the rows, so P is built from
-//! one orthonormal basis per cell for one row of σ and one for the symmetry rows. One
-//! orthogonal factorisation of the stacked P Z, in two levels (each cell's P Z = Q_T R_T,
-//! then the stacked R_T), serves every right-hand side (total, regularisation,
+//! coefficients in both rows, and only weak symmetry couples the rows, so N comes from two
+//! Householder factorisations per cell, one for one row of σ and one for the symmetry rows;
+//! s₀ and Nᵀ Z are computed in the coordinates that they rotate to. One orthogonal
+//! factorisation of the stacked Nᵀ Z serves every right-hand side (total, regularisation,
 //! linearisation); see [`solve`] for why not the normal equations.
 //!
 //! Rigid motions z that the patch leaves free make the rows dependent: Bᵀλ_z = 0 for the
 //! multipliers λ_z = (z on the faces, −Π^{p−1}z for the divergence, b for the symmetry) of
 //! z = a + b(−y, x). The data are first made compatible, λ_zᵀ b = 0 (condition (C)), and the
-//! condensed matrix is made definite by adding s K Kᵀ (rows √s Kᵀ below the stacked P Z),
+//! condensed matrix is made definite by adding s K Kᵀ (rows √s Kᵀ below the stacked Nᵀ Z),
 //! K the face part of the λ_z, which leaves the solution of compatible systems unchanged.
 
 use super::afw::{CellIntegrals, COMPONENTS};
@@ -196,7 +196,7 @@ pub fn solve(input: &PatchInput, work: &mut Workspace) -> Result<PatchSolution, 
             reduced[(r, case)] -= row.rhs[case];
         }
     }
-    // A = [N_T Z_T], with √s Kᵀ below, s = tr AᵀA / tr KᵀK
+    // A = [Nᵀ Z of every cell], with √s Kᵀ below, s = tr AᵀA / tr KᵀK
     let scale = (kernel.ncols() > 0).then(|| (norm_squared / kernel.norm_squared()).sqrt());
     stacked.stack(cells, kernel.transpose() * scale.unwrap_or(0.0), rows.len());
     stacked.factor()?;
@@ -224,7 +224,7 @@ pub fn solve(input: &PatchInput, work: &mut Workspace) -> Result<PatchSolution, 
     Ok(PatchSolution { sigma, compatibility: data.defect })
 }
 
-/// The stacked blocks N_T Z_T of the cells (each on the columns of its face rows) and the
+/// The stacked blocks Nᵀ Z of the cells (each on the columns of its face rows) and the
 /// rows √s Kᵀ, factored in place as Q R.
 #[derive(Default)]
 pub struct Stacked {
@@ -660,8 +660,8 @@ const DEPENDENT_LOCAL: f64 = 1e-13;
 
 /// Householder QR of the column-major m × n matrix `a` (m ≥ n) in place: R in its upper
 /// triangle, the reflectors H_j = I − τ_j v_j v_jᵀ (v_j = (0, …, 0, 1, v_j below the
-/// diagonal)) under it, τ_j in `tau`. By hand because the patch matrices are small (at most
-/// 12 × 6 per cell and about 60 × 40 per patch): reflectors applied to the few vectors
+/// diagonal)) under it, τ_j in `tau`. By hand because the patch matrices are small (12 × 6
+/// per cell, 54 × 36 on an interior P2 patch of six cells): reflectors applied to the few vectors
 /// replace nalgebra's QR with the explicit Q it needs and its allocations (docs/results.md,
 /// Error estimation).
 fn householder_qr(a: &mut [f64], m: usize, n: usize, tau: &mut [f64]) {
