@@ -164,7 +164,7 @@ fn zeroed(m: &mut DMatrix<f64>, rows: usize, cols: usize) -> &mut DMatrix<f64> {
 /// beyond the free rigid motions.
 ///
 /// With A = N Z stacked over the cells, N the orthonormal basis of each cell's free
-/// coefficients ([`Condensed`]), and √s Kᵀ below it on patches with free rigid motions, the
+/// coefficients (`Condensed`), and √s Kᵀ below it on patches with free rigid motions, the
 /// correction x = A λ of the free coordinates is the least-norm solution of Aᵀ x = r,
 /// r = Σ_T Zᵀ s₀ − b_G. It is taken from A = Q R as x = Q R⁻ᵀ r, never through λ (Q is
 /// applied by its reflectors): the normal equations AᵀA λ = r square the condition of A,
@@ -540,8 +540,8 @@ impl Condensed {
                 tails[i * free..(i + 1) * free].copy_from_slice(&row[n1..]);
             }
             self.ys.apply_transpose(tails);
-            for m in 0..nl {
-                tails[m] = data.symmetry[case][t * nl + m] - dot(column(&self.y_head, m), heads);
+            for (m, b) in tails[..nl].iter_mut().enumerate() {
+                *b = data.symmetry[case][t * nl + m] - dot(column(&self.y_head, m), heads);
             }
             self.ys.solve_transpose(&mut tails[..nl]);
         }
