@@ -163,7 +163,7 @@ fn zeroed(m: &mut DMatrix<f64>, rows: usize, cols: usize) -> &mut DMatrix<f64> {
 /// Solves the patch problem for every case; fails only if the constraints are dependent
 /// beyond the free rigid motions.
 ///
-/// With A = N Z stacked over the cells, N the orthonormal basis of each cell's free
+/// With A = Nᵀ Z stacked over the cells, N the orthonormal basis of each cell's free
 /// coefficients (`Condensed`), and √s Kᵀ below it on patches with free rigid motions, the
 /// correction x = A λ of the free coordinates is the least-norm solution of Aᵀ x = r,
 /// r = Σ_T Zᵀ s₀ − b_G. It is taken from A = Q R as x = Q R⁻ᵀ r, never through λ (Q is
@@ -548,8 +548,10 @@ impl Condensed {
     }
 }
 
-/// Most coefficients of a cell, 4 n_basis for p ≤ 2, and most basis functions.
+/// Most coefficients of a cell, 4 n_basis for p ≤ 2.
 const MAX_WIDTH: usize = 24;
+
+/// Most basis functions n_basis of a cell, for p ≤ 2.
 const MAX_BASIS: usize = 6;
 
 /// Column j of `m`.
