@@ -856,6 +856,9 @@ mod tests {
         factors
     }
 
+    /// Source: `Factors` (Householder QR with the reflectors kept). Goal: Q is orthogonal,
+    /// W = Q R, and `apply_transpose`, `solve_transpose` give Qᵀ x and R⁻ᵀ b. Parameters: a
+    /// fixed 7 × 3 matrix with a dominant diagonal, x and b fixed.
     #[test]
     fn factors_apply_an_orthogonal_q_with_w_equal_q_r() {
         let w = DMatrix::from_fn(7, 3, |i, j| ((i * 5 + j * 3) % 7) as f64 - 2.5 + if i == j { 4.0 } else { 0.0 });
@@ -881,6 +884,8 @@ mod tests {
         assert!((rt * DVector::from_row_slice(&c) - DVector::from_row_slice(&b)).amax() < 1e-14, "Rᵀ c = b");
     }
 
+    /// Source: `Factors::factor`. Goal: dependent columns, and fewer rows than columns, are
+    /// refused. Parameters: a 5 × 2 matrix with equal columns; a 2 × 3 matrix of ones.
     #[test]
     fn factors_refuse_dependent_columns() {
         let mut f = Factors::default();
