@@ -12,24 +12,24 @@
 //!
 //! The last three act on one cell each and are eliminated cell by cell (static
 //! condensation, `Condensed`). In the L²(T)-orthonormal basis of each cell the cell's part
-//! of the objective is |s − f|², so the elimination is an orthogonal projection: with P the
-//! projector onto the coefficients that the local rows leave free, s₀ the point of the local
-//! rows closest to f and Z the face rows through a (as columns),
+//! of the objective is |s − f|², so the elimination is an orthogonal projection: with N an
+//! orthonormal basis of the coefficients that the local rows leave free, s₀ the point of the
+//! local rows closest to f and Z the face rows through a (as columns),
 //!
-//!   s = s₀ − P Z λ,
+//!   s = s₀ − N Nᵀ Z λ,
 //!
-//! and only the multipliers λ of the face rows remain: (Σ_T Zᵀ P Z) λ = Σ_T Zᵀ s₀ − b_G.
+//! and only the multipliers λ of the face rows remain: (Σ_T Zᵀ N Nᵀ Z) λ = Σ_T Zᵀ s₀ − b_G.
 //! The divergence and opposite-side rows act on each row of σ alone, with the same
-//! coefficients in both rows, and only weak symmetry couples the rows, so P is built from
-//! one orthonormal basis per cell for one row of σ and one for the symmetry rows. One
-//! orthogonal factorisation of the stacked P Z, in two levels (each cell's P Z = Q_T R_T,
-//! then the stacked R_T), serves every right-hand side (total, regularisation,
+//! coefficients in both rows, and only weak symmetry couples the rows, so N comes from two
+//! Householder factorisations per cell, one for one row of σ and one for the symmetry rows;
+//! s₀ and Nᵀ Z are computed in the coordinates that they rotate to. One orthogonal
+//! factorisation of the stacked Nᵀ Z serves every right-hand side (total, regularisation,
 //! linearisation); see [`solve`] for why not the normal equations.
 //!
 //! Rigid motions z that the patch leaves free make the rows dependent: Bᵀλ_z = 0 for the
 //! multipliers λ_z = (z on the faces, −Π^{p−1}z for the divergence, b for the symmetry) of
 //! z = a + b(−y, x). The data are first made compatible, λ_zᵀ b = 0 (condition (C)), and the
-//! condensed matrix is made definite by adding s K Kᵀ (rows √s Kᵀ below the stacked P Z),
+//! condensed matrix is made definite by adding s K Kᵀ (rows √s Kᵀ below the stacked Nᵀ Z),
 //! K the face part of the λ_z, which leaves the solution of compatible systems unchanged.
 
 use super::afw::{CellIntegrals, COMPONENTS};
@@ -163,14 +163,14 @@ fn zeroed(m: &mut DMatrix<f64>, rows: usize, cols: usize) -> &mut DMatrix<f64> {
 /// Solves the patch problem for every case; fails only if the constraints are dependent
 /// beyond the free rigid motions.
 ///
-/// With A = P Z stacked over the cells (and √s Kᵀ below it on patches with free rigid
-/// motions), the correction x = A λ of s = s₀ − x is the least-norm solution of Aᵀ x = r,
-/// r = Σ_T Zᵀ s₀ − b_G. It is taken from A = Q R as x = Q R⁻ᵀ r, never through λ (A is
-/// diag(Q_T) times the stacked R_T, whose QR is Q₂ R; Q = diag(Q_T) Q₂ is applied by its
-/// reflectors): the normal equations AᵀA λ = r square the condition of A, which grows like the square of the
-/// aspect ratio of the cells, and their Cholesky factorisation leaves a residual of
-/// ε κ(A) |A| |x| in the constraints (10⁻⁹ at aspect 100), where the QR factorisation
-/// leaves ε |A| |x|.
+/// With A = Nᵀ Z stacked over the cells, N the orthonormal basis of each cell's free
+/// coefficients (`Condensed`), and √s Kᵀ below it on patches with free rigid motions, the
+/// correction x = A λ of the free coordinates is the least-norm solution of Aᵀ x = r,
+/// r = Σ_T Zᵀ s₀ − b_G. It is taken from A = Q R as x = Q R⁻ᵀ r, never through λ (Q is
+/// applied by its reflectors): the normal equations AᵀA λ = r square the condition of A,
+/// which grows like the square of the aspect ratio of the cells, and their Cholesky
+/// factorisation leaves a residual of ε κ(A) |A| |x| in the constraints (10⁻⁹ at aspect
+/// 100), where the QR factorisation leaves ε |A| |x|.
 pub fn solve(input: &PatchInput, work: &mut Workspace) -> Result<PatchSolution, String> {
     let cases = input.target.len();
     let rows = face_rows(input);
@@ -184,38 +184,38 @@ pub fn solve(input: &PatchInput, work: &mut Workspace) -> Result<PatchSolution, 
     let mut norm_squared = 0.0;
     for (t, cell) in cells.iter_mut().enumerate() {
         cell.condense(input, t, &rows, &data)?;
-        norm_squared += cell.pz.norm_squared();
+        norm_squared += cell.free_rows().map(|row| dot(row, row)).sum::<f64>();
         for (a, &r) in cell.rows.iter().enumerate() {
             for case in 0..cases {
                 reduced[(r, case)] += cell.trace[(a, case)];
             }
         }
-        cell.factor_pz();
     }
     for (r, row) in rows.iter().enumerate() {
         for case in 0..cases {
             reduced[(r, case)] -= row.rhs[case];
         }
     }
-    // A = diag(Q_T) [R_T], with √s Kᵀ below, s = tr AᵀA / tr KᵀK
+    // A = [Nᵀ Z of every cell], with √s Kᵀ below, s = tr AᵀA / tr KᵀK
     let scale = (kernel.ncols() > 0).then(|| (norm_squared / kernel.norm_squared()).sqrt());
     stacked.stack(cells, kernel.transpose() * scale.unwrap_or(0.0), rows.len());
     stacked.factor()?;
     let mut y = vec![0.0; stacked.n_rows];
     let mut sigma = vec![vec![0.0; cells.len() * width]; cases];
+    let mut s = [0.0; MAX_WIDTH];
     for (case, out) in sigma.iter_mut().enumerate() {
         y.fill(0.0);
         y[..rows.len()].copy_from_slice(column(reduced, case));
         stacked.least_norm(&mut y);
         let mut offset = 0;
         for (t, cell) in cells.iter().enumerate() {
+            let s = &mut s[..width];
+            s.copy_from_slice(column(&cell.s0, case));
+            let free = cell.n_free();
+            s[width - free..].iter_mut().zip(&y[offset..offset + free]).for_each(|(s, x)| *s -= x);
+            offset += free;
             let block = &mut out[t * width..(t + 1) * width];
-            block.fill(0.0);
-            block[..cell.rows.len()].iter_mut().zip(&y[offset..]).for_each(|(v, y)| *v = -y);
-            offset += cell.rows.len();
-            householder_apply(cell.pz.as_slice(), width, &cell.tau, block);
-            cell.project(block);
-            block.iter_mut().zip(column(&cell.s0, case)).for_each(|(v, s)| *v += s);
+            cell.coefficients(s, block);
             for part in block.chunks_exact_mut(input.n_basis) {
                 from_orthonormal(&input.cells[t].orthonormal, part);
             }
@@ -224,61 +224,46 @@ pub fn solve(input: &PatchInput, work: &mut Workspace) -> Result<PatchSolution, 
     Ok(PatchSolution { sigma, compatibility: data.defect })
 }
 
-/// The stacked upper triangles R_T of the cells' P Z = Q_T R_T (each on the columns of its
-/// face rows) and the rows √s Kᵀ, factored in place as Q R.
+/// The stacked blocks Nᵀ Z of the cells (each on the columns of its face rows) and the
+/// rows √s Kᵀ, factored in place as Q R.
 #[derive(Default)]
 pub struct Stacked {
-    a: Vec<f64>,
-    tau: Vec<f64>,
+    factors: Factors,
     n_rows: usize,
-    n_cols: usize,
 }
 
 impl Stacked {
     fn stack(&mut self, cells: &[Condensed], kernel_rows: DMatrix<f64>, n_cols: usize) {
-        let n_rows = cells.iter().map(|c| c.rows.len()).sum::<usize>() + kernel_rows.nrows();
-        (self.n_rows, self.n_cols) = (n_rows, n_cols);
-        self.a.clear();
-        self.a.resize(n_rows * n_cols, 0.0);
+        self.n_rows = cells.iter().map(Condensed::n_free).sum::<usize>() + kernel_rows.nrows();
+        let n_rows = self.n_rows;
+        let a = self.factors.matrix(n_rows, n_cols);
         let mut offset = 0;
         for cell in cells {
-            let (h, g) = (cell.pz.nrows(), cell.rows.len());
-            for (b, &r) in cell.rows.iter().enumerate() {
-                let column = &mut self.a[r * n_rows + offset..];
-                column[..=b].copy_from_slice(&cell.pz.as_slice()[b * h..b * h + b + 1]);
+            for (&r, block) in cell.rows.iter().zip(cell.free_rows()) {
+                a[r * n_rows + offset..][..block.len()].copy_from_slice(block);
             }
-            offset += g;
+            offset += cell.n_free();
         }
         for j in 0..n_cols {
             for i in 0..kernel_rows.nrows() {
-                self.a[j * n_rows + offset + i] = kernel_rows[(i, j)];
+                a[j * n_rows + offset + i] = kernel_rows[(i, j)];
             }
         }
     }
 
-    /// Q R of the stacked rows; fails if R has a diagonal entry below [`DEPENDENT`] times the
-    /// largest.
+    /// Q R of the stacked rows; fails if there are fewer rows than columns or R has a
+    /// diagonal entry below [`DEPENDENT`] times the largest.
     fn factor(&mut self) -> Result<(), String> {
-        let (m, n) = (self.n_rows, self.n_cols);
-        self.tau.resize(n, 0.0);
-        householder_qr(&mut self.a, m, n, &mut self.tau);
-        let diagonal = |j: usize| self.a[j * m + j].abs();
-        let largest = (0..n).map(diagonal).fold(0.0, f64::max);
-        if (0..n).all(|j| diagonal(j) > DEPENDENT * largest) {
-            Ok(())
-        } else {
-            Err("the patch constraints are not independent".into())
+        match self.factors.factor(DEPENDENT) {
+            true => Ok(()),
+            false => Err("the patch constraints are not independent".into()),
         }
     }
 
     /// y ← Q R⁻ᵀ y (y holds r in its first n_cols entries): the least-norm x with Aᵀx = r.
     fn least_norm(&self, y: &mut [f64]) {
-        let m = self.n_rows;
-        for i in 0..self.n_cols {
-            let sum = dot(&self.a[i * m..i * m + i], &y[..i]);
-            y[i] = (y[i] - sum) / self.a[i * m + i];
-        }
-        householder_apply(&self.a, m, &self.tau, y);
+        self.factors.solve_transpose(&mut y[..self.factors.n()]);
+        self.factors.apply(y);
     }
 }
 
@@ -327,59 +312,41 @@ fn face_coefficients(nb: usize, face: &PatchFace, side: usize, m: usize, out: &m
 /// Coefficients are taken in the L²(T)-orthonormal basis χ = C φ of
 /// [`CellIntegrals::orthonormal`], component by component: σ = Cᵀs, a row b of the
 /// constraints becomes C b, the target becomes f = C (τ*, φ), and the cell's part of the
-/// objective is |s − f|². The divergence and opposite-side rows act on one row of σ at a
+/// objective is |s − f|². The divergence and opposite-side rows act on one row s_i of σ at a
 /// time, with the same coefficients W₁ for both rows; only weak symmetry (columns Y) couples
-/// them. Two orthonormal bases, W₁ = Q₁R₁ and (P₁ ⊕ P₁) Y = Q_S R_S with P₁ = I − Q₁Q₁ᵀ,
-/// give the projector P = P₁ ⊕ P₁ − Q_S Q_Sᵀ onto the cell's free coefficients, and
+/// them. Two Householder factorisations, W₁ = Q₁ R₁ and Y' = Q_S R_S with Y' the part of Y
+/// in N₁ ⊕ N₁ (N₁ the last columns of the square Q₁), rotate the coefficients to
 ///
-///   s₀ = the point of the local constraints closest to f,  s = s₀ − P Z λ,
+///   ŝ = ((Q₁ᵀ s_0)_head, (Q₁ᵀ s_1)_head, Q_Sᵀ ((Q₁ᵀ s_0)_tail, (Q₁ᵀ s_1)_tail)),
 ///
-/// Z the face rows through a. The cell adds Zᵀ P Z to the condensed matrix and Zᵀs₀ to its
-/// right-hand side.
+/// where the local rows fix the first 2 n₁ + n_lower entries, (Q₁ᵀ s_i)_head = R₁⁻ᵀ b₁ and
+/// (Q_Sᵀ u)_head = R_S⁻ᵀ (b_S − Y_headᵀ (Q₁ᵀ s)_head), and leave the last ones free: they are
+/// Nᵀ s for N the orthonormal basis of the cell's free coefficients. The closest point s₀ to
+/// f has the free coordinates Nᵀ f, and the face rows Z through a act on the free
+/// coordinates by Nᵀ Z: s = s₀ − N Nᵀ Z λ. The cell adds the rows Nᵀ Z to the stacked matrix
+/// and Zᵀ s₀ to its right-hand side. Every coefficient is computed from ŝ by the reflectors,
+/// so the local rows hold to ε |s| whatever the correction (no projector is applied).
+#[derive(Default)]
 struct Condensed {
     /// Indices of the face rows that touch the cell, the row of σ each acts on and the
     /// side of its face the cell is on.
     rows: Vec<usize>,
     rows_of_sigma: Vec<usize>,
     sides: Vec<usize>,
-    /// Q₁ (2 n_basis × L₁) and R₁ᵀ.
-    q1: DMatrix<f64>,
-    r1: DMatrix<f64>,
-    /// Q_S (4 n_basis × n_lower), R_Sᵀ, and C ∫_T φ ψ_m (n_basis × n_lower).
-    qs: DMatrix<f64>,
-    rs: DMatrix<f64>,
-    skew: DMatrix<f64>,
-    /// The face rows on their row of σ (2 n_basis × rows), and P Z (4 n_basis × rows).
+    /// W₁ = Q₁ R₁ (2 n_basis × n₁).
+    w1: Factors,
+    /// Y' = Q_S R_S (2 (2 n_basis − n₁) × n_lower) and the head parts of (Q₁ ⊕ Q₁)ᵀ Y
+    /// (2 n₁ × n_lower).
+    ys: Factors,
+    y_head: DMatrix<f64>,
+    /// The face rows in the orthonormal basis on their row of σ (2 n_basis × rows), and
+    /// rotated as ŝ but on their row only: (Q₁ᵀ z)_head, then Q_Sᵀ of the tail
+    /// ((n₁ + 2 (2 n_basis − n₁)) × rows; Nᵀ Z is its last rows).
     z: DMatrix<f64>,
-    pz: DMatrix<f64>,
-    /// The Householder factors of P Z = Q_T R_T, in place of P Z ([`householder_qr`]).
-    tau: Vec<f64>,
-    /// Zᵀ s₀, with s₀ per case (4 n_basis × cases).
+    z_hat: DMatrix<f64>,
+    /// Zᵀ s₀, with ŝ₀ per case (4 n_basis × cases).
     trace: DMatrix<f64>,
     s0: DMatrix<f64>,
-    /// Scratch of [`orthonormalise`].
-    reflectors: Reflectors,
-}
-
-impl Default for Condensed {
-    fn default() -> Self {
-        Condensed {
-            rows: Vec::new(),
-            rows_of_sigma: Vec::new(),
-            sides: Vec::new(),
-            q1: empty(),
-            r1: empty(),
-            qs: empty(),
-            rs: empty(),
-            skew: empty(),
-            z: empty(),
-            pz: empty(),
-            tau: Vec::new(),
-            trace: empty(),
-            s0: empty(),
-            reflectors: Reflectors::default(),
-        }
-    }
 }
 
 impl Condensed {
@@ -391,94 +358,106 @@ impl Condensed {
         rows: &[FaceRow],
         data: &CompatibleData,
     ) -> Result<(), String> {
+        self.face_block(input, t, rows);
         self.row_basis(input, t)?;
         self.symmetry_basis(input, t)?;
-        self.face_block(input, t, rows);
+        self.rotate_face_rows();
         self.local_solution(input, t, data);
-        let (h, g) = (self.z.nrows(), self.rows.len());
-        let pz = zeroed(&mut self.pz, 2 * h, g);
+        let (n1, cases) = (self.w1.n(), self.s0.ncols());
+        let trace = shaped(&mut self.trace, self.rows.len(), cases);
         for (a, &i) in self.rows_of_sigma.iter().enumerate() {
-            let column = column_mut(pz, a);
-            column[i * h..(i + 1) * h].copy_from_slice(&self.z.as_slice()[a * h..(a + 1) * h]);
-            // twice: one projection leaves an error of ε|Z| off the range of P, which ZᵀPZ
-            // multiplies by |λ| ~ |Z|/|PZ|, the aspect ratio of a stretched cell
-            for _ in 0..2 {
-                column.chunks_exact_mut(h).for_each(|part| project_off(&self.q1, part));
-                project_off(&self.qs, column);
-            }
-        }
-        shaped(&mut self.trace, g, self.s0.ncols());
-        for (a, &i) in self.rows_of_sigma.iter().enumerate() {
-            for case in 0..self.s0.ncols() {
-                self.trace[(a, case)] = dot(column(&self.z, a), &column(&self.s0, case)[i * h..(i + 1) * h]);
+            let z = column(&self.z_hat, a);
+            for case in 0..cases {
+                let s = column(&self.s0, case);
+                trace[(a, case)] = dot(&z[..n1], &s[i * n1..(i + 1) * n1]) + dot(&z[n1..], &s[2 * n1..]);
             }
         }
         Ok(())
     }
 
-    /// P Z = Q_T R_T in place, so that the patch factors only the stacked R_T (at most
-    /// 4(p + 1) rows per cell instead of 4 n_basis).
-    fn factor_pz(&mut self) {
-        let (m, n) = self.pz.shape();
-        self.tau.resize(n, 0.0);
-        householder_qr(self.pz.as_mut_slice(), m, n, &mut self.tau);
+    /// Number of free coordinates, 4 n_basis minus the local rows.
+    fn n_free(&self) -> usize {
+        self.z_hat.nrows() - self.w1.n() - self.ys.n()
     }
 
-    /// v ← P v, P = P₁ ⊕ P₁ − Q_S Q_Sᵀ, applied twice: x = P Z λ leaves the range of P by
-    /// ε |Z| |λ|, and |λ| ~ |x| / σ_min(P Z) grows with the aspect ratio of the cell, while the
-    /// face rows change only by ε |Z| |x| when x is projected.
-    fn project(&self, v: &mut [f64]) {
-        let h = self.q1.nrows();
-        for _ in 0..2 {
-            v.chunks_exact_mut(h).for_each(|part| project_off(&self.q1, part));
-            project_off(&self.qs, v);
+    /// The columns of Nᵀ Z, one per face row of the cell.
+    fn free_rows(&self) -> impl Iterator<Item = &[f64]> {
+        let (rows, free) = (self.z_hat.nrows(), self.n_free());
+        self.z_hat.as_slice().chunks_exact(rows).map(move |z| &z[rows - free..])
+    }
+
+    /// `out` ← the orthonormal coefficients s of the rotated ŝ (`s_hat`, overwritten).
+    fn coefficients(&self, s_hat: &mut [f64], out: &mut [f64]) {
+        let n1 = self.w1.n();
+        let h = out.len() / 2;
+        let free = h - n1;
+        let (heads, tails) = s_hat.split_at_mut(2 * n1);
+        self.ys.apply(tails);
+        for (i, s) in out.chunks_exact_mut(h).enumerate() {
+            s[..n1].copy_from_slice(&heads[i * n1..(i + 1) * n1]);
+            s[n1..].copy_from_slice(&tails[i * free..(i + 1) * free]);
+            self.w1.apply(s);
         }
     }
 
-    /// Q₁ and R₁ᵀ from W₁: the divergence rows (∂_j τ_ij, ψ_m)_T and the rows ∫_F (τn)_i q_m
+    /// W₁ = Q₁ R₁ for W₁ the divergence rows (∂_j τ_ij, ψ_m)_T and the rows ∫_F (τn)_i q_m
     /// of the opposite side, on one row i of σ.
     fn row_basis(&mut self, input: &PatchInput, t: usize) -> Result<(), String> {
         let (nb, nl, q) = (input.n_basis, input.n_lower, input.order + 1);
+        let h = 2 * nb;
         let cell = input.cells[t];
         let opposite = input.faces.iter().filter(|f| matches!(f.kind, FaceKind::Opposite) && f.cells[0] == t);
-        let w = shaped(&mut self.q1, 2 * nb, nl + opposite.clone().count() * q);
+        let w = self.w1.matrix(h, nl + opposite.clone().count() * q);
         for m in 0..nl {
             for j in 0..2 {
                 for k in 0..nb {
-                    w[(j * nb + k, m)] = cell.divergence[(m * nb + k) * 2 + j];
+                    w[m * h + j * nb + k] = cell.divergence[(m * nb + k) * 2 + j];
                 }
             }
         }
         for (f, face) in opposite.enumerate() {
             for m in 0..q {
-                face_coefficients(nb, face, 0, m, column_mut(w, nl + f * q + m));
+                face_coefficients(nb, face, 0, m, &mut w[(nl + f * q + m) * h..][..h]);
             }
         }
-        to_orthonormal_columns(&cell.orthonormal, nb, w);
-        orthonormalise(w, &mut self.r1, &mut self.reflectors)
-            .ok_or_else(|| "the local constraints of a cell are not independent".into())
+        w.chunks_exact_mut(nb).for_each(|block| to_orthonormal(&cell.orthonormal, block));
+        match self.w1.factor(DEPENDENT_LOCAL) {
+            true => Ok(()),
+            false => Err("the local constraints of a cell are not independent".into()),
+        }
     }
 
-    /// Q_S and R_Sᵀ from the weak-symmetry columns Y, (τ, ψ_m J)_T = (τ_xy − τ_yx, ψ_m)_T,
-    /// projected off Q₁ in both rows of σ; `skew` keeps C ∫_T φ ψ_m.
+    /// Y' = Q_S R_S for the weak-symmetry columns Y, (τ, ψ_m J)_T = (τ_xy − τ_yx, ψ_m)_T,
+    /// rotated by Q₁ᵀ in both rows of σ: their heads go to `y_head`, their tails to Y'.
     fn symmetry_basis(&mut self, input: &PatchInput, t: usize) -> Result<(), String> {
         let (nb, nl, h) = (input.n_basis, input.n_lower, 2 * input.n_basis);
+        let n1 = self.w1.n();
+        let free = h - n1;
         let cell = input.cells[t];
-        let skew = shaped(&mut self.skew, nb, nl);
-        skew.as_mut_slice().copy_from_slice(&cell.lower_mass[..nl * nb]);
-        to_orthonormal_columns(&cell.orthonormal, nb, skew);
-        let y = zeroed(&mut self.qs, 2 * h, nl);
+        let y_head = shaped(&mut self.y_head, 2 * n1, nl);
+        let y_tail = self.ys.matrix(2 * free, nl);
+        let mut skew = [0.0; MAX_BASIS];
+        let skew = &mut skew[..nb];
         for m in 0..nl {
-            let (first, second) = column_mut(y, m).split_at_mut(h);
-            for (k, &v) in column(&self.skew, m).iter().enumerate() {
-                first[nb + k] = v;
-                second[k] = -v;
+            // C ∫_T φ ψ_m in τ_xy (row 0), minus it in τ_yx (row 1)
+            skew.copy_from_slice(&cell.lower_mass[m * nb..(m + 1) * nb]);
+            to_orthonormal(&cell.orthonormal, skew);
+            for i in 0..2 {
+                let mut y = [0.0; MAX_WIDTH / 2];
+                if i == 0 {
+                    y[nb..h].copy_from_slice(skew);
+                } else {
+                    y[..nb].iter_mut().zip(skew.iter()).for_each(|(y, v)| *y = -v);
+                }
+                self.w1.apply_transpose(&mut y[..h]);
+                column_mut(y_head, m)[i * n1..(i + 1) * n1].copy_from_slice(&y[..n1]);
+                y_tail[m * 2 * free + i * free..][..free].copy_from_slice(&y[n1..h]);
             }
-            project_off(&self.q1, first);
-            project_off(&self.q1, second);
         }
-        orthonormalise(y, &mut self.rs, &mut self.reflectors)
-            .ok_or_else(|| "the weak symmetry rows of a cell are not independent".into())
+        match self.ys.factor(DEPENDENT_LOCAL) {
+            true => Ok(()),
+            false => Err("the weak symmetry rows of a cell are not independent".into()),
+        }
     }
 
     /// The face rows through a that touch cell t, on their row of σ and in orthonormal
@@ -497,54 +476,83 @@ impl Condensed {
                 }
             }
         }
-        let z = shaped(&mut self.z, 2 * input.n_basis, self.rows.len());
-        for (a, (&r, &side)) in self.rows.iter().zip(&self.sides).enumerate() {
-            face_coefficients(input.n_basis, &input.faces[rows[r].face], side, rows[r].m, column_mut(z, a));
+        let (nb, h) = (input.n_basis, 2 * input.n_basis);
+        let z = shaped(&mut self.z, h, self.rows.len()).as_mut_slice();
+        for (a, &r) in self.rows.iter().enumerate() {
+            let (face, m) = (rows[r].face, rows[r].m);
+            if a > 0 && (rows[self.rows[a - 1]].face, rows[self.rows[a - 1]].m) == (face, m) {
+                // the same moment on the other row of σ
+                z.copy_within((a - 1) * h..a * h, a * h);
+                continue;
+            }
+            let column = &mut z[a * h..(a + 1) * h];
+            face_coefficients(nb, &input.faces[face], self.sides[a], m, column);
+            column.chunks_exact_mut(nb).for_each(|block| to_orthonormal(&input.cells[t].orthonormal, block));
         }
-        to_orthonormal_columns(&input.cells[t].orthonormal, input.n_basis, z);
     }
 
-    /// s₀ per case: f = C (τ*, φ) moved onto the divergence and opposite-side rows of each
-    /// row of σ, s ← s + Q₁ (R₁ᵀ⁻¹ b₁ − Q₁ᵀ s), then onto weak symmetry,
-    /// s ← s + Q_S R_Sᵀ⁻¹ (b_S − Yᵀ s).
+    /// ẑ of each face row z: (Q₁ᵀ z)_head, then Q_Sᵀ of its tail placed on its row of σ.
+    /// The rows (m, x) and (m, y) of a face have the same z on their rows of σ: Q₁ᵀ z is
+    /// taken once for both.
+    fn rotate_face_rows(&mut self) {
+        let (h, n1) = (self.z.nrows(), self.w1.n());
+        let free = h - n1;
+        let z_hat = shaped(&mut self.z_hat, n1 + 2 * free, self.rows.len());
+        let mut w = [0.0; MAX_WIDTH / 2];
+        let w = &mut w[..h];
+        for (a, &i) in self.rows_of_sigma.iter().enumerate() {
+            if a == 0 || column(&self.z, a) != column(&self.z, a - 1) {
+                w.copy_from_slice(column(&self.z, a));
+                self.w1.apply_transpose(w);
+            }
+            let (head, tail) = column_mut(z_hat, a).split_at_mut(n1);
+            head.copy_from_slice(&w[..n1]);
+            tail.fill(0.0);
+            tail[i * free..(i + 1) * free].copy_from_slice(&w[n1..]);
+            self.ys.apply_transpose(tail);
+        }
+    }
+
+    /// ŝ₀ per case: f = C (τ*, φ) rotated, with the coordinates that the local rows fix
+    /// replaced by theirs, (Q₁ᵀ s_i)_head = R₁⁻ᵀ b₁ and (Q_Sᵀ u)_head = R_S⁻ᵀ (b_S − Y_headᵀ
+    /// (Q₁ᵀ s)_head).
     fn local_solution(&mut self, input: &PatchInput, t: usize, data: &CompatibleData) {
         let (nb, nl, cases) = (input.n_basis, input.n_lower, input.target.len());
         let (h, width) = (2 * nb, input.width());
+        let n1 = self.w1.n();
+        let free = h - n1;
         let cell = input.cells[t];
         let s0 = shaped(&mut self.s0, width, cases);
-        let mut coefficients = [0.0; MAX_LOCAL];
+        let mut f = [0.0; MAX_WIDTH];
+        let f = &mut f[..width];
         for case in 0..cases {
-            let s = column_mut(s0, case);
-            s.copy_from_slice(&input.target[case][t * width..(t + 1) * width]);
-            for block in s.chunks_exact_mut(nb) {
-                to_orthonormal(&cell.orthonormal, block);
-            }
-            for (i, part) in s.chunks_exact_mut(h).enumerate() {
-                let b1 = &mut coefficients[..self.q1.ncols()];
-                b1.fill(0.0);
-                for (m, b) in b1[..nl].iter_mut().enumerate() {
+            f.copy_from_slice(&input.target[case][t * width..(t + 1) * width]);
+            f.chunks_exact_mut(nb).for_each(|block| to_orthonormal(&cell.orthonormal, block));
+            let (heads, tails) = column_mut(s0, case).split_at_mut(2 * n1);
+            for (i, row) in f.chunks_exact_mut(h).enumerate() {
+                self.w1.apply_transpose(row);
+                let head = &mut heads[i * n1..(i + 1) * n1];
+                head.fill(0.0);
+                for (m, b) in head[..nl].iter_mut().enumerate() {
                     *b = data.divergence[case][(t * nl + m) * 2 + i];
                 }
-                forward_substitute(&self.r1, b1);
-                for (j, bj) in b1.iter_mut().enumerate() {
-                    *bj -= dot(column(&self.q1, j), part);
-                }
-                add_columns(&self.q1, b1, part);
+                self.w1.solve_transpose(head);
+                tails[i * free..(i + 1) * free].copy_from_slice(&row[n1..]);
             }
-            let bs = &mut coefficients[..nl];
-            for (m, b) in bs.iter_mut().enumerate() {
-                let skew = column(&self.skew, m);
-                // Yᵀs = C ∫φ ψ_m · (s_xy − s_yx)
-                *b = data.symmetry[case][t * nl + m] - dot(skew, &s[nb..h]) + dot(skew, &s[h..h + nb]);
+            self.ys.apply_transpose(tails);
+            for (m, b) in tails[..nl].iter_mut().enumerate() {
+                *b = data.symmetry[case][t * nl + m] - dot(column(&self.y_head, m), heads);
             }
-            forward_substitute(&self.rs, bs);
-            add_columns(&self.qs, bs, s);
+            self.ys.solve_transpose(&mut tails[..nl]);
         }
     }
 }
 
-/// Most columns of Q₁ and Q_S: n_lower + p + 1 ≤ 6 for p ≤ 2.
-const MAX_LOCAL: usize = 8;
+/// Most coefficients of a cell, 4 n_basis for p ≤ 2.
+const MAX_WIDTH: usize = 24;
+
+/// Most basis functions n_basis of a cell, for p ≤ 2.
+const MAX_BASIS: usize = 6;
 
 /// Column j of `m`.
 fn column(m: &DMatrix<f64>, j: usize) -> &[f64] {
@@ -588,49 +596,65 @@ fn from_orthonormal(c: &[f64], v: &mut [f64]) {
     }
 }
 
-/// [`to_orthonormal`] on every block of `nb` entries of every column of `w`.
-fn to_orthonormal_columns(c: &[f64], nb: usize, w: &mut DMatrix<f64>) {
-    for block in w.as_mut_slice().chunks_exact_mut(nb) {
-        to_orthonormal(c, block);
-    }
-}
-
-/// W ← Q and `r` ← Rᵀ for W = Q R with orthonormal columns Q and R upper triangular
-/// (Householder QR, which keeps Q orthonormal to ε whatever the condition of W; Cholesky
-/// QR through WᵀW loses orthogonality like ε κ(W)², and κ(W) grows with the aspect ratio
-/// of the cell); None if W is rank deficient. The reflectors are kept in `factors` and Q is
-/// formed in W by applying them to the first columns of the identity.
-fn orthonormalise(w: &mut DMatrix<f64>, r: &mut DMatrix<f64>, factors: &mut Reflectors) -> Option<()> {
-    let (m, n) = w.shape();
-    let Reflectors { a, tau } = factors;
-    a.clear();
-    a.extend_from_slice(w.as_slice());
-    tau.resize(n, 0.0);
-    householder_qr(a, m, n, tau);
-    let diagonal = |j: usize| a[j * m + j].abs();
-    let largest = (0..n).map(diagonal).fold(0.0, f64::max);
-    if !(0..n).all(|j| diagonal(j) > DEPENDENT_LOCAL * largest) {
-        return None;
-    }
-    let r = zeroed(r, n, n);
-    for j in 0..n {
-        for i in 0..=j {
-            r[(j, i)] = a[j * m + i];
-        }
-    }
-    for (j, q) in w.as_mut_slice().chunks_exact_mut(m).enumerate() {
-        q.fill(0.0);
-        q[j] = 1.0;
-        householder_apply(a, m, tau, q);
-    }
-    Some(())
-}
-
-/// Householder factors of one matrix ([`householder_qr`]), kept between cells.
+/// Householder factors Q R of a column-major m × n matrix (m ≥ n) from [`householder_qr`],
+/// kept between cells and patches so that the usual shapes do not allocate; Q is the square
+/// product of the reflectors, never formed.
 #[derive(Default)]
-struct Reflectors {
+struct Factors {
     a: Vec<f64>,
     tau: Vec<f64>,
+    m: usize,
+}
+
+impl Factors {
+    /// The zeroed m × n matrix to factor.
+    fn matrix(&mut self, m: usize, n: usize) -> &mut [f64] {
+        self.m = m;
+        self.tau.resize(n, 0.0);
+        self.a.clear();
+        self.a.resize(m * n, 0.0);
+        &mut self.a
+    }
+
+    /// Number of columns n.
+    fn n(&self) -> usize {
+        self.tau.len()
+    }
+
+    /// Factors the matrix in place; false if m < n or a diagonal entry of R is at most
+    /// `dependent` times the largest.
+    fn factor(&mut self, dependent: f64) -> bool {
+        let (m, n) = (self.m, self.n());
+        if m < n {
+            return false;
+        }
+        householder_qr(&mut self.a, m, n, &mut self.tau);
+        let diagonal = |j: usize| self.a[j * m + j].abs();
+        let largest = (0..n).map(diagonal).fold(0.0, f64::max);
+        (0..n).all(|j| diagonal(j) > dependent * largest)
+    }
+
+    /// x ← Q x (x of length m).
+    fn apply(&self, x: &mut [f64]) {
+        householder_apply(&self.a, self.m, &self.tau, x);
+    }
+
+    /// x ← Qᵀ x = H_{n−1} ⋯ H_0 x (x of length m).
+    fn apply_transpose(&self, x: &mut [f64]) {
+        let m = self.m;
+        for (j, &tau) in self.tau.iter().enumerate() {
+            reflect(&self.a[j * m + j + 1..(j + 1) * m], tau, &mut x[j..]);
+        }
+    }
+
+    /// c ← R⁻ᵀ c (c of length n).
+    fn solve_transpose(&self, c: &mut [f64]) {
+        let m = self.m;
+        for i in 0..self.n() {
+            let sum = dot(&self.a[i * m..i * m + i], &c[..i]);
+            c[i] = (c[i] - sum) / self.a[i * m + i];
+        }
+    }
 }
 
 /// Below this, a diagonal entry of R relative to the largest marks dependent local rows.
@@ -638,12 +662,10 @@ const DEPENDENT_LOCAL: f64 = 1e-13;
 
 /// Householder QR of the column-major m × n matrix `a` (m ≥ n) in place: R in its upper
 /// triangle, the reflectors H_j = I − τ_j v_j v_jᵀ (v_j = (0, …, 0, 1, v_j below the
-/// diagonal)) under it, τ_j in `tau`. By hand because the patch matrices are small (at most
-/// 24 × 12 per cell and about 70 × 40 per patch): reflectors applied to the few right-hand
-/// sides replace nalgebra's QR with the explicit Q it needs, and the estimate costs about 0.6
-/// times as much; the local bases of [`orthonormalise`] apply them to a few columns of the
-/// identity in reused scratch, without nalgebra's allocations (docs/results.md, Error
-/// estimation).
+/// diagonal)) under it, τ_j in `tau`. By hand because the patch matrices are small (12 × 6
+/// per cell, 54 × 36 on an interior P2 patch of six cells): reflectors applied to the few vectors
+/// replace nalgebra's QR with the explicit Q it needs and its allocations (docs/results.md,
+/// Error estimation).
 fn householder_qr(a: &mut [f64], m: usize, n: usize, tau: &mut [f64]) {
     for j in 0..n {
         let column = &mut a[j * m..(j + 1) * m];
@@ -678,30 +700,6 @@ fn reflect(below: &[f64], tau: f64, x: &mut [f64]) {
     let s = tau * (x[0] + dot(below, &x[1..]));
     x[0] -= s;
     x[1..].iter_mut().zip(below).for_each(|(x, v)| *x -= s * v);
-}
-
-/// v ← L⁻¹ v for the lower triangle of `l`.
-fn forward_substitute(l: &DMatrix<f64>, v: &mut [f64]) {
-    for j in 0..v.len() {
-        let sum: f64 = (0..j).map(|k| l[(j, k)] * v[k]).sum();
-        v[j] = (v[j] - sum) / l[(j, j)];
-    }
-}
-
-/// s ← s + Q c.
-fn add_columns(q: &DMatrix<f64>, c: &[f64], s: &mut [f64]) {
-    for (j, cj) in c.iter().enumerate() {
-        s.iter_mut().zip(column(q, j)).for_each(|(x, qj)| *x += cj * qj);
-    }
-}
-
-/// v ← (I − Q Qᵀ) v.
-fn project_off(q: &DMatrix<f64>, v: &mut [f64]) {
-    let mut c = [0.0; MAX_LOCAL];
-    for (j, cj) in c[..q.ncols()].iter_mut().enumerate() {
-        *cj = -dot(column(q, j), v);
-    }
-    add_columns(q, &c[..q.ncols()], v);
 }
 
 /// K = the face rows' part of λ_z for the free rigid motions z (z_i at the face nodes), one
@@ -850,22 +848,51 @@ fn correct_symmetry(input: &PatchInput, kappa: f64, sym_rhs: &mut [f64]) {
 mod tests {
     use super::*;
 
-    #[test]
-    fn orthonormalise_gives_an_orthonormal_basis_of_the_same_span() {
-        let w = DMatrix::from_fn(7, 3, |i, j| ((i * 5 + j * 3) % 7) as f64 - 2.5 + if i == j { 4.0 } else { 0.0 });
-        let (mut q, mut r) = (w.clone(), empty());
-        orthonormalise(&mut q, &mut r, &mut Reflectors::default()).expect("independent columns");
-        assert!((q.transpose() * &q - DMatrix::identity(3, 3)).amax() < 1e-13, "QᵀQ = I");
-        assert!((&q * r.lower_triangle().transpose() - &w).amax() < 1e-12 * w.amax(), "W = Q Lᵀ");
-        let mut v: Vec<f64> = w.column(1).iter().copied().collect();
-        project_off(&q, &mut v);
-        assert!(v.iter().all(|x| x.abs() < 1e-12), "(I − QQᵀ) w = 0 on the span");
+    /// Householder factors of a 7 × 3 matrix W.
+    fn factors(w: &DMatrix<f64>) -> Factors {
+        let mut factors = Factors::default();
+        factors.matrix(w.nrows(), w.ncols()).copy_from_slice(w.as_slice());
+        assert!(factors.factor(DEPENDENT_LOCAL), "independent columns");
+        factors
     }
 
+    /// Source: `Factors` (Householder QR with the reflectors kept). Goal: Q is orthogonal,
+    /// W = Q R, and `apply_transpose`, `solve_transpose` give Qᵀ x and R⁻ᵀ b. Parameters: a
+    /// fixed 7 × 3 matrix with a dominant diagonal, x and b fixed.
     #[test]
-    fn orthonormalise_refuses_dependent_columns() {
-        let mut w = DMatrix::from_fn(5, 2, |i, _| i as f64 + 1.0);
-        assert!(orthonormalise(&mut w, &mut empty(), &mut Reflectors::default()).is_none());
+    fn factors_apply_an_orthogonal_q_with_w_equal_q_r() {
+        let w = DMatrix::from_fn(7, 3, |i, j| ((i * 5 + j * 3) % 7) as f64 - 2.5 + if i == j { 4.0 } else { 0.0 });
+        let f = factors(&w);
+        let q = DMatrix::from_fn(7, 7, |i, j| {
+            let mut e = [0.0; 7];
+            e[j] = 1.0;
+            f.apply(&mut e);
+            e[i]
+        });
+        assert!((q.transpose() * &q - DMatrix::identity(7, 7)).amax() < 1e-14, "QᵀQ = I");
+        let r = DMatrix::from_fn(7, 3, |i, j| if i <= j { f.a[j * 7 + i] } else { 0.0 });
+        assert!((&q * &r - &w).amax() < 1e-13 * w.amax(), "W = Q R");
+        let mut x: Vec<f64> = (0..7).map(|i| i as f64 - 3.0).collect();
+        let x0 = x.clone();
+        f.apply_transpose(&mut x);
+        assert!((DVector::from_vec(x.clone()) - q.transpose() * DVector::from_vec(x0)).amax() < 1e-14, "Qᵀ x");
+        // Rᵀ c = b
+        let b = [1.0, -2.0, 0.5];
+        let mut c = b;
+        f.solve_transpose(&mut c);
+        let rt = r.rows(0, 3).transpose();
+        assert!((rt * DVector::from_row_slice(&c) - DVector::from_row_slice(&b)).amax() < 1e-14, "Rᵀ c = b");
+    }
+
+    /// Source: `Factors::factor`. Goal: dependent columns, and fewer rows than columns, are
+    /// refused. Parameters: a 5 × 2 matrix with equal columns; a 2 × 3 matrix of ones.
+    #[test]
+    fn factors_refuse_dependent_columns() {
+        let mut f = Factors::default();
+        f.matrix(5, 2).iter_mut().enumerate().for_each(|(k, a)| *a = (k % 5) as f64 + 1.0);
+        assert!(!f.factor(DEPENDENT_LOCAL));
+        f.matrix(2, 3).fill(1.0);
+        assert!(!f.factor(DEPENDENT_LOCAL), "fewer rows than columns");
     }
 
     #[test]
