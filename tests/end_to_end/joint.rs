@@ -330,6 +330,35 @@ fn safety_coarse(scene: &Path, dir: &Path, extra: &[&str]) -> Output {
     damfem(&args)
 }
 
+// The estimate of the dam on its rock with a Coulomb joint without cohesion, its sides remeshed
+// apart. Source: geo/scene_b_joint.toml without its cohesion (c = 0, P2); docs/method.md §1.6
+// (the face split at every kink of the traction) and §1.10. Goal: `damfem adapt` reaches its
+// second mesh, the first whose sides no longer match, with a guaranteed bound: the
+// equilibration checks of both meshes below EQUILIBRATION_TOLERANCE = 10⁻¹⁰ (a pair of close
+// crossings of a Coulomb margin, missed by Newton's split and the reconstruction's alike, made
+// it 2.8·10⁻⁸ there). Parameters: the scene's meshes, --tol-relative 0.001, two meshes.
+#[test]
+fn adapt_estimates_the_coulomb_joint_remeshed_apart() {
+    let tmp = TempDir::new("coulomb-remeshed-apart");
+    let text = std::fs::read_to_string(repo("geo/scene_b_joint.toml")).unwrap();
+    let geometry = format!("geometry = {:?}", repo("geo/scene_b_joint.geo").display().to_string());
+    let scene = tmp.join("scene.toml");
+    let coulomb = text.replace("geometry = \"scene_b_joint.geo\"", &geometry).replace("cohesion = 1.0e5\n", "");
+    std::fs::write(&scene, coulomb).unwrap();
+    let dir = tmp.join("out");
+    let args = ["adapt", "--tol-relative", "0.001", "--steps", "2", "-q"].map(OsStr::new);
+    let out = damfem(&[&args[..], &[scene.as_os_str(), OsStr::new("-o"), dir.as_os_str()]].concat());
+    assert_ok(&out);
+    let history: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("history.json")).unwrap()).unwrap();
+    let steps = history["steps"].as_array().unwrap_or_else(|| panic!("{history}"));
+    assert_eq!(steps.len(), 2, "{history}");
+    for step in steps {
+        let equilibration = step["equilibration"].as_f64().unwrap_or_else(|| panic!("{step}"));
+        assert!(equilibration <= 1e-10, "equilibration {equilibration:.2e} on {step}");
+    }
+}
+
 // `damfem safety` on the frictional dam with uplift. Source: geo/scene_a_uplift.toml (c = 0,
 // horizontal joint: FS_LE = F N/|T| and FS_SR = F N/|T| with the crack of k = 1, N = W − U);
 // docs/method.md §1.9. Goal: the adaptive run meets its tolerance; safety.json states its
