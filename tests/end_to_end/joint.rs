@@ -594,3 +594,33 @@ fn safety_reports_the_dam_on_its_rock_with_a_frictional_joint() {
     let s: Vec<f64> = csv.lines().skip(1).map(|l| l.split(',').nth(2).unwrap().parse().unwrap()).collect();
     assert!(s.windows(2).all(|w| w[0] <= w[1]) && s[0] >= 0.0 && *s.last().unwrap() <= 40.0, "{csv}");
 }
+
+// `damfem solve` from rest on a Coulomb joint that alone holds the dam. Source:
+// geo/scene_b_joint.toml without its cohesion (c = 0, P2, mesh sizes × 2: 3 862 unknowns, no
+// nested levels, so Newton starts from u = 0); docs/method.md §1.10. From u = 0 Newton slid the
+// dam far into slip and stalled at a relative residual of about 0.3 after 100 steps; the path
+// now starts again from the closed, sticking state. Goal: the solve converges, with
+// N + U = W (the rigid motions of the dam held by the joint alone are test functions) and
+// |T| = the thrust ρ_w g 45²/2 to 10⁻⁶. Parameters: the scene's δ path (0.1 S to 10⁻⁴ S),
+// at most 100 steps per δ.
+#[test]
+fn solve_holds_the_dam_on_a_coulomb_joint_from_rest() {
+    let tmp = TempDir::new("coulomb-from-rest");
+    let text = std::fs::read_to_string(repo("geo/scene_b_joint.toml")).unwrap();
+    let geometry = format!("geometry = {:?}", repo("geo/scene_b_joint.geo").display().to_string());
+    let scene = tmp.join("scene.toml");
+    let coulomb = text.replace("geometry = \"scene_b_joint.geo\"", &geometry).replace("cohesion = 1.0e5\n", "");
+    std::fs::write(&scene, coulomb).unwrap();
+    let dir = tmp.join("out");
+    let args = ["solve", "--size-factor", "2", "-q"].map(OsStr::new);
+    let out = damfem(&[&args[..], &[scene.as_os_str(), OsStr::new("-o"), dir.as_os_str()]].concat());
+    assert_ok(&out);
+    let c = check_summary(&dir)["contact"].clone();
+    let number = |v: &serde_json::Value| v.as_f64().unwrap_or_else(|| panic!("{c}"));
+    let (n, t, u) = (number(&c["normal_force"]), number(&c["tangential_force"]), number(&c["uplift_force"]));
+    let (weight, _) = scene_a_weight();
+    let thrust = 0.5 * 1000.0 * 9.81 * 45.0 * 45.0;
+    println!("N + U = {:.6e} (W = {weight:.6e}), T = {t:.6e} (thrust {thrust:.6e})", n + u);
+    assert!((n + u - weight).abs() <= 1e-6 * weight, "N + U = {} against W = {weight}", n + u);
+    assert!((t.abs() - thrust).abs() <= 1e-6 * thrust, "|T| = {} against the thrust {thrust}", t.abs());
+}
