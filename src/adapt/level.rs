@@ -205,8 +205,9 @@ pub fn contact_level(
             latest = Some((x.to_vec(), e));
             stop
         });
-        // a Newton run that stalls at δ (nonsmooth Newton cycling between active sets) starts
-        // again from the same iterate at ρ_δ δ, a smoother problem; (S_reg) then brings δ down
+        // a Newton run that stalls at δ (steps cut short by the line search where the law is
+        // steep in P_γ, docs/method.md §1.10) starts again from the same iterate at ρ_δ δ, a
+        // smoother problem; (S_reg) then brings δ down
         let report = match attempt {
             Ok(report) => report,
             Err(failed) if retries < MAX_RETRIES => {

@@ -100,8 +100,12 @@ impl JointLaw {
     }
 
     /// Π_S(p_t) with S at `p_n`, and its derivatives: ∂/∂p_t = 1 − q'(S − p_t) − q'(p_t + S),
-    /// ∂/∂p_n = (q'(S − p_t) − q'(p_t + S)) dS/dP^n.
+    /// ∂/∂p_n = (q'(S − p_t) − q'(p_t + S)) dS/dP^n. With [`Smoothing::CLOSED`] a frictional
+    /// joint is held closed and sticking (S = ∞): Π = p_t, the bonded interface.
     pub fn tangential(&self, p_n: f64, p_t: f64, q: Smoothing) -> Tangential {
+        if q == Smoothing::CLOSED && self.has_friction() {
+            return Tangential { value: p_t, d_tangential: 1.0, d_normal: 0.0, threshold: f64::INFINITY };
+        }
         let (s, ds) = self.threshold(p_n, q);
         let (upper, lower) = (q.derivative(s - p_t), q.derivative(p_t + s));
         Tangential {
@@ -148,6 +152,20 @@ mod tests {
         let mc = JointLaw::MohrCoulomb { friction: 0.5, cohesion: 0.25 };
         assert_eq!(mc.tangential(-2.0, 3.0, q).value, 1.25);
         assert_eq!(mc.tangential(0.5, 3.0, q).value, 0.0);
+    }
+
+    /// Source: docs/method.md §1.10 (the start from the closed, sticking state). Goal: with
+    /// Smoothing::CLOSED every frictional law sticks, Π = p_t with derivatives 1 and 0, also
+    /// where P^n > 0 or |p_t| exceeds the law's threshold. Parameters: LAWS, p_n ∈ {−2, 0.5},
+    /// p_t ∈ {−3, 0.4, 3}.
+    #[test]
+    fn the_closed_state_sticks() {
+        for law in LAWS {
+            for (p_n, p_t) in [(-2.0, 0.4), (-2.0, 3.0), (0.5, -3.0)] {
+                let t = law.tangential(p_n, p_t, Smoothing::CLOSED);
+                assert_eq!((t.value, t.d_tangential, t.d_normal), (p_t, 1.0, 0.0), "{law:?} at ({p_n}, {p_t})");
+            }
+        }
     }
 
     #[test]

@@ -249,8 +249,8 @@ impl<'a> ContactProblem<'a> {
     }
 
     /// The fully active state: the solution with every point of Γ_C held closed, \[P_γ\]
-    /// replaced by P_γ (a linear problem, one Newton step from u = 0). For frictionless
-    /// joints: a friction threshold F p_c would follow P_γ of either sign.
+    /// replaced by P_γ, and on a frictional joint sticking, Π_S(P^t_γ) replaced by P^t_γ (a
+    /// linear problem, the bonded interface in Nitsche's form; one Newton step from u = 0).
     pub fn fully_active_start(&mut self) -> Result<Vec<f64>, NewtonError> {
         let smoothing = std::mem::replace(&mut self.smoothing, Smoothing::CLOSED);
         let x0 = vec![0.0; self.disc.dofs.n_free];
@@ -472,7 +472,10 @@ pub struct Stage {
 /// Newton along the path δ_k = max(delta, delta_start / 10^k), each stage starting from the
 /// previous solution; for delta = 0 the path jumps to 0 after eight decades. A direct solve
 /// at a tiny δ from a poor initial guess moves the active set one face per step; the path
-/// reaches it in a few steps per stage. `delta_start ≤ delta` is one stage.
+/// reaches it in a few steps per stage. `delta_start ≤ delta` is one stage. On a frictional
+/// joint, a path from rest (x0 = 0) whose first stage fails starts that stage again from the
+/// closed, sticking state ([`ContactProblem::fully_active_start`]): from u = 0 Newton can slide
+/// a body that the joint alone holds far into slip, where it stalls (docs/method.md §1.10).
 pub fn continuation(
     contact: &mut ContactProblem,
     delta: f64,
@@ -481,11 +484,18 @@ pub fn continuation(
     options: &NewtonOptions,
 ) -> Result<(Vec<f64>, Vec<Stage>), NewtonError> {
     let mut stages: Vec<Stage> = Vec::new();
+    let from_rest = contact.nitsche.law.has_friction() && x0.iter().all(|&v| v == 0.0);
     let mut x = x0;
     let mut current = delta_start.max(delta);
     loop {
         contact.set_delta(current);
-        let report = newton(contact, x, options)?;
+        let report = match newton(contact, x, options) {
+            Err(_) if from_rest && stages.is_empty() => {
+                let closed = contact.fully_active_start()?;
+                newton(contact, closed, options)?
+            }
+            attempt => attempt?,
+        };
         x = report.x.clone();
         stages.push(Stage { delta: current, report });
         if current <= delta * (1.0 + 1e-9) {

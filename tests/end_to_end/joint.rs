@@ -330,6 +330,35 @@ fn safety_coarse(scene: &Path, dir: &Path, extra: &[&str]) -> Output {
     damfem(&args)
 }
 
+// The estimate of the dam on its rock with a Coulomb joint without cohesion, its sides remeshed
+// apart. Source: geo/scene_b_joint.toml without its cohesion (c = 0, P2); docs/method.md §1.6
+// (the face split at every kink of the traction) and §1.10. Goal: `damfem adapt` reaches its
+// second mesh, the first whose sides no longer match, with a guaranteed bound: the
+// equilibration checks of both meshes below EQUILIBRATION_TOLERANCE = 10⁻¹⁰ (a pair of close
+// crossings of a Coulomb margin, missed by Newton's split and the reconstruction's alike, made
+// it 2.8·10⁻⁸ there). Parameters: the scene's meshes, --tol-relative 0.001, two meshes.
+#[test]
+fn adapt_estimates_the_coulomb_joint_remeshed_apart() {
+    let tmp = TempDir::new("coulomb-remeshed-apart");
+    let text = std::fs::read_to_string(repo("geo/scene_b_joint.toml")).unwrap();
+    let geometry = format!("geometry = {:?}", repo("geo/scene_b_joint.geo").display().to_string());
+    let scene = tmp.join("scene.toml");
+    let coulomb = text.replace("geometry = \"scene_b_joint.geo\"", &geometry).replace("cohesion = 1.0e5\n", "");
+    std::fs::write(&scene, coulomb).unwrap();
+    let dir = tmp.join("out");
+    let args = ["adapt", "--tol-relative", "0.001", "--steps", "2", "-q"].map(OsStr::new);
+    let out = damfem(&[&args[..], &[scene.as_os_str(), OsStr::new("-o"), dir.as_os_str()]].concat());
+    assert_ok(&out);
+    let history: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("history.json")).unwrap()).unwrap();
+    let steps = history["steps"].as_array().unwrap_or_else(|| panic!("{history}"));
+    assert_eq!(steps.len(), 2, "{history}");
+    for step in steps {
+        let equilibration = step["equilibration"].as_f64().unwrap_or_else(|| panic!("{step}"));
+        assert!(equilibration <= 1e-10, "equilibration {equilibration:.2e} on {step}");
+    }
+}
+
 // `damfem safety` on the frictional dam with uplift. Source: geo/scene_a_uplift.toml (c = 0,
 // horizontal joint: FS_LE = F N/|T| and FS_SR = F N/|T| with the crack of k = 1, N = W − U);
 // docs/method.md §1.9. Goal: the adaptive run meets its tolerance; safety.json states its
@@ -568,4 +597,34 @@ fn safety_reports_the_dam_on_its_rock_with_a_frictional_joint() {
     let csv = std::fs::read_to_string(tmp.join("out/joint.csv")).unwrap();
     let s: Vec<f64> = csv.lines().skip(1).map(|l| l.split(',').nth(2).unwrap().parse().unwrap()).collect();
     assert!(s.windows(2).all(|w| w[0] <= w[1]) && s[0] >= 0.0 && *s.last().unwrap() <= 40.0, "{csv}");
+}
+
+// `damfem solve` from rest on a Coulomb joint that alone holds the dam. Source:
+// geo/scene_b_joint.toml without its cohesion (c = 0, P2, mesh sizes × 2: 3 862 unknowns, no
+// nested levels, so Newton starts from u = 0); docs/method.md §1.10. From u = 0 Newton slid the
+// dam far into slip and stalled at a relative residual of about 0.3 after 100 steps; the path
+// now starts again from the closed, sticking state. Goal: the solve converges, with
+// N + U = W (the rigid motions of the dam held by the joint alone are test functions) and
+// |T| = the thrust ρ_w g 45²/2 to 10⁻⁶. Parameters: the scene's δ path (0.1 S to 10⁻⁴ S),
+// at most 100 steps per δ.
+#[test]
+fn solve_holds_the_dam_on_a_coulomb_joint_from_rest() {
+    let tmp = TempDir::new("coulomb-from-rest");
+    let text = std::fs::read_to_string(repo("geo/scene_b_joint.toml")).unwrap();
+    let geometry = format!("geometry = {:?}", repo("geo/scene_b_joint.geo").display().to_string());
+    let scene = tmp.join("scene.toml");
+    let coulomb = text.replace("geometry = \"scene_b_joint.geo\"", &geometry).replace("cohesion = 1.0e5\n", "");
+    std::fs::write(&scene, coulomb).unwrap();
+    let dir = tmp.join("out");
+    let args = ["solve", "--size-factor", "2", "-q"].map(OsStr::new);
+    let out = damfem(&[&args[..], &[scene.as_os_str(), OsStr::new("-o"), dir.as_os_str()]].concat());
+    assert_ok(&out);
+    let c = check_summary(&dir)["contact"].clone();
+    let number = |v: &serde_json::Value| v.as_f64().unwrap_or_else(|| panic!("{c}"));
+    let (n, t, u) = (number(&c["normal_force"]), number(&c["tangential_force"]), number(&c["uplift_force"]));
+    let (weight, _) = scene_a_weight();
+    let thrust = 0.5 * 1000.0 * 9.81 * 45.0 * 45.0;
+    println!("N + U = {:.6e} (W = {weight:.6e}), T = {t:.6e} (thrust {thrust:.6e})", n + u);
+    assert!((n + u - weight).abs() <= 1e-6 * weight, "N + U = {} against W = {weight}", n + u);
+    assert!((t.abs() - thrust).abs() <= 1e-6 * thrust, "|T| = {} against the thrust {thrust}", t.abs());
 }
