@@ -484,7 +484,7 @@ pub fn continuation(
     options: &NewtonOptions,
 ) -> Result<(Vec<f64>, Vec<Stage>), NewtonError> {
     let mut stages: Vec<Stage> = Vec::new();
-    let from_rest = contact.nitsche.law.has_friction() && x0.iter().all(|&v| v == 0.0);
+    let from_rest = contact.nitsche.has_friction() && x0.iter().all(|&v| v == 0.0);
     let mut x = x0;
     let mut current = delta_start.max(delta);
     loop {
