@@ -9,13 +9,23 @@ use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
-/// Writes geo/scene_a_friction.toml with `edit` applied into `tmp`, the geometry by absolute path.
-fn frictional_scene(tmp: &TempDir, edit: impl Fn(String) -> String) -> PathBuf {
-    let text = std::fs::read_to_string(repo("geo/scene_a_friction.toml")).unwrap();
-    let geometry = format!("geometry = {:?}", repo("geo/scene_a_friction.geo").display().to_string());
+/// Writes geo/<name>.toml with `edit` applied into `tmp`, the geometry by absolute path.
+fn edited_scene(tmp: &TempDir, name: &str, edit: impl Fn(String) -> String) -> PathBuf {
+    let text = std::fs::read_to_string(repo(&format!("geo/{name}.toml"))).unwrap();
+    let geometry = format!("geometry = {:?}", repo(&format!("geo/{name}.geo")).display().to_string());
     let scene = tmp.join("scene.toml");
-    std::fs::write(&scene, edit(text.replace("geometry = \"scene_a_friction.geo\"", &geometry))).unwrap();
+    std::fs::write(&scene, edit(text.replace(&format!("geometry = \"{name}.geo\""), &geometry))).unwrap();
     scene
+}
+
+/// geo/scene_a_friction.toml with `edit` applied, in `tmp`.
+fn frictional_scene(tmp: &TempDir, edit: impl Fn(String) -> String) -> PathBuf {
+    edited_scene(tmp, "scene_a_friction", edit)
+}
+
+/// geo/scene_b_joint.toml without its cohesion (a Coulomb joint, c = 0), in `tmp`.
+fn coulomb_rock_scene(tmp: &TempDir) -> PathBuf {
+    edited_scene(tmp, "scene_b_joint", |text| text.replace("cohesion = 1.0e5\n", ""))
 }
 
 // Friction keys out of range are refused, naming the key; a flag gets the same check.
@@ -340,11 +350,7 @@ fn safety_coarse(scene: &Path, dir: &Path, extra: &[&str]) -> Output {
 #[test]
 fn adapt_estimates_the_coulomb_joint_remeshed_apart() {
     let tmp = TempDir::new("coulomb-remeshed-apart");
-    let text = std::fs::read_to_string(repo("geo/scene_b_joint.toml")).unwrap();
-    let geometry = format!("geometry = {:?}", repo("geo/scene_b_joint.geo").display().to_string());
-    let scene = tmp.join("scene.toml");
-    let coulomb = text.replace("geometry = \"scene_b_joint.geo\"", &geometry).replace("cohesion = 1.0e5\n", "");
-    std::fs::write(&scene, coulomb).unwrap();
+    let scene = coulomb_rock_scene(&tmp);
     let dir = tmp.join("out");
     let args = ["adapt", "--tol-relative", "0.001", "--steps", "2", "-q"].map(OsStr::new);
     let out = damfem(&[&args[..], &[scene.as_os_str(), OsStr::new("-o"), dir.as_os_str()]].concat());
@@ -549,11 +555,7 @@ fn safety_runs_every_load_combination() {
 fn safety_reports_the_dam_on_its_rock_with_a_frictional_joint() {
     let tmp = TempDir::new("safety-two-body");
     // the scene without its cohesion, for the exact FS_SR
-    let text = std::fs::read_to_string(repo("geo/scene_b_joint.toml")).unwrap();
-    let geometry = format!("geometry = {:?}", repo("geo/scene_b_joint.geo").display().to_string());
-    let scene = tmp.join("scene.toml");
-    let coulomb = text.replace("geometry = \"scene_b_joint.geo\"", &geometry).replace("cohesion = 1.0e5\n", "");
-    std::fs::write(&scene, coulomb).unwrap();
+    let scene = coulomb_rock_scene(&tmp);
     let out = safety_coarse(&scene, &tmp.join("out"), &["--order", "1", "--max-steps", "2"]);
     assert_ok(&out);
     let report: serde_json::Value =
@@ -610,11 +612,7 @@ fn safety_reports_the_dam_on_its_rock_with_a_frictional_joint() {
 #[test]
 fn solve_holds_the_dam_on_a_coulomb_joint_from_rest() {
     let tmp = TempDir::new("coulomb-from-rest");
-    let text = std::fs::read_to_string(repo("geo/scene_b_joint.toml")).unwrap();
-    let geometry = format!("geometry = {:?}", repo("geo/scene_b_joint.geo").display().to_string());
-    let scene = tmp.join("scene.toml");
-    let coulomb = text.replace("geometry = \"scene_b_joint.geo\"", &geometry).replace("cohesion = 1.0e5\n", "");
-    std::fs::write(&scene, coulomb).unwrap();
+    let scene = coulomb_rock_scene(&tmp);
     let dir = tmp.join("out");
     let args = ["solve", "--size-factor", "2", "-q"].map(OsStr::new);
     let out = damfem(&[&args[..], &[scene.as_os_str(), OsStr::new("-o"), dir.as_os_str()]].concat());
