@@ -8,7 +8,7 @@
 //! fix one component only (a roller).
 
 use super::displacement::Displacement;
-use super::kernels;
+use super::kernels::{self, ReferenceStiffness};
 use super::material::Material;
 use super::rigid;
 use crate::fem::affine::AffineMap;
@@ -146,19 +146,18 @@ pub struct Discretisation {
     pub pattern: SparsePattern,
 }
 
-/// The element rules of the stiffness (degree 2(p − 1)) and of the body load
-/// ([`load_degree`]).
+/// The reference stiffness and the body load rule ([`load_degree`]) with its integrals of
+/// the basis.
 struct CellKernel {
-    stiffness: Tabulation,
+    stiffness: ReferenceStiffness,
     load: Tabulation,
+    load_integrals: Vec<f64>,
 }
 
 impl CellKernel {
     fn new(order: usize) -> Self {
-        CellKernel {
-            stiffness: Tabulation::new(order, 2 * order - 2),
-            load: Tabulation::new(order, load_degree(order)),
-        }
+        let load = Tabulation::new(order, load_degree(order));
+        CellKernel { stiffness: ReferenceStiffness::new(order), load_integrals: load.integrals(), load }
     }
 }
 
@@ -235,7 +234,7 @@ impl Problem {
 
     fn add_stiffness_and_body_force(&self, disc: &Discretisation, pattern: &SparsePattern, system: &mut LinearSystem) {
         let kernel = CellKernel::new(self.mesh.order);
-        let nb = kernel.stiffness.n_basis;
+        let nb = kernel.stiffness.n_basis();
         let dofs_of = |c: usize, out: &mut Vec<usize>| vector_dofs(self.mesh.cell(c), out);
         system.assemble(pattern, &disc.dofs, self.mesh.n_cells(), 2 * nb, dofs_of, |c, local| {
             self.cell_terms(&kernel, c, local)
@@ -246,15 +245,13 @@ impl Problem {
     fn cell_terms(&self, kernel: &CellKernel, c: usize, local: &mut Local) {
         let map = AffineMap::new(self.mesh.cell_vertices(c));
         let (lambda, mu) = self.materials[c].lame();
-        let mut grads = [[0.0; 2]; 6];
-        let nb = kernel.stiffness.n_basis;
-        kernels::stiffness(&map, &kernel.stiffness, lambda, mu, &mut grads[..nb], &mut local.matrix);
+        kernel.stiffness.stiffness(&map, lambda, mu, &mut local.matrix);
         match &self.body_force {
             BodyForce::None => local.load.fill(0.0),
-            // constant on the cell: f evaluated once
+            // constant on the cell: ∫_T f φ_i = f |det J| m_i
             BodyForce::Acceleration(_) => {
                 let f = self.body_force_at(c, map.origin);
-                kernels::body_load(&map, &kernel.load, |_| f, &mut local.load)
+                kernels::constant_body_load(&map, &kernel.load_integrals, f, &mut local.load)
             }
             BodyForce::Field(_) => {
                 kernels::body_load(&map, &kernel.load, |x| self.body_force_at(c, x), &mut local.load)
@@ -268,7 +265,7 @@ impl Problem {
     /// the strain, instead of ε |K_T| |u_T|.
     pub fn residual(&self, disc: &Discretisation, u: &Displacement) -> Vec<f64> {
         let kernel = CellKernel::new(self.mesh.order);
-        let n = 2 * kernel.stiffness.n_basis;
+        let n = 2 * kernel.stiffness.n_basis();
         let mut r = vec![0.0; disc.dofs.n_free];
         let mut add = |nodes: &[usize], f: &[f64]| {
             for (k, &fk) in nodes.iter().flat_map(|&node| [2 * node, 2 * node + 1]).zip(f) {
