@@ -260,8 +260,8 @@ impl LinearSystem {
 
 /// Adds the entries of `local` whose column (matrix) or row (load) lies in `range`. Local
 /// dofs come in node pairs (x, y), and the free dofs of a node are adjacent: the rows of
-/// node i in a column of node j start at the same offset k in both columns of node j, so
-/// one search per pair of nodes places the (up to) four entries.
+/// node i in a column of node j start at the same offset k_i in both columns of node j. The
+/// offsets of all nodes i come from one pass along the sorted rows of node j's column.
 fn scatter(
     pattern: &SparsePattern,
     map: &DofMap,
@@ -272,39 +272,58 @@ fn scatter(
     rhs: &mut [f64],
 ) {
     let n = local.dofs.len();
-    debug_assert!(n.is_multiple_of(2), "local dofs come in node pairs");
-    let col_ptr = pattern.symbolic.col_ptr();
+    debug_assert!(n.is_multiple_of(2) && n <= 2 * MAX_NODES, "local dofs come in node pairs");
+    let (col_ptr, row_idx) = (pattern.symbolic.col_ptr(), pattern.symbolic.row_idx());
     let owned = |k: usize| k != FIXED && (range.0..range.1).contains(&k);
+    let first_free = |pair: &[usize]| [map.free[pair[0]], map.free[pair[1]]].into_iter().find(|&k| k != FIXED);
+    // the nodes with a free row, by increasing first free row
+    let mut first_row = [(0, 0); MAX_NODES];
+    let mut n_rows = 0;
+    for (i, pair) in local.dofs.chunks_exact(2).enumerate() {
+        if let Some(r) = first_free(pair) {
+            first_row[n_rows] = (r, i);
+            n_rows += 1;
+        }
+    }
+    let first_row = &mut first_row[..n_rows];
+    first_row.sort_unstable();
+    let mut k = [0; MAX_NODES];
     for (j, column_pair) in local.dofs.chunks_exact(2).enumerate() {
         let columns = [map.free[column_pair[0]], map.free[column_pair[1]]];
         if !owned(columns[0]) && !owned(columns[1]) {
             continue;
         }
-        let first_column = if columns[0] != FIXED { columns[0] } else { columns[1] };
-        for (b, &col) in columns.iter().enumerate().filter(|&(_, &col)| owned(col)) {
-            rhs[col - range.0] += local.load[2 * j + b];
+        let first_column = first_free(column_pair).expect("an owned column is free");
+        let mut p = col_ptr[first_column];
+        for &(r, i) in first_row.iter() {
+            while row_idx[p] < r {
+                p += 1;
+            }
+            assert!(row_idx[p] == r, "entry outside the sparsity pattern");
+            k[i] = p - col_ptr[first_column];
         }
-        for (i, row_pair) in local.dofs.chunks_exact(2).enumerate() {
-            let rows = [map.free[row_pair[0]], map.free[row_pair[1]]];
-            let first_row = if rows[0] != FIXED { rows[0] } else { rows[1] };
-            // k: offset of node i's first free row in the columns of node j
-            let k = (first_row != FIXED).then(|| pattern.position(first_row, first_column) - col_ptr[first_column]);
-            for (b, &col) in columns.iter().enumerate().filter(|&(_, &col)| owned(col)) {
-                let c = 2 * j + b;
-                for (a, (&row, &g)) in rows.iter().zip(row_pair).enumerate() {
-                    match (row, k) {
+        for (b, &col) in columns.iter().enumerate().filter(|&(_, &col)| owned(col)) {
+            let c = 2 * j + b;
+            rhs[col - range.0] += local.load[c];
+            for (i, row_pair) in local.dofs.chunks_exact(2).enumerate() {
+                let mut next = col_ptr[col] + k[i] - offset;
+                for (a, &g) in row_pair.iter().enumerate() {
+                    match map.free[g] {
                         // symmetric pattern: row `col` collects −K_{col,i} g_i
-                        (FIXED, _) => rhs[col - range.0] -= local.matrix[c * n + 2 * i + a] * map.fixed_value[g],
-                        (row, Some(k)) => {
-                            values[col_ptr[col] + k + row - first_row - offset] += local.matrix[(2 * i + a) * n + c]
+                        FIXED => rhs[col - range.0] -= local.matrix[c * n + 2 * i + a] * map.fixed_value[g],
+                        _ => {
+                            values[next] += local.matrix[(2 * i + a) * n + c];
+                            next += 1;
                         }
-                        (_, None) => unreachable!("a free row has a first free row"),
                     }
                 }
             }
         }
     }
 }
+
+/// The most nodes of a cell (P2).
+const MAX_NODES: usize = 6;
 
 /// The cells that touch each of the contiguous `ranges` of free dofs, in increasing order.
 fn cells_of_ranges(
