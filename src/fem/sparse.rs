@@ -2,8 +2,8 @@
 //!
 //! The pattern couples every pair of free dofs whose nodes share a cell; it is stored in
 //! compressed sparse column form with sorted row indices, so that a value is found by binary
-//! search in its column. The same pattern (and hence the same symbolic factorisation) serves
-//! every matrix assembled on the mesh.
+//! search in its column (or, for the nodes of a cell, by one pass along it). The same pattern
+//! (and hence the same symbolic factorisation) serves every matrix assembled on the mesh.
 //!
 //! Assembly is parallel without locks: the free dofs are cut into contiguous ranges, and each
 //! task owns the matrix columns and right-hand-side rows of its range. A task visits the cells
