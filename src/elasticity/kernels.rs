@@ -8,63 +8,37 @@ use crate::fem::lagrange;
 use crate::fem::tabulate::Tabulation;
 use crate::mesh::Segment;
 
-/// The element stiffness of affine cells from reference matrices.
-///
-/// With ∇φ_i = J⁻ᵀ ∇̂φ̂_i, the integrals D_kl\[i\]\[j\] = ∫_T ∂_k φ_i ∂_l φ_j over an affine cell are
-/// |det J| Σ_ab (J⁻ᵀ)_ka (J⁻ᵀ)_lb S_ab\[i\]\[j\] with the reference integrals
-/// S_ab\[i\]\[j\] = ∫_T̂ ∂̂_a φ̂_i ∂̂_b φ̂_j, computed once by a rule of degree 2(p − 1) (exact).
-pub struct ReferenceStiffness {
-    n_basis: usize,
-    /// \[S_00, S_01, S_10, S_11\]\[i\]\[j\] at `s[i * n_basis + j]`.
-    s: Vec<[f64; 4]>,
-}
-
-impl ReferenceStiffness {
-    /// The reference integrals of the P_order basis.
-    pub fn new(order: usize) -> Self {
-        let tab = Tabulation::new(order, 2 * order - 2);
-        let nb = tab.n_basis;
-        let mut s = vec![[0.0; 4]; nb * nb];
-        for q in 0..tab.n_points() {
-            let g = tab.grad(q);
-            for (i, j) in (0..nb).flat_map(|i| (0..nb).map(move |j| (i, j))) {
-                for (ab, sab) in s[i * nb + j].iter_mut().enumerate() {
-                    // w_q (∂̂_a φ̂_i ∂̂_b φ̂_j): S_ab[i][j] = S_ba[j][i] exactly
-                    *sab += tab.weights[q] * (g[i][ab / 2] * g[j][ab % 2]);
+/// Element stiffness K_{2i+a, 2j+b} = ∫_T ε(φ_i e_a) : C ε(φ_j e_b), row-major in `k`: with
+/// D_kl = ∫_T ∂_k φ_i ∂_l φ_j, the 2 × 2 block of nodes (i, j) is
+/// λ D_ab + μ (δ_ab (D_00 + D_11) + D_ba). Computed for j ≥ i and mirrored, so K is exactly
+/// symmetric. `tab` must integrate degree 2(p−1) exactly; `grads` is scratch of length
+/// n_points × n_basis.
+pub fn stiffness(map: &AffineMap, tab: &Tabulation, lambda: f64, mu: f64, grads: &mut [[f64; 2]], k: &mut [f64]) {
+    let nb = tab.n_basis;
+    let n = 2 * nb;
+    for (g, &gr) in grads.iter_mut().zip(&tab.gradients) {
+        *g = map.physical_gradient(gr);
+    }
+    for i in 0..nb {
+        for j in i..nb {
+            // D_kl at index 2k + l: Σ_q ∂_k φ_i ∂_l φ_j |J| w_q
+            let mut d = [0.0; 4];
+            for (q, &wq) in tab.weights.iter().enumerate() {
+                let (gi, gj, wq) = (grads[q * nb + i], grads[q * nb + j], wq * map.det.abs());
+                for (kl, dkl) in d.iter_mut().enumerate() {
+                    *dkl += gi[kl / 2] * gj[kl % 2] * wq;
                 }
             }
-        }
-        ReferenceStiffness { n_basis: nb, s }
-    }
-
-    /// Number of basis functions.
-    pub fn n_basis(&self) -> usize {
-        self.n_basis
-    }
-
-    /// Element stiffness K_{2i+a, 2j+b} = ∫_T ε(φ_i e_a) : C ε(φ_j e_b), row-major in `k`:
-    /// the 2 × 2 block of (i, j) is λ D_ab + μ (δ_ab (D_00 + D_11) + D_ba). Computed on the
-    /// upper triangle and mirrored, so K is exactly symmetric.
-    pub fn stiffness(&self, map: &AffineMap, lambda: f64, mu: f64, k: &mut [f64]) {
-        let (nb, g, det) = (self.n_basis, map.inv_t, map.det.abs());
-        let n = 2 * nb;
-        // c[2k + l][2a + b] = |det J| (J⁻ᵀ)_ka (J⁻ᵀ)_lb
-        let c: [[f64; 4]; 4] =
-            std::array::from_fn(|kl| std::array::from_fn(|ab| det * (g[kl / 2][ab / 2] * g[kl % 2][ab % 2])));
-        for i in 0..nb {
-            for j in i..nb {
-                let s = &self.s[i * nb + j];
-                let [d00, d01, d10, d11] = c.map(|ckl| ckl[0] * s[0] + ckl[1] * s[1] + ckl[2] * s[2] + ckl[3] * s[3]);
-                let block = [
-                    [(lambda + 2.0 * mu) * d00 + mu * d11, lambda * d01 + mu * d10],
-                    [lambda * d10 + mu * d01, (lambda + 2.0 * mu) * d11 + mu * d00],
-                ];
-                for (a, b) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
-                    let (r, s) = (2 * i + a, 2 * j + b);
-                    if r <= s {
-                        k[r * n + s] = block[a][b];
-                        k[s * n + r] = block[a][b];
-                    }
+            let [d00, d01, d10, d11] = d;
+            let block = [
+                [(lambda + 2.0 * mu) * d00 + mu * d11, lambda * d01 + mu * d10],
+                [lambda * d10 + mu * d01, (lambda + 2.0 * mu) * d11 + mu * d00],
+            ];
+            for (a, b) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+                let (r, s) = (2 * i + a, 2 * j + b);
+                if r <= s {
+                    k[r * n + s] = block[a][b];
+                    k[s * n + r] = block[a][b];
                 }
             }
         }
@@ -176,10 +150,11 @@ mod tests {
     fn stiffness_annihilates_rigid_motions() {
         let map = AffineMap::new([[0.1, 0.2], [1.3, 0.4], [0.35, 1.1]]);
         for order in [1, 2] {
-            let reference = ReferenceStiffness::new(order);
-            let nb = reference.n_basis();
+            let tab = Tabulation::new(order, 2 * order);
+            let nb = tab.n_basis;
+            let mut grads = vec![[0.0; 2]; tab.n_points() * nb];
             let mut k = vec![0.0; 4 * nb * nb];
-            reference.stiffness(&map, 2.0, 1.0, &mut k);
+            stiffness(&map, &tab, 2.0, 1.0, &mut grads, &mut k);
             let nodes: Vec<[f64; 2]> = lagrange::reference_nodes(order).iter().map(|&x| map.to_physical(x)).collect();
             let rigid = [|_: [f64; 2]| [1.0, 0.0], |_: [f64; 2]| [0.0, 1.0], |x: [f64; 2]| [-x[1], x[0]]];
             for r in rigid {
@@ -192,20 +167,20 @@ mod tests {
         }
     }
 
-    /// Source: the reference matrices S_ab of [`ReferenceStiffness`]. Goal: on an affine cell
-    /// they give the stiffness that quadrature of ε(φ_i e_a) : C ε(φ_j e_b) at the physical
-    /// gradients gives, to round-off, and an exactly symmetric matrix. Parameters: a skewed
-    /// cell, P1 and P2, λ = 2.5, μ = 0.7, the rule of degree 2p.
+    /// Source: [`stiffness`], computed in 2 × 2 blocks of D_kl on the upper triangle. Goal: the
+    /// entries equal those of ε(φ_i e_a) : C ε(φ_j e_b) summed entry by entry at the
+    /// quadrature points, to round-off, and K is exactly symmetric. Parameters: a skewed cell,
+    /// P1 and P2, λ = 2.5, μ = 0.7, the rule of degree 2p.
     #[test]
-    fn reference_stiffness_equals_quadrature() {
+    fn block_stiffness_equals_entrywise_quadrature() {
         let map = AffineMap::new([[0.1, 0.2], [1.3, 0.4], [0.35, 1.1]]);
         let (lambda, mu) = (2.5, 0.7);
         for order in [1, 2] {
-            let reference = ReferenceStiffness::new(order);
-            let n = 2 * reference.n_basis();
-            let mut k = vec![0.0; n * n];
-            reference.stiffness(&map, lambda, mu, &mut k);
             let tab = Tabulation::new(order, 2 * order);
+            let n = 2 * tab.n_basis;
+            let mut grads = vec![[0.0; 2]; tab.n_points() * tab.n_basis];
+            let mut k = vec![0.0; n * n];
+            stiffness(&map, &tab, lambda, mu, &mut grads, &mut k);
             let mut quadrature = vec![0.0; n * n];
             for q in 0..tab.n_points() {
                 let w = tab.weights[q] * map.det.abs();

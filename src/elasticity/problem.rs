@@ -8,7 +8,7 @@
 //! fix one component only (a roller).
 
 use super::displacement::Displacement;
-use super::kernels::{self, ReferenceStiffness};
+use super::kernels;
 use super::material::Material;
 use super::rigid;
 use crate::fem::affine::AffineMap;
@@ -146,10 +146,10 @@ pub struct Discretisation {
     pub pattern: SparsePattern,
 }
 
-/// The reference stiffness and the body load rule ([`load_degree`]) with its integrals of
-/// the basis.
+/// The element rules of the stiffness (degree 2(p − 1)) and of the body load
+/// ([`load_degree`]), with the integrals of the basis of the latter.
 struct CellKernel {
-    stiffness: ReferenceStiffness,
+    stiffness: Tabulation,
     load: Tabulation,
     load_integrals: Vec<f64>,
 }
@@ -157,7 +157,7 @@ struct CellKernel {
 impl CellKernel {
     fn new(order: usize) -> Self {
         let load = Tabulation::new(order, load_degree(order));
-        CellKernel { stiffness: ReferenceStiffness::new(order), load_integrals: load.integrals(), load }
+        CellKernel { stiffness: Tabulation::new(order, 2 * order - 2), load_integrals: load.integrals(), load }
     }
 }
 
@@ -234,7 +234,7 @@ impl Problem {
 
     fn add_stiffness_and_body_force(&self, disc: &Discretisation, pattern: &SparsePattern, system: &mut LinearSystem) {
         let kernel = CellKernel::new(self.mesh.order);
-        let nb = kernel.stiffness.n_basis();
+        let nb = kernel.stiffness.n_basis;
         let dofs_of = |c: usize, out: &mut Vec<usize>| vector_dofs(self.mesh.cell(c), out);
         system.assemble(pattern, &disc.dofs, self.mesh.n_cells(), 2 * nb, dofs_of, |c, local| {
             self.cell_terms(&kernel, c, local)
@@ -245,7 +245,10 @@ impl Problem {
     fn cell_terms(&self, kernel: &CellKernel, c: usize, local: &mut Local) {
         let map = AffineMap::new(self.mesh.cell_vertices(c));
         let (lambda, mu) = self.materials[c].lame();
-        kernel.stiffness.stiffness(&map, lambda, mu, &mut local.matrix);
+        // physical gradients: at most 4 points (the rule of degree 2) × 6 basis functions
+        let mut grads = [[0.0; 2]; 24];
+        let grads = &mut grads[..kernel.stiffness.gradients.len()];
+        kernels::stiffness(&map, &kernel.stiffness, lambda, mu, grads, &mut local.matrix);
         match &self.body_force {
             BodyForce::None => local.load.fill(0.0),
             // constant on the cell: ∫_T f φ_i = f |det J| m_i
@@ -265,7 +268,7 @@ impl Problem {
     /// the strain, instead of ε |K_T| |u_T|.
     pub fn residual(&self, disc: &Discretisation, u: &Displacement) -> Vec<f64> {
         let kernel = CellKernel::new(self.mesh.order);
-        let n = 2 * kernel.stiffness.n_basis();
+        let n = 2 * kernel.stiffness.n_basis;
         let mut r = vec![0.0; disc.dofs.n_free];
         let mut add = |nodes: &[usize], f: &[f64]| {
             for (k, &fk) in nodes.iter().flat_map(|&node| [2 * node, 2 * node + 1]).zip(f) {
