@@ -147,18 +147,17 @@ pub struct Discretisation {
 }
 
 /// The element rules of the stiffness (degree 2(p − 1)) and of the body load
-/// ([`load_degree`]).
+/// ([`load_degree`]), with the integrals of the basis of the latter.
 struct CellKernel {
     stiffness: Tabulation,
     load: Tabulation,
+    load_integrals: Vec<f64>,
 }
 
 impl CellKernel {
     fn new(order: usize) -> Self {
-        CellKernel {
-            stiffness: Tabulation::new(order, 2 * order - 2),
-            load: Tabulation::new(order, load_degree(order)),
-        }
+        let load = Tabulation::new(order, load_degree(order));
+        CellKernel { stiffness: Tabulation::new(order, 2 * order - 2), load_integrals: load.integrals(), load }
     }
 }
 
@@ -246,15 +245,16 @@ impl Problem {
     fn cell_terms(&self, kernel: &CellKernel, c: usize, local: &mut Local) {
         let map = AffineMap::new(self.mesh.cell_vertices(c));
         let (lambda, mu) = self.materials[c].lame();
-        let mut grads = [[0.0; 2]; 6];
-        let nb = kernel.stiffness.n_basis;
-        kernels::stiffness(&map, &kernel.stiffness, lambda, mu, &mut grads[..nb], &mut local.matrix);
+        // physical gradients: at most 4 points (the rule of degree 2) × 6 basis functions
+        let mut grads = [[0.0; 2]; 24];
+        let grads = &mut grads[..kernel.stiffness.gradients.len()];
+        kernels::stiffness(&map, &kernel.stiffness, lambda, mu, grads, &mut local.matrix);
         match &self.body_force {
             BodyForce::None => local.load.fill(0.0),
-            // constant on the cell: f evaluated once
+            // constant on the cell: ∫_T f φ_i = f |det J| m_i
             BodyForce::Acceleration(_) => {
                 let f = self.body_force_at(c, map.origin);
-                kernels::body_load(&map, &kernel.load, |_| f, &mut local.load)
+                kernels::constant_body_load(&map, &kernel.load_integrals, f, &mut local.load)
             }
             BodyForce::Field(_) => {
                 kernels::body_load(&map, &kernel.load, |x| self.body_force_at(c, x), &mut local.load)

@@ -2,8 +2,8 @@
 //!
 //! The pattern couples every pair of free dofs whose nodes share a cell; it is stored in
 //! compressed sparse column form with sorted row indices, so that a value is found by binary
-//! search in its column. The same pattern (and hence the same symbolic factorisation) serves
-//! every matrix assembled on the mesh.
+//! search in its column (or, for the nodes of a cell, by one pass along it). The same pattern
+//! (and hence the same symbolic factorisation) serves every matrix assembled on the mesh.
 //!
 //! Assembly is parallel without locks: the free dofs are cut into contiguous ranges, and each
 //! task owns the matrix columns and right-hand-side rows of its range. A task visits the cells
@@ -26,50 +26,53 @@ impl SparsePattern {
     /// Pattern coupling the free dofs of the nodes of each cell of `mesh`. The two columns of
     /// a node hold the same rows: the free dofs of its neighbours, in order.
     pub fn new(mesh: &Mesh, dofs: &DofMap) -> Self {
-        Self::from_neighbours(node_neighbours(mesh), dofs)
+        Self::with_couplings(mesh, dofs, &[])
     }
 
     /// Pattern coupling the free dofs of the nodes of each cell of `mesh` and of each node
     /// set of `couplings` (the two cells that a two-body contact term joins).
     pub fn with_couplings(mesh: &Mesh, dofs: &DofMap, couplings: &[Vec<usize>]) -> Self {
-        let mut neighbours = node_neighbours(mesh);
-        for group in couplings {
-            for &n in group {
-                neighbours[n].extend(group);
+        let groups = Groups::new(mesh, couplings);
+        let free = &dofs.free;
+        let n_free_of = |m: usize| (free[2 * m] != FIXED) as usize + (free[2 * m + 1] != FIXED) as usize;
+        // rows of each column of node n: the free dofs of its neighbours
+        let rows_per_column: Vec<usize> = (0..mesh.n_points())
+            .into_par_iter()
+            .map_init(Vec::new, |list, n| {
+                groups.neighbours(n, list);
+                list.iter().map(|&m| n_free_of(m)).sum()
+            })
+            .collect();
+        let mut col_ptr = Vec::with_capacity(dofs.n_free + 1);
+        col_ptr.push(0);
+        for (dof, &k) in free.iter().enumerate() {
+            if k != FIXED {
+                col_ptr.push(col_ptr[k] + rows_per_column[dof / 2]);
             }
         }
-        for list in &mut neighbours {
-            list.sort_unstable();
-            list.dedup();
-        }
-        Self::from_neighbours(neighbours, dofs)
-    }
-
-    /// Pattern coupling the free dofs of each node with those of its sorted `neighbours`.
-    fn from_neighbours(neighbours: Vec<Vec<usize>>, dofs: &DofMap) -> Self {
-        let free = &dofs.free;
-        let free_of = |m: usize| [free[2 * m], free[2 * m + 1]].into_iter().filter(|&r| r != FIXED);
-        let length: Vec<usize> =
-            neighbours.par_iter().map(|list| list.iter().flat_map(|&m| free_of(m)).count()).collect();
-        let columns: Vec<usize> = (0..dofs.n_dofs()).filter(|&dof| free[dof] != FIXED).collect();
-        let mut col_ptr = Vec::with_capacity(columns.len() + 1);
-        col_ptr.push(0);
-        for &dof in &columns {
-            col_ptr.push(col_ptr.last().unwrap() + length[dof / 2]);
+        // the columns of node n, and so their rows, are contiguous: [start[n], start[n + 1])
+        let mut start = Vec::with_capacity(mesh.n_points() + 1);
+        let mut columns_before = 0;
+        for n in 0..=mesh.n_points() {
+            start.push(col_ptr[columns_before]);
+            columns_before += if n < mesh.n_points() { n_free_of(n) } else { 0 };
         }
         let mut row_idx = vec![0; *col_ptr.last().unwrap()];
-        let mut slices = Vec::with_capacity(columns.len());
-        let mut rest = row_idx.as_mut_slice();
-        for (&dof, window) in columns.iter().zip(col_ptr.windows(2)) {
-            let (column, tail) = rest.split_at_mut(window[1] - window[0]);
-            slices.push((dof, column));
-            rest = tail;
-        }
-        slices.into_par_iter().for_each(|(dof, column)| {
-            for (r, m) in column.iter_mut().zip(neighbours[dof / 2].iter().flat_map(|&m| free_of(m))) {
-                *r = m;
-            }
-        });
+        let blocks = node_blocks(mesh.n_points(), rayon::current_num_threads());
+        split_at_ends(&mut row_idx, blocks.iter().map(|&(_, n1)| start[n1])).into_par_iter().zip(&blocks).for_each(
+            |(rows, &(n0, n1))| {
+                let (mut list, mut rest) = (Vec::new(), rows);
+                for n in n0..n1 {
+                    groups.neighbours(n, &mut list);
+                    let node_rows;
+                    (node_rows, rest) = rest.split_at_mut(start[n + 1] - start[n]);
+                    let column = list.iter().flat_map(|&m| [free[2 * m], free[2 * m + 1]]).filter(|&r| r != FIXED);
+                    for (r, row) in node_rows.iter_mut().zip(column.cycle()) {
+                        *r = row;
+                    }
+                }
+            },
+        );
         let n = dofs.n_free;
         SparsePattern { symbolic: SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx) }
     }
@@ -112,32 +115,71 @@ impl SparsePattern {
     }
 }
 
-/// Sorted list of the nodes sharing a cell with each node (itself included).
-fn node_neighbours(mesh: &Mesh) -> Vec<Vec<usize>> {
-    let npc = mesh.nodes_per_cell();
-    let mut offsets = vec![0usize; mesh.n_points() + 1];
-    for &n in &mesh.cell_nodes {
-        offsets[n + 1] += 1;
+/// The node sets that couple their nodes: the cells of a mesh, then the extra `couplings`;
+/// with the sets of each node in CSR form.
+struct Groups<'a> {
+    mesh: &'a Mesh,
+    couplings: &'a [Vec<usize>],
+    offsets: Vec<usize>,
+    of_node: Vec<usize>,
+}
+
+impl<'a> Groups<'a> {
+    fn new(mesh: &'a Mesh, couplings: &'a [Vec<usize>]) -> Self {
+        let nodes = |g: usize| group_nodes(mesh, couplings, g);
+        let n_groups = mesh.n_cells() + couplings.len();
+        let mut offsets = vec![0; mesh.n_points() + 1];
+        for g in 0..n_groups {
+            nodes(g).iter().for_each(|&n| offsets[n + 1] += 1);
+        }
+        for n in 0..mesh.n_points() {
+            offsets[n + 1] += offsets[n];
+        }
+        let mut fill = offsets.clone();
+        let mut of_node = vec![0; offsets[mesh.n_points()]];
+        for g in 0..n_groups {
+            for &n in nodes(g) {
+                of_node[fill[n]] = g;
+                fill[n] += 1;
+            }
+        }
+        Groups { mesh, couplings, offsets, of_node }
     }
-    for k in 0..mesh.n_points() {
-        offsets[k + 1] += offsets[k];
+
+    /// The sorted nodes that share a set with node n (n included), into `list`.
+    fn neighbours(&self, n: usize, list: &mut Vec<usize>) {
+        list.clear();
+        for &g in &self.of_node[self.offsets[n]..self.offsets[n + 1]] {
+            list.extend(group_nodes(self.mesh, self.couplings, g));
+        }
+        list.sort_unstable();
+        list.dedup();
     }
-    let mut fill = offsets.clone();
-    let mut node_cells = vec![0; mesh.cell_nodes.len()];
-    for (k, &n) in mesh.cell_nodes.iter().enumerate() {
-        node_cells[fill[n]] = k / npc;
-        fill[n] += 1;
+}
+
+/// Nodes of set g: cell g of `mesh`, then the `couplings`.
+fn group_nodes<'a>(mesh: &'a Mesh, couplings: &'a [Vec<usize>], g: usize) -> &'a [usize] {
+    match g.checked_sub(mesh.n_cells()) {
+        None => mesh.cell(g),
+        Some(k) => &couplings[k],
     }
-    (0..mesh.n_points())
-        .into_par_iter()
-        .map(|n| {
-            let mut list: Vec<usize> =
-                node_cells[offsets[n]..offsets[n + 1]].iter().flat_map(|&c| mesh.cell(c).iter().copied()).collect();
-            list.sort_unstable();
-            list.dedup();
-            list
-        })
-        .collect()
+}
+
+/// Cuts the nodes 0..n into about 8 `threads` contiguous blocks.
+fn node_blocks(n: usize, threads: usize) -> Vec<(usize, usize)> {
+    column_ranges(n, 8 * threads)
+}
+
+/// Cuts `data` into consecutive slices ending at the increasing offsets `ends`.
+fn split_at_ends<T>(data: &mut [T], ends: impl Iterator<Item = usize>) -> Vec<&mut [T]> {
+    let (mut slices, mut rest, mut done) = (Vec::new(), data, 0);
+    for end in ends {
+        let slice;
+        (slice, rest) = rest.split_at_mut(end - done);
+        slices.push(slice);
+        done = end;
+    }
+    slices
 }
 
 /// Local contribution of one cell: global dofs, matrix (row-major, n × n) and load (n).
@@ -217,8 +259,9 @@ impl LinearSystem {
 }
 
 /// Adds the entries of `local` whose column (matrix) or row (load) lies in `range`. Local
-/// dofs come in node pairs (x, y): when both rows of node i are free, rows r and r + 1 are
-/// adjacent in every column, so one search finds the pair.
+/// dofs come in node pairs (x, y), and the free dofs of a node are adjacent: the rows of
+/// node i in a column of node j start at the same offset k_i in both columns of node j. The
+/// offsets of all nodes i come from one pass along the sorted rows of node j's column.
 fn scatter(
     pattern: &SparsePattern,
     map: &DofMap,
@@ -229,27 +272,48 @@ fn scatter(
     rhs: &mut [f64],
 ) {
     let n = local.dofs.len();
-    for (j, &gj) in local.dofs.iter().enumerate() {
-        let col = map.free[gj];
-        if col == FIXED || !(range.0..range.1).contains(&col) {
+    debug_assert!(n.is_multiple_of(2) && n <= 2 * MAX_NODES, "local dofs come in node pairs");
+    let (col_ptr, row_idx) = (pattern.symbolic.col_ptr(), pattern.symbolic.row_idx());
+    let owned = |k: usize| k != FIXED && (range.0..range.1).contains(&k);
+    let first_free = |pair: &[usize]| [map.free[pair[0]], map.free[pair[1]]].into_iter().find(|&k| k != FIXED);
+    // the nodes with a free row, by increasing first free row
+    let mut first_row = [(0, 0); MAX_NODES];
+    let mut n_rows = 0;
+    for (i, pair) in local.dofs.chunks_exact(2).enumerate() {
+        if let Some(r) = first_free(pair) {
+            first_row[n_rows] = (r, i);
+            n_rows += 1;
+        }
+    }
+    let first_row = &mut first_row[..n_rows];
+    first_row.sort_unstable();
+    let mut k = [0; MAX_NODES];
+    for (j, column_pair) in local.dofs.chunks_exact(2).enumerate() {
+        let columns = [map.free[column_pair[0]], map.free[column_pair[1]]];
+        if !owned(columns[0]) && !owned(columns[1]) {
             continue;
         }
-        rhs[col - range.0] += local.load[j];
-        debug_assert!(n.is_multiple_of(2), "local dofs come in node pairs");
-        for (i, pair) in local.dofs.chunks_exact(2).enumerate() {
-            let (ix, iy) = (2 * i, 2 * i + 1);
-            match [map.free[pair[0]], map.free[pair[1]]] {
-                [rx, ry] if rx != FIXED && ry == rx + 1 => {
-                    let p = pattern.position(rx, col) - offset;
-                    values[p] += local.matrix[ix * n + j];
-                    values[p + 1] += local.matrix[iy * n + j];
-                }
-                rows => {
-                    for (row, (&g, i)) in rows.into_iter().zip(pair.iter().zip([ix, iy])) {
-                        match row {
-                            // symmetric pattern: row `col` collects −K_{col,i} g_i
-                            FIXED => rhs[col - range.0] -= local.matrix[j * n + i] * map.fixed_value[g],
-                            row => values[pattern.position(row, col) - offset] += local.matrix[i * n + j],
+        let first_column = first_free(column_pair).expect("an owned column is free");
+        let mut p = col_ptr[first_column];
+        for &(r, i) in first_row.iter() {
+            while row_idx[p] < r {
+                p += 1;
+            }
+            assert!(row_idx[p] == r, "entry outside the sparsity pattern");
+            k[i] = p - col_ptr[first_column];
+        }
+        for (b, &col) in columns.iter().enumerate().filter(|&(_, &col)| owned(col)) {
+            let c = 2 * j + b;
+            rhs[col - range.0] += local.load[c];
+            for (i, row_pair) in local.dofs.chunks_exact(2).enumerate() {
+                let mut next = col_ptr[col] + k[i] - offset;
+                for (a, &g) in row_pair.iter().enumerate() {
+                    match map.free[g] {
+                        // symmetric pattern: row `col` collects −K_{col,i} g_i
+                        FIXED => rhs[col - range.0] -= local.matrix[c * n + 2 * i + a] * map.fixed_value[g],
+                        _ => {
+                            values[next] += local.matrix[(2 * i + a) * n + c];
+                            next += 1;
                         }
                     }
                 }
@@ -257,6 +321,9 @@ fn scatter(
         }
     }
 }
+
+/// The most nodes of a cell (P2).
+const MAX_NODES: usize = 6;
 
 /// The cells that touch each of the contiguous `ranges` of free dofs, in increasing order.
 fn cells_of_ranges(
@@ -317,6 +384,24 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Source: [`SparsePattern::with_couplings`]. Goal: a coupling set joins the free dofs of
+    /// its nodes, which share no cell, and adds nothing else. Parameters: the 3 × 3 unit
+    /// square (P1), the opposite corners 0 and 15 coupled, node 5 constrained in x.
+    #[test]
+    fn couplings_join_their_nodes_only() {
+        let mesh = unit_square(3, 1);
+        let map = DofMap::new(mesh.n_points(), &[(10, 0.0)]);
+        let plain = SparsePattern::new(&mesh, &map);
+        let coupled = SparsePattern::with_couplings(&mesh, &map, &[vec![0, 15]]);
+        let (corner, opposite) = ([map.free[0], map.free[1]], [map.free[30], map.free[31]]);
+        for (r, s) in corner.into_iter().flat_map(|r| opposite.map(|s| (r, s))) {
+            assert!(plain.symbolic().row_idx_of_col(s).all(|row| row != r), "corners share no cell");
+            coupled.position(r, s);
+            coupled.position(s, r);
+        }
+        assert_eq!(coupled.nnz(), plain.nnz() + 8);
     }
 
     #[test]

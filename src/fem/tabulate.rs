@@ -38,6 +38,11 @@ impl Tabulation {
         self.weights.len()
     }
 
+    /// The integrals ∫_T̂ φ̂_i ≈ Σ_q w_q φ̂_i(ξ_q) of the basis over the reference triangle.
+    pub fn integrals(&self) -> Vec<f64> {
+        (0..self.n_basis).map(|i| (0..self.n_points()).map(|q| self.weights[q] * self.phi(q)[i]).sum()).collect()
+    }
+
     /// Basis values at point q.
     pub fn phi(&self, q: usize) -> &[f64] {
         &self.values[q * self.n_basis..(q + 1) * self.n_basis]

@@ -5,6 +5,7 @@
 //! (i+1) mod 3 and (i+2) mod 3. The patch ω_a of a vertex a is the set of cells that share it.
 
 use super::Mesh;
+use rayon::prelude::*;
 
 /// Marker for "no neighbour" in [`Topology::edge_cells`].
 pub const NONE: usize = usize::MAX;
@@ -38,7 +39,8 @@ impl Topology {
                 (0..3).map(move |i| (sorted([v[(i + 1) % 3], v[(i + 2) % 3]]), c, i))
             })
             .collect();
-        half.sort_unstable();
+        // the keys are distinct: the same order on any number of threads
+        half.par_sort_unstable();
         let mut edges: Vec<[usize; 2]> = Vec::with_capacity(half.len() / 2 + 1);
         let mut edge_cells: Vec<[usize; 2]> = Vec::with_capacity(half.len() / 2 + 1);
         let mut cell_edges = vec![[0; 3]; mesh.n_cells()];
@@ -52,6 +54,7 @@ impl Topology {
             cell_edges[c][i] = edges.len() - 1;
         }
         let facet_edges = (0..mesh.n_facets())
+            .into_par_iter()
             .map(|f| {
                 let n = mesh.facet(f);
                 edges.binary_search(&sorted([n[0], n[1]])).expect("boundary facet is not a cell edge")

@@ -97,7 +97,7 @@ fn graded_cells_are_equilibrated_to_round_off() {
 /// a vertex of a cell of size h cannot fall below about ε E |u_h|, and a patch's data balance
 /// only to that: relative to the stresses, ε |u_h| / (h |∇u_h|) (`representation_bound`).
 /// Goal: on graded meshes, the equilibration of the solver's output stays within a small
-/// multiple of that bound (measured: 5.8–7.5 times it for P1, 13.6–24.7 for P2), so nothing
+/// multiple of that bound (measured: 5.8–7.5 times it for P1, 10.7–17.8 for P2), so nothing
 /// but the representation of u_h is left; and `estimate_iterate` accepts these converged solves, which a fixed
 /// tolerance of 10⁻⁸ refused from a grading of 10⁷ on (divergence 2.0·10⁻⁸ for P1 and
 /// 4.8·10⁻⁸ for P2 there, 2.0·10⁻⁷ and 4.4·10⁻⁷ at 10⁸).
