@@ -472,10 +472,11 @@ pub struct Stage {
 /// Newton along the path δ_k = max(delta, delta_start / 10^k), each stage starting from the
 /// previous solution; for delta = 0 the path jumps to 0 after eight decades. A direct solve
 /// at a tiny δ from a poor initial guess moves the active set one face per step; the path
-/// reaches it in a few steps per stage. `delta_start ≤ delta` is one stage. On a frictional
-/// joint, a path from rest (x0 = 0) whose first stage fails starts that stage again from the
-/// closed, sticking state ([`ContactProblem::fully_active_start`]): from u = 0 Newton can slide
-/// a body that the joint alone holds far into slip, where it stalls (docs/method.md §1.10).
+/// reaches it in a few steps per stage. `delta_start ≤ delta` is one stage. A path from rest
+/// (x0 = 0) whose first stage fails starts that stage again from the closed (and sticking)
+/// state ([`ContactProblem::fully_active_start`]): from u = 0 Newton can slide a body that a
+/// frictional joint alone holds far into slip, where it stalls (docs/method.md §1.10), and
+/// without friction the first step on a body that only its contact holds is set by round-off.
 pub fn continuation(
     contact: &mut ContactProblem,
     delta: f64,
@@ -484,7 +485,7 @@ pub fn continuation(
     options: &NewtonOptions,
 ) -> Result<(Vec<f64>, Vec<Stage>), NewtonError> {
     let mut stages: Vec<Stage> = Vec::new();
-    let from_rest = contact.nitsche.has_friction() && x0.iter().all(|&v| v == 0.0);
+    let from_rest = x0.iter().all(|&v| v == 0.0);
     let mut x = x0;
     let mut current = delta_start.max(delta);
     loop {
