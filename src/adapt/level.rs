@@ -144,7 +144,8 @@ fn first_iterate(
     Ok((Stage { delta, report }, delta0 * scale))
 }
 
-/// How many times a level raises δ by ρ_δ after a Newton run that did not converge.
+/// How many Newton runs in a row a level starts again at a smoother δ after a run that did
+/// not converge.
 const MAX_RETRIES: usize = 4;
 
 /// With contact on `joint`: Newton from `x0` at δ, stopped by (S_lin), and δ ← δ/ρ_δ until
@@ -179,8 +180,11 @@ pub fn contact_level(
         }
     };
     let (mut solve_seconds, mut estimates, mut n_reg) = (clock.elapsed().as_secs_f64(), EstimateCount::default(), 0);
-    // the restarts at a larger δ, and the Newton steps of the runs they discarded
+    // the restarts at a larger δ since the last converged run, and the Newton steps of the
+    // runs they discarded
     let (mut crack_solves, mut retries, mut discarded_steps) = (0, 0, 0);
+    // the δ of this level's last converged Newton run
+    let mut solved_at: Option<f64> = None;
     // the δ at which the crack was last settled, and how
     let mut settled: Option<(f64, Crack)> = None;
     loop {
@@ -206,8 +210,9 @@ pub fn contact_level(
             stop
         });
         // a Newton run that stalls at δ (steps cut short by the line search where the law is
-        // steep in P_γ, docs/method.md §1.10) starts again from the same iterate at ρ_δ δ, a
-        // smoother problem; (S_reg) then brings δ down
+        // steep in P_γ, docs/method.md §1.10) starts again from the same iterate at a smoother
+        // δ: halfway (geometrically) back to the δ last solved on this level, else ρ_δ δ;
+        // (S_reg) then brings δ down
         let report = match attempt {
             Ok(report) => report,
             Err(failed) if retries < MAX_RETRIES => {
@@ -216,7 +221,10 @@ pub fn contact_level(
                     NewtonError::NotConverged { history, .. } => history.len(),
                     NewtonError::NonFinite { step } | NewtonError::Solve { step, .. } => step,
                 };
-                delta *= settings.rho_delta;
+                delta = match solved_at {
+                    Some(solved) if solved > delta => (solved * delta).sqrt(),
+                    _ => delta * settings.rho_delta,
+                };
                 continue;
             }
             Err(source) => return Err(AdaptError::Newton { delta, source }),
@@ -235,6 +243,7 @@ pub fn contact_level(
             }
         };
         x = report.x.clone();
+        (solved_at, retries) = (Some(delta), 0);
         stages.push(Stage { delta, report });
         if regularisation_small(&global, settings.gamma_reg) {
             // with the crack filled by the reservoir: its fixed point at this δ, once; if it
