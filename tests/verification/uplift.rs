@@ -50,10 +50,8 @@ fn uniform_uplift_lowers_the_contact_pressure_by_exactly_p_u() {
                 };
                 let disc = problem.discretise();
                 let parameters = NitscheParameters { theta, ..Default::default() };
-                let joint = ContactJoint {
-                    uplift: Some(uplift.clone()),
-                    ..ContactJoint::uniform(vec![BOTTOM], Vec::new(), law, parameters)
-                };
+                let joint =
+                    ContactJoint::uniform(vec![BOTTOM], Vec::new(), law, parameters).with_uplift(uplift.clone());
                 let settings = Continuation { delta: 0.0, delta_start: 1e-2, newton: NewtonOptions::default() };
                 let solution =
                     solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("{e}"));
@@ -85,7 +83,7 @@ fn the_dam_with_uplift_balances_weight_thrust_and_uplift() {
         let common::SolvedScene { problem, disc, joint, solution } =
             common::solve_scene("geo/scene_a_uplift.toml", order, 2.0);
         let (n, t, u) = (solution.normal_force(), solution.tangential_force(), solution.uplift_force());
-        let crack = solution.crack.expect("the crack is iterated");
+        let crack = solution.cracks[0].expect("the crack is iterated");
         let state = solution.linearisation(&problem, &disc);
         let e = damfem::estimate::estimate_iterate(&problem, &disc, &solution.x, Some(&state))
             .unwrap_or_else(|e| panic!("{e}"));
@@ -136,7 +134,7 @@ fn strength_reduction_finds_the_exact_sliding_factor() {
                 let mesh = common::mesh_scene(&scene, order, size_factor);
                 let (problem, joint) = scene.problem(mesh).unwrap_or_else(|e| panic!("{e}"));
                 let joint = joint.expect("a joint");
-                let uplift = joint.uplift.as_ref().map_or(0.0, |up| up.force(0.0));
+                let uplift = joint.uplift.first().map_or(0.0, |up| up.diagram.force(0.0));
                 let disc = problem.discretise();
                 let settings = scene.continuation(&problem, &disc.topology);
                 let sr = strength_reduction(&problem, &disc, &joint, &settings, 2e-3).unwrap_or_else(|e| panic!("{e}"));
@@ -223,7 +221,7 @@ fn the_crack_of_a_textbook_section_against_the_cracked_base_analysis() {
         let solved = common::solve_scene("tests/data/cracked_base.toml", 2, size_factor);
         let s = &solved.solution;
         let (n, t, u) = (s.normal_force(), s.tangential_force(), s.uplift_force());
-        let c = s.crack.expect("the crack is iterated").length;
+        let c = s.cracks[0].expect("the crack is iterated").length;
         let alpha = section.resultant_from_toe(c) / (b - c);
         println!(
             "size × {size_factor}: crack {c:.4} m (beam theory {beam:.4} m, {:+.1} %), N' at {alpha:.4} l from the toe, N {n:.6e} U {u:.6e} T {t:.6e}",
@@ -297,7 +295,7 @@ fn the_uplift_diagrams_are_the_guidelines() {
             std::fs::write(&path, format!("{}{table}\n{}", &text[..start], &text[end..])).unwrap();
             let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
             let (_, joint) = scene.problem(common::mesh_scene(&scene, 1, 4.0)).unwrap();
-            let uplift = joint.unwrap().uplift.unwrap();
+            let uplift = joint.unwrap().uplift.remove(0).diagram;
             assert_eq!(uplift.line.heel, [0.0, 0.0]);
             let heads = (h1, tailwater.unwrap_or(0.0), l);
             for t in [0.0, 2.5, 12.0] {
