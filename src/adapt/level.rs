@@ -3,7 +3,7 @@
 
 use super::{AdaptError, AdaptSettings};
 use crate::contact::projection::Smoothing;
-use crate::contact::{settle_crack, ContactJoint, ContactProblem, Crack, Linearisation, Solution, Stage};
+use crate::contact::{settle_crack, ContactJoint, ContactProblem, Crack, Cracks, Linearisation, Solution, Stage};
 use crate::elasticity::{Discretisation, Problem, Refined};
 use crate::estimate::estimators::GlobalEstimators;
 use crate::estimate::{estimate_displacement, Estimate};
@@ -186,7 +186,7 @@ pub fn contact_level(
     // the δ of this level's last converged Newton run
     let mut solved_at: Option<f64> = None;
     // the δ at which the cracks were last settled, and how
-    let mut settled: Option<(f64, Vec<Option<Crack>>)> = None;
+    let mut settled: Option<(f64, Cracks)> = None;
     loop {
         contact.set_delta(delta);
         let smoothing = contact.smoothing;

@@ -296,7 +296,7 @@ pub fn run(
     let mut history = Vec::new();
     let mut previous: Option<(Mesh, Vec<[f64; 2]>, Vec<f64>)> = None;
     let mut kept = None;
-    let mut cracks: Vec<Option<crate::contact::Crack>> = Vec::new();
+    let mut cracks: crate::contact::Cracks = Vec::new();
     for step in 0..settings.steps {
         let mut seconds = PhaseTimes::default();
         let clock = Instant::now();

@@ -304,7 +304,7 @@ impl<'a> ContactProblem<'a> {
     /// The solution `x` reached by `stages`, with the state of every face and the crack of
     /// each uplift diagram (`cracks`, in the order of `nitsche.uplift`; empty: none iterated).
     /// The refinement lo of the last stage's report is kept if that report ends at `x`.
-    pub fn solution(self, x: Vec<f64>, stages: Vec<Stage>, cracks: Vec<Option<Crack>>) -> ContactSolution {
+    pub fn solution(self, x: Vec<f64>, stages: Vec<Stage>, cracks: Cracks) -> ContactSolution {
         let faces = self.face_states(&x);
         let x_prev = stages.last().map_or_else(|| x.clone(), |s| s.report.x_prev.clone());
         let lo = stages.last().filter(|s| s.report.x == x).and_then(|s| s.report.lo.clone());
@@ -334,7 +334,8 @@ impl<'a> ContactProblem<'a> {
             let [a, b] = span(f);
             a.min(b) <= s && s <= a.max(b)
         };
-        let faces = || (self.nitsche.faces.iter().enumerate()).filter(|&(k, _)| self.nitsche.uplift_index(k) == Some(d));
+        let faces =
+            || (self.nitsche.faces.iter().enumerate()).filter(|&(k, _)| self.nitsche.uplift_index(k) == Some(d));
         let mut own = faces().map(|(_, f)| f);
         own.find(holds).map_or_else(|| faces().map(|(_, f)| f.length).fold(0.0, f64::max), |f| f.length)
     }
@@ -561,7 +562,7 @@ pub struct ContactSolution {
     /// With uplift in an open crack, the fixed point that found it, for each diagram of
     /// `nitsche.uplift` in order (None: its crack is not filled; empty: not iterated). The
     /// crack itself is in the diagram.
-    pub cracks: Vec<Option<Crack>>,
+    pub cracks: Cracks,
     /// The solves on coarser meshes whose solution started Newton ([`nested_start`]), coarsest
     /// first; empty for a start from u = 0.
     pub coarse: Vec<CoarseSolve>,
@@ -809,6 +810,9 @@ pub struct Crack {
     pub bracket: Option<[f64; 2]>,
 }
 
+/// The crack of each uplift diagram of a joint, in order (None where the crack is not filled).
+pub type Cracks = Vec<Option<Crack>>;
+
 impl Crack {
     pub const TOLERANCE: f64 = 1e-6;
     pub const MAX_ITERATIONS: usize = 40;
@@ -936,7 +940,7 @@ pub fn settle_crack(
     contact: &mut ContactProblem,
     mut x: Vec<f64>,
     options: &NewtonOptions,
-) -> Result<(Vec<f64>, Vec<Stage>, Vec<Option<Crack>>), ContactError> {
+) -> Result<(Vec<f64>, Vec<Stage>, Cracks), ContactError> {
     let mut stages: Vec<Stage> = Vec::new();
     let mut searches = vec![CrackSearch::default(); contact.nitsche.uplift.len()];
     for iterations in 1..=Crack::MAX_ITERATIONS {

@@ -327,3 +327,42 @@ fn the_uplift_diagrams_are_the_guidelines() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// An uplift diagram per joint, each along its own line. Source: docs/method.md §1.8 and
+/// §1.10; geo/dam_lifts_on_rock_uplift.toml, whose [joints.base.uplift] and
+/// [joints.lift.uplift] give the dam–rock joint (y = 0) and the lift joint (y = 20 m) each a
+/// diagram under the reservoir at 45 m. Goal: the scene's joint holds two diagrams, each on its
+/// own curve only; each runs from its own heel, the end nearest the hydrostatic upstream face
+/// (x = 0), along its own curve to its toe: the lift joint's from (0, 20) over 26 m, with
+/// p_u = ρ_w g (45 − 20) at its heel and 0 at its toe, the base's from (0, 0) over 40 m, with
+/// ρ_w g 45 at its heel and its drains 5 m downstream.
+/// Parameters: P1, the file's mesh sizes × 4.
+#[test]
+fn each_joint_has_its_own_uplift_diagram() {
+    let repo = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let scene = Scene::load(&repo.join("geo/dam_lifts_on_rock_uplift.toml")).unwrap_or_else(|e| panic!("{e}"));
+    let (_, joint) = scene.problem(common::mesh_scene(&scene, 1, 4.0)).unwrap_or_else(|e| panic!("{e}"));
+    let joint = joint.expect("a joint");
+    let gamma_w = 1000.0 * 9.81;
+    // the curves of the joint in the order of [joints]: base, lift
+    assert_eq!(joint.uplift.len(), 2);
+    for (curve, heel, length, head, drains) in
+        [(0, [0.0, 0.0], 40.0, 45.0, Some(5.0)), (1, [0.0, 20.0], 26.0, 25.0, None)]
+    {
+        let up = &joint.uplift[curve];
+        let p = &up.diagram;
+        println!(
+            "curve {curve}: heel {:?}, length {}, p_u {} … {} Pa",
+            p.line.heel,
+            p.line.length,
+            p.pressure(0.0, 0.0),
+            p.pressure(length, 0.0)
+        );
+        assert_eq!(up.curves, vec![curve]);
+        assert!(p.line.heel.iter().zip(heel).all(|(a, b)| (a - b).abs() < 1e-12), "{:?}", p.line);
+        assert!((p.line.length - length).abs() < 1e-9 && (p.line.along[0] - 1.0).abs() < 1e-12, "{:?}", p.line);
+        assert!((p.pressure(0.0, 0.0) - gamma_w * head).abs() <= 1e-12 * gamma_w * head, "p_u at the heel");
+        assert_eq!(p.pressure(length, 0.0), 0.0);
+        assert_eq!(p.drains.map(|d| d.distance), drains);
+    }
+}
