@@ -897,8 +897,8 @@ impl Scene {
             .filter_map(|(curve, ((name, j), &tag))| j.uplift.as_ref().map(|up| (curve, name, tag, up)))
             .map(|(curve, name, tag, up)| {
                 let facets = contact_facets(&problem.mesh, topology, &[tag]);
-                let (table, what) = (format!("joints.{name}.uplift"), format!("curve '{name}' is"));
-                let diagram = self.uplift_diagram(problem, &facets, up, &table, &what)?;
+                let (table, curves) = (format!("joints.{name}.uplift"), format!("curve '{name}' is"));
+                let diagram = self.uplift_diagram(problem, &facets, up, &table, &curves)?;
                 Ok(CurveUplift { curves: vec![curve], diagram })
             })
             .collect()

@@ -4,8 +4,8 @@
 //! A [`ContactJoint`] is the one description of a contact boundary, built by the scene: where
 //! (the physical tags of Γ_C), for each of its curves which law and which Nitsche parameters
 //! ([`CurveLaw`]), and the uplift diagrams with the curves each acts on ([`CurveUplift`]). On a
-//! mesh it becomes the faces of [`Nitsche`], each reading the law and the uplift of its curve. [`ContactProblem`] is the nonlinear system F(x) = 0 over the free
-//! displacement dofs,
+//! mesh it becomes the faces of [`Nitsche`], each reading the law and the uplift of its curve.
+//! [`ContactProblem`] is the nonlinear system F(x) = 0 over the free displacement dofs,
 //!
 //!   F(u; v) = (σ(u), ε(v)) − (f, v) − (g_N, v)_{Γ_N} + Σ_F R_F(u; v),
 //!
