@@ -536,3 +536,43 @@ fn joint_uplift_refuses_bad_input() {
         assert_refused("joint-uplift-input", command, &input, &[], &keywords);
     }
 }
+
+// The sliding plane's own uplift. Source: geo/dam_lifts_on_rock_uplift.toml without its
+// combinations and with `[safety] joint = "lift"`; docs/method.md §1.9, §1.10. Goal: `damfem
+// safety` analyses the lift joint with its own diagram: its joint line from the heel (0, 20) over
+// 26 m, joint.csv with faces at y = 20 only, U = ρ_w g (45 − 20) · 26/2 (the joint stays
+// closed, crack 0) to 10⁻⁹, where the base's diagram would give more than its 40 m, and
+// N + U = the upper block's weight to 10⁻² (the adaptive loop stops Newton once its
+// linearisation error is below the discretisation error).
+// Parameters: P1, gmsh's sizes × 2, one mesh.
+#[test]
+fn safety_takes_the_sliding_planes_own_uplift() {
+    let tmp = TempDir::new("lift-safety");
+    let text = std::fs::read_to_string(repo("geo/dam_lifts_on_rock_uplift.toml")).unwrap();
+    let geometry = format!("{:?}", repo("geo/dam_lifts_on_rock.geo").display().to_string());
+    let text = text.replace("\"dam_lifts_on_rock.geo\"", &geometry).replace("joint = \"base\"", "joint = \"lift\"");
+    let scene = tmp.join("lift.toml");
+    std::fs::write(&scene, &text[..text.find("\n[combinations.usual]").unwrap()]).unwrap();
+    let dir = tmp.join("safety");
+    let args = ["--size-factor", "2", "--order", "1", "--max-steps", "1", "-q", "-o", dir.to_str().unwrap()];
+    assert_ok(&damfem(&[&["safety", scene.to_str().unwrap()], &args[..]].concat()));
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("safety.json")).unwrap()).unwrap();
+    let number = |v: &serde_json::Value| v.as_f64().unwrap_or_else(|| panic!("{report}"));
+    let line = &report["joint_line"];
+    assert_eq!((number(&line["heel"][0]), number(&line["heel"][1]), number(&line["length"])), (0.0, 20.0, 26.0));
+    let csv = std::fs::read_to_string(dir.join("joint.csv")).unwrap();
+    let y: Vec<f64> = csv.lines().skip(1).map(|l| l.split(',').nth(1).unwrap().parse().unwrap()).collect();
+    assert!(!y.is_empty() && y.iter().all(|&y| y == 20.0), "{csv}");
+    let r = &report["resultant"];
+    let (n, u) = (number(&r["normal_force"]), number(&r["uplift_force"]));
+    let weight = 2400.0 * 9.81 * 0.5 * (26.0 + 5.0) * 30.0;
+    let expected = 1000.0 * 9.81 * 25.0 * 26.0 / 2.0;
+    println!(
+        "lift: N = {n:.6e}, U = {u:.6e} (diagram {expected:.6e}), N + U − W = {:.2e} W",
+        (n + u - weight) / weight
+    );
+    assert_eq!(number(&report["crack_length"]), 0.0);
+    assert!((u - expected).abs() <= 1e-9 * expected, "U = {u}, the lift joint's diagram gives {expected}");
+    assert!((n + u - weight).abs() <= 1e-2 * weight, "N + U = {}, the upper block weighs {weight}", n + u);
+}
