@@ -87,6 +87,14 @@ impl Scene {
                     )));
                 }
             }
+            let rigid = self.boundary.get(name).is_some_and(|b| b.role == Role::Contact);
+            let only_uplift = *joint == JointSection { uplift: joint.uplift.clone(), ..Default::default() };
+            if rigid && joint.uplift.is_some() && only_uplift {
+                return Err(self.invalid(format!(
+                    "[joints.{name}.uplift] is for a joint between two meshed bodies, and '{name}' has role contact \
+                     (a rigid foundation), whose uplift is [uplift]: move the table there"
+                )));
+            }
             if self.boundary.contains_key(name) {
                 return Err(self.invalid(format!(
                     "curve '{name}' is both a joint ([joints.{name}]) and a boundary curve ([boundary.{name}]); \

@@ -455,12 +455,13 @@ fn a_lift_joint_cracks_under_its_own_uplift() {
 }
 
 // Bad uplift tables on joints, each one error line, exit 1 and no output (docs/method.md §1.8,
-// §1.10): uplift on a curve that is no joint (the crest), [uplift] beside a joint's own
-// diagram, [uplift] along two joints that are not on one line, a joint curve that is not
-// straight (the lift joint bent at x = 13 m), drains outside the joint, and combinations that
-// change a joint's law or name a curve that is no joint.
-// Parameters: geo/dam_lifts_on_rock_uplift.toml edited; `damfem check` (the curve that is
-// not straight: `solve`, which builds the diagrams).
+// §1.10): uplift on a curve that is no joint (the crest; the base of role contact of
+// geo/scene_a_uplift.toml, a rigid foundation), [uplift] beside a joint's own diagram,
+// [uplift] along two joints that are not on one line, a joint curve that is not straight (the
+// lift joint bent at x = 13 m), drains outside the joint, and combinations that change a
+// joint's law or name a curve that is no joint.
+// Parameters: geo/dam_lifts_on_rock_uplift.toml and geo/scene_a_uplift.toml edited; `damfem
+// check` (the bent curve: `damfem solve`).
 #[test]
 fn joint_uplift_refuses_bad_input() {
     let tmp = TempDir::new("joint-uplift-bad");
@@ -532,6 +533,17 @@ fn joint_uplift_refuses_bad_input() {
             vec!["combinations.odd", "joints.crest is not a joint of the scene", "base, lift"],
         ),
     ];
+    // a joint's own table on a rigid foundation's curve
+    let rigid = tmp.join("rigid.toml");
+    let text = std::fs::read_to_string(repo("geo/scene_a_uplift.toml")).unwrap();
+    let geometry = format!("{:?}", repo("geo/scene_a_friction.geo").display().to_string());
+    let text = text.replace("\"scene_a_friction.geo\"", &geometry).replace("\n[uplift]\n", "\n[joints.base.uplift]\n");
+    std::fs::write(&rigid, text).unwrap();
+    let cases = cases.into_iter().chain([(
+        rigid,
+        "check",
+        vec!["[joints.base.uplift] is for a joint between two meshed bodies", "role contact", "[uplift]"],
+    )]);
     for (input, command, keywords) in cases {
         assert_refused("joint-uplift-input", command, &input, &[], &keywords);
     }
