@@ -352,11 +352,21 @@ fn integral(points: &[(f64, f64)]) -> f64 {
 // lift joint's runs from ρ_w g (H_w − 20 m) at its heel (x = 0) to 0 at its toe, 26 m
 // downstream, the base's from ρ_w g H_w with its drains; each crack settles (|open − s_c| ≤
 // 10⁻⁶ L). Under the flood the base cracks at the heel and the lift joint stays closed.
+// `damfem check` lists each joint with its heel and the uplift there.
 // Parameters: P2, gmsh's sizes × 2.
 #[test]
 fn each_joint_has_its_own_uplift() {
     let tmp = TempDir::new("joint-uplift");
     let scene = repo("geo/dam_lifts_on_rock_uplift.toml");
+    let check = damfem(&["check", scene.to_str().unwrap()]);
+    assert_ok(&check);
+    let table = String::from_utf8_lossy(&check.stdout);
+    for (name, depth, heel) in [("base", 45.0, "[0.0, 0.0]"), ("lift", 25.0, "[0.0, 20.0]")] {
+        let heel = format!("uplift {:.4e} Pa at the heel {heel}", 1000.0 * 9.81 * depth);
+        let line =
+            table.lines().find(|l| l.starts_with(&format!("joint    {name} "))).unwrap_or_else(|| panic!("{table}"));
+        assert!(line.ends_with(&heel), "{line} against {heel}");
+    }
     let rho_g = 2400.0 * 9.81;
     let gamma_w = 1000.0 * 9.81;
     for (combination, level) in [(None, 45.0), (Some("flood"), 50.0)] {
