@@ -39,9 +39,9 @@ fn main() -> Result<()> {
     println!("{name}, {:?}, δ = {:.3e} Pa", joint.laws[0].law, path.delta);
     for i in 0..=24 {
         let crack = 0.25 * i as f64;
-        contact.nitsche.uplift.as_mut().context("the joint has uplift")?.crack = crack;
+        contact.nitsche.uplift.first_mut().context("the joint has uplift")?.diagram.crack = crack;
         x = newton(&contact, x, &path.newton)?.x;
-        let open = contact.crack_length(&x);
+        let open = contact.crack_lengths(&x)[0];
         let faces = contact.face_states(&x);
         let normal: f64 = faces.iter().map(|f| f.pressure * f.length).sum();
         let stick: f64 = faces.iter().map(|f| f.stick_length).sum();

@@ -43,9 +43,9 @@
 //! A curve of role `contact` is a joint with a rigid obstacle, frictionless or frictional,
 //! with uplift in the joint. A curve shared by two meshed bodies may be a joint between them
 //! (`[joints.<curve>]`: its nodes split by `mesh::interface`, two-body Nitsche contact, the
-//! master–slave form), with uplift on both of its sides; the estimator covers it, each side's
-//! patches taking their side's traction (docs/method.md §5.6), and `damfem safety` runs on a
-//! straight one. The estimator covers the Nitsche variant θ = 0 and triangles of
+//! master–slave form), with uplift on both of its sides (one diagram along all the joints, or
+//! each joint its own); the estimator covers it, each side's patches taking their side's
+//! traction (docs/method.md §5.6), and `damfem safety` runs on a straight one. The estimator covers the Nitsche variant θ = 0 and triangles of
 //! moderate aspect ratio (docs/method.md §4.1); its bound holds for iterates that solve the
 //! linearised problem of their last Newton step (every converged or full-step iterate), and
 //! an estimate whose reconstruction fails an equilibration check is refused, never reported.

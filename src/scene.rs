@@ -10,7 +10,7 @@ use crate::adapt::geo::GeoMesher;
 use crate::adapt::{AdaptError, AdaptSettings, Model, Refinement};
 use crate::contact::nitsche::{Gap, NitscheParameters};
 use crate::contact::uplift::{Drains, Uplift};
-use crate::contact::{ContactJoint, Continuation, JointLaw, JointLine};
+use crate::contact::{ContactJoint, Continuation, CurveUplift, JointLaw, JointLine};
 use crate::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};
 use crate::io::gmsh::MeshOptions;
 use crate::mesh::{distance, Mesh, Topology};
@@ -113,8 +113,9 @@ pub struct BoundarySection {
     pub hydrostatic: Option<Hydrostatic>,
 }
 
-/// `[uplift]`: the pore-water pressure in the joint (docs/method.md §1.8).
-#[derive(Debug, Clone, Deserialize)]
+/// `[uplift]`, or `[joints.<curve>.uplift]`: the pore-water pressure in the joint
+/// (docs/method.md §1.8).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct UpliftSection {
     /// Reservoir level upstream \[m\] (a y coordinate).
@@ -133,7 +134,7 @@ pub struct UpliftSection {
 }
 
 /// Drains: distance from the heel \[m\] and efficiency in [0, 1].
-#[derive(Debug, Clone, Copy, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct DrainsSection {
     pub x: f64,
@@ -372,13 +373,14 @@ impl Scene {
         Ok(scene)
     }
 
-    /// The sections a load combination may change.
-    const COMBINED: [&'static str; 3] = ["uplift", "boundary", "loads"];
+    /// The sections a load combination may change (of `joints`, the `uplift` tables only).
+    const COMBINED: [&'static str; 4] = ["uplift", "boundary", "loads", "joints"];
 
-    /// The scene of the load combination `name`: its `[uplift]`, `[boundary.<curve>]` and
-    /// `[loads]` keys replace the scene's one by one (a table merges into the scene's table),
-    /// every other section is this scene's (with the command-line overrides), and the result
-    /// is checked as a scene file is. Errors name `combinations.<name>`.
+    /// The scene of the load combination `name`: its `[uplift]`, `[boundary.<curve>]`,
+    /// `[loads]` and `[joints.<curve>.uplift]` keys replace the scene's one by one (a table
+    /// merges into the scene's table), every other section is this scene's (with the
+    /// command-line overrides), and the result is checked as a scene file is. Errors name
+    /// `combinations.<name>`.
     pub fn combination(&self, name: &str) -> Result<Scene, SceneError> {
         let context = |message: String| self.invalid(format!("combinations.{name}: {message}"));
         let overlay = self.combinations.get(name).ok_or_else(|| {
@@ -390,15 +392,22 @@ impl Scene {
         })?;
         if let Some(key) = overlay.keys().find(|k| !Self::COMBINED.contains(&k.as_str())) {
             return Err(context(format!(
-                "'{key}' cannot be combined: a combination changes [uplift], [boundary.<curve>] and [loads] keys"
+                "'{key}' cannot be combined: a combination changes [uplift], [boundary.<curve>], [loads] and \
+                 [joints.<curve>.uplift] keys"
             )));
         }
+        self.check_combined_joints(overlay).map_err(context)?;
         let mut table = self.table.clone();
         merge(&mut table, overlay);
         let merged: Scene =
             toml::Value::Table(table).try_into().map_err(|e: toml::de::Error| context(e.to_string()))?;
+        let mut joints = self.joints.clone();
+        for (name, joint) in &mut joints {
+            joint.uplift = merged.joints.get(name).and_then(|j| j.uplift.clone());
+        }
         let scene = Scene {
             uplift: merged.uplift,
+            joints,
             boundary: merged.boundary,
             loads: merged.loads,
             combinations: BTreeMap::new(),
@@ -408,6 +417,28 @@ impl Scene {
             Err(SceneError::Invalid { message, .. }) => Err(context(message)),
             other => other.map(|_| scene),
         }
+    }
+
+    /// The `joints` of a combination's `overlay` name joints of the scene and change their
+    /// `uplift` tables only.
+    fn check_combined_joints(&self, overlay: &toml::Table) -> Result<(), String> {
+        let Some(joints) = overlay.get("joints") else { return Ok(()) };
+        let names: Vec<&str> = self.joints.keys().map(String::as_str).collect();
+        for (curve, table) in joints.as_table().into_iter().flatten() {
+            if !self.joints.contains_key(curve) {
+                return Err(format!(
+                    "joints.{curve} is not a joint of the scene, whose [joints] are: {}",
+                    list(&names)
+                ));
+            }
+            let keys = table.as_table().map(|t| t.keys().collect::<Vec<_>>()).unwrap_or_default();
+            if let Some(key) = keys.iter().find(|k| k.as_str() != "uplift") {
+                return Err(format!(
+                    "'joints.{curve}.{key}' cannot be combined: of a joint, a combination changes its uplift only"
+                ));
+            }
+        }
+        Ok(())
     }
 
     /// The default scene of a bare geometry file: roles from the curve names, default materials.
@@ -434,24 +465,25 @@ impl Scene {
         SceneError::Invalid { path: self.source.clone(), message }
     }
 
-    /// The `[uplift]` values that need no mesh.
-    fn check_uplift(&self, up: &UpliftSection) -> Result<(), SceneError> {
+    /// The values that need no mesh of the uplift table `table` (`uplift` or
+    /// `joints.<curve>.uplift`).
+    fn check_uplift(&self, table: &str, up: &UpliftSection) -> Result<(), SceneError> {
         let numbers = [("headwater", Some(up.headwater)), ("tailwater", up.tailwater), ("density", Some(up.density))];
         if let Some((key, value)) = numbers.iter().find_map(|(k, v)| v.filter(|x| !x.is_finite()).map(|x| (k, x))) {
-            return Err(self.invalid(format!("uplift.{key} = {value} must be a finite number")));
+            return Err(self.invalid(format!("{table}.{key} = {value} must be a finite number")));
         }
         if up.density <= 0.0 {
-            return Err(self.invalid(format!("uplift.density = {} must be positive", up.density)));
+            return Err(self.invalid(format!("{table}.density = {} must be positive", up.density)));
         }
         if let Some(t) = up.tailwater.filter(|&t| t > up.headwater) {
             return Err(self.invalid(format!(
-                "uplift.tailwater = {t} lies above uplift.headwater = {}: the reservoir is upstream",
+                "{table}.tailwater = {t} lies above {table}.headwater = {}: the reservoir is upstream",
                 up.headwater
             )));
         }
         match up.drains {
             Some(d) if !(d.x.is_finite() && (0.0..=1.0).contains(&d.efficiency)) => Err(self.invalid(format!(
-                "uplift.drains = {{ x = {}, efficiency = {} }}: x must be finite and the efficiency within [0, 1]",
+                "{table}.drains = {{ x = {}, efficiency = {} }}: x must be finite and the efficiency within [0, 1]",
                 d.x, d.efficiency
             ))),
             _ => Ok(()),
@@ -485,7 +517,7 @@ impl Scene {
             )));
         }
         if let Some(up) = &self.uplift {
-            self.check_uplift(up)?;
+            self.check_uplift("uplift", up)?;
         }
         if c.delta.is_some_and(|d| d.is_nan() || d < 0.0) {
             return Err(self.invalid(format!("contact.delta = {} must be non-negative", c.delta.unwrap_or(0.0))));
@@ -726,8 +758,8 @@ impl Scene {
                 self.contact.direction.unwrap_or_default()
             )));
         }
-        if let (Some(j), Some(section)) = (joint.as_mut(), &self.uplift) {
-            j.uplift = Some(self.uplift_diagram(&problem, &facets, section)?);
+        if let Some(j) = joint.as_mut() {
+            j.uplift = self.uplift_diagrams(&problem, &topology, j, &facets)?;
         }
         // a joint between two bodies supports neither against a rigid motion of both
         let rigid_facets = if interfaces.is_empty() { &facets[..] } else { &[] };
@@ -790,16 +822,32 @@ impl Scene {
             (None, false) => self.joint_tags(&problem.mesh).ok()?,
         };
         let facets = contact_facets(&problem.mesh, &Topology::new(&problem.mesh), &tags);
-        self.straight_joint(problem, &facets).ok()
+        self.straight_joint(problem, &facets, self.heel()).ok()
     }
 
-    /// The joint of `facets` from its heel to its toe: the heel is `[uplift] heel`'s end, or
+    /// The heel that the scene gives the sliding plane: `[uplift] heel`, else that of the
+    /// uplift table of the `[safety] joint` curve, else of the first joint that gives one.
+    fn heel(&self) -> Option<[f64; 2]> {
+        let own = |name: &String| self.joints.get(name).and_then(|j| j.uplift.as_ref()).and_then(|up| up.heel);
+        let joints = || self.joints.values().filter_map(|j| j.uplift.as_ref().and_then(|up| up.heel));
+        (self.uplift.as_ref().and_then(|up| up.heel)).or_else(|| match &self.safety.joint {
+            Some(name) => own(name),
+            None => joints().next(),
+        })
+    }
+
+    /// The joint of `facets` from its heel to its toe: the heel is the end nearest `heel`, or
     /// the end nearest a curve with a hydrostatic load. Err: why there is none.
-    fn straight_joint(&self, problem: &Problem, facets: &[(usize, [f64; 2])]) -> Result<JointLine, String> {
+    fn straight_joint(
+        &self,
+        problem: &Problem,
+        facets: &[(usize, [f64; 2])],
+        heel: Option<[f64; 2]>,
+    ) -> Result<JointLine, String> {
         let mesh = &problem.mesh;
         let Some(&(_, nu)) = facets.first() else { return Err("there is no contact curve".into()) };
         if facets.iter().any(|(_, n)| (n[0] - nu[0]).hypot(n[1] - nu[1]) > 1e-9) {
-            return Err("the contact curves are not on one line".into());
+            return Err("not on one straight line".into());
         }
         let along = [-nu[1], nu[0]];
         let ends: Vec<[f64; 2]> =
@@ -810,7 +858,7 @@ impl Scene {
         // parallel joints (a lift joint above the dam's base) are not one line
         let offset = |x: &[f64; 2]| (x[0] - first[0]) * nu[0] + (x[1] - first[1]) * nu[1];
         if ends.iter().any(|x| offset(x).abs() > 1e-9 * distance(first, last)) {
-            return Err("the contact curves are not on one line".into());
+            return Err("not on one straight line".into());
         }
         let water: Vec<[f64; 2]> = problem
             .neumann
@@ -820,7 +868,7 @@ impl Scene {
             .map(|n| mesh.points[n])
             .collect();
         let near = |end: [f64; 2], to: &[[f64; 2]]| to.iter().map(|&x| distance(x, end)).fold(f64::INFINITY, f64::min);
-        let heel_first = match self.uplift.as_ref().and_then(|up| up.heel) {
+        let heel_first = match heel {
             Some(h) => distance(first, h) <= distance(last, h),
             None if water.is_empty() => {
                 return Err("no curve has a hydrostatic load to show the upstream end of the joint".into())
@@ -830,20 +878,51 @@ impl Scene {
         Ok(if heel_first { JointLine::new(first, last) } else { JointLine::new(last, first) })
     }
 
-    /// The uplift diagram of `[uplift]` on the straight joint of `facets`.
+    /// The uplift diagrams of the scene on `joint`, whose curves have the contact `facets`:
+    /// `[uplift]` along all of them, or each `[joints.<curve>.uplift]` along its own curve.
+    fn uplift_diagrams(
+        &self,
+        problem: &Problem,
+        topology: &Topology,
+        joint: &ContactJoint,
+        facets: &[(usize, [f64; 2])],
+    ) -> Result<Vec<CurveUplift>, SceneError> {
+        if let Some(up) = &self.uplift {
+            let curves = if self.joints.is_empty() { "the contact curves are" } else { "the joint curves are" };
+            let diagram = self.uplift_diagram(problem, facets, up, "uplift", curves)?;
+            return Ok(vec![CurveUplift { curves: (0..joint.tags.len()).collect(), diagram }]);
+        }
+        // the curves of a two-body joint are those of [joints], in order
+        (self.joints.iter().zip(&joint.tags).enumerate())
+            .filter_map(|(curve, ((name, j), &tag))| j.uplift.as_ref().map(|up| (curve, name, tag, up)))
+            .map(|(curve, name, tag, up)| {
+                let facets = contact_facets(&problem.mesh, topology, &[tag]);
+                let (table, curves) = (format!("joints.{name}.uplift"), format!("curve '{name}' is"));
+                let diagram = self.uplift_diagram(problem, &facets, up, &table, &curves)?;
+                Ok(CurveUplift { curves: vec![curve], diagram })
+            })
+            .collect()
+    }
+
+    /// The uplift diagram of the table `table` (`up`) on the straight joint of `facets`, whose
+    /// curves are named in the errors by `curves` ("curve 'lift' is").
     fn uplift_diagram(
         &self,
         problem: &Problem,
         facets: &[(usize, [f64; 2])],
         up: &UpliftSection,
+        table: &str,
+        curves: &str,
     ) -> Result<Uplift, SceneError> {
-        let line = self.straight_joint(problem, facets).map_err(|why| {
-            let key = if why.contains("hydrostatic") {
-                "uplift.heel is needed: "
-            } else {
-                "[uplift] needs a straight joint: "
-            };
-            self.invalid(format!("{key}{why}"))
+        let line = self.straight_joint(problem, facets, up.heel).map_err(|why| {
+            self.invalid(match why.contains("hydrostatic") {
+                true => format!("{table}.heel is needed: {why}"),
+                false if table == "uplift" && self.joints.len() > 1 => format!(
+                    "[uplift] lays one diagram along all the joint curves, which are {why}; move it into \
+                     [joints.<curve>.uplift] tables, one diagram per joint"
+                ),
+                false => format!("{table} needs a straight joint, and {curves} {why}"),
+            })
         })?;
         let (heel, toe, length) = (line.heel, line.point(line.length), line.length);
         let g = self.loads.gravity;
@@ -851,7 +930,7 @@ impl Scene {
         let drains = up.drains.map(|d| Drains { distance: d.x, efficiency: d.efficiency });
         if let Some(d) = drains.filter(|d| !(d.distance > 0.0 && d.distance < length)) {
             return Err(self.invalid(format!(
-                "uplift.drains.x = {} lies outside the joint: give the drains' distance from the heel, between 0 and {length:.3} m",
+                "{table}.drains.x = {} lies outside the joint: give the drains' distance from the heel, between 0 and {length:.3} m",
                 d.distance
             )));
         }
@@ -882,7 +961,7 @@ impl Scene {
         }
         let r = problem.load_resultant(topology);
         // the uplift without a crack: a crack only adds to it
-        let uplift = joint.uplift.as_ref().map_or(0.0, |up| up.force(0.0));
+        let uplift: f64 = joint.uplift.iter().map(|up| up.diagram.force(0.0)).sum();
         let (normal, shear) = (r[0] * nu[0] + r[1] * nu[1] - uplift, r[1] * nu[0] - r[0] * nu[1]);
         // at most the largest friction's F N plus every curve's cohesion or threshold over its length
         let length = |tag: i32| problem.mesh.boundary_length(tag);

@@ -3,7 +3,7 @@
 
 use super::{AdaptError, AdaptSettings};
 use crate::contact::projection::Smoothing;
-use crate::contact::{settle_crack, ContactJoint, ContactProblem, Crack, Linearisation, Solution, Stage};
+use crate::contact::{settle_crack, ContactJoint, ContactProblem, Crack, Cracks, Linearisation, Solution, Stage};
 use crate::elasticity::{Discretisation, Problem, Refined};
 use crate::estimate::estimators::GlobalEstimators;
 use crate::estimate::{estimate_displacement, Estimate};
@@ -185,8 +185,8 @@ pub fn contact_level(
     let (mut crack_solves, mut retries, mut discarded_steps) = (0, 0, 0);
     // the δ of this level's last converged Newton run
     let mut solved_at: Option<f64> = None;
-    // the δ at which the crack was last settled, and how
-    let mut settled: Option<(f64, Crack)> = None;
+    // the δ at which the cracks were last settled, and how
+    let mut settled: Option<(f64, Cracks)> = None;
     loop {
         contact.set_delta(delta);
         let smoothing = contact.smoothing;
@@ -249,14 +249,14 @@ pub fn contact_level(
             // with the crack filled by the reservoir: its fixed point at this δ, once; if it
             // moved, the level goes on from the new solution, so that the last iterate is
             // estimated (a crack settled by its bracket stays: it would not settle again)
-            let mut crack = None;
-            if contact.nitsche.uplift.as_ref().is_some_and(|up| up.crack_filled) {
-                let found = match settled.filter(|(at, _)| *at == delta) {
+            let mut cracks = Vec::new();
+            if contact.nitsche.uplift.iter().any(|up| up.diagram.crack_filled) {
+                let found = match settled.clone().filter(|(at, _)| *at == delta) {
                     Some((_, found)) => found,
                     None => {
                         let (solution, more, found) = settle_crack(&mut contact, x, newton)?;
-                        crack_solves += found.iterations - 1;
-                        (x, settled) = (solution, Some((delta, found)));
+                        crack_solves += more.len();
+                        (x, settled) = (solution, Some((delta, found.clone())));
                         if !more.is_empty() {
                             stages.extend(more);
                             continue;
@@ -264,11 +264,11 @@ pub fn contact_level(
                         found
                     }
                 };
-                crack = Some(Crack { iterations: crack_solves + 1, ..found });
+                cracks = found.into_iter().map(|c| c.map(|c| Crack { iterations: crack_solves + 1, ..c })).collect();
             }
             let n_lin = discarded_steps + stages.iter().map(|s| s.report.iterations.len()).sum::<usize>();
             return Ok(Level {
-                solution: Solution::Contact(Box::new(contact.solution(x, stages, crack))),
+                solution: Solution::Contact(Box::new(contact.solution(x, stages, cracks))),
                 estimate,
                 n_reg,
                 n_lin,

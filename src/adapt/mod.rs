@@ -296,16 +296,18 @@ pub fn run(
     let mut history = Vec::new();
     let mut previous: Option<(Mesh, Vec<[f64; 2]>, Vec<f64>)> = None;
     let mut kept = None;
-    let mut crack = None;
+    let mut cracks: crate::contact::Cracks = Vec::new();
     for step in 0..settings.steps {
         let mut seconds = PhaseTimes::default();
         let clock = Instant::now();
         let mesh = mesher.mesh(step, previous.as_ref().map(|(m, _, sizes)| (m, &sizes[..])))?;
         seconds.mesh = clock.elapsed().as_secs_f64();
         let (problem, mut joint) = model.problem(mesh)?;
-        // the crack filled by the reservoir starts where the previous mesh left it
-        if let (Some(up), Some(crack)) = (joint.as_mut().and_then(|j| j.uplift.as_mut()), crack) {
-            up.crack = crack;
+        // the cracks filled by the reservoir start where the previous mesh left them
+        if let Some(j) = joint.as_mut() {
+            for (up, crack) in j.uplift.iter_mut().zip(&cracks) {
+                up.diagram.crack = crack.map_or(up.diagram.crack, |c| c.length);
+            }
         }
         let clock = Instant::now();
         let disc = problem.discretise();
@@ -328,7 +330,7 @@ pub fn run(
         };
         let contact = level.solution.contact();
         kept = contact.map(|c| (c.smoothing.delta, level.trend));
-        crack = contact.and_then(|c| c.crack).map(|c| c.length);
+        cracks = contact.map_or_else(Vec::new, |c| c.cracks.clone());
         let line = model.joint_line(&problem);
         seconds.solve = level.solve_seconds;
         seconds.estimate = level.estimate_seconds;

@@ -28,14 +28,26 @@ pub fn run(args: Args) -> Result<()> {
         anyhow::bail!("{}: --strict: {}", scene.source.display(), warnings.join("; "));
     }
     let roles = scene.roles(&mesh)?;
-    let (problem, _) = scene.problem(mesh)?;
+    let (problem, contact) = scene.problem(mesh)?;
     let mesh = &problem.mesh;
     for (tag, name, b) in &roles {
         progress.result(&format!("curve    {name:<20} {:?}, length {:.4}", b.role, mesh.boundary_length(*tag)));
     }
-    for (name, joint) in &scene.joints {
+    // the joint curves are those of the contact joint, in order
+    for (curve, (name, joint)) in scene.joints.iter().enumerate() {
         let Some(tag) = mesh.group(1, name).map(|g| g.tag) else { continue };
-        progress.result(&format!("joint    {name:<20} {:?}, length {:.4}", joint.law(), mesh.boundary_length(tag)));
+        let uplift = (contact.iter().flat_map(|c| &c.uplift)).find(|up| up.curves.contains(&curve)).map_or(
+            String::new(),
+            |up| {
+                let p = &up.diagram;
+                format!(", uplift {:.4e} Pa at the heel {:?}", p.pressure(0.0, 0.0), p.line.heel)
+            },
+        );
+        progress.result(&format!(
+            "joint    {name:<20} {:?}, length {:.4}{uplift}",
+            joint.law(),
+            mesh.boundary_length(tag)
+        ));
     }
     for g in mesh.groups.iter().filter(|g| g.dim == 2) {
         let m = problem.materials[mesh.cell_tags.iter().position(|&t| t == g.tag).unwrap_or(0)];

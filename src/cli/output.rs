@@ -158,7 +158,7 @@ fn contact_fields(n_facets: usize, contact: &ContactSolution) -> Vec<Field> {
             ("slip", |f| f.slip),
         ]);
     }
-    if contact.nitsche.uplift.is_some() {
+    if !contact.nitsche.uplift.is_empty() {
         columns.extend([
             ("uplift_pressure", (|f| f.uplift) as fn(&FaceState) -> f64),
             ("effective_normal_stress", |f| -f.pressure),
@@ -238,7 +238,8 @@ pub struct ContactSummary {
     pub tangential_force: f64,
     /// With friction, FS_LE = ∫ (c q'(P_γ) + F p_c) / |∫ t^t| (docs/method.md §1.7, §1.9).
     sliding_safety_factor: Option<f64>,
-    /// With uplift: U = ∫_{Γ_C} p_u ds \[N/m\], and the crack at the heel that it fills.
+    /// With uplift: U = ∫_{Γ_C} p_u ds \[N/m\], and, with one diagram, the crack at the heel
+    /// that it fills (each curve's in `curves`).
     pub uplift_force: Option<f64>,
     crack: Option<Crack>,
     /// On a straight joint whose heel is known (docs/method.md §1.9): the joint from its heel,
@@ -249,7 +250,8 @@ pub struct ContactSummary {
 }
 
 /// One curve of Γ_C in `summary.json`: its physical name (on a joint between two bodies, the
-/// slave side's), law, Nitsche parameters and forces.
+/// slave side's), law, Nitsche parameters and forces; with uplift on it, U = ∫ p_u ds over
+/// it \[N/m\] and the crack of its diagram.
 #[derive(Serialize)]
 struct CurveSummary {
     curve: String,
@@ -259,6 +261,10 @@ struct CurveSummary {
     theta: f64,
     #[serde(flatten)]
     forces: JointForces,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    uplift_force: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    crack: Option<Crack>,
 }
 
 impl CurveSummary {
@@ -269,12 +275,15 @@ impl CurveSummary {
             .filter_map(|(curve, l)| {
                 let tag = mesh.facet_tags[faces.iter().find(|f| f.curve == curve)?.facet];
                 let name = mesh.groups.iter().find(|g| g.dim == 1 && g.tag == tag).map_or("?", |g| &g.name);
+                let diagram = c.nitsche.uplift.iter().position(|up| up.curves.contains(&curve));
                 Some(CurveSummary {
                     curve: name.to_string(),
                     law: l.law,
                     gamma0: l.parameters.gamma0,
                     theta: l.parameters.theta,
                     forces: c.forces(|k| faces[k].curve == curve),
+                    uplift_force: diagram.map(|_| c.uplift_force_of(|k| faces[k].curve == curve)),
+                    crack: diagram.and_then(|d| c.cracks.get(d).copied().flatten()),
                 })
             })
             .collect()
@@ -366,8 +375,8 @@ impl ContactSummary {
             normal_force: c.normal_force(),
             tangential_force: c.tangential_force(),
             sliding_safety_factor: c.sliding_safety_factor(),
-            uplift_force: c.nitsche.uplift.as_ref().map(|_| c.uplift_force()),
-            crack: c.crack,
+            uplift_force: (!c.nitsche.uplift.is_empty()).then(|| c.uplift_force()),
+            crack: if let [crack] = c.cracks[..] { crack } else { None },
             joint_line: line,
             crack_length: line.map(|l| c.crack_from_heel(&l)),
             resultant: line.and_then(|l| c.resultant(&l)),

@@ -296,7 +296,7 @@ fn joint_line(scene: &Scene, input: &Input) -> Result<JointLine> {
     scene.joint_line(&problem).with_context(|| {
         format!(
             "{}: the safety analysis needs a straight joint whose heel is known: the contact curves on one line, \
-             and a hydrostatic curve (or [uplift] heel) at its upstream end",
+             and a hydrostatic curve (or the heel of [uplift] or of the joint's uplift table) at its upstream end",
             scene.source.display()
         )
     })

@@ -2,10 +2,10 @@
 //! bodies (docs/method.md §1.10), by Nitsche's method.
 //!
 //! A [`ContactJoint`] is the one description of a contact boundary, built by the scene: where
-//! (the physical tags of Γ_C) and, for each of its curves, which law and which Nitsche
-//! parameters ([`CurveLaw`]). On a mesh it becomes the faces of [`Nitsche`], each reading the
-//! law of its curve. [`ContactProblem`] is the nonlinear system F(x) = 0 over the free
-//! displacement dofs,
+//! (the physical tags of Γ_C), for each of its curves which law and which Nitsche parameters
+//! ([`CurveLaw`]), and the uplift diagrams with the curves each acts on ([`CurveUplift`]). On a
+//! mesh it becomes the faces of [`Nitsche`], each reading the law and the uplift of its curve.
+//! [`ContactProblem`] is the nonlinear system F(x) = 0 over the free displacement dofs,
 //!
 //!   F(u; v) = (σ(u), ε(v)) − (f, v) − (g_N, v)_{Γ_N} + Σ_F R_F(u; v),
 //!
@@ -47,6 +47,14 @@ impl CurveLaw {
     }
 }
 
+/// An uplift diagram and the curves of Γ_C it acts on (indices into [`ContactJoint::tags`]):
+/// one diagram along several curves on one straight line, or a curve's own.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CurveUplift {
+    pub curves: Vec<usize>,
+    pub diagram: Uplift,
+}
+
 /// A contact boundary: the curves of Γ_C, and the joint law and Nitsche parameters of each.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ContactJoint {
@@ -57,8 +65,9 @@ pub struct ContactJoint {
     pub masters: Vec<i32>,
     /// The law and Nitsche parameters of each curve of `tags`, in the same order.
     pub laws: Vec<CurveLaw>,
-    /// The pore-water pressure in the joint, if any.
-    pub uplift: Option<Uplift>,
+    /// The pore-water pressure diagrams in the joint, each on its curves (a curve on at most
+    /// one); empty: no uplift.
+    pub uplift: Vec<CurveUplift>,
 }
 
 impl ContactJoint {
@@ -66,7 +75,13 @@ impl ContactJoint {
     /// foundation), every curve with `law` and `parameters`.
     pub fn uniform(tags: Vec<i32>, masters: Vec<i32>, law: JointLaw, parameters: NitscheParameters) -> Self {
         let laws = vec![CurveLaw { law, parameters }; tags.len()];
-        ContactJoint { tags, masters, laws, uplift: None }
+        ContactJoint { tags, masters, laws, uplift: Vec::new() }
+    }
+
+    /// This joint with the uplift `diagram` along all of its curves.
+    pub fn with_uplift(self, diagram: Uplift) -> Self {
+        let curves = (0..self.tags.len()).collect();
+        ContactJoint { uplift: vec![CurveUplift { curves, diagram }], ..self }
     }
 
     /// A frictionless joint on the curves `tags`.
@@ -286,33 +301,43 @@ impl<'a> ContactProblem<'a> {
             .fold(0.0, f64::max)
     }
 
-    /// The solution `x` reached by `stages`, with the state of every face.
+    /// The solution `x` reached by `stages`, with the state of every face and the crack of
+    /// each uplift diagram (`cracks`, in the order of `nitsche.uplift`; empty: none iterated).
     /// The refinement lo of the last stage's report is kept if that report ends at `x`.
-    pub fn solution(self, x: Vec<f64>, stages: Vec<Stage>, crack: Option<Crack>) -> ContactSolution {
+    pub fn solution(self, x: Vec<f64>, stages: Vec<Stage>, cracks: Cracks) -> ContactSolution {
         let faces = self.face_states(&x);
         let x_prev = stages.last().map_or_else(|| x.clone(), |s| s.report.x_prev.clone());
         let lo = stages.last().filter(|s| s.report.x == x).and_then(|s| s.report.lo.clone());
         let smoothing = self.smoothing;
-        ContactSolution { x, lo, x_prev, smoothing, stages, faces, nitsche: self.nitsche, crack, coarse: Vec::new() }
+        ContactSolution { x, lo, x_prev, smoothing, stages, faces, nitsche: self.nitsche, cracks, coarse: Vec::new() }
     }
 
-    /// The length of the crack open at the heel for `x` ([`open_from_heel`]); 0 without uplift.
-    pub fn crack_length(&self, x: &[f64]) -> f64 {
-        let Some(up) = &self.nitsche.uplift else { return 0.0 };
-        open_from_heel(&self.face_states(x), &up.line)
+    /// The length open at the heel of each uplift diagram for `x`, over the faces of its curves
+    /// ([`open_from_heel`]).
+    pub fn crack_lengths(&self, x: &[f64]) -> Vec<f64> {
+        let states = self.face_states(x);
+        (self.nitsche.uplift.iter().enumerate())
+            .map(|(d, up)| {
+                let on = |k: &usize| self.nitsche.uplift_index(*k) == Some(d);
+                let faces: Vec<FaceState> = (0..states.len()).filter(on).map(|k| states[k]).collect();
+                open_from_heel(&faces, &up.diagram.line)
+            })
+            .collect()
     }
 
-    /// The length of the contact face at the distance `s` from the heel (the longest face if
-    /// none holds it); 0 without uplift.
-    fn face_length_at(&self, s: f64) -> f64 {
-        let Some(up) = &self.nitsche.uplift else { return 0.0 };
-        let span = |f: &ContactFace| f.ends.map(|e| up.line.distance(f.map.to_physical(e)));
+    /// The length of the contact face of diagram `d` at the distance `s` from its heel (its
+    /// longest face if none holds it).
+    fn face_length_at(&self, d: usize, s: f64) -> f64 {
+        let line = &self.nitsche.uplift[d].diagram.line;
+        let span = |f: &ContactFace| f.ends.map(|e| line.distance(f.map.to_physical(e)));
         let holds = |f: &&ContactFace| {
             let [a, b] = span(f);
             a.min(b) <= s && s <= a.max(b)
         };
-        let faces = &self.nitsche.faces;
-        faces.iter().find(holds).map_or_else(|| faces.iter().map(|f| f.length).fold(0.0, f64::max), |f| f.length)
+        let faces =
+            || (self.nitsche.faces.iter().enumerate()).filter(|&(k, _)| self.nitsche.uplift_index(k) == Some(d));
+        let mut own = faces().map(|(_, f)| f);
+        own.find(holds).map_or_else(|| faces().map(|(_, f)| f.length).fold(0.0, f64::max), |f| f.length)
     }
 }
 
@@ -358,7 +383,7 @@ fn face_state(nitsche: &Nitsche, smoothing: Smoothing, k: usize, u: &FaceDisplac
         state.contact_length += if p < 0.0 { w } else { 0.0 };
         let error = (smoothing.value(p) - negative_part(p)).abs();
         state.regularisation_error = state.regularisation_error.max(error);
-        state.uplift += nitsche.uplift_at(pt.x) * mean;
+        state.uplift += nitsche.uplift_at(k, pt.x) * mean;
         if nitsche.law(k).has_friction() {
             state.tangential_traction += nitsche.tangential(k, &pt, u, smoothing).value * mean;
             state.slip += tangential * mean;
@@ -534,9 +559,10 @@ pub struct ContactSolution {
     pub faces: Vec<FaceState>,
     /// The contact faces and parameters.
     pub nitsche: Nitsche,
-    /// With uplift in an open crack, the fixed point that found it (the crack itself is in
-    /// `nitsche.uplift`).
-    pub crack: Option<Crack>,
+    /// With uplift in an open crack, the fixed point that found it, for each diagram of
+    /// `nitsche.uplift` in order (None: its crack is not filled; empty: not iterated). The
+    /// crack itself is in the diagram.
+    pub cracks: Cracks,
     /// The solves on coarser meshes whose solution started Newton ([`nested_start`]), coarsest
     /// first; empty for a start from u = 0.
     pub coarse: Vec<CoarseSolve>,
@@ -636,7 +662,12 @@ impl ContactSolution {
 
     /// The uplift force U = ∫_{Γ_C} p_u ds \[N/m\].
     pub fn uplift_force(&self) -> f64 {
-        self.faces.iter().map(|f| f.uplift * f.length).sum()
+        self.uplift_force_of(|_| true)
+    }
+
+    /// The uplift force ∫ p_u ds \[N/m\] on the faces k with `on(k)`.
+    pub fn uplift_force_of(&self, on: impl Fn(usize) -> bool) -> f64 {
+        (self.faces.iter().enumerate()).filter(|&(k, _)| on(k)).map(|(_, f)| f.uplift * f.length).sum()
     }
 
     /// Whether face k lies on `line` (a sliding plane among other joints).
@@ -779,6 +810,9 @@ pub struct Crack {
     pub bracket: Option<[f64; 2]>,
 }
 
+/// The crack of each uplift diagram of a joint, in order (None where the crack is not filled).
+pub type Cracks = Vec<Option<Crack>>;
+
 impl Crack {
     pub const TOLERANCE: f64 = 1e-6;
     pub const MAX_ITERATIONS: usize = 40;
@@ -791,12 +825,14 @@ pub enum ContactError {
     Newton(#[from] NewtonError),
     #[error(
         "the crack–uplift iteration did not settle in {iterations} solves: the crack at the heel (now {length:.4} m) \
-         still moved by {change:.3e} m; set [uplift] crack = \"ignore\" to solve without the crack's pressure"
+         still moved by {change:.3e} m; set crack = \"ignore\" in its uplift table to solve without the crack's \
+         pressure"
     )]
     Crack { iterations: usize, length: f64, change: f64 },
     #[error(
         "the crack–uplift iteration closed on a crack of {length:.4} m whose opening jumps by {change:.3e} m, more \
-         than the face there ({face:.3e} m); refine the mesh along the joint, or set [uplift] crack = \"ignore\""
+         than the face there ({face:.3e} m); refine the mesh along the joint, or set crack = \"ignore\" in its uplift \
+         table"
     )]
     CrackJump { length: f64, change: f64, face: f64 },
 }
@@ -834,12 +870,12 @@ pub fn solve_system_from(
     x0: Vec<f64>,
 ) -> Result<ContactSolution, ContactError> {
     let (x, mut stages) = continuation(&mut contact, settings.delta, settings.delta_start, x0, &settings.newton)?;
-    if !joint.uplift.as_ref().is_some_and(|up| up.crack_filled) {
-        return Ok(contact.solution(x, stages, None));
+    if !joint.uplift.iter().any(|up| up.diagram.crack_filled) {
+        return Ok(contact.solution(x, stages, Vec::new()));
     }
-    let (x, more, crack) = settle_crack(&mut contact, x, &settings.newton)?;
+    let (x, more, cracks) = settle_crack(&mut contact, x, &settings.newton)?;
     stages.extend(more);
-    Ok(contact.solution(x, stages, Some(crack)))
+    Ok(contact.solution(x, stages, cracks))
 }
 
 /// Nested iteration (docs/method.md §1.5): Newton on each level of `coarse` (coarser meshes
@@ -890,52 +926,88 @@ pub struct NestedStart {
 }
 
 /// The crack–uplift fixed point at the δ of `contact` (docs/method.md §1.8), from the solution
-/// `x` with its current crack s_c. With g(s_c) = open − s_c, the open length at the heel of the
-/// solution less the crack it was solved with: s_c ← open at first, then the secant step
+/// `x` with its current cracks, one s_c per uplift diagram whose crack is filled, settled
+/// together. With g(s_c) = open − s_c, the open length at the diagram's heel of the solution
+/// less the crack it was solved with: s_c ← open at first, then the secant step
 /// s_c − g (s_c − s_prev)/(g − g_prev) while g keeps its sign (the plain update creeps when
 /// the open length follows the crack closely), and once g has taken both signs, s_c ← the
 /// midpoint of the last crack of each sign (bisection: the open length may jump across the
-/// fixed point). Newton solves again from the last solution after each update, until
-/// |g| ≤ [`Crack::TOLERANCE`] L or the bracket is that narrow.
+/// fixed point). Every diagram not yet settled is updated so, then Newton solves again from the
+/// last solution, until each has |g| ≤ [`Crack::TOLERANCE`] L or its bracket that narrow.
 /// Returns the solution, the Newton stages of the new solves (none if `x` already settles
-/// it), and the crack.
+/// them), and the crack of each diagram (None where it is not filled).
 pub fn settle_crack(
     contact: &mut ContactProblem,
     mut x: Vec<f64>,
     options: &NewtonOptions,
-) -> Result<(Vec<f64>, Vec<Stage>, Crack), ContactError> {
+) -> Result<(Vec<f64>, Vec<Stage>, Cracks), ContactError> {
     let mut stages: Vec<Stage> = Vec::new();
-    // the last crack with g > 0 and the last with g < 0
-    let (mut below, mut above): (Option<f64>, Option<f64>) = (None, None);
-    let mut previous: Option<(f64, f64)> = None;
+    let mut searches = vec![CrackSearch::default(); contact.nitsche.uplift.len()];
     for iterations in 1..=Crack::MAX_ITERATIONS {
-        let open = contact.crack_length(&x);
-        let uplift = contact.nitsche.uplift.as_mut().expect("the joint has uplift");
-        let (crack, g, tolerance) = (uplift.crack, open - uplift.crack, Crack::TOLERANCE * uplift.line.length);
-        *(if g > 0.0 { &mut below } else { &mut above }) = Some(crack);
-        let bracket = below.zip(above).map(|(a, b)| [a.min(b), a.max(b)]);
-        if g.abs() <= tolerance || bracket.is_some_and(|[a, b]| b - a <= tolerance) {
-            let face = contact.face_length_at(crack);
-            if g.abs() > face {
-                return Err(ContactError::CrackJump { length: crack, change: g.abs(), face });
+        let open = contact.crack_lengths(&x);
+        let mut cracks = vec![None; searches.len()];
+        let mut next = vec![None; searches.len()];
+        for (d, search) in searches.iter_mut().enumerate() {
+            let up = &contact.nitsche.uplift[d].diagram;
+            if !up.crack_filled {
+                continue;
             }
-            return Ok((x, stages, Crack { length: crack, iterations, change: g.abs(), bracket }));
+            match search.record(up.crack, open[d], up.line.length) {
+                Ok(bracket) => {
+                    let (length, change) = (up.crack, (open[d] - up.crack).abs());
+                    let face = contact.face_length_at(d, length);
+                    if change > face {
+                        return Err(ContactError::CrackJump { length, change, face });
+                    }
+                    cracks[d] = Some(Crack { length, iterations, change, bracket });
+                }
+                Err(_) if iterations == Crack::MAX_ITERATIONS => {
+                    return Err(ContactError::Crack { iterations, length: open[d], change: (open[d] - up.crack).abs() })
+                }
+                Err(s) => next[d] = Some(s),
+            }
         }
-        if iterations == Crack::MAX_ITERATIONS {
-            return Err(ContactError::Crack { iterations, length: open, change: g.abs() });
+        if next.iter().all(Option::is_none) {
+            return Ok((x, stages, cracks));
         }
-        let secant =
-            previous.filter(|&(_, g_prev)| g_prev != g).map(|(s, g_prev)| crack - g * (crack - s) / (g - g_prev));
-        uplift.crack = match bracket {
-            Some([a, b]) => 0.5 * (a + b),
-            None => secant.filter(|s| s.is_finite()).unwrap_or(open).clamp(0.0, uplift.line.length),
-        };
-        previous = Some((crack, g));
+        for (up, s) in contact.nitsche.uplift.iter_mut().zip(next) {
+            up.diagram.crack = s.unwrap_or(up.diagram.crack);
+        }
         let report = newton(contact, x, options)?;
         x = report.x.clone();
         stages.push(Stage { delta: contact.smoothing.delta, report });
     }
     unreachable!("the loop returns by its last iteration")
+}
+
+/// The search of one diagram's crack in [`settle_crack`].
+#[derive(Debug, Clone, Copy, Default)]
+struct CrackSearch {
+    /// The last crack with g > 0 and the last with g < 0.
+    below: Option<f64>,
+    above: Option<f64>,
+    /// The last crack updated and its g.
+    previous: Option<(f64, f64)>,
+}
+
+impl CrackSearch {
+    /// Records g = open − s_c for the crack s_c of a joint of length `length`. Ok(the bracket)
+    /// once settled; Err(the next crack) otherwise.
+    fn record(&mut self, crack: f64, open: f64, length: f64) -> Result<Option<[f64; 2]>, f64> {
+        let (g, tolerance) = (open - crack, Crack::TOLERANCE * length);
+        *(if g > 0.0 { &mut self.below } else { &mut self.above }) = Some(crack);
+        let bracket = self.below.zip(self.above).map(|(a, b)| [a.min(b), a.max(b)]);
+        if g.abs() <= tolerance || bracket.is_some_and(|[a, b]| b - a <= tolerance) {
+            return Ok(bracket);
+        }
+        let secant =
+            self.previous.filter(|&(_, g_prev)| g_prev != g).map(|(s, g_prev)| crack - g * (crack - s) / (g - g_prev));
+        self.previous = Some((crack, g));
+        Err(match bracket {
+            Some([a, b]) => 0.5 * (a + b),
+            None => secant.filter(|s| s.is_finite()).unwrap_or(open).clamp(0.0, length),
+        })
+    }
 }
 
 /// The relative width of the FS_SR bracket at which `damfem solve --strength-reduction` and

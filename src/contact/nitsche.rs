@@ -26,6 +26,7 @@
 use super::law::{JointLaw, Tangential};
 use super::projection::Smoothing;
 use super::uplift::Uplift;
+use super::CurveUplift;
 use super::{ContactJoint, CurveLaw};
 use crate::elasticity::Material;
 use crate::fem::affine::AffineMap;
@@ -139,7 +140,10 @@ pub struct FaceDisplacement {
 pub struct Nitsche {
     /// The law and parameters of each curve, indexed by [`ContactFace::curve`].
     pub laws: Vec<CurveLaw>,
-    pub uplift: Option<Uplift>,
+    /// The uplift diagrams, each on its curves ([`CurveUplift`]).
+    pub uplift: Vec<CurveUplift>,
+    /// The index in `uplift` of the diagram on each curve (None: no uplift there).
+    uplift_of: Vec<Option<usize>>,
     pub faces: Vec<ContactFace>,
     pub order: usize,
 }
@@ -165,7 +169,11 @@ impl Nitsche {
                 }
             }
         }
-        Nitsche { laws: joint.laws.clone(), uplift: joint.uplift.clone(), faces, order: mesh.order }
+        let mut uplift_of = vec![None; joint.tags.len()];
+        for (d, up) in joint.uplift.iter().enumerate() {
+            up.curves.iter().for_each(|&curve| uplift_of[curve] = Some(d));
+        }
+        Nitsche { laws: joint.laws.clone(), uplift: joint.uplift.clone(), uplift_of, faces, order: mesh.order }
     }
 
     /// The joint law of face `k`: its curve's.
@@ -324,7 +332,7 @@ impl Nitsche {
         let gamma = self.faces[k].gamma;
         let sigma_n = dot(&point.sigma_n, &u.relative);
         let gap = u.normal + (dot(&point.u_n, &u.relative) - point.gap);
-        sigma_n + self.uplift_at(point.x) - gamma * gap
+        sigma_n + self.uplift_at(k, point.x) - gamma * gap
     }
 
     /// P_γ(u) − P_γ(u_prev) = σ^n(w) − γ w^n at a face point, for the increment w = u − u_prev
@@ -333,9 +341,19 @@ impl Nitsche {
         dot(&point.sigma_n, &w.relative) - self.faces[k].gamma * (w.normal + dot(&point.u_n, &w.relative))
     }
 
-    /// The uplift p_u at a point of the joint (0 without uplift).
-    pub fn uplift_at(&self, x: [f64; 2]) -> f64 {
-        self.uplift.as_ref().map_or(0.0, |up| up.pressure(up.distance(x), up.crack))
+    /// The index in `uplift` of the diagram on face `k`'s curve, if any.
+    pub fn uplift_index(&self, k: usize) -> Option<usize> {
+        self.uplift_of[self.faces[k].curve]
+    }
+
+    /// The uplift diagram on face `k`'s curve, if any.
+    pub fn diagram(&self, k: usize) -> Option<&Uplift> {
+        self.uplift_index(k).map(|d| &self.uplift[d].diagram)
+    }
+
+    /// The uplift p_u of face `k`'s curve at a point x of it (0 without uplift there).
+    pub fn uplift_at(&self, k: usize, x: [f64; 2]) -> f64 {
+        self.diagram(k).map_or(0.0, |up| up.pressure(up.distance(x), up.crack))
     }
 
     /// P^t_γ(u_h) = σ^t(u_h) − γ u_h^t at a face point, u_h^t = (u¹_0 − u²_0)·τ + Σ_k φ_k (u_k − u_0)·τ
@@ -357,7 +375,7 @@ impl Nitsche {
     /// The Γ_C traction t = (q(P_γ(u_h)) − p_u) ν + Π_S(P^t_γ(u_h)) τ at a face point, with q
     /// the smoothing (`Smoothing::NONE`: the exact traction).
     pub fn traction(&self, k: usize, point: &FacePoint, u: &FaceDisplacement, smoothing: Smoothing) -> [f64; 2] {
-        let normal = smoothing.value(self.p_gamma(k, point, u)) - self.uplift_at(point.x);
+        let normal = smoothing.value(self.p_gamma(k, point, u)) - self.uplift_at(k, point.x);
         let tangential = if self.law(k).has_friction() { self.tangential(k, point, u, smoothing).value } else { 0.0 };
         self.along(k, normal, tangential)
     }
@@ -374,7 +392,7 @@ impl Nitsche {
         smoothing: Smoothing,
     ) -> [f64; 2] {
         let [normal, tangential] = self.linearised(k, point, u_prev, step, smoothing);
-        self.along(k, normal - self.uplift_at(point.x), tangential)
+        self.along(k, normal - self.uplift_at(k, point.x), tangential)
     }
 
     /// [P_γ(u_prev)] + ∂[P_γ(u_prev)] P_γ'(w) and, with friction, Π(u_prev) + ∂_tΠ P^t_γ'(w) +
@@ -457,7 +475,7 @@ impl Nitsche {
 
     /// The parameters s ∈ (0, 1) of face k where the uplift has a kink (crack tip, drains).
     fn uplift_kinks(&self, k: usize) -> Vec<f64> {
-        let Some(up) = &self.uplift else { return Vec::new() };
+        let Some(up) = self.diagram(k) else { return Vec::new() };
         let face = &self.faces[k];
         let [d0, d1] = face.ends.map(|xi| up.distance(face.map.to_physical(xi)));
         up.kinks(up.crack).into_iter().map(|s| (s - d0) / (d1 - d0)).filter(|t| *t > 0.0 && *t < 1.0).collect()
@@ -532,7 +550,7 @@ impl Nitsche {
         for (s, w) in self.quadrature(k, u, smoothing) {
             let pt = self.point(k, s);
             let p = self.p_gamma(k, &pt, u);
-            let p_u = self.uplift_at(pt.x);
+            let p_u = self.uplift_at(k, pt.x);
             let sigma_n_u = dot(&pt.sigma_n, &u_new.relative) + p_u; // σ'^n(u) = σ^n(u) + p_u
             let [value, tangential] = self.linearised(k, &pt, u, step, smoothing);
             for i in 0..n {

@@ -2,7 +2,7 @@
 //! shared by two physical surfaces; its nodes are split between them
 //! ([`crate::mesh::interface`]), and the two sides meet by two-body Nitsche contact.
 
-use super::{Role, Scene, SceneError};
+use super::{Role, Scene, SceneError, UpliftSection};
 use crate::contact::nitsche::NitscheParameters;
 use crate::contact::{ContactJoint, CurveLaw, JointLaw};
 use crate::elasticity::Problem;
@@ -27,11 +27,21 @@ pub struct JointSection {
     /// The physical surface on the slave side (its faces carry the quadrature); default: the
     /// side of smaller physical tag.
     pub slave: Option<String>,
+    /// The pore pressure in this joint, along its own straight curve (docs/method.md §1.8).
+    pub uplift: Option<UpliftSection>,
 }
 
 impl Default for JointSection {
     fn default() -> Self {
-        JointSection { gamma0: 100.0, theta: 0.0, friction: 0.0, cohesion: 0.0, threshold: None, slave: None }
+        JointSection {
+            gamma0: 100.0,
+            theta: 0.0,
+            friction: 0.0,
+            cohesion: 0.0,
+            threshold: None,
+            slave: None,
+            uplift: None,
+        }
     }
 }
 
@@ -60,12 +70,31 @@ impl JointSection {
 }
 
 impl Scene {
-    /// The `[joints]` checks that need no mesh: each table's values (each joint has its own law
-    /// and Nitsche parameters); no joint curve with a `[boundary]` role; no rigid contact beside
-    /// joints (not supported yet).
+    /// The `[joints]` checks that need no mesh: each table's values (each joint has its own law,
+    /// Nitsche parameters and uplift); no joint curve with a `[boundary]` role; `[uplift]`,
+    /// which lays one diagram along all the joints, not beside a joint's own; no rigid contact
+    /// beside joints (not supported yet).
     pub(super) fn check_joints(&self) -> Result<(), SceneError> {
         for (name, joint) in &self.joints {
             joint.check(name).map_err(|message| self.invalid(message))?;
+            if let Some(up) = &joint.uplift {
+                self.check_uplift(&format!("joints.{name}.uplift"), up)?;
+                if self.uplift.is_some() {
+                    return Err(self.invalid(format!(
+                        "curve '{name}' has two uplift diagrams: [uplift] lays one along every joint curve, and \
+                         [joints.{name}.uplift] gives the curve its own; move [uplift] into [joints.<curve>.uplift] \
+                         tables, or remove [joints.{name}.uplift]"
+                    )));
+                }
+            }
+            let rigid = self.boundary.get(name).is_some_and(|b| b.role == Role::Contact);
+            let only_uplift = *joint == JointSection { uplift: joint.uplift.clone(), ..Default::default() };
+            if rigid && joint.uplift.is_some() && only_uplift {
+                return Err(self.invalid(format!(
+                    "[joints.{name}.uplift] is for a joint between two meshed bodies, and '{name}' has role contact \
+                     (a rigid foundation), whose uplift is [uplift]: move the table there"
+                )));
+            }
             if self.boundary.contains_key(name) {
                 return Err(self.invalid(format!(
                     "curve '{name}' is both a joint ([joints.{name}]) and a boundary curve ([boundary.{name}]); \
@@ -194,7 +223,7 @@ impl Scene {
             tags: interfaces.iter().map(|i| i.slave_curve).collect(),
             masters: interfaces.iter().map(|i| i.master_curve).collect(),
             laws: self.joints.values().map(JointSection::curve_law).collect(),
-            uplift: None,
+            uplift: Vec::new(),
         })
     }
 }

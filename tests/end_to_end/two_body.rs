@@ -335,3 +335,266 @@ fn lift_joint_opens_at_its_upstream_end() {
     assert_eq!(eta.len(), 3);
     assert!(eta.windows(2).all(|w| w[1] < w[0]), "η_tot {eta:?}");
 }
+
+/// ∫₀ᴸ p ds of the piecewise linear diagram through the points (s, p), s increasing.
+fn integral(points: &[(f64, f64)]) -> f64 {
+    points.windows(2).map(|w| 0.5 * (w[1].0 - w[0].0) * (w[0].1 + w[1].1)).sum()
+}
+
+// An uplift diagram per joint. Source: geo/dam_lifts_on_rock_uplift.toml, the two lifts of
+// geo/dam_lifts_on_rock.toml with [joints.base.uplift] (drains 5 m from the heel, 2/3
+// effective) and [joints.lift.uplift] (no drains), both cracks filled, and its combination
+// `flood` (the reservoir at 50 m on the dam, the rock and in both joints); docs/method.md §1.8,
+// §1.10. Goal: `damfem solve` gives each curve of `summary.json` its own U and crack; each
+// block is held by its joint alone and the upstream face is vertical, so on each joint
+// N + U = the weight of the blocks above it to 10⁻⁵ W and −T = the water's thrust on them to
+// 10⁻⁶; each U is its own diagram's integral with its crack (USACE, docs/method.md §1.8): the
+// lift joint's runs from ρ_w g (H_w − 20 m) at its heel (x = 0) to 0 at its toe, 26 m
+// downstream, the base's from ρ_w g H_w with its drains; each crack settles (|open − s_c| ≤
+// 10⁻⁶ L). Under the flood the base cracks at the heel and the lift joint stays closed.
+// `damfem check` lists each joint with its heel and the uplift there.
+// Parameters: P2, gmsh's sizes × 2.
+#[test]
+fn each_joint_has_its_own_uplift() {
+    let tmp = TempDir::new("joint-uplift");
+    let scene = repo("geo/dam_lifts_on_rock_uplift.toml");
+    let check = damfem(&["check", scene.to_str().unwrap()]);
+    assert_ok(&check);
+    let table = String::from_utf8_lossy(&check.stdout);
+    for (name, depth, heel) in [("base", 45.0, "[0.0, 0.0]"), ("lift", 25.0, "[0.0, 20.0]")] {
+        let heel = format!("uplift {:.4e} Pa at the heel {heel}", 1000.0 * 9.81 * depth);
+        let line =
+            table.lines().find(|l| l.starts_with(&format!("joint    {name} "))).unwrap_or_else(|| panic!("{table}"));
+        assert!(line.ends_with(&heel), "{line} against {heel}");
+    }
+    let rho_g = 2400.0 * 9.81;
+    let gamma_w = 1000.0 * 9.81;
+    for (combination, level) in [(None, 45.0), (Some("flood"), 50.0)] {
+        let dir = tmp.join(combination.unwrap_or("usual"));
+        let mut args = vec!["solve", scene.to_str().unwrap(), "--size-factor", "2", "-q", "-o", dir.to_str().unwrap()];
+        args.extend(combination.map(|c| ["--combination", c]).into_iter().flatten());
+        assert_ok(&damfem(&args));
+        let summary = check_summary(&dir);
+        let curves = summary["contact"]["curves"].as_array().unwrap().clone();
+        let curve =
+            |name: &str| curves.iter().find(|c| c["curve"] == name).unwrap_or_else(|| panic!("{curves:?}")).clone();
+        let thrust = |depth: f64| 0.5 * gamma_w * depth * depth;
+        // the base: H_u = ρ_w g H_w, drains at 5 m keep (1 − E)(L − X)/(L − s_c) of it while s_c < 5 m
+        let base = |s_c: f64| {
+            let h_u = gamma_w * level;
+            let h_3 = (1.0 - 0.6667) * h_u * (40.0 - 5.0) / (40.0 - s_c);
+            assert!(s_c < 5.0, "the base's crack {s_c} m reaches its drains");
+            integral(&[(0.0, h_u), (s_c, h_u), (5.0, h_3), (40.0, 0.0)])
+        };
+        let lift =
+            |s_c: f64| integral(&[(0.0, gamma_w * (level - 20.0)), (s_c, gamma_w * (level - 20.0)), (26.0, 0.0)]);
+        let joints = [
+            ("base", 40.0, rho_g * 0.5 * (40.0 + 5.0) * 50.0, thrust(level)),
+            ("lift", 26.0, rho_g * 0.5 * (26.0 + 5.0) * 30.0, thrust(level - 20.0)),
+        ];
+        for (name, length, weight, thrust) in joints {
+            let c = curve(name);
+            let number = |key: &str| c[key].as_f64().unwrap_or_else(|| panic!("{key}: {c}"));
+            let (n, t, u) = (number("normal_force"), number("tangential_force"), number("uplift_force"));
+            let crack = &c["crack"];
+            let (s_c, change) = (crack["length"].as_f64().unwrap(), crack["change"].as_f64().unwrap());
+            println!(
+                "{combination:?} {name}: N {n:.6e} U {u:.6e} (N + U − W = {:.1e} W), T {t:.6e}, crack {s_c:.4} m, FS_LE {}",
+                (n + u - weight) / weight,
+                c["sliding_safety_factor"]
+            );
+            assert!(
+                (n + u - weight).abs() <= 1e-5 * weight,
+                "{name}: N + U = {}, the blocks above weigh {weight}",
+                n + u
+            );
+            assert!((t + thrust).abs() <= 1e-6 * thrust, "{name}: T = {t}, the thrust is {thrust}");
+            assert!(change <= 1e-6 * length, "{name}: {crack}");
+            let expected = if name == "base" { base(s_c) } else { lift(s_c) };
+            assert!((u - expected).abs() <= 1e-9 * expected, "{name}: U = {u}, its diagram gives {expected}");
+        }
+        let cracks = ["base", "lift"].map(|name| curve(name)["crack"]["length"].as_f64().unwrap());
+        match combination {
+            None => assert_eq!(cracks, [0.0, 0.0]),
+            Some(_) => assert!(cracks[0] > 1.0 && cracks[1] == 0.0, "cracks {cracks:?}"),
+        }
+    }
+}
+
+// The crack fixed point on a lift joint. Source: geo/dam_lift_joint.toml (the lower block
+// fixed, the Mohr–Coulomb lift joint alone holding the upper block) with the reservoir at
+// 55 m and [joints.lift.uplift] headwater = 55 m, the crack filled; docs/method.md §1.8.
+// Goal: the reservoir opens the lift joint at its upstream end and the crack settles there:
+// |open − s_c| ≤ 10⁻⁶ L, the open length from the heel that summary.json measures is s_c to
+// that tolerance, U = ρ_w g 35 (s_c + (26 − s_c)/2) (the full head in the crack, then linear
+// to 0 at the toe), N + U = the upper block's weight to 10⁻⁵ and −T the thrust
+// ρ_w g ∫₂₀⁵⁰ (55 − y) dy to 10⁻⁶.
+// Parameters: P2, gmsh's sizes × 2, δ = 2·10⁴ Pa (at the default δ of `damfem solve`, Newton
+// on this Mohr–Coulomb joint does not converge once the crack moves; docs/method.md §1.10).
+#[test]
+fn a_lift_joint_cracks_under_its_own_uplift() {
+    let tmp = TempDir::new("lift-crack");
+    let scene = edited(&tmp, "dam_lift_joint", "lift-uplift.toml", |t| {
+        t.replace("level = 65.0", "level = 55.0")
+            .replace("slave = \"upper_block\"\n", "slave = \"upper_block\"\n\n[joints.lift.uplift]\nheadwater = 55.0\n")
+    });
+    let dir = tmp.join("solve");
+    let args =
+        ["solve", scene.to_str().unwrap(), "--size-factor", "2", "--delta", "2e4", "-q", "-o", dir.to_str().unwrap()];
+    assert_ok(&damfem(&args));
+    let summary = check_summary(&dir);
+    let contact = &summary["contact"];
+    let lift = &contact["curves"][0];
+    let number = |v: &serde_json::Value| v.as_f64().unwrap_or_else(|| panic!("{contact}"));
+    let (n, t, u) = (number(&lift["normal_force"]), number(&lift["tangential_force"]), number(&lift["uplift_force"]));
+    let (s_c, change, open) =
+        (number(&lift["crack"]["length"]), number(&lift["crack"]["change"]), number(&contact["crack_length"]));
+    let gamma_w = 1000.0 * 9.81;
+    let weight = 2400.0 * 9.81 * 0.5 * (26.0 + 5.0) * 30.0;
+    let thrust = gamma_w * (55.0 * 30.0 - 0.5 * (50.0f64.powi(2) - 20.0f64.powi(2)));
+    let expected = gamma_w * 35.0 * (s_c + 0.5 * (26.0 - s_c));
+    println!(
+        "crack {s_c:.4} m (open {open:.4} m) after {} solves; N {n:.6e} U {u:.6e} (diagram {expected:.6e}), T {t:.6e}",
+        lift["crack"]["iterations"]
+    );
+    assert!(s_c > 1.0 && change <= 1e-6 * 26.0, "{}", lift["crack"]);
+    assert!((open - s_c).abs() <= 1e-6 * 26.0, "open {open} against the crack {s_c}");
+    assert!((u - expected).abs() <= 1e-9 * expected, "U = {u}, the diagram gives {expected}");
+    assert!((n + u - weight).abs() <= 1e-5 * weight, "N + U = {}, the upper block weighs {weight}", n + u);
+    assert!((t + thrust).abs() <= 1e-6 * thrust, "T = {t}, the thrust is {thrust}");
+}
+
+// Bad uplift tables on joints, each one error line, exit 1 and no output (docs/method.md §1.8,
+// §1.10): uplift on a curve that is no joint (the crest; the base of role contact of
+// geo/scene_a_uplift.toml, a rigid foundation), [uplift] beside a joint's own diagram,
+// [uplift] along two joints that are not on one line, a joint curve that is not straight (the
+// lift joint bent at x = 13 m), drains outside the joint, and combinations that change a
+// joint's law or name a curve that is no joint.
+// Parameters: geo/dam_lifts_on_rock_uplift.toml and geo/scene_a_uplift.toml edited; `damfem
+// check` (the bent curve: `damfem solve`).
+#[test]
+fn joint_uplift_refuses_bad_input() {
+    let tmp = TempDir::new("joint-uplift-bad");
+    let text = std::fs::read_to_string(repo("geo/dam_lifts_on_rock_uplift.toml")).unwrap();
+    let geometry = repo("geo/dam_lifts_on_rock.geo").display().to_string();
+    let text = text.replace("\"dam_lifts_on_rock.geo\"", &format!("{geometry:?}"));
+    let count = std::cell::Cell::new(0);
+    let scene = |edit: &dyn Fn(String) -> String| {
+        count.set(count.get() + 1);
+        let path = tmp.join(&format!("scene-{}.toml", count.get()));
+        std::fs::write(&path, edit(text.clone())).unwrap();
+        path
+    };
+    let bent = tmp.join("bent.geo");
+    let geo = std::fs::read_to_string(repo("geo/dam_lifts_on_rock.geo")).unwrap();
+    let geo = geo
+        .replace("Line(7) = {6, 3};", "Point(11) = {13, 21, 0, hb};\nLine(7) = {6, 11};\nLine(13) = {11, 3};")
+        .replace("Curve Loop(1) = {1, 2, -7, 6};", "Curve Loop(1) = {1, 2, -13, -7, 6};")
+        .replace("Curve Loop(2) = {7, 3, 4, 5};", "Curve Loop(2) = {7, 13, 3, 4, 5};")
+        .replace("Physical Curve(\"lift\") = {7};", "Physical Curve(\"lift\") = {7, 13};");
+    std::fs::write(&bent, geo).unwrap();
+    let top = "\n[uplift]\nheadwater = 45.0\n";
+    let cases: Vec<(PathBuf, &str, Vec<&str>)> = vec![
+        (
+            scene(&|t| t.replace("[joints.lift.uplift]", "[joints.crest.uplift]")),
+            "check",
+            vec!["curve 'crest' is not shared by two surfaces"],
+        ),
+        (
+            scene(&|t| format!("{t}{top}")),
+            "check",
+            vec!["curve 'base' has two uplift diagrams", "[joints.<curve>.uplift]"],
+        ),
+        (
+            scene(&|t| {
+                // without the joints' own tables and the combination that changes them
+                let t = &t[..t.find("\n# the reservoir at the crest").unwrap()];
+                let t = t.replace(
+                    "\n[joints.base.uplift]\nheadwater = 45.0\ndrains = { x = 5.0, efficiency = 0.6667 }\n",
+                    "",
+                );
+                t.replace("\n[joints.lift.uplift]\nheadwater = 45.0\n", "").replace("crack = \"full\"\n", "") + top
+            }),
+            "check",
+            vec![
+                "[uplift] lays one diagram along all the joint curves",
+                "not on one straight line",
+                "[joints.<curve>.uplift]",
+            ],
+        ),
+        (
+            scene(&|t| t.replace(&geometry, bent.to_str().unwrap())),
+            "solve",
+            vec!["joints.lift.uplift needs a straight joint", "curve 'lift' is not on one straight line"],
+        ),
+        (
+            scene(&|t| t.replace("drains = { x = 5.0,", "drains = { x = 45.0,")),
+            "check",
+            vec!["joints.base.uplift.drains.x = 45 lies outside the joint"],
+        ),
+        (
+            scene(&|t| format!("{t}\n[combinations.weak.joints.lift]\nfriction = 0.3\n")),
+            "check",
+            vec!["combinations.weak", "'joints.lift.friction' cannot be combined"],
+        ),
+        (
+            scene(&|t| format!("{t}\n[combinations.odd.joints.crest.uplift]\nheadwater = 45.0\n")),
+            "check",
+            vec!["combinations.odd", "joints.crest is not a joint of the scene", "base, lift"],
+        ),
+    ];
+    // a joint's own table on a rigid foundation's curve
+    let rigid = tmp.join("rigid.toml");
+    let text = std::fs::read_to_string(repo("geo/scene_a_uplift.toml")).unwrap();
+    let geometry = format!("{:?}", repo("geo/scene_a_friction.geo").display().to_string());
+    let text = text.replace("\"scene_a_friction.geo\"", &geometry).replace("\n[uplift]\n", "\n[joints.base.uplift]\n");
+    std::fs::write(&rigid, text).unwrap();
+    let cases = cases.into_iter().chain([(
+        rigid,
+        "check",
+        vec!["[joints.base.uplift] is for a joint between two meshed bodies", "role contact", "[uplift]"],
+    )]);
+    for (input, command, keywords) in cases {
+        assert_refused("joint-uplift-input", command, &input, &[], &keywords);
+    }
+}
+
+// The sliding plane's own uplift. Source: geo/dam_lifts_on_rock_uplift.toml without its
+// combinations and with `[safety] joint = "lift"`; docs/method.md §1.9, §1.10. Goal: `damfem
+// safety` analyses the lift joint with its own diagram: its joint line from the heel (0, 20) over
+// 26 m, joint.csv with faces at y = 20 only, U = ρ_w g (45 − 20) · 26/2 (the joint stays
+// closed, crack 0) to 10⁻⁹, where the base's diagram would give more than its 40 m, and
+// N + U = the upper block's weight to 10⁻² (the adaptive loop stops Newton once its
+// linearisation error is below the discretisation error).
+// Parameters: P1, gmsh's sizes × 2, one mesh.
+#[test]
+fn safety_takes_the_sliding_planes_own_uplift() {
+    let tmp = TempDir::new("lift-safety");
+    let text = std::fs::read_to_string(repo("geo/dam_lifts_on_rock_uplift.toml")).unwrap();
+    let geometry = format!("{:?}", repo("geo/dam_lifts_on_rock.geo").display().to_string());
+    let text = text.replace("\"dam_lifts_on_rock.geo\"", &geometry).replace("joint = \"base\"", "joint = \"lift\"");
+    let scene = tmp.join("lift.toml");
+    std::fs::write(&scene, &text[..text.find("\n[combinations.usual]").unwrap()]).unwrap();
+    let dir = tmp.join("safety");
+    let args = ["--size-factor", "2", "--order", "1", "--max-steps", "1", "-q", "-o", dir.to_str().unwrap()];
+    assert_ok(&damfem(&[&["safety", scene.to_str().unwrap()], &args[..]].concat()));
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("safety.json")).unwrap()).unwrap();
+    let number = |v: &serde_json::Value| v.as_f64().unwrap_or_else(|| panic!("{report}"));
+    let line = &report["joint_line"];
+    assert_eq!((number(&line["heel"][0]), number(&line["heel"][1]), number(&line["length"])), (0.0, 20.0, 26.0));
+    let csv = std::fs::read_to_string(dir.join("joint.csv")).unwrap();
+    let y: Vec<f64> = csv.lines().skip(1).map(|l| l.split(',').nth(1).unwrap().parse().unwrap()).collect();
+    assert!(!y.is_empty() && y.iter().all(|&y| y == 20.0), "{csv}");
+    let r = &report["resultant"];
+    let (n, u) = (number(&r["normal_force"]), number(&r["uplift_force"]));
+    let weight = 2400.0 * 9.81 * 0.5 * (26.0 + 5.0) * 30.0;
+    let expected = 1000.0 * 9.81 * 25.0 * 26.0 / 2.0;
+    println!(
+        "lift: N = {n:.6e}, U = {u:.6e} (diagram {expected:.6e}), N + U − W = {:.2e} W",
+        (n + u - weight) / weight
+    );
+    assert_eq!(number(&report["crack_length"]), 0.0);
+    assert!((u - expected).abs() <= 1e-9 * expected, "U = {u}, the lift joint's diagram gives {expected}");
+    assert!((n + u - weight).abs() <= 1e-2 * weight, "N + U = {}, the upper block weighs {weight}", n + u);
+}

@@ -447,7 +447,7 @@ fn a_body_held_only_by_its_contact_is_solved_by_lu() {
     let (x, stages) =
         continuation(&mut contact, 0.0, 0.0, rest, &NewtonOptions::default()).unwrap_or_else(|e| panic!("{e}"));
     let steps: usize = stages.iter().map(|s| s.report.iterations.len()).sum();
-    let solution = contact.solution(x, stages, None);
+    let solution = contact.solution(x, stages, Vec::new());
     println!("contact force {:.12}, {steps} Newton steps", solution.normal_force());
     assert!((solution.normal_force() - 1.0).abs() <= 1e-8);
 }

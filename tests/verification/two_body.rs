@@ -126,7 +126,7 @@ fn two_body_uniform_uplift_drops_the_contact_pressure_by_p_u() {
     for order in [1, 2] {
         for (nx_lower, nx_upper) in [(4, 4), (3, 5)] {
             let (problem, p, exact) = pressed_blocks([nx_lower, nx_upper], order, 0.0);
-            let joint = ContactJoint { uplift: Some(uplift.clone()), ..joint(0.0) };
+            let joint = joint(0.0).with_uplift(uplift.clone());
             let disc = problem.discretise();
             let mut contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 0.0 });
             let x0 = vec![0.0; disc.dofs.n_free];

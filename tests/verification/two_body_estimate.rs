@@ -111,7 +111,7 @@ fn two_body_estimate_with_uplift_is_equilibrated_and_bounds_the_residual() {
     for order in [1, 2] {
         for nx in [[4, 4], [3, 5]] {
             let (problem, _, _) = pressed_blocks(nx, order, -1.5);
-            let joint = ContactJoint { uplift: Some(uplift.clone()), ..joint(0.0) };
+            let joint = joint(0.0).with_uplift(uplift.clone());
             let (u, estimate) = solve_and_estimate(&problem, &joint);
             let eq = estimate.equilibration;
             let worst = eq.divergence.max(eq.normal_continuity).max(eq.contact).max(eq.compatibility);

@@ -50,10 +50,8 @@ fn uniform_uplift_lowers_the_contact_pressure_by_exactly_p_u() {
                 };
                 let disc = problem.discretise();
                 let parameters = NitscheParameters { theta, ..Default::default() };
-                let joint = ContactJoint {
-                    uplift: Some(uplift.clone()),
-                    ..ContactJoint::uniform(vec![BOTTOM], Vec::new(), law, parameters)
-                };
+                let joint =
+                    ContactJoint::uniform(vec![BOTTOM], Vec::new(), law, parameters).with_uplift(uplift.clone());
                 let settings = Continuation { delta: 0.0, delta_start: 1e-2, newton: NewtonOptions::default() };
                 let solution =
                     solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("{e}"));
@@ -85,7 +83,7 @@ fn the_dam_with_uplift_balances_weight_thrust_and_uplift() {
         let common::SolvedScene { problem, disc, joint, solution } =
             common::solve_scene("geo/scene_a_uplift.toml", order, 2.0);
         let (n, t, u) = (solution.normal_force(), solution.tangential_force(), solution.uplift_force());
-        let crack = solution.crack.expect("the crack is iterated");
+        let crack = solution.cracks[0].expect("the crack is iterated");
         let state = solution.linearisation(&problem, &disc);
         let e = damfem::estimate::estimate_iterate(&problem, &disc, &solution.x, Some(&state))
             .unwrap_or_else(|e| panic!("{e}"));
@@ -136,7 +134,7 @@ fn strength_reduction_finds_the_exact_sliding_factor() {
                 let mesh = common::mesh_scene(&scene, order, size_factor);
                 let (problem, joint) = scene.problem(mesh).unwrap_or_else(|e| panic!("{e}"));
                 let joint = joint.expect("a joint");
-                let uplift = joint.uplift.as_ref().map_or(0.0, |up| up.force(0.0));
+                let uplift = joint.uplift.first().map_or(0.0, |up| up.diagram.force(0.0));
                 let disc = problem.discretise();
                 let settings = scene.continuation(&problem, &disc.topology);
                 let sr = strength_reduction(&problem, &disc, &joint, &settings, 2e-3).unwrap_or_else(|e| panic!("{e}"));
@@ -223,7 +221,7 @@ fn the_crack_of_a_textbook_section_against_the_cracked_base_analysis() {
         let solved = common::solve_scene("tests/data/cracked_base.toml", 2, size_factor);
         let s = &solved.solution;
         let (n, t, u) = (s.normal_force(), s.tangential_force(), s.uplift_force());
-        let c = s.crack.expect("the crack is iterated").length;
+        let c = s.cracks[0].expect("the crack is iterated").length;
         let alpha = section.resultant_from_toe(c) / (b - c);
         println!(
             "size × {size_factor}: crack {c:.4} m (beam theory {beam:.4} m, {:+.1} %), N' at {alpha:.4} l from the toe, N {n:.6e} U {u:.6e} T {t:.6e}",
@@ -297,7 +295,7 @@ fn the_uplift_diagrams_are_the_guidelines() {
             std::fs::write(&path, format!("{}{table}\n{}", &text[..start], &text[end..])).unwrap();
             let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
             let (_, joint) = scene.problem(common::mesh_scene(&scene, 1, 4.0)).unwrap();
-            let uplift = joint.unwrap().uplift.unwrap();
+            let uplift = joint.unwrap().uplift.remove(0).diagram;
             assert_eq!(uplift.line.heel, [0.0, 0.0]);
             let heads = (h1, tailwater.unwrap_or(0.0), l);
             for t in [0.0, 2.5, 12.0] {
@@ -328,4 +326,43 @@ fn the_uplift_diagrams_are_the_guidelines() {
         }
     }
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// An uplift diagram per joint, each along its own line. Source: docs/method.md §1.8 and
+/// §1.10; geo/dam_lifts_on_rock_uplift.toml, whose [joints.base.uplift] and
+/// [joints.lift.uplift] give the dam–rock joint (y = 0) and the lift joint (y = 20 m) each a
+/// diagram under the reservoir at 45 m. Goal: the scene's joint holds two diagrams, each on its
+/// own curve only; each runs from its own heel, the end nearest the hydrostatic upstream face
+/// (x = 0), along its own curve to its toe: the lift joint's from (0, 20) over 26 m, with
+/// p_u = ρ_w g (45 − 20) at its heel and 0 at its toe, the base's from (0, 0) over 40 m, with
+/// ρ_w g 45 at its heel and its drains 5 m downstream.
+/// Parameters: P1, the file's mesh sizes × 4.
+#[test]
+fn each_joint_has_its_own_uplift_diagram() {
+    let repo = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let scene = Scene::load(&repo.join("geo/dam_lifts_on_rock_uplift.toml")).unwrap_or_else(|e| panic!("{e}"));
+    let (_, joint) = scene.problem(common::mesh_scene(&scene, 1, 4.0)).unwrap_or_else(|e| panic!("{e}"));
+    let joint = joint.expect("a joint");
+    let gamma_w = 1000.0 * 9.81;
+    // the curves of the joint in the order of [joints]: base, lift
+    assert_eq!(joint.uplift.len(), 2);
+    for (curve, heel, length, head, drains) in
+        [(0, [0.0, 0.0], 40.0, 45.0, Some(5.0)), (1, [0.0, 20.0], 26.0, 25.0, None)]
+    {
+        let up = &joint.uplift[curve];
+        let p = &up.diagram;
+        println!(
+            "curve {curve}: heel {:?}, length {}, p_u {} … {} Pa",
+            p.line.heel,
+            p.line.length,
+            p.pressure(0.0, 0.0),
+            p.pressure(length, 0.0)
+        );
+        assert_eq!(up.curves, vec![curve]);
+        assert!(p.line.heel.iter().zip(heel).all(|(a, b)| (a - b).abs() < 1e-12), "{:?}", p.line);
+        assert!((p.line.length - length).abs() < 1e-9 && (p.line.along[0] - 1.0).abs() < 1e-12, "{:?}", p.line);
+        assert!((p.pressure(0.0, 0.0) - gamma_w * head).abs() <= 1e-12 * gamma_w * head, "p_u at the heel");
+        assert_eq!(p.pressure(length, 0.0), 0.0);
+        assert_eq!(p.drains.map(|d| d.distance), drains);
+    }
 }
