@@ -12,7 +12,7 @@
 //! σ_h1^a is the total minus both. Summing over the vertices gives an H(div) stress with
 //! ∇·σ_h = −Π^{p−1} f. Patches are solved in parallel.
 
-use super::afw::{self, cell_integrals, face_moments, CellIntegrals, COMPONENTS};
+use super::afw::{self, cell_integrals, edge_moments, CellIntegrals, COMPONENTS};
 use super::facets::{sampled_facets, SampledFacet};
 use super::patch::{self, FaceKind, PatchFace, PatchInput};
 use super::EstimateError;
@@ -308,7 +308,6 @@ type FixedFace = ([[f64; 2]; 2], [bool; 2]);
 /// The faces of the patch and the (face end points, fixed components) of its Dirichlet faces.
 fn patch_faces(ctx: &Context, a: usize, cells: &[usize]) -> (Vec<PatchFace>, Vec<FixedFace>) {
     let mesh = &ctx.problem.mesh;
-    let reference = lagrange::reference_nodes(1);
     let mut faces = Vec::new();
     let mut fixed = Vec::new();
     let mut seen = Vec::new();
@@ -326,7 +325,7 @@ fn patch_faces(ctx: &Context, a: usize, cells: &[usize]) -> (Vec<PatchFace>, Vec
             let normal = outward(pa, pb, mesh.points[vertices[i]]);
             let contains_a = vertices[i] != a;
             let other = ctx.topology.edge_cells[e].into_iter().find(|&o| o != c && o != NONE);
-            let moments0 = face_moments(mesh.order, reference[va], reference[vb], length);
+            let moments0 = edge_moments(mesh.order, va, vb, length);
             let mut nodes = vec![pa, pb];
             if mesh.order == 2 {
                 nodes.push([0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1])]);
@@ -335,7 +334,7 @@ fn patch_faces(ctx: &Context, a: usize, cells: &[usize]) -> (Vec<PatchFace>, Vec
                 Some(t2) => {
                     let ja = local_vertex(mesh, cells[t2], vertices[va]);
                     let jb = local_vertex(mesh, cells[t2], vertices[vb]);
-                    (t2, FaceKind::Interior, face_moments(mesh.order, reference[ja], reference[jb], length))
+                    (t2, FaceKind::Interior, edge_moments(mesh.order, ja, jb, length))
                 }
                 None if !contains_a => (0, FaceKind::Opposite, Vec::new()),
                 None => {
