@@ -15,12 +15,12 @@
 use super::afw::{self, cell_integrals, edge_moments, CellIntegrals, COMPONENTS};
 use super::facets::{sampled_facets, SampledFacet};
 use super::patch::{self, FaceKind, PatchFace, PatchInput};
-use super::EstimateError;
+use super::{volume_degree, EstimateError};
 use crate::contact::nitsche::FaceDisplacement;
 use crate::contact::projection::Smoothing;
 use crate::contact::Linearisation;
 use crate::elasticity::kernels::{displacement_gradient, stress};
-use crate::elasticity::problem::{load_degree, traction_rule};
+use crate::elasticity::problem::traction_rule;
 use crate::elasticity::rigid;
 use crate::elasticity::{Displacement, Problem, Traction};
 use crate::fem::affine::AffineMap;
@@ -273,7 +273,7 @@ fn volume_data(ctx: &Context, c: usize) -> Vec<f64> {
     let mut nodal = Vec::new();
     ctx.u.relative(mesh.cell(c), &mut nodal);
     let grad_hat: [[f64; 2]; 3] = std::array::from_fn(|ia| map.physical_gradient(hat_gradient(ia)));
-    let rule = triangle_cached(load_degree(order));
+    let rule = triangle_cached(volume_degree(ctx.problem));
     let (mut phi, mut psi, mut grads) = ([0.0; 6], [0.0; 3], [[0.0; 2]; 6]);
     let mut out = vec![0.0; 3 * (wt + wd)];
     for (&xi, &w) in rule.points.iter().zip(&rule.weights) {
