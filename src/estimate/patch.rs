@@ -61,7 +61,6 @@ pub struct PatchFace {
 
 impl PatchFace {
     /// The components i of its rows: both, or the active ones of a trace.
-    #[inline(always)]
     fn active(&self) -> [bool; 2] {
         match &self.kind {
             FaceKind::Trace { active, .. } => *active,
@@ -104,12 +103,10 @@ pub struct PatchSolution {
 
 impl PatchInput<'_> {
     /// Coefficients per cell, 4 n_basis.
-    #[inline(always)]
     fn width(&self) -> usize {
         COMPONENTS * self.n_basis
     }
 
-    #[inline(always)]
     fn rigid_motion(&self, z: &[f64; 3], x: [f64; 2]) -> [f64; 2] {
         let (px, py) = (x[0] - self.origin[0], x[1] - self.origin[1]);
         [z[0] - z[2] * py, z[1] + z[2] * px]
@@ -144,14 +141,12 @@ impl Default for Workspace {
     }
 }
 
-#[inline(always)]
 fn empty() -> DMatrix<f64> {
     DMatrix::zeros(0, 0)
 }
 
 /// `m` with the shape rows × cols, reallocated only if its shape differs (most cells of a
 /// mesh give the same shapes); its entries are then arbitrary.
-#[inline(always)]
 fn shaped(m: &mut DMatrix<f64>, rows: usize, cols: usize) -> &mut DMatrix<f64> {
     if m.shape() != (rows, cols) {
         *m = DMatrix::zeros(rows, cols);
@@ -160,7 +155,6 @@ fn shaped(m: &mut DMatrix<f64>, rows: usize, cols: usize) -> &mut DMatrix<f64> {
 }
 
 /// [`shaped`], zeroed.
-#[inline(always)]
 fn zeroed(m: &mut DMatrix<f64>, rows: usize, cols: usize) -> &mut DMatrix<f64> {
     shaped(m, rows, cols).fill(0.0);
     m
@@ -178,20 +172,6 @@ fn zeroed(m: &mut DMatrix<f64>, rows: usize, cols: usize) -> &mut DMatrix<f64> {
 /// factorisation leaves a residual of ε κ(A) |A| |x| in the constraints (10⁻⁹ at aspect
 /// 100), where the QR factorisation leaves ε |A| |x|.
 pub fn solve(input: &PatchInput, work: &mut Workspace) -> Result<PatchSolution, String> {
-    if is_x86_feature_detected!("avx2") {
-        unsafe { solve_avx2(input, work) }
-    } else {
-        solve_body(input, work)
-    }
-}
-
-#[target_feature(enable = "avx2")]
-unsafe fn solve_avx2(input: &PatchInput, work: &mut Workspace) -> Result<PatchSolution, String> {
-    solve_body(input, work)
-}
-
-#[inline(always)]
-fn solve_body(input: &PatchInput, work: &mut Workspace) -> Result<PatchSolution, String> {
     let cases = input.target.len();
     let rows = face_rows(input);
     let data = compatible_data(input, &rows);
@@ -253,7 +233,6 @@ pub struct Stacked {
 }
 
 impl Stacked {
-    #[inline(always)]
     fn stack(&mut self, cells: &[Condensed], kernel_rows: DMatrix<f64>, n_cols: usize) {
         self.n_rows = cells.iter().map(Condensed::n_free).sum::<usize>() + kernel_rows.nrows();
         let n_rows = self.n_rows;
@@ -274,7 +253,6 @@ impl Stacked {
 
     /// Q R of the stacked rows; fails if there are fewer rows than columns or R has a
     /// diagonal entry below [`DEPENDENT`] times the largest.
-    #[inline(always)]
     fn factor(&mut self) -> Result<(), String> {
         match self.factors.factor(DEPENDENT) {
             true => Ok(()),
@@ -283,7 +261,6 @@ impl Stacked {
     }
 
     /// y ← Q R⁻ᵀ y (y holds r in its first n_cols entries): the least-norm x with Aᵀx = r.
-    #[inline(always)]
     fn least_norm(&self, y: &mut [f64]) {
         self.factors.solve_transpose(&mut y[..self.factors.n()]);
         self.factors.apply(y);
@@ -294,7 +271,6 @@ impl Stacked {
 const DEPENDENT: f64 = 1e-14;
 
 /// The face rows through a (interior faces and boundary traces).
-#[inline(always)]
 fn face_rows(input: &PatchInput) -> Vec<FaceRow> {
     let cases = input.target.len();
     let mut rows = Vec::new();
@@ -320,7 +296,6 @@ fn face_rows(input: &PatchInput) -> Vec<FaceRow> {
 /// over the 2 n_basis coefficients of row i of τ (the same for both i):
 /// ± ∫_F (τ n)_i q_m = ± Σ_{k,j} τ_{ij,k} n_j ∫_F φ_k q_m (both sides use the first cell's
 /// normal, the second with a minus sign).
-#[inline(always)]
 fn face_coefficients(nb: usize, face: &PatchFace, side: usize, m: usize, out: &mut [f64]) {
     let sign = if side == 0 { 1.0 } else { -1.0 };
     for k in 0..nb {
@@ -376,7 +351,6 @@ struct Condensed {
 
 impl Condensed {
     /// Static condensation of cell t of the patch.
-    #[inline(always)]
     fn condense(
         &mut self,
         input: &PatchInput,
@@ -402,20 +376,17 @@ impl Condensed {
     }
 
     /// Number of free coordinates, 4 n_basis minus the local rows.
-    #[inline(always)]
     fn n_free(&self) -> usize {
         self.z_hat.nrows() - self.w1.n() - self.ys.n()
     }
 
     /// The columns of Nᵀ Z, one per face row of the cell.
-    #[inline(always)]
     fn free_rows(&self) -> impl Iterator<Item = &[f64]> {
         let (rows, free) = (self.z_hat.nrows(), self.n_free());
         self.z_hat.as_slice().chunks_exact(rows).map(move |z| &z[rows - free..])
     }
 
     /// `out` ← the orthonormal coefficients s of the rotated ŝ (`s_hat`, overwritten).
-    #[inline(always)]
     fn coefficients(&self, s_hat: &mut [f64], out: &mut [f64]) {
         let n1 = self.w1.n();
         let h = out.len() / 2;
@@ -431,7 +402,6 @@ impl Condensed {
 
     /// W₁ = Q₁ R₁ for W₁ the divergence rows (∂_j τ_ij, ψ_m)_T and the rows ∫_F (τn)_i q_m
     /// of the opposite side, on one row i of σ.
-    #[inline(always)]
     fn row_basis(&mut self, input: &PatchInput, t: usize) -> Result<(), String> {
         let (nb, nl, q) = (input.n_basis, input.n_lower, input.order + 1);
         let h = 2 * nb;
@@ -459,7 +429,6 @@ impl Condensed {
 
     /// Y' = Q_S R_S for the weak-symmetry columns Y, (τ, ψ_m J)_T = (τ_xy − τ_yx, ψ_m)_T,
     /// rotated by Q₁ᵀ in both rows of σ: their heads go to `y_head`, their tails to Y'.
-    #[inline(always)]
     fn symmetry_basis(&mut self, input: &PatchInput, t: usize) -> Result<(), String> {
         let (nb, nl, h) = (input.n_basis, input.n_lower, 2 * input.n_basis);
         let n1 = self.w1.n();
@@ -493,7 +462,6 @@ impl Condensed {
 
     /// The face rows through a that touch cell t, on their row of σ and in orthonormal
     /// coordinates.
-    #[inline(always)]
     fn face_block(&mut self, input: &PatchInput, t: usize, rows: &[FaceRow]) {
         self.rows.clear();
         self.rows_of_sigma.clear();
@@ -526,7 +494,6 @@ impl Condensed {
     /// ẑ of each face row z: (Q₁ᵀ z)_head, then Q_Sᵀ of its tail placed on its row of σ.
     /// The rows (m, x) and (m, y) of a face have the same z on their rows of σ: Q₁ᵀ z is
     /// taken once for both.
-    #[inline(always)]
     fn rotate_face_rows(&mut self) {
         let (h, n1) = (self.z.nrows(), self.w1.n());
         let free = h - n1;
@@ -549,7 +516,6 @@ impl Condensed {
     /// ŝ₀ per case: f = C (τ*, φ) rotated, with the coordinates that the local rows fix
     /// replaced by theirs, (Q₁ᵀ s_i)_head = R₁⁻ᵀ b₁ and (Q_Sᵀ u)_head = R_S⁻ᵀ (b_S − Y_headᵀ
     /// (Q₁ᵀ s)_head).
-    #[inline(always)]
     fn local_solution(&mut self, input: &PatchInput, t: usize, data: &CompatibleData) {
         let (nb, nl, cases) = (input.n_basis, input.n_lower, input.target.len());
         let (h, width) = (2 * nb, input.width());
@@ -589,21 +555,18 @@ const MAX_WIDTH: usize = 24;
 const MAX_BASIS: usize = 6;
 
 /// Column j of `m`.
-#[inline(always)]
 fn column(m: &DMatrix<f64>, j: usize) -> &[f64] {
     let rows = m.nrows();
     &m.as_slice()[j * rows..(j + 1) * rows]
 }
 
 /// Column j of `m`, mutable.
-#[inline(always)]
 fn column_mut(m: &mut DMatrix<f64>, j: usize) -> &mut [f64] {
     let rows = m.nrows();
     &mut m.as_mut_slice()[j * rows..(j + 1) * rows]
 }
 
 /// a · b with four partial sums, so that the products of short columns run in parallel.
-#[inline(always)]
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     let n = a.len().min(b.len());
     let mut sums = [0.0; 4];
@@ -618,7 +581,6 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 }
 
 /// v ← C v for C lower triangular, row-major.
-#[inline(always)]
 fn to_orthonormal(c: &[f64], v: &mut [f64]) {
     let n = v.len();
     for k in (0..n).rev() {
@@ -627,7 +589,6 @@ fn to_orthonormal(c: &[f64], v: &mut [f64]) {
 }
 
 /// v ← Cᵀ v for C lower triangular, row-major.
-#[inline(always)]
 fn from_orthonormal(c: &[f64], v: &mut [f64]) {
     let n = v.len();
     for k in 0..n {
@@ -647,7 +608,6 @@ struct Factors {
 
 impl Factors {
     /// The zeroed m × n matrix to factor.
-    #[inline(always)]
     fn matrix(&mut self, m: usize, n: usize) -> &mut [f64] {
         self.m = m;
         self.tau.resize(n, 0.0);
@@ -657,14 +617,12 @@ impl Factors {
     }
 
     /// Number of columns n.
-    #[inline(always)]
     fn n(&self) -> usize {
         self.tau.len()
     }
 
     /// Factors the matrix in place; false if m < n or a diagonal entry of R is at most
     /// `dependent` times the largest.
-    #[inline(always)]
     fn factor(&mut self, dependent: f64) -> bool {
         let (m, n) = (self.m, self.n());
         if m < n {
@@ -677,13 +635,11 @@ impl Factors {
     }
 
     /// x ← Q x (x of length m).
-    #[inline(always)]
     fn apply(&self, x: &mut [f64]) {
         householder_apply(&self.a, self.m, &self.tau, x);
     }
 
     /// x ← Qᵀ x = H_{n−1} ⋯ H_0 x (x of length m).
-    #[inline(always)]
     fn apply_transpose(&self, x: &mut [f64]) {
         let m = self.m;
         for (j, &tau) in self.tau.iter().enumerate() {
@@ -692,7 +648,6 @@ impl Factors {
     }
 
     /// c ← R⁻ᵀ c (c of length n).
-    #[inline(always)]
     fn solve_transpose(&self, c: &mut [f64]) {
         let m = self.m;
         for i in 0..self.n() {
@@ -711,7 +666,6 @@ const DEPENDENT_LOCAL: f64 = 1e-13;
 /// per cell, 54 × 36 on an interior P2 patch of six cells): reflectors applied to the few vectors
 /// replace nalgebra's QR with the explicit Q it needs and its allocations (docs/results.md,
 /// Error estimation).
-#[inline(always)]
 fn householder_qr(a: &mut [f64], m: usize, n: usize, tau: &mut [f64]) {
     for j in 0..n {
         let column = &mut a[j * m..(j + 1) * m];
@@ -735,7 +689,6 @@ fn householder_qr(a: &mut [f64], m: usize, n: usize, tau: &mut [f64]) {
 }
 
 /// x ← Q x = H_0 ⋯ H_{n−1} x for the factors of [`householder_qr`] (n = `tau.len()`).
-#[inline(always)]
 fn householder_apply(a: &[f64], m: usize, tau: &[f64], x: &mut [f64]) {
     for j in (0..tau.len()).rev() {
         reflect(&a[j * m + j + 1..(j + 1) * m], tau[j], &mut x[j..]);
@@ -743,7 +696,6 @@ fn householder_apply(a: &[f64], m: usize, tau: &[f64], x: &mut [f64]) {
 }
 
 /// x ← (I − τ v vᵀ) x for v = (1, `below`).
-#[inline(always)]
 fn reflect(below: &[f64], tau: f64, x: &mut [f64]) {
     let s = tau * (x[0] + dot(below, &x[1..]));
     x[0] -= s;
@@ -752,7 +704,6 @@ fn reflect(below: &[f64], tau: f64, x: &mut [f64]) {
 
 /// K = the face rows' part of λ_z for the free rigid motions z (z_i at the face nodes), one
 /// column per motion.
-#[inline(always)]
 fn rigid_kernel(input: &PatchInput, rows: &[FaceRow]) -> DMatrix<f64> {
     DMatrix::from_fn(rows.len(), input.rigid.len(), |r, j| {
         input.rigid_motion(&input.rigid[j], input.faces[rows[r].face].nodes[rows[r].m])[rows[r].i]
@@ -772,7 +723,6 @@ struct CompatibleData {
 /// to the p = 1 rotations, cancelled by c = κ J; the other cases get a rigid-motion term
 /// Π^{p−1} r_i in their divergence data, r_i the rigid motion that restores (C)
 /// (docs/method.md §4.3), and a κ J term along the motions with Π^{p−1} z = 0.
-#[inline(always)]
 fn compatible_data(input: &PatchInput, rows: &[FaceRow]) -> CompatibleData {
     let cases = input.target.len();
     let mut divergence = input.divergence.clone();
@@ -854,7 +804,6 @@ fn lower_coefficients(input: &PatchInput) -> DMatrix<f64> {
 /// Defect of the compatibility condition (C) of one case for each free rigid motion z:
 /// Σ_F (t_F, z)_F − (Π^{p−1} g, z)_{ω_a} (with c = 0), and the sum of its absolute terms;
 /// `coefficients` are those of [`lower_coefficients`].
-#[inline(always)]
 fn defects(
     input: &PatchInput,
     rows: &[FaceRow],
@@ -880,7 +829,6 @@ fn defects(
 /// Σ b² |ω_a| is then round-off (the directions are orthonormal in units of the patch
 /// size), and dividing by it would turn the round-off defect of a translation into a
 /// spurious skew datum (roller patches, where only a translation is free).
-#[inline(always)]
 fn rotation_kappa(input: &PatchInput, d: &[(f64, f64)], directions: &[Vec<f64>]) -> Option<f64> {
     let combine = |c: &Vec<f64>, f: &dyn Fn(usize) -> f64| c.iter().enumerate().map(|(k, ck)| ck * f(k)).sum::<f64>();
     let (mut num, mut den) = (0.0, 0.0);
@@ -896,7 +844,6 @@ fn rotation_kappa(input: &PatchInput, d: &[(f64, f64)], directions: &[Vec<f64>])
 const ROTATION_TOLERANCE: f64 = 1e-12;
 
 /// Adds (κ J, m J)_T = 2κ ∫_T ψ_m to the symmetry right-hand side.
-#[inline(always)]
 fn correct_symmetry(input: &PatchInput, kappa: f64, sym_rhs: &mut [f64]) {
     let (nb, nl) = (input.n_basis, input.n_lower);
     for (t, cell) in input.cells.iter().enumerate() {
