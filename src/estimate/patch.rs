@@ -50,12 +50,14 @@ pub enum FaceKind {
 pub struct PatchFace {
     /// Local cell indices (the second only for interior faces).
     pub cells: [usize; 2],
-    /// ∫_F φ_k q_m of each side, from [`super::afw::face_moments`].
-    pub moments: [Vec<f64>; 2],
+    /// ∫_F φ_k q_m of each side per unit length, from [`super::afw::edge_moments`].
+    pub moments: [&'static [f64]; 2],
+    /// |F|.
+    pub length: f64,
     /// Unit normal, outward of the first cell.
     pub normal: [f64; 2],
-    /// Physical positions of the P_p face nodes (ends, then midpoint).
-    pub nodes: Vec<[f64; 2]>,
+    /// Physical positions of the face nodes: ends, then midpoint (a node for p = 2 only).
+    pub nodes: [[f64; 2]; 3],
     pub kind: FaceKind,
 }
 
@@ -299,7 +301,7 @@ fn face_rows(input: &PatchInput) -> Vec<FaceRow> {
 fn face_coefficients(nb: usize, face: &PatchFace, side: usize, m: usize, out: &mut [f64]) {
     let sign = if side == 0 { 1.0 } else { -1.0 };
     for k in 0..nb {
-        let moment = sign * face.moments[side][m * nb + k];
+        let moment = sign * (face.moments[side][m * nb + k] * face.length);
         for j in 0..2 {
             out[j * nb + k] = moment * face.normal[j];
         }

@@ -325,18 +325,15 @@ fn patch_faces(ctx: &Context, a: usize, cells: &[usize]) -> (Vec<PatchFace>, Vec
             let normal = outward(pa, pb, mesh.points[vertices[i]]);
             let contains_a = vertices[i] != a;
             let other = ctx.topology.edge_cells[e].into_iter().find(|&o| o != c && o != NONE);
-            let moments0 = edge_moments(mesh.order, va, vb, length);
-            let mut nodes = vec![pa, pb];
-            if mesh.order == 2 {
-                nodes.push([0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1])]);
-            }
+            let moments0 = edge_moments(mesh.order, va, vb);
+            let nodes = [pa, pb, [0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1])]];
             let (t2, kind, moments1) = match other.and_then(|o| cells.iter().position(|&x| x == o)) {
                 Some(t2) => {
                     let ja = local_vertex(mesh, cells[t2], vertices[va]);
                     let jb = local_vertex(mesh, cells[t2], vertices[vb]);
-                    (t2, FaceKind::Interior, edge_moments(mesh.order, ja, jb, length))
+                    (t2, FaceKind::Interior, edge_moments(mesh.order, ja, jb))
                 }
-                None if !contains_a => (0, FaceKind::Opposite, Vec::new()),
+                None if !contains_a => (0, FaceKind::Opposite, &[] as &[f64]),
                 None => {
                     let ends = [vertices[va], vertices[vb]];
                     match boundary_trace(ctx, e, a, ends, normal) {
@@ -344,7 +341,7 @@ fn patch_faces(ctx: &Context, a: usize, cells: &[usize]) -> (Vec<PatchFace>, Vec
                             if let Role::Dirichlet(fix) = ctx.edge_role[e] {
                                 fixed.push(([pa, pb], fix));
                             }
-                            (0, kind, Vec::new())
+                            (0, kind, &[] as &[f64])
                         }
                         None => {
                             fixed.push(([pa, pb], [true; 2]));
@@ -353,7 +350,7 @@ fn patch_faces(ctx: &Context, a: usize, cells: &[usize]) -> (Vec<PatchFace>, Vec
                     }
                 }
             };
-            faces.push(PatchFace { cells: [t, t2], moments: [moments0, moments1], normal, nodes, kind });
+            faces.push(PatchFace { cells: [t, t2], moments: [moments0, moments1], length, normal, nodes, kind });
         }
     }
     (faces, fixed)
