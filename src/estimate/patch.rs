@@ -82,8 +82,8 @@ pub struct PatchInput<'a> {
     pub target: Vec<Vec<f64>>,
     /// (g, ψ_m e_i)_T per case: `[case][(cell · n_lower + m) · 2 + i]`.
     pub divergence: Vec<Vec<f64>>,
-    /// Physical positions of the P_{p−1} nodes of each cell (for Π^{p−1} z).
-    pub lower_nodes: Vec<Vec<[f64; 2]>>,
+    /// Physical positions of the P_{p−1} nodes (for Π^{p−1} z), cell by cell: n_lower per cell.
+    pub lower_nodes: Vec<[f64; 2]>,
     /// Rigid motions left free by the patch's Dirichlet faces, as coefficient triples
     /// (a_x, a_y, b) of z(x) = (a_x − b y, a_y + b x), y and x relative to `origin`.
     pub rigid: Vec<[f64; 3]>,
@@ -796,7 +796,7 @@ fn lower_coefficients(input: &PatchInput) -> DMatrix<f64> {
     let mut out = DMatrix::zeros(rows, input.rigid.len());
     for (j, z) in input.rigid.iter().enumerate() {
         let column = column_mut(&mut out, j);
-        for (values, &x) in column.chunks_exact_mut(2).zip(input.lower_nodes.iter().flatten()) {
+        for (values, &x) in column.chunks_exact_mut(2).zip(&input.lower_nodes) {
             values.copy_from_slice(&input.rigid_motion(z, x));
         }
     }
