@@ -59,7 +59,7 @@ pub struct CellIntegrals {
 }
 
 /// The integrals of [`CellIntegrals`] on the cell mapped by `map`, as affine images of the
-/// reference ones ([`reference_integrals`]): with d = |det J|, M = d M̂, C = Ĉ/√d (M = (√d L̂)(√d
+/// reference ones (computed once per degree): with d = |det J|, M = d M̂, C = Ĉ/√d (M = (√d L̂)(√d
 /// L̂)ᵀ), ∫_T φ ψ = d ∫_T̂ φ̂ ψ̂, ∫_T ψ ψ = d ∫_T̂ ψ̂ ψ̂ and ∫_T ∂_j φ_k ψ_m = d Σ_r (J⁻ᵀ)_jr ∫_T̂ ∂̂_r φ̂_k ψ̂_m.
 pub fn cell_integrals(order: usize, map: &AffineMap) -> CellIntegrals {
     let reference = reference_integrals(order);
