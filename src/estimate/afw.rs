@@ -14,6 +14,7 @@
 use crate::fem::affine::AffineMap;
 use crate::fem::lagrange;
 use crate::fem::quadrature::{gauss_segment_cached, triangle_cached};
+use std::sync::OnceLock;
 
 /// Number of stress components.
 pub const COMPONENTS: usize = 4;
@@ -57,8 +58,41 @@ pub struct CellIntegrals {
     pub lower_gram: Vec<f64>,
 }
 
-/// The integrals of [`CellIntegrals`] on the cell mapped by `map`.
+/// The integrals of [`CellIntegrals`] on the cell mapped by `map`, as affine images of the
+/// reference ones (computed once per degree): with d = |det J|, M = d M̂, C = Ĉ/√d (M = (√d L̂)(√d
+/// L̂)ᵀ), ∫_T φ ψ = d ∫_T̂ φ̂ ψ̂, ∫_T ψ ψ = d ∫_T̂ ψ̂ ψ̂ and ∫_T ∂_j φ_k ψ_m = d Σ_r (J⁻ᵀ)_jr ∫_T̂ ∂̂_r φ̂_k ψ̂_m.
 pub fn cell_integrals(order: usize, map: &AffineMap) -> CellIntegrals {
+    let reference = reference_integrals(order);
+    let d = map.det.abs();
+    let scaled = |v: &[f64], factor: f64| v.iter().map(|x| x * factor).collect();
+    let divergence = reference
+        .divergence
+        .chunks_exact(2)
+        .flat_map(|g| {
+            let g = map.physical_gradient([g[0], g[1]]);
+            [g[0] * d, g[1] * d]
+        })
+        .collect();
+    CellIntegrals {
+        mass: scaled(&reference.mass, d),
+        orthonormal: scaled(&reference.orthonormal, 1.0 / d.sqrt()),
+        divergence,
+        lower_mass: scaled(&reference.lower_mass, d),
+        lower_gram: scaled(&reference.lower_gram, d),
+    }
+}
+
+/// The [`CellIntegrals`] of the reference triangle (J = I), by quadrature exact for them
+/// (degree 2p), computed once per degree; `divergence` holds ∫ ∂̂_r φ̂_k ψ̂_m.
+fn reference_integrals(order: usize) -> &'static CellIntegrals {
+    static CACHE: [OnceLock<CellIntegrals>; 3] = [const { OnceLock::new() }; 3];
+    CACHE[order].get_or_init(|| {
+        quadrature_integrals(order, &AffineMap::new(lagrange::reference_nodes(1).try_into().expect("three vertices")))
+    })
+}
+
+/// The integrals of [`CellIntegrals`] on the cell mapped by `map`, by quadrature.
+fn quadrature_integrals(order: usize, map: &AffineMap) -> CellIntegrals {
     let (nb, nl) = (lagrange::n_basis(order), n_lower(order));
     let rule = triangle_cached(2 * order);
     let (mut phi, mut grad, mut psi) = ([0.0; 6], [[0.0; 2]; 6], [0.0; 3]);
@@ -115,6 +149,18 @@ pub fn face_moments(order: usize, a: [f64; 2], b: [f64; 2], length: f64) -> Vec<
         }
     }
     out
+}
+
+/// [`face_moments`] per unit length over the edge from reference vertex `a` to reference
+/// vertex `b` (local indices 0, 1, 2), computed once per degree: the moments over an edge of
+/// length |F| are |F| times these.
+pub fn edge_moments(order: usize, a: usize, b: usize) -> &'static [f64] {
+    static CACHE: [OnceLock<Vec<Vec<f64>>>; 3] = [const { OnceLock::new() }; 3];
+    let edges = CACHE[order].get_or_init(|| {
+        let vertices = lagrange::reference_nodes(1);
+        (0..9).map(|e| face_moments(order, vertices[e / 3], vertices[e % 3], 1.0)).collect()
+    });
+    &edges[a * 3 + b]
 }
 
 /// The stress with coefficients `s` (layout of the module doc) at reference point ξ, as
@@ -217,6 +263,49 @@ mod tests {
             assert!((0..nb).all(|k| (k + 1..nb).all(|l| c[(k, l)] == 0.0)), "C is lower triangular");
             let product = &c * m * c.transpose();
             assert!((product - nalgebra::DMatrix::identity(nb, nb)).amax() < 1e-12, "p = {order}");
+        }
+    }
+
+    /// Source: `cell_integrals` (affine images of the reference integrals). Goal: they agree
+    /// with quadrature on the cell itself to round-off. Parameters: the distorted triangle of
+    /// `map`, and the same triangle mirrored (det J < 0), p = 1, 2.
+    #[test]
+    fn mapped_integrals_match_quadrature_on_the_cell() {
+        let mirrored = AffineMap::new([[0.1, 0.2], [0.35, 1.1], [1.3, 0.4]]);
+        for map in [map(), mirrored] {
+            for order in [1, 2] {
+                let (mapped, direct) = (cell_integrals(order, &map), quadrature_integrals(order, &map));
+                let pairs = [
+                    (&mapped.mass, &direct.mass),
+                    (&mapped.orthonormal, &direct.orthonormal),
+                    (&mapped.divergence, &direct.divergence),
+                    (&mapped.lower_mass, &direct.lower_mass),
+                    (&mapped.lower_gram, &direct.lower_gram),
+                ];
+                for (a, b) in pairs {
+                    let scale = b.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+                    let worst = a.iter().zip(b.iter()).fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()));
+                    assert!(worst <= 1e-14 * scale, "p = {order}: {worst:e} of {scale:e}");
+                }
+            }
+        }
+    }
+
+    /// Source: `edge_moments` (reference edge moments per unit length). Goal: times the
+    /// length, they agree with `face_moments` on every oriented edge to round-off. Parameters:
+    /// p = 1, 2, length 0.37.
+    #[test]
+    fn edge_moments_match_face_moments() {
+        let vertices = lagrange::reference_nodes(1);
+        for order in [1, 2] {
+            for (a, b) in [(0, 1), (1, 0), (1, 2), (2, 1), (2, 0), (0, 2)] {
+                let direct = face_moments(order, vertices[a], vertices[b], 0.37);
+                let worst = edge_moments(order, a, b)
+                    .iter()
+                    .zip(&direct)
+                    .fold(0.0_f64, |m, (x, y)| m.max((x * 0.37 - y).abs()));
+                assert!(worst <= 1e-15, "p = {order}, edge {a}{b}: {worst:e}");
+            }
         }
     }
 

@@ -10,7 +10,8 @@ pub mod patch;
 pub mod reconstruction;
 
 use crate::contact::Linearisation;
-use crate::elasticity::{Discretisation, Displacement, Problem};
+use crate::elasticity::problem::load_degree;
+use crate::elasticity::{BodyForce, Discretisation, Displacement, Problem};
 use crate::mesh::Topology;
 use checks::{check_sampled, Equilibration, Violation};
 use estimators::{estimate_sampled, Estimators};
@@ -53,6 +54,17 @@ pub const REPRESENTATION_FACTOR: f64 = 300.0;
 /// decides on any mesh.
 pub fn equilibration_tolerance(problem: &Problem, u: &Displacement, contact: Option<&Linearisation>) -> f64 {
     EQUILIBRATION_TOLERANCE.max(REPRESENTATION_FACTOR * checks::representation_bound(problem, u, contact))
+}
+
+/// Degree of the cell rule of the volume data (docs/method.md §4) and of the divergence
+/// check: 2p integrates exactly every product of σ(u_h), the stress basis, ψ_a and P_{p−1},
+/// and f ψ_a ψ_m for an f constant on each cell (none, or ρ a); a general field f gets the
+/// load rule of the assembly.
+pub(crate) fn volume_degree(problem: &Problem) -> usize {
+    match problem.body_force {
+        BodyForce::Field(_) => load_degree(problem.mesh.order),
+        BodyForce::None | BodyForce::Acceleration(_) => 2 * problem.mesh.order,
+    }
 }
 
 /// The reconstruction, the estimators and the equilibration checks of one iterate.

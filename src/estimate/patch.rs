@@ -50,12 +50,14 @@ pub enum FaceKind {
 pub struct PatchFace {
     /// Local cell indices (the second only for interior faces).
     pub cells: [usize; 2],
-    /// ∫_F φ_k q_m of each side, from [`super::afw::face_moments`].
-    pub moments: [Vec<f64>; 2],
+    /// ∫_F φ_k q_m of each side per unit length, from [`super::afw::edge_moments`].
+    pub moments: [&'static [f64]; 2],
+    /// |F|.
+    pub length: f64,
     /// Unit normal, outward of the first cell.
     pub normal: [f64; 2],
-    /// Physical positions of the P_p face nodes (ends, then midpoint).
-    pub nodes: Vec<[f64; 2]>,
+    /// Physical positions of the face nodes: ends, then midpoint (a node for p = 2 only).
+    pub nodes: [[f64; 2]; 3],
     pub kind: FaceKind,
 }
 
@@ -80,8 +82,8 @@ pub struct PatchInput<'a> {
     pub target: Vec<Vec<f64>>,
     /// (g, ψ_m e_i)_T per case: `[case][(cell · n_lower + m) · 2 + i]`.
     pub divergence: Vec<Vec<f64>>,
-    /// Physical positions of the P_{p−1} nodes of each cell (for Π^{p−1} z).
-    pub lower_nodes: Vec<Vec<[f64; 2]>>,
+    /// Physical positions of the P_{p−1} nodes (for Π^{p−1} z), cell by cell: n_lower per cell.
+    pub lower_nodes: Vec<[f64; 2]>,
     /// Rigid motions left free by the patch's Dirichlet faces, as coefficient triples
     /// (a_x, a_y, b) of z(x) = (a_x − b y, a_y + b x), y and x relative to `origin`.
     pub rigid: Vec<[f64; 3]>,
@@ -299,7 +301,7 @@ fn face_rows(input: &PatchInput) -> Vec<FaceRow> {
 fn face_coefficients(nb: usize, face: &PatchFace, side: usize, m: usize, out: &mut [f64]) {
     let sign = if side == 0 { 1.0 } else { -1.0 };
     for k in 0..nb {
-        let moment = sign * face.moments[side][m * nb + k];
+        let moment = sign * (face.moments[side][m * nb + k] * face.length);
         for j in 0..2 {
             out[j * nb + k] = moment * face.normal[j];
         }
@@ -730,7 +732,8 @@ fn compatible_data(input: &PatchInput, rows: &[FaceRow]) -> CompatibleData {
     if input.rigid.is_empty() {
         return CompatibleData { divergence, symmetry, defect: (0.0, 0.0) };
     }
-    let (projections, coefficients) = (rigid_projections(input), lower_coefficients(input));
+    let coefficients = lower_coefficients(input);
+    let projections = rigid_projections(input, &coefficients);
     let gram = projections.transpose() * &coefficients;
     let eigen = gram.symmetric_eigen();
     let largest = eigen.eigenvalues.amax();
@@ -768,26 +771,36 @@ fn compatible_data(input: &PatchInput, rows: &[FaceRow]) -> CompatibleData {
     CompatibleData { divergence, symmetry, defect: total }
 }
 
-/// (ψ_m e_i, z)_T for every divergence row (t, m, i) and free rigid motion z.
-fn rigid_projections(input: &PatchInput) -> DMatrix<f64> {
+/// (ψ_m e_i, z)_T = Σ_l (ψ_m, ψ_l)_T z_i(x_l) for every divergence row (t, m, i) and free
+/// rigid motion z, from the `values` z_i(x_l) of [`lower_coefficients`].
+fn rigid_projections(input: &PatchInput, values: &DMatrix<f64>) -> DMatrix<f64> {
     let nl = input.n_lower;
-    DMatrix::from_fn(input.cells.len() * nl * 2, input.rigid.len(), |row, j| {
-        let (t, m, i) = (row / (2 * nl), (row / 2) % nl, row % 2);
-        (0..nl)
-            .map(|l| {
-                input.cells[t].lower_gram[m * nl + l] * input.rigid_motion(&input.rigid[j], input.lower_nodes[t][l])[i]
-            })
-            .sum()
-    })
+    let mut out = DMatrix::zeros(values.nrows(), values.ncols());
+    for (j, z) in values.column_iter().enumerate() {
+        for (t, cell) in input.cells.iter().enumerate() {
+            let z = &z.as_slice()[t * 2 * nl..(t + 1) * 2 * nl];
+            for m in 0..nl {
+                let gram = &cell.lower_gram[m * nl..(m + 1) * nl];
+                for i in 0..2 {
+                    out[((t * nl + m) * 2 + i, j)] = (0..nl).map(|l| gram[l] * z[l * 2 + i]).sum();
+                }
+            }
+        }
+    }
+    out
 }
 
 /// The coefficients z_i(x_m) of Π^{p−1} z for every divergence row (t, m, i) and free z.
 fn lower_coefficients(input: &PatchInput) -> DMatrix<f64> {
-    let nl = input.n_lower;
-    DMatrix::from_fn(input.cells.len() * nl * 2, input.rigid.len(), |row, j| {
-        let (t, m, i) = (row / (2 * nl), (row / 2) % nl, row % 2);
-        input.rigid_motion(&input.rigid[j], input.lower_nodes[t][m])[i]
-    })
+    let rows = input.cells.len() * input.n_lower * 2;
+    let mut out = DMatrix::zeros(rows, input.rigid.len());
+    for (j, z) in input.rigid.iter().enumerate() {
+        let column = column_mut(&mut out, j);
+        for (values, &x) in column.chunks_exact_mut(2).zip(&input.lower_nodes) {
+            values.copy_from_slice(&input.rigid_motion(z, x));
+        }
+    }
+    out
 }
 
 /// Defect of the compatibility condition (C) of one case for each free rigid motion z:

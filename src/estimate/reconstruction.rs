@@ -9,18 +9,19 @@
 //!
 //! so that t₁ + t₂ + t₃ is the traction of the Newton equation that u_h solves. The same
 //! patch matrix gives σ_h2^a (target 0, traces ψ_a t₂ n) and σ_h3^a (traces ψ_a t₃ n);
-//! σ_h1^a is the total minus both. Summing over the vertices gives an H(div) stress with
+//! σ_h1^a is the total minus both. Both vanish on the patches that do not touch Γ_C, which
+//! solve for the total alone. Summing over the vertices gives an H(div) stress with
 //! ∇·σ_h = −Π^{p−1} f. Patches are solved in parallel.
 
-use super::afw::{self, cell_integrals, face_moments, CellIntegrals, COMPONENTS};
+use super::afw::{self, cell_integrals, edge_moments, CellIntegrals, COMPONENTS};
 use super::facets::{sampled_facets, SampledFacet};
 use super::patch::{self, FaceKind, PatchFace, PatchInput};
-use super::EstimateError;
+use super::{volume_degree, EstimateError};
 use crate::contact::nitsche::FaceDisplacement;
 use crate::contact::projection::Smoothing;
 use crate::contact::Linearisation;
 use crate::elasticity::kernels::{displacement_gradient, stress};
-use crate::elasticity::problem::{load_degree, traction_rule};
+use crate::elasticity::problem::traction_rule;
 use crate::elasticity::rigid;
 use crate::elasticity::{Displacement, Problem, Traction};
 use crate::fem::affine::AffineMap;
@@ -114,6 +115,7 @@ struct Context<'a> {
     volume: Vec<Vec<f64>>,
     /// Role of every edge (Free for interior edges).
     edge_role: Vec<Role>,
+    /// Right-hand sides of the patches that touch Γ_C: 3 with Γ_C, else 1.
     cases: usize,
 }
 
@@ -173,6 +175,7 @@ pub(crate) fn reconstruct_sampled(
         }
         scale = scale.max(solution.compatibility.1);
         for (t, &cell) in topology.patch(k).iter().enumerate() {
+            // the total, then σ_h2^a and σ_h3^a if the patch solved for them
             for (total, part) in sigma.iter_mut().zip(&solution.sigma) {
                 for j in 0..n {
                     total[cell * n + j] += part[t * n + j];
@@ -224,8 +227,9 @@ fn patch_input<'a>(ctx: &'a Context, k: usize) -> PatchInput<'a> {
     let (nb, nl) = (lagrange::n_basis(order), afw::n_lower(order));
     let a = ctx.topology.vertices[k];
     let cells = ctx.topology.patch(k);
-    let mut target = vec![vec![0.0; cells.len() * COMPONENTS * nb]; ctx.cases];
-    let mut divergence = vec![vec![0.0; cells.len() * nl * 2]; ctx.cases];
+    let cases = patch_cases(ctx, a, cells);
+    let mut target = vec![vec![0.0; cells.len() * COMPONENTS * nb]; cases];
+    let mut divergence = vec![vec![0.0; cells.len() * nl * 2]; cases];
     let (wt, wd) = (COMPONENTS * nb, 2 * nl);
     for (t, &c) in cells.iter().enumerate() {
         let ia = local_vertex(mesh, c, a);
@@ -233,7 +237,7 @@ fn patch_input<'a>(ctx: &'a Context, k: usize) -> PatchInput<'a> {
         target[0][t * wt..(t + 1) * wt].copy_from_slice(&data[..wt]);
         divergence[0][t * wd..(t + 1) * wd].copy_from_slice(&data[wt..]);
     }
-    let (faces, fixed) = patch_faces(ctx, a, cells);
+    let (faces, fixed) = patch_faces(ctx, a, cells, cases);
     let origin = mesh.points[a];
     let size = cells.iter().map(|&c| mesh.cell_diameter(c)).fold(0.0, f64::max);
     PatchInput {
@@ -246,12 +250,28 @@ fn patch_input<'a>(ctx: &'a Context, k: usize) -> PatchInput<'a> {
         divergence,
         lower_nodes: cells
             .iter()
-            .map(|&c| afw::lower_nodes(order).iter().map(|&x| ctx.maps[c].to_physical(x)).collect())
+            .flat_map(|&c| afw::lower_nodes(order).iter().map(move |&x| ctx.maps[c].to_physical(x)))
             .collect(),
         rigid: free_rigid_motions(&fixed, origin, size),
         origin,
         area: cells.iter().map(|&c| ctx.maps[c].area()).sum(),
         rotation_correction: order == 1,
+    }
+}
+
+/// The right-hand sides of the patch of vertex a: all of them (docs/method.md §4.3) if a face
+/// through a lies on Γ_C, else the total alone, since the data of σ_h2 and σ_h3 vanish on the
+/// patch and so do their patch solutions.
+fn patch_cases(ctx: &Context, a: usize, cells: &[usize]) -> usize {
+    let mesh = &ctx.problem.mesh;
+    // edge i of a cell is opposite to its vertex i
+    let on_contact = cells.iter().any(|&c| {
+        (0..3).any(|i| mesh.cell(c)[i] != a && matches!(ctx.edge_role[ctx.topology.cell_edges[c][i]], Role::Contact(_)))
+    });
+    if on_contact {
+        ctx.cases
+    } else {
+        1
     }
 }
 
@@ -273,7 +293,7 @@ fn volume_data(ctx: &Context, c: usize) -> Vec<f64> {
     let mut nodal = Vec::new();
     ctx.u.relative(mesh.cell(c), &mut nodal);
     let grad_hat: [[f64; 2]; 3] = std::array::from_fn(|ia| map.physical_gradient(hat_gradient(ia)));
-    let rule = triangle_cached(load_degree(order));
+    let rule = triangle_cached(volume_degree(ctx.problem));
     let (mut phi, mut psi, mut grads) = ([0.0; 6], [0.0; 3], [[0.0; 2]; 6]);
     let mut out = vec![0.0; 3 * (wt + wd)];
     for (&xi, &w) in rule.points.iter().zip(&rule.weights) {
@@ -305,10 +325,10 @@ fn volume_data(ctx: &Context, c: usize) -> Vec<f64> {
 /// A Dirichlet face of a patch: its end points and its fixed components.
 type FixedFace = ([[f64; 2]; 2], [bool; 2]);
 
-/// The faces of the patch and the (face end points, fixed components) of its Dirichlet faces.
-fn patch_faces(ctx: &Context, a: usize, cells: &[usize]) -> (Vec<PatchFace>, Vec<FixedFace>) {
+/// The faces of the patch with `cases` right-hand sides and the (face end points, fixed
+/// components) of its Dirichlet faces.
+fn patch_faces(ctx: &Context, a: usize, cells: &[usize], cases: usize) -> (Vec<PatchFace>, Vec<FixedFace>) {
     let mesh = &ctx.problem.mesh;
-    let reference = lagrange::reference_nodes(1);
     let mut faces = Vec::new();
     let mut fixed = Vec::new();
     let mut seen = Vec::new();
@@ -326,26 +346,23 @@ fn patch_faces(ctx: &Context, a: usize, cells: &[usize]) -> (Vec<PatchFace>, Vec
             let normal = outward(pa, pb, mesh.points[vertices[i]]);
             let contains_a = vertices[i] != a;
             let other = ctx.topology.edge_cells[e].into_iter().find(|&o| o != c && o != NONE);
-            let moments0 = face_moments(mesh.order, reference[va], reference[vb], length);
-            let mut nodes = vec![pa, pb];
-            if mesh.order == 2 {
-                nodes.push([0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1])]);
-            }
+            let moments0 = edge_moments(mesh.order, va, vb);
+            let nodes = [pa, pb, [0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1])]];
             let (t2, kind, moments1) = match other.and_then(|o| cells.iter().position(|&x| x == o)) {
                 Some(t2) => {
                     let ja = local_vertex(mesh, cells[t2], vertices[va]);
                     let jb = local_vertex(mesh, cells[t2], vertices[vb]);
-                    (t2, FaceKind::Interior, face_moments(mesh.order, reference[ja], reference[jb], length))
+                    (t2, FaceKind::Interior, edge_moments(mesh.order, ja, jb))
                 }
-                None if !contains_a => (0, FaceKind::Opposite, Vec::new()),
+                None if !contains_a => (0, FaceKind::Opposite, &[] as &[f64]),
                 None => {
                     let ends = [vertices[va], vertices[vb]];
-                    match boundary_trace(ctx, e, a, ends, normal) {
+                    match boundary_trace(ctx, e, a, ends, normal, cases) {
                         Some(kind) => {
                             if let Role::Dirichlet(fix) = ctx.edge_role[e] {
                                 fixed.push(([pa, pb], fix));
                             }
-                            (0, kind, Vec::new())
+                            (0, kind, &[] as &[f64])
                         }
                         None => {
                             fixed.push(([pa, pb], [true; 2]));
@@ -354,7 +371,7 @@ fn patch_faces(ctx: &Context, a: usize, cells: &[usize]) -> (Vec<PatchFace>, Vec
                     }
                 }
             };
-            faces.push(PatchFace { cells: [t, t2], moments: [moments0, moments1], normal, nodes, kind });
+            faces.push(PatchFace { cells: [t, t2], moments: [moments0, moments1], length, normal, nodes, kind });
         }
     }
     (faces, fixed)
@@ -371,10 +388,18 @@ fn outward(a: [f64; 2], b: [f64; 2], inside: [f64; 2]) -> [f64; 2] {
     }
 }
 
-/// The trace condition of a boundary face containing a (None: Dirichlet in both components).
-fn boundary_trace(ctx: &Context, e: usize, a: usize, ends: [usize; 2], normal: [f64; 2]) -> Option<FaceKind> {
+/// The trace condition of a boundary face containing a with `cases` right-hand sides (None:
+/// Dirichlet in both components).
+fn boundary_trace(
+    ctx: &Context,
+    e: usize,
+    a: usize,
+    ends: [usize; 2],
+    normal: [f64; 2],
+    cases: usize,
+) -> Option<FaceKind> {
     let order = ctx.problem.mesh.order;
-    let mut data = vec![vec![0.0; 2 * (order + 1)]; ctx.cases];
+    let mut data = vec![vec![0.0; 2 * (order + 1)]; cases];
     let active = match ctx.edge_role[e] {
         Role::Dirichlet(fix) if fix == [true; 2] => return None,
         Role::Dirichlet(fix) => [!fix[0], !fix[1]],
