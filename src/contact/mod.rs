@@ -617,8 +617,8 @@ impl ContactSolution {
     }
 
     /// The forces on the faces k with `on(k)`, each face with its curve's law (docs/method.md
-    /// §1.9): N = ∫ p_c ds, T = ∫ t^t ds, the contact length and FS_LE = ∫ (c q'(P_γ) + F p_c)
-    /// ds / |T| (s q'(P_γ) for Tresca; q'(P_γ) = 1_closed at δ = 0), None without friction or
+    /// §1.9): N = ∫ p_c ds, T = ∫ t^t ds, the contact length and FS_LE = ∫ (c χ_δ(P_γ) + F p_c)
+    /// ds / |T| (s χ_δ(P_γ) for Tresca, χ_δ the closed indicator; 1_closed at δ = 0), None without friction or
     /// shear there.
     pub fn forces(&self, on: impl Fn(usize) -> bool) -> JointForces {
         let (mut n, mut t, mut contact_length, mut capacity, mut friction) = (0.0, 0.0, 0.0, 0.0, false);
