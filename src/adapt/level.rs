@@ -144,8 +144,8 @@ fn first_iterate(
     Ok((Stage { delta, report }, delta0 * scale))
 }
 
-/// How many Newton runs in a row a level starts again at a smoother δ after a run that did
-/// not converge.
+/// How many Newton runs in a row a level starts again at ρ_δ δ after a run that did not
+/// converge, while no δ has been solved on it.
 const MAX_RETRIES: usize = 4;
 
 /// With contact on `joint`: Newton from `x0` at δ, stopped by (S_lin), and δ ← δ/ρ_δ until
@@ -156,7 +156,8 @@ const MAX_RETRIES: usize = 4;
 /// fails: a damped step does not solve the linearised problem, so its η_lin would not be a
 /// bound, and while the residual does not contract (the active set still moves) (S_lin)
 /// cannot hold. The prediction only saves estimates: Newton stops on an estimated (S_lin).
-/// The final iterate is always estimated.
+/// The final iterate is always estimated. If Newton fails twice in a row below a δ_s solved on
+/// this level (at δ_s/ρ_δ, then at the middle), the level ends at δ_s with (S_reg) unmet.
 pub fn contact_level(
     problem: &Problem,
     disc: &Discretisation,
@@ -183,8 +184,8 @@ pub fn contact_level(
     // the restarts at a larger δ since the last converged run, and the Newton steps of the
     // runs they discarded
     let (mut crack_solves, mut retries, mut discarded_steps) = (0, 0, 0);
-    // the δ of this level's last converged Newton run
-    let mut solved_at: Option<f64> = None;
+    // this level's last converged Newton run: its δ, iterate and estimate
+    let mut solved: Option<(f64, Vec<f64>, Estimate)> = None;
     // the δ at which the cracks were last settled, and how
     let mut settled: Option<(f64, Cracks)> = None;
     loop {
@@ -209,79 +210,95 @@ pub fn contact_level(
             latest = Some((x.to_vec(), e));
             stop
         });
-        // a Newton run that stalls at δ (steps cut short by the line search where the law is
-        // steep in P_γ, docs/method.md §1.10) starts again from the same iterate at a smoother
-        // δ: halfway (geometrically) back to the δ last solved on this level, else ρ_δ δ;
-        // (S_reg) then brings δ down
-        let report = match attempt {
-            Ok(report) => report,
-            Err(failed) if retries < MAX_RETRIES => {
-                retries += 1;
-                discarded_steps += match failed {
-                    NewtonError::NotConverged { history, .. } => history.len(),
-                    NewtonError::NonFinite { step } | NewtonError::Solve { step, .. } => step,
-                };
-                delta = match solved_at {
-                    Some(solved) if solved > delta => (solved * delta).sqrt(),
-                    _ => delta * settings.rho_delta,
-                };
-                continue;
-            }
-            Err(source) => return Err(AdaptError::Newton { delta, source }),
-        };
         solve_seconds += clock.elapsed().as_secs_f64() - inside.seconds;
         estimates.n += inside.n;
         estimates.seconds += inside.seconds;
-        let (estimate, global) = match latest {
-            Some((at, e)) if at == report.x => e?,
-            _ => {
-                let state = Linearisation::new(problem, disc, &contact.nitsche, smoothing, &report.x_prev);
-                let (estimate, global) =
-                    estimate_timed(problem, disc, (&report.x, report.lo.as_deref()), &state, &mut estimates)?;
-                trend = Trend::new(&global, report.residual).or(trend);
-                (estimate, global)
-            }
-        };
-        x = report.x.clone();
-        (solved_at, retries) = (Some(delta), 0);
-        stages.push(Stage { delta, report });
-        if regularisation_small(&global, settings.gamma_reg) {
-            // with the crack filled by the reservoir: its fixed point at this δ, once; if it
-            // moved, the level goes on from the new solution, so that the last iterate is
-            // estimated (a crack settled by its bracket stays: it would not settle again)
-            let mut cracks = Vec::new();
-            if contact.nitsche.uplift.iter().any(|up| up.diagram.crack_filled) {
-                let found = match settled.clone().filter(|(at, _)| *at == delta) {
-                    Some((_, found)) => found,
-                    None => {
-                        let (solution, more, found) = settle_crack(&mut contact, x, newton)?;
-                        crack_solves += more.len();
-                        (x, settled) = (solution, Some((delta, found.clone())));
-                        if !more.is_empty() {
-                            stages.extend(more);
-                            continue;
-                        }
-                        found
+        // a Newton run that stalls at δ (steps cut short by the line search where the law is
+        // steep in P_γ, docs/method.md §1.10) starts again from the same iterate at a smoother
+        // δ: once halfway (geometrically) back to a δ_s solved on this level, after which the
+        // level ends at δ_s (its estimate bounds the error too, η_reg above its share), else at
+        // ρ_δ δ, up to MAX_RETRIES times in a row; (S_reg) then brings δ down
+        let estimate = match attempt {
+            Ok(report) => {
+                let (estimate, global) = match latest {
+                    Some((at, e)) if at == report.x => e?,
+                    _ => {
+                        let state = Linearisation::new(problem, disc, &contact.nitsche, smoothing, &report.x_prev);
+                        let (estimate, global) =
+                            estimate_timed(problem, disc, (&report.x, report.lo.as_deref()), &state, &mut estimates)?;
+                        trend = Trend::new(&global, report.residual).or(trend);
+                        (estimate, global)
                     }
                 };
-                cracks = found.into_iter().map(|c| c.map(|c| Crack { iterations: crack_solves + 1, ..c })).collect();
+                x = report.x.clone();
+                retries = 0;
+                stages.push(Stage { delta, report });
+                if !regularisation_small(&global, settings.gamma_reg) {
+                    if n_reg == settings.max_delta_reductions {
+                        return Err(AdaptError::Regularisation { delta, reductions: n_reg, eta_reg: global.reg });
+                    }
+                    solved = Some((delta, x.clone(), estimate));
+                    delta /= settings.rho_delta;
+                    n_reg += 1;
+                    continue;
+                }
+                estimate
             }
-            let n_lin = discarded_steps + stages.iter().map(|s| s.report.iterations.len()).sum::<usize>();
-            return Ok(Level {
-                solution: Solution::Contact(Box::new(contact.solution(x, stages, cracks))),
-                estimate,
-                n_reg,
-                n_lin,
-                n_est: estimates.n,
-                solve_seconds,
-                estimate_seconds: estimates.seconds,
-                trend,
-            });
+            Err(failed) => {
+                discarded_steps += match &failed {
+                    NewtonError::NotConverged { history, .. } => history.len(),
+                    NewtonError::NonFinite { step } | NewtonError::Solve { step, .. } => *step,
+                };
+                retries += 1;
+                match solved.take() {
+                    Some(s) if retries == 1 => {
+                        delta = (s.0 * delta).sqrt();
+                        solved = Some(s);
+                        continue;
+                    }
+                    Some((at, solution, estimate)) => {
+                        (delta, x) = (at, solution);
+                        contact.set_delta(delta);
+                        estimate
+                    }
+                    None if retries <= MAX_RETRIES => {
+                        delta *= settings.rho_delta;
+                        continue;
+                    }
+                    None => return Err(AdaptError::Newton { delta, source: failed }),
+                }
+            }
+        };
+        // with the crack filled by the reservoir: its fixed point at this δ, once; if it
+        // moved, the level goes on from the new solution, so that the last iterate is
+        // estimated (a crack settled by its bracket stays: it would not settle again)
+        let mut cracks = Vec::new();
+        if contact.nitsche.uplift.iter().any(|up| up.diagram.crack_filled) {
+            let found = match settled.clone().filter(|(at, _)| *at == delta) {
+                Some((_, found)) => found,
+                None => {
+                    let (solution, more, found) = settle_crack(&mut contact, x, newton)?;
+                    crack_solves += more.len();
+                    (x, settled) = (solution, Some((delta, found.clone())));
+                    if !more.is_empty() {
+                        stages.extend(more);
+                        continue;
+                    }
+                    found
+                }
+            };
+            cracks = found.into_iter().map(|c| c.map(|c| Crack { iterations: crack_solves + 1, ..c })).collect();
         }
-        if n_reg == settings.max_delta_reductions {
-            return Err(AdaptError::Regularisation { delta, reductions: n_reg, eta_reg: global.reg });
-        }
-        delta /= settings.rho_delta;
-        n_reg += 1;
+        let n_lin = discarded_steps + stages.iter().map(|s| s.report.iterations.len()).sum::<usize>();
+        return Ok(Level {
+            solution: Solution::Contact(Box::new(contact.solution(x, stages, cracks))),
+            estimate,
+            n_reg,
+            n_lin,
+            n_est: estimates.n,
+            solve_seconds,
+            estimate_seconds: estimates.seconds,
+            trend,
+        });
     }
 }

@@ -16,7 +16,7 @@ use crate::fem::dofs::{DofMap, FIXED};
 use crate::fem::quadrature::{gauss_segment_cached, split_rule};
 use crate::fem::sparse::{vector_dofs, LinearSystem, Local, SparsePattern};
 use crate::fem::tabulate::Tabulation;
-use crate::fem::transfer::interpolate;
+use crate::fem::transfer::interpolate_by_tag;
 use crate::mesh::{Mesh, Topology};
 use crate::solve::{two_sum, Cholesky, SolveError};
 use rayon::prelude::*;
@@ -406,9 +406,18 @@ impl Problem {
     }
 
     /// The free unknowns of the displacement `u` of `old` interpolated at the nodes of this
-    /// problem's mesh (its Dirichlet values are this problem's).
+    /// problem's mesh (its Dirichlet values are this problem's), each node from the cells of
+    /// `old` with the physical surface of its own cells: the two copies of a node on a joint
+    /// between two bodies take the values of their own sides.
     pub fn interpolated(&self, disc: &Discretisation, old: &Mesh, u: &[[f64; 2]]) -> Vec<f64> {
-        let values = interpolate(old, u, &self.mesh.points);
+        let mesh = &self.mesh;
+        let mut tags = vec![0; mesh.n_points()];
+        for c in 0..mesh.n_cells() {
+            for &n in mesh.cell(c) {
+                tags[n] = mesh.cell_tags[c];
+            }
+        }
+        let values = interpolate_by_tag(old, u, &mesh.points, &tags);
         let mut x = vec![0.0; disc.dofs.n_free];
         for (dof, &k) in disc.dofs.free.iter().enumerate() {
             if k != FIXED {

@@ -214,13 +214,17 @@ pub struct Locator<'a> {
 impl<'a> Locator<'a> {
     /// Buckets for the cells of `mesh`, about as many buckets as cells.
     pub fn new(mesh: &'a Mesh) -> Self {
-        assert!(mesh.n_cells() > 0, "cannot locate points in a mesh without cells");
+        Self::of_cells(mesh, &(0..mesh.n_cells()).collect::<Vec<_>>())
+    }
+
+    /// Buckets for the given `cells` of `mesh` only: points are located among them.
+    pub fn of_cells(mesh: &'a Mesh, cells: &[usize]) -> Self {
+        assert!(!cells.is_empty(), "cannot locate points in a mesh without cells");
         let boxes: Vec<[[f64; 2]; 2]> = (0..mesh.n_cells()).map(|c| bounding_box(&mesh.cell_vertices(c))).collect();
-        let [lo, hi] = boxes
-            .iter()
-            .fold([[f64::INFINITY; 2], [f64::NEG_INFINITY; 2]], |[lo, hi], b| [min(lo, b[0]), max(hi, b[1])]);
-        let cells: Vec<usize> = (0..mesh.n_cells()).collect();
-        Self { mesh, buckets: Buckets::new(Grid::new(lo, hi, mesh.n_cells()), &cells, &boxes, MAX_DEPTH) }
+        let [lo, hi] = cells.iter().fold([[f64::INFINITY; 2], [f64::NEG_INFINITY; 2]], |[lo, hi], &c| {
+            [min(lo, boxes[c][0]), max(hi, boxes[c][1])]
+        });
+        Self { mesh, buckets: Buckets::new(Grid::new(lo, hi, cells.len()), cells, &boxes, MAX_DEPTH) }
     }
 
     /// The cell holding `p` and the reference coordinates ξ of p in it. A point outside the mesh
@@ -264,6 +268,34 @@ pub fn interpolate(mesh: &Mesh, values: &[[f64; 2]], points: &[[f64; 2]]) -> Vec
     points
         .par_iter()
         .map(|&p| {
+            let (c, xi) = locator.locate(p);
+            evaluate(mesh, values, c, xi)
+        })
+        .collect()
+}
+
+/// Values at `points` of the field with nodal values `values`, each point located among the
+/// cells of `mesh` with its own physical surface tag `tags[i]` (among all cells if `mesh` has
+/// none of that tag). A point on a joint between two bodies lies in cells of both sides, whose
+/// displacements differ by the jump: it takes the value of its own side.
+pub fn interpolate_by_tag(mesh: &Mesh, values: &[[f64; 2]], points: &[[f64; 2]], tags: &[i32]) -> Vec<[f64; 2]> {
+    assert_eq!(values.len(), mesh.n_points(), "one value per node of the mesh");
+    assert_eq!(points.len(), tags.len(), "one tag per point");
+    let mut by_tag: Vec<(i32, Vec<usize>)> = Vec::new();
+    for (c, &tag) in mesh.cell_tags.iter().enumerate() {
+        match by_tag.iter_mut().find(|(t, _)| *t == tag) {
+            Some((_, cells)) => cells.push(c),
+            None => by_tag.push((tag, vec![c])),
+        }
+    }
+    let locators: Vec<(i32, Locator)> =
+        by_tag.iter().map(|(tag, cells)| (*tag, Locator::of_cells(mesh, cells))).collect();
+    let all = Locator::new(mesh);
+    points
+        .par_iter()
+        .zip(tags)
+        .map(|(&p, tag)| {
+            let locator = locators.iter().find(|(t, _)| t == tag).map_or(&all, |(_, l)| l);
             let (c, xi) = locator.locate(p);
             evaluate(mesh, values, c, xi)
         })
@@ -334,6 +366,33 @@ fn dot(a: [f64; 2], b: [f64; 2]) -> f64 {
 mod tests {
     use super::*;
     use crate::mesh::structured::{rectangle, unit_square};
+
+    /// Source: docs/method.md §5.3 (the displacement moved to the next mesh). Goal: on two
+    /// blocks that touch along y = 1 with their own copies of its nodes (a joint), a point on
+    /// the joint takes the value of the block of its tag, where the plain location takes one
+    /// block's value for both. Parameters: [0, 1]² (tag 1, u = (0, 0)) and [0, 1] × [1, 2] (tag
+    /// 2, u = (1, 2)), 3 × 3 cells each, P1 and P2, points at x ∈ {0, 0.3, 0.5, 1} on y = 1.
+    #[test]
+    fn points_on_a_joint_take_their_own_side() {
+        for order in [1, 2] {
+            let (mut mesh, upper) =
+                (rectangle(0.0, 1.0, 0.0, 1.0, 3, 3, order), rectangle(0.0, 1.0, 1.0, 2.0, 3, 3, order));
+            let offset = mesh.n_points();
+            mesh.cell_tags = vec![1; mesh.n_cells()];
+            mesh.points.extend(&upper.points);
+            mesh.cell_nodes.extend(upper.cell_nodes.iter().map(|n| n + offset));
+            mesh.cell_tags.extend(vec![2; upper.n_cells()]);
+            let values: Vec<[f64; 2]> =
+                (0..mesh.n_points()).map(|n| if n < offset { [0.0; 2] } else { [1.0, 2.0] }).collect();
+            let points: Vec<[f64; 2]> = [0.0, 0.3, 0.5, 1.0].iter().flat_map(|&x| [[x, 1.0], [x, 1.0]]).collect();
+            let tags: Vec<i32> = (0..points.len()).map(|i| 1 + (i % 2) as i32).collect();
+            for (u, tag) in interpolate_by_tag(&mesh, &values, &points, &tags).into_iter().zip(&tags) {
+                assert_eq!(u, if *tag == 1 { [0.0; 2] } else { [1.0, 2.0] }, "P{order}, tag {tag}");
+            }
+            let plain = interpolate(&mesh, &values, &points);
+            assert!(plain.chunks(2).all(|pair| pair[0] == pair[1]), "P{order}: one side for both copies");
+        }
+    }
 
     #[test]
     fn rings_cover_the_grid_once() {
