@@ -236,7 +236,7 @@ pub struct ContactSummary {
     /// ∫_{Γ_C} p_c ds and ∫_{Γ_C} t^t ds along τ = (−ν_y, ν_x) \[N/m\].
     pub normal_force: f64,
     pub tangential_force: f64,
-    /// With friction, FS_LE = ∫ (c χ_δ(P_γ) + F p_c) / |∫ t^t| (docs/method.md §1.7, §1.9).
+    /// With friction, FS_LE = ∫ (c q'(P_γ) + F p_c) / |∫ t^t| (docs/method.md §1.7, §1.9).
     sliding_safety_factor: Option<f64>,
     /// With uplift: U = ∫_{Γ_C} p_u ds \[N/m\], and, with one diagram, the crack at the heel
     /// that it fills (each curve's in `curves`).

@@ -7,17 +7,14 @@
 //!
 //! exact for δ = 0 and C¹ for δ > 0 (the same smoothing as the normal part), so that η_reg
 //! keeps meaning "the error that δ causes". The threshold S depends on the normal argument
-//! P^n_γ through the contact pressure p_c = −q(P^n) and the closed indicator χ(P^n):
+//! P^n_γ through the contact pressure p_c = −q(P^n) and the closed indicator q'(P^n):
 //!
 //! | law | S |
 //! |---|---|
 //! | frictionless | 0 |
 //! | Tresca | s |
 //! | Coulomb | F p_c = −F q(P^n) |
-//! | Mohr–Coulomb | c χ(P^n) − F q(P^n): cohesion on the closed part only |
-//!
-//! with χ = [`Smoothing::indicator`] the C¹ closed indicator (1 where P^n ≤ −δ, 0 where
-//! P^n ≥ δ), so that S, and with it Π_S, is C¹ in P^n for every law.
+//! | Mohr–Coulomb | c q'(P^n) − F q(P^n): cohesion on the closed part only |
 
 use super::projection::Smoothing;
 
@@ -56,23 +53,13 @@ impl JointLaw {
     /// exactly (docs/method.md §1.6). Between the cuts P_γ has degree p, and the integrands are
     /// a traction times test functions of degree ≤ p + 1 (ψ_a q_m of the reconstruction). The
     /// normal traction q(P_γ) and a constant threshold's clamp q(S − P^t) have degree ≤ 2p: p + 2
-    /// points (exact to degree 2p + 3 ≥ 3p + 1). The threshold S has degree d = 2p (Coulomb,
-    /// −F q(P_γ) where P_γ is smoothed) or 3p (Mohr–Coulomb, with the cubic χ(P_γ)), its clamp
-    /// q(S − P^t) then degree 2d, and ⌈(2d + p + 2)/2⌉ points are exact to degree 2d + p + 1.
+    /// points (exact to degree 2p + 3 ≥ 3p + 1). Coulomb's threshold −F q(P_γ) has degree 2p where
+    /// P_γ is smoothed, its clamp q(S − P^t) then degree 4p, and ⌈(5p + 2)/2⌉ points are exact to
+    /// degree 5p + 1.
     pub fn face_points(&self, order: usize) -> usize {
         match self {
             JointLaw::Frictionless | JointLaw::Tresca { .. } => order + 2,
-            JointLaw::Coulomb { .. } | JointLaw::MohrCoulomb { .. } => (2 * self.margin_degree(order) + order + 3) / 2,
-        }
-    }
-
-    /// The degree in the arc length of the margins S ∓ P^t between the cuts of P_γ: p for a
-    /// constant threshold, 2p for Coulomb's −F q(P_γ), 3p for Mohr–Coulomb's c χ(P_γ) − F q(P_γ).
-    pub fn margin_degree(&self, order: usize) -> usize {
-        match self {
-            JointLaw::Frictionless | JointLaw::Tresca { .. } => order,
-            JointLaw::Coulomb { .. } => 2 * order,
-            JointLaw::MohrCoulomb { .. } => 3 * order,
+            JointLaw::Coulomb { .. } | JointLaw::MohrCoulomb { .. } => (5 * order + 3) / 2,
         }
     }
 
@@ -106,8 +93,8 @@ impl JointLaw {
             JointLaw::Tresca { threshold } => (threshold, 0.0),
             JointLaw::Coulomb { friction } => (-friction * q.value(p_n), -friction * q.derivative(p_n)),
             JointLaw::MohrCoulomb { friction, cohesion } => (
-                cohesion * q.indicator(p_n) - friction * q.value(p_n),
-                cohesion * q.indicator_slope(p_n) - friction * q.derivative(p_n),
+                cohesion * q.derivative(p_n) - friction * q.value(p_n),
+                cohesion * q.second_derivative(p_n) - friction * q.derivative(p_n),
             ),
         }
     }

@@ -151,7 +151,7 @@ pub struct FaceState {
     pub uplift: f64,
     /// The first moment ∫_F x p_c ds of the contact pressure.
     pub pressure_moment: [f64; 2],
-    /// ∫_F χ(P_γ(u_h)) ds, the length over which the solved equations apply a cohesion: the
+    /// ∫_F q'(P_γ(u_h)) ds, the length over which the solved equations apply a cohesion: the
     /// smoothed closed indicator of docs/method.md §1.7 (the closed length at δ = 0).
     pub cohesive_length: f64,
     /// The ends of the closed part of F (from its first closed point to its last), if any.
@@ -377,7 +377,7 @@ fn face_state(nitsche: &Nitsche, smoothing: Smoothing, k: usize, u: &FaceDisplac
         for (m, x) in state.pressure_moment.iter_mut().zip(pt.x) {
             *m -= x * t_n * w;
         }
-        state.cohesive_length += smoothing.indicator(p) * w;
+        state.cohesive_length += smoothing.derivative(p) * w;
         let [normal, tangential] = nitsche.displacement_at(k, &pt, u);
         state.normal_displacement += normal * mean;
         state.contact_length += if p < 0.0 { w } else { 0.0 };
@@ -643,8 +643,8 @@ impl ContactSolution {
     }
 
     /// The forces on the faces k with `on(k)`, each face with its curve's law (docs/method.md
-    /// §1.9): N = ∫ p_c ds, T = ∫ t^t ds, the contact length and FS_LE = ∫ (c χ_δ(P_γ) + F p_c)
-    /// ds / |T| (s χ_δ(P_γ) for Tresca, χ_δ the closed indicator; 1_closed at δ = 0), None without friction or
+    /// §1.9): N = ∫ p_c ds, T = ∫ t^t ds, the contact length and FS_LE = ∫ (c q'(P_γ) + F p_c)
+    /// ds / |T| (s q'(P_γ) for Tresca, q' the smoothed closed indicator; 1_closed at δ = 0), None without friction or
     /// shear there.
     pub fn forces(&self, on: impl Fn(usize) -> bool) -> JointForces {
         let (mut n, mut t, mut contact_length, mut capacity, mut friction) = (0.0, 0.0, 0.0, 0.0, false);

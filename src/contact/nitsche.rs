@@ -430,9 +430,8 @@ impl Nitsche {
 
     /// The cuts of [`Nitsche::cuts`] at the breakpoints of `smoothing`, and with friction the
     /// parameters where S − P^t or P^t + S crosses a breakpoint, sorted. Between two normal
-    /// cuts both are polynomials in s of the degree of [`JointLaw::margin_degree`] (2p for
-    /// S = −F q(P_γ) with q quadratic where P_γ is smoothed, 3p with the cubic closed indicator
-    /// of cohesion): fitted, split where they are monotone, and bisected, so that every
+    /// cuts both are polynomials of degree ≤ 2p in s (S = −F q(P_γ) with q quadratic where
+    /// P_γ is smoothed): fitted, split where they are monotone, and bisected, so that every
     /// crossing is found, two close together as well as one.
     pub fn kinks(&self, k: usize, u: &FaceDisplacement, smoothing: Smoothing) -> Vec<f64> {
         let mut cuts = self.cuts(k, u, &smoothing.breakpoints());
@@ -446,11 +445,11 @@ impl Nitsche {
             let p_t = self.p_tangential(k, &point, u);
             [t.threshold - p_t, p_t + t.threshold]
         };
-        let (mut tangential, degree) = (Vec::new(), self.law(k).margin_degree(self.order));
+        let mut tangential = Vec::new();
         for w in cuts.windows(2).filter(|w| w[1] > w[0]) {
             for side in 0..2 {
                 for &level in &levels {
-                    tangential.extend(sign_changes(|s| margins(s)[side] - level, degree, w[0], w[1]));
+                    tangential.extend(sign_changes(|s| margins(s)[side] - level, 2 * self.order, w[0], w[1]));
                 }
             }
         }

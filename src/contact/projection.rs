@@ -49,27 +49,12 @@ impl Smoothing {
         }
     }
 
-    /// The closed indicator χ_δ(x) of a cohesive joint: 1 for x ≤ −δ, 0 for x ≥ δ and the cubic
-    /// ½ − ¾ (x/δ) + ¼ (x/δ)³ between, C¹ (its slope vanishes at ±δ), monotone, with the same
-    /// breakpoints as \[x\]_{reg,δ} (δ = 0: 1 for x < 0, 0 for x ≥ 0; `CLOSED`: 1).
-    pub fn indicator(&self, x: f64) -> f64 {
-        let d = self.delta;
-        if x <= -d && !(d == 0.0 && x == 0.0) {
-            1.0
-        } else if x >= d {
-            0.0
-        } else {
-            let r = x / d;
-            0.5 - 0.75 * r + 0.25 * r * r * r
-        }
-    }
-
-    /// Its slope χ_δ'(x) = −(3/(4δ))(1 − (x/δ)²) for |x| < δ and 0 elsewhere (0 for δ = 0:
-    /// the semismooth choice).
-    pub fn indicator_slope(&self, x: f64) -> f64 {
+    /// Its second derivative, −1/(2δ) for |x| < δ and 0 elsewhere (0 for δ = 0: the
+    /// semismooth choice). The closed indicator q'(P^n) of a cohesive joint has it as slope.
+    pub fn second_derivative(&self, x: f64) -> f64 {
         let d = self.delta;
         if d > 0.0 && x.abs() < d {
-            -0.75 / d * (1.0 - (x / d) * (x / d))
+            -0.5 / d
         } else {
             0.0
         }
@@ -112,18 +97,7 @@ mod tests {
         for x in [-0.3, 0.3] {
             assert!((p.value(x - 1e-9) - p.value(x + 1e-9)).abs() < 1e-8);
         }
-        // the closed indicator: 1 to 0, monotone, C¹, its slope the derivative of its values
-        for &x in &xs {
-            // at ±δ, where χ'' jumps by 1.5/δ², central differences err by |χ''| h/4
-            let h = 1e-8;
-            let fd = (p.indicator(x + h) - p.indicator(x - h)) / (2.0 * h);
-            assert!((fd - p.indicator_slope(x)).abs() < 1e-6, "indicator slope at {x}");
-            assert!((0.0..=1.0).contains(&p.indicator(x)) && p.indicator_slope(x) <= 0.0, "indicator at {x}");
-        }
-        assert_eq!((p.indicator(-0.3), p.indicator(0.0), p.indicator(0.3)), (1.0, 0.5, 0.0));
-        assert_eq!((p.indicator_slope(-0.3), p.indicator_slope(0.3)), (0.0, 0.0));
         let plain = Smoothing::NONE;
-        assert_eq!((plain.indicator(-1e-9), plain.indicator(0.0), Smoothing::CLOSED.indicator(5.0)), (1.0, 0.0, 1.0));
         assert_eq!((plain.value(-2.0), plain.value(1.0)), (-2.0, 0.0));
         assert_eq!((plain.derivative(-2.0), plain.derivative(1.0), plain.derivative(0.0)), (1.0, 0.0, 0.0));
     }
