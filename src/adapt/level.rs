@@ -79,7 +79,7 @@ fn linearisation_small(g: &GlobalEstimators, gamma_lin: f64) -> bool {
 }
 
 /// (S_reg): η_reg ≤ γ_reg (η_osc + η_flux + η_Neu + η_disc + η_lin).
-fn regularisation_small(g: &GlobalEstimators, gamma_reg: f64) -> bool {
+pub(super) fn regularisation_small(g: &GlobalEstimators, gamma_reg: f64) -> bool {
     g.reg <= gamma_reg * (g.osc + g.flux + g.neu + g.disc + g.lin)
 }
 

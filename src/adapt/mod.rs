@@ -216,6 +216,9 @@ pub struct StepRecord {
     pub delta: Option<f64>,
     pub n_reg: usize,
     pub n_lin: usize,
+    /// With contact, whether the final estimate meets (S_reg): false when Newton stalled at
+    /// the smaller δ and the level ended at a larger δ solved on it (docs/method.md §5.3).
+    pub regularisation_balanced: Option<bool>,
     /// Estimates computed on this mesh (at least the final one).
     pub n_est: usize,
     /// The largest relative violation of an equilibration condition by the final estimate.
@@ -357,6 +360,7 @@ pub fn run(
             delta: contact.map(|c| c.smoothing.delta),
             n_reg: level.n_reg,
             n_lin: level.n_lin,
+            regularisation_balanced: contact.map(|_| level::regularisation_small(&eta, settings.gamma_reg)),
             n_est: level.n_est,
             equilibration: level.estimate.equilibration.worst(problem.mesh.order),
             i_eff: None,

@@ -301,7 +301,9 @@ fn safety_analyses_the_joint_it_is_given() {
 // so N is its weight ρ g |A| (A the trapezoid 0 ≤ x ≤ 26 − 0.7 (y − 20), 20 ≤ y ≤ 50) and −T
 // the water's thrust on its upstream face, ρ_w g ∫₂₀⁵⁰ (65 − y) dy, both to 10⁻⁶; the joint
 // opens at its upstream end (the contact zone ends at the downstream end x = 26 m and starts
-// inside the joint), and η_tot falls along the adaptive run.
+// inside the joint), and η_tot falls along the adaptive run; each step's
+// `regularisation_balanced` says whether its η values meet (S_reg), η_reg ≤ γ_reg (η_osc +
+// η_flux + η_Neu + η_disc + η_lin) with the default γ_reg = 0.1 (docs/method.md §5.3).
 // Parameters: P2, gmsh's sizes × 2; `adapt` three steps.
 #[test]
 fn lift_joint_opens_at_its_upstream_end() {
@@ -334,6 +336,11 @@ fn lift_joint_opens_at_its_upstream_end() {
     println!("adapt: η_tot {eta:?}");
     assert_eq!(eta.len(), 3);
     assert!(eta.windows(2).all(|w| w[1] < w[0]), "η_tot {eta:?}");
+    for step in history["steps"].as_array().unwrap() {
+        let g = |k: &str| step["eta"][k].as_f64().unwrap();
+        let balanced = g("reg") <= 0.1 * (g("osc") + g("flux") + g("neu") + g("disc") + g("lin"));
+        assert_eq!(step["regularisation_balanced"].as_bool(), Some(balanced), "{step}");
+    }
 }
 
 /// ∫₀ᴸ p ds of the piecewise linear diagram through the points (s, p), s increasing.
