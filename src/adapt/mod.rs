@@ -216,6 +216,9 @@ pub struct StepRecord {
     pub delta: Option<f64>,
     pub n_reg: usize,
     pub n_lin: usize,
+    /// With contact, on the last mesh: Newton finished after (S_lin) stopped it, to the
+    /// residual tolerance; the step's iterate, forces and estimate are the finished ones.
+    pub finish: Option<level::Finish>,
     /// With contact, whether the final estimate meets (S_reg): false when Newton stalled at
     /// the smaller δ and the level ended at a larger δ solved on it (docs/method.md §5.3).
     pub regularisation_balanced: Option<bool>,
@@ -331,12 +334,6 @@ pub fn run(
                 level::contact_level(&problem, &disc, joint, &model.newton(), settings, x0, start)?
             }
         };
-        let contact = level.solution.contact();
-        kept = contact.map(|c| (c.smoothing.delta, level.trend));
-        cracks = contact.map_or_else(Vec::new, |c| c.cracks.clone());
-        let line = model.joint_line(&problem);
-        seconds.solve = level.solve_seconds;
-        seconds.estimate = level.estimate_seconds;
         let eta = level.estimate.estimators.global();
         let stress = stress_norm(&problem, &level.estimate.reconstruction);
         let tol = settings.tolerance(stress);
@@ -351,6 +348,18 @@ pub fn run(
             (!sizes.is_empty()).then(|| stalled(settings.bulk, floor, &problem.mesh, eta_cells, &sizes)).flatten();
         done |= stall.is_some();
         seconds.remesh = clock.elapsed().as_secs_f64();
+        // the last mesh reports the iterate of Newton finished to its residual tolerance
+        let level = if done { level.finish(&model.newton(), settings)? } else { level };
+        let (eta, stress) = match level.finish {
+            Some(_) => (level.estimate.estimators.global(), stress_norm(&problem, &level.estimate.reconstruction)),
+            None => (eta, stress),
+        };
+        let contact = level.solution.contact();
+        kept = contact.map(|c| (c.smoothing.delta, level.trend));
+        cracks = contact.map_or_else(Vec::new, |c| c.cracks.clone());
+        let line = model.joint_line(&problem);
+        seconds.solve = level.solve_seconds;
+        seconds.estimate = level.estimate_seconds;
         let record = StepRecord {
             step,
             cells: problem.mesh.n_cells(),
@@ -360,6 +369,7 @@ pub fn run(
             delta: contact.map(|c| c.smoothing.delta),
             n_reg: level.n_reg,
             n_lin: level.n_lin,
+            finish: level.finish,
             regularisation_balanced: contact.map(|_| level::regularisation_small(&eta, settings.gamma_reg)),
             n_est: level.n_est,
             equilibration: level.estimate.equilibration.worst(problem.mesh.order),
@@ -384,6 +394,7 @@ pub fn run(
             break;
         }
         let u = problem.displacement(&disc, level.solution.x());
+        drop(level);
         previous = Some((problem.mesh, u, sizes));
     }
     Ok(history)
