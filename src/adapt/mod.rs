@@ -5,7 +5,9 @@
 //! estimator-driven stopping rules of [`level`]: Newton stops once
 //! η_lin ≤ γ_lin (η_osc + η_flux + η_Neu + η_disc), and δ is divided by ρ_δ until
 //! η_reg ≤ γ_reg (η_osc + η_flux + η_Neu + η_disc + η_lin). The run stops when η_tot meets the
-//! tolerance or after the last step; otherwise η_tot,T gives every cell a target size
+//! tolerance or after the last step, on a mesh whose Newton run is then finished to the
+//! residual tolerance and estimated again ([`level::Level::finish`]), so that the last step
+//! reports the iterate of the equations solved; otherwise η_tot,T gives every cell a target size
 //! ([`marking`]: equidistribution, or marking), and these sizes define the next mesh. δ is
 //! kept from one mesh to the next. On the first mesh, one Newton step from u = 0 at
 //! δ = `delta0` × S (S the stress scale of the loads) gives u_h¹, and δ₀ = `delta0` × max over
