@@ -213,12 +213,14 @@ impl<'a> Level<'a> {
     /// [`Crack::TOLERANCE`] L takes no solve). The forces, crack and estimate of the level are
     /// then those of one iterate that solves the equations to Newton's tolerance. The counters
     /// and the estimate that (S_lin) stopped on go to [`Level::finish`]; N_reg, N_lin and N_est
-    /// stay those of the adaptive solve. A level without Γ_C is returned as it is.
+    /// stay those of the adaptive solve. A level without Γ_C is returned as it is; a failure
+    /// is an error ([`AdaptError::Finish`]), never the unfinished iterate.
     pub fn finish(mut self, newton: &NewtonOptions, settings: &AdaptSettings) -> Result<Level<'a>, AdaptError> {
         let Some(contact) = self.system.take() else { return Ok(self) };
         let x = self.solution.x().to_vec();
         let run = Run { x, delta: contact.smoothing.delta, trend: self.trend, stages: Vec::new(), solve_seconds: 0.0 };
-        let mut finished = solve_level(contact, newton, settings, run, Stopping::Residual)?;
+        let mut finished = solve_level(contact, newton, settings, run, Stopping::Residual)
+            .map_err(|e| AdaptError::Finish(Box::new(e)))?;
         finished.finish = Some(Finish {
             n_lin: finished.n_lin,
             n_reg: finished.n_reg,

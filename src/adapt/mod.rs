@@ -156,6 +156,8 @@ pub enum AdaptError {
     Regularisation { delta: f64, reductions: usize, eta_reg: f64 },
     #[error(transparent)]
     Contact(#[from] ContactError),
+    #[error("finishing Newton on the last mesh to the residual tolerance: {0}")]
+    Finish(Box<AdaptError>),
     #[error("writing step {step}: {source}")]
     Output { step: usize, source: Box<dyn std::error::Error + Send + Sync> },
 }
