@@ -16,8 +16,8 @@ pub struct Level<'a> {
     /// The final iterate, with its contact state.
     pub solution: Solution,
     pub estimate: Estimate,
-    /// Number of δ reductions, of Newton steps and of estimates on this level (those of
-    /// [`Level::finish`] included in N_est only).
+    /// Number of δ reductions, of Newton steps and of estimates of the adaptive solve on this
+    /// level (those of [`Level::finish`] are in `finish`).
     pub n_reg: usize,
     pub n_lin: usize,
     pub n_est: usize,
@@ -211,10 +211,10 @@ impl<'a> Level<'a> {
     /// a Newton run: the finished iterate estimated, δ ← δ/ρ_δ while (S_reg) fails on that
     /// estimate, and the cracks settled again from it (a crack that stays within
     /// [`Crack::TOLERANCE`] L takes no solve). The forces, crack and estimate of the level are
-    /// then those of one iterate that solves the equations to Newton's tolerance. The counters
-    /// and the estimate that (S_lin) stopped on go to [`Level::finish`]; N_reg, N_lin and N_est
-    /// stay those of the adaptive solve. A level without Γ_C is returned as it is; a failure
-    /// is an error ([`AdaptError::Finish`]), never the unfinished iterate.
+    /// then those of one iterate that solves the equations to Newton's tolerance. Its counters,
+    /// wall time and the η_lin that (S_lin) stopped on go to the level's [`Finish`]; N_reg,
+    /// N_lin and N_est stay those of the adaptive solve. A level without Γ_C is returned as it
+    /// is; a failure is an error ([`AdaptError::Finish`]), never the unfinished iterate.
     pub fn finish(mut self, newton: &NewtonOptions, settings: &AdaptSettings) -> Result<Level<'a>, AdaptError> {
         let Some(contact) = self.system.take() else { return Ok(self) };
         let x = self.solution.x().to_vec();
@@ -233,7 +233,7 @@ impl<'a> Level<'a> {
             // the solves of the crack's fixed point on this mesh: the level's, then the re-solves here
             for (crack, earlier) in after.cracks.iter_mut().zip(&before.cracks) {
                 if let (Some(c), Some(e)) = (crack, earlier) {
-                    c.iterations += e.iterations - 1;
+                    c.iterations += e.iterations.saturating_sub(1);
                 }
             }
         }
