@@ -28,7 +28,8 @@
 //!    ▼
 //!  estimate             AFW patch problems → σ_h1 + σ_h2 + σ_h3 → η_osc … η_lin, checks
 //!    ▼
-//!  adapt                Newton stopped by η_lin, δ by η_reg; marking, gmsh remeshing with a
+//!  adapt                Newton stopped by η_lin, δ by η_reg (on the last mesh Newton
+//!    │                  finished to its tolerance); marking, gmsh remeshing with a
 //!    │                  size field from η_T, the displacement moved to the new mesh
 //!    ▼
 //!  io::vtu / io::pvd    ParaView files; cli writes summaries, histories, plots and the

@@ -7,17 +7,19 @@ use std::path::{Path, PathBuf};
 
 /// Columns of [`to_csv`].
 const HEADER: &str = "step,cells,unknowns,eta_osc,eta_flux,eta_Neu,eta_disc,eta_reg,eta_lin,eta_tot,stress_norm,\
-delta,n_reg,n_lin,n_est,equilibration,i_eff,crack_length,normal_force,tangential_force,resultant_position,eccentricity,\
+delta,n_reg,n_lin,n_est,n_finish,equilibration,i_eff,crack_length,normal_force,tangential_force,resultant_position,eccentricity,\
 t_mesh,t_transfer,t_assemble,t_solve,t_estimate,t_remesh,elapsed";
 
-/// One line per step; δ is empty without contact, I_eff when it was not computed, the joint's
-/// numbers without a straight joint with a heel (docs/method.md §1.9).
+/// One line per step; δ is empty without contact, n_finish (the Newton steps that finished
+/// the last mesh's run) on the other steps, I_eff when it was not computed, the joint's numbers
+/// without a straight joint with a heel (docs/method.md §1.9).
 pub fn to_csv(history: &[StepRecord]) -> String {
     let mut csv = format!("{HEADER}\n");
     for r in history {
         let (e, t) = (&r.eta, &r.seconds);
         let number = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:e}"));
         let delta = number(r.delta);
+        let n_finish = r.finish.map_or(String::new(), |f| f.n_lin.to_string());
         let i_eff = r.i_eff.map_or(String::new(), |i| format!("{i:.4}"));
         let joint = [
             r.crack_length,
@@ -29,7 +31,7 @@ pub fn to_csv(history: &[StepRecord]) -> String {
         .map(number)
         .join(",");
         csv += &format!(
-            "{},{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{delta},{},{},{},{:.1e},{i_eff},{joint},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6}\n",
+            "{},{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{delta},{},{},{},{n_finish},{:.1e},{i_eff},{joint},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6}\n",
             r.step,
             r.cells,
             r.unknowns,

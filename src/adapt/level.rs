@@ -8,14 +8,16 @@ use crate::elasticity::{Discretisation, Problem, Refined};
 use crate::estimate::estimators::GlobalEstimators;
 use crate::estimate::{estimate_displacement, Estimate};
 use crate::solve::{newton_until, Iterate, NewtonError, NewtonOptions};
+use serde::Serialize;
 use std::time::Instant;
 
 /// The result of one mesh level.
-pub struct Level {
+pub struct Level<'a> {
     /// The final iterate, with its contact state.
     pub solution: Solution,
     pub estimate: Estimate,
-    /// Number of δ reductions, of Newton steps and of estimates on this level.
+    /// Number of δ reductions, of Newton steps and of estimates of the adaptive solve on this
+    /// level (those of [`Level::finish`] are in `finish`).
     pub n_reg: usize,
     pub n_lin: usize,
     pub n_est: usize,
@@ -24,10 +26,27 @@ pub struct Level {
     pub estimate_seconds: f64,
     /// The linearisation trend of the last estimate (None without Γ_C).
     pub trend: Option<Trend>,
+    /// What [`Level::finish`] took, once it has run.
+    pub finish: Option<Finish>,
+    /// With Γ_C, until [`Level::finish`]: the contact system at the δ and cracks of the
+    /// solution, its stiffness factorised.
+    system: Option<ContactProblem<'a>>,
+}
+
+/// Newton finished on the last mesh after (S_lin) stopped it (docs/method.md §5.3): its Newton
+/// steps (crack solves included), δ reductions and estimates, its wall time \[s\] (also in the
+/// level's solve and estimate times), and η_lin \[Pa m\] of the estimate that stopped Newton.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Finish {
+    pub n_lin: usize,
+    pub n_reg: usize,
+    pub n_est: usize,
+    pub seconds: f64,
+    pub eta_lin_stopped: f64,
 }
 
 /// Without Γ_C: one Cholesky solve and one estimate.
-pub fn linear_level(problem: &Problem, disc: &Discretisation) -> Result<Level, AdaptError> {
+pub fn linear_level<'a>(problem: &Problem, disc: &Discretisation) -> Result<Level<'a>, AdaptError> {
     let clock = Instant::now();
     let solution = problem.solve_refined(disc)?;
     let solve_seconds = clock.elapsed().as_secs_f64();
@@ -42,6 +61,8 @@ pub fn linear_level(problem: &Problem, disc: &Discretisation) -> Result<Level, A
         solve_seconds,
         estimate_seconds: clock.elapsed().as_secs_f64(),
         trend: None,
+        finish: None,
+        system: None,
     })
 }
 
@@ -158,20 +179,20 @@ const MAX_RETRIES: usize = 4;
 /// cannot hold. The prediction only saves estimates: Newton stops on an estimated (S_lin).
 /// The final iterate is always estimated. If Newton fails twice in a row below a δ_s solved on
 /// this level (at δ_s/ρ_δ, then at the middle), the level ends at δ_s with (S_reg) unmet.
-pub fn contact_level(
-    problem: &Problem,
-    disc: &Discretisation,
+pub fn contact_level<'a>(
+    problem: &'a Problem,
+    disc: &'a Discretisation,
     joint: &ContactJoint,
     newton: &NewtonOptions,
     settings: &AdaptSettings,
     x0: Vec<f64>,
     start: StartDelta,
-) -> Result<Level, AdaptError> {
+) -> Result<Level<'a>, AdaptError> {
     let delta = start.first_step(settings.delta0);
-    let mut contact = ContactProblem::new(problem, disc, joint, Smoothing { delta });
+    let contact = ContactProblem::new(problem, disc, joint, Smoothing { delta });
     let clock = Instant::now();
     let mut stages = Vec::new();
-    let (mut x, mut delta, mut trend) = match start {
+    let (x, delta, trend) = match start {
         StartDelta::Kept(_, trend) => (x0, delta, trend),
         StartDelta::FirstIterate { load_scale } => {
             let (stage, delta0) = first_iterate(&contact, x0, newton, settings.delta0, load_scale)?;
@@ -180,7 +201,83 @@ pub fn contact_level(
             (x1, delta0, None)
         }
     };
-    let (mut solve_seconds, mut estimates, mut n_reg) = (clock.elapsed().as_secs_f64(), EstimateCount::default(), 0);
+    let run = Run { x, delta, trend, stages, solve_seconds: clock.elapsed().as_secs_f64() };
+    solve_level(contact, newton, settings, run, Stopping::Linearisation)
+}
+
+impl<'a> Level<'a> {
+    /// Newton finished on the level's last iterate at its δ, to the residual tolerance of
+    /// `newton` (‖F‖ ≤ rtol ‖b‖, as `damfem solve`), and then what [`contact_level`] does after
+    /// a Newton run: the finished iterate estimated, δ ← δ/ρ_δ while (S_reg) fails on that
+    /// estimate, and the cracks settled again from it (a crack that stays within
+    /// [`Crack::TOLERANCE`] L takes no solve). The forces, crack and estimate of the level are
+    /// then those of one iterate that solves the equations to Newton's tolerance. Its counters,
+    /// wall time and the η_lin that (S_lin) stopped on go to the level's [`Finish`]; N_reg,
+    /// N_lin and N_est stay those of the adaptive solve. A level without Γ_C is returned as it
+    /// is; a failure is an error ([`AdaptError::Finish`]), never the unfinished iterate.
+    pub fn finish(mut self, newton: &NewtonOptions, settings: &AdaptSettings) -> Result<Level<'a>, AdaptError> {
+        let Some(contact) = self.system.take() else { return Ok(self) };
+        let x = self.solution.x().to_vec();
+        let run = Run { x, delta: contact.smoothing.delta, trend: self.trend, stages: Vec::new(), solve_seconds: 0.0 };
+        let mut finished = solve_level(contact, newton, settings, run, Stopping::Residual)
+            .map_err(|e| AdaptError::Finish(Box::new(e)))?;
+        finished.finish = Some(Finish {
+            n_lin: finished.n_lin,
+            n_reg: finished.n_reg,
+            n_est: finished.n_est,
+            seconds: finished.solve_seconds + finished.estimate_seconds,
+            eta_lin_stopped: self.estimate.estimators.global().lin,
+        });
+        if let (Solution::Contact(before), Solution::Contact(after)) = (&mut self.solution, &mut finished.solution) {
+            after.stages.splice(0..0, before.stages.drain(..));
+            // the solves of the crack's fixed point on this mesh: the level's, then the re-solves here
+            for (crack, earlier) in after.cracks.iter_mut().zip(&before.cracks) {
+                if let (Some(c), Some(e)) = (crack, earlier) {
+                    c.iterations += e.iterations.saturating_sub(1);
+                }
+            }
+        }
+        Ok(Level {
+            n_reg: self.n_reg,
+            n_lin: self.n_lin,
+            n_est: self.n_est,
+            solve_seconds: self.solve_seconds + finished.solve_seconds,
+            estimate_seconds: self.estimate_seconds + finished.estimate_seconds,
+            ..finished
+        })
+    }
+}
+
+/// Where [`solve_level`] starts: the iterate, δ, the trend of the last estimate, and the
+/// Newton stages already run on the level with their wall time \[s\].
+struct Run {
+    x: Vec<f64>,
+    delta: f64,
+    trend: Option<Trend>,
+    stages: Vec<Stage>,
+    solve_seconds: f64,
+}
+
+/// What stops Newton at each δ.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Stopping {
+    /// (S_lin) on an estimated iterate, or the residual tolerance.
+    Linearisation,
+    /// The residual tolerance alone.
+    Residual,
+}
+
+/// The loop of [`contact_level`] on `contact` from `run`, Newton stopped as `stopping` says.
+fn solve_level<'a>(
+    mut contact: ContactProblem<'a>,
+    newton: &NewtonOptions,
+    settings: &AdaptSettings,
+    run: Run,
+    stopping: Stopping,
+) -> Result<Level<'a>, AdaptError> {
+    let (problem, disc) = (contact.problem, contact.disc);
+    let Run { mut x, mut delta, mut trend, mut stages, mut solve_seconds } = run;
+    let (mut estimates, mut n_reg) = (EstimateCount::default(), 0);
     // the restarts at a larger δ since the last converged run, and the Newton steps of the
     // runs they discarded
     let (mut crack_solves, mut retries, mut discarded_steps) = (0, 0, 0);
@@ -196,7 +293,8 @@ pub fn contact_level(
         let clock = Instant::now();
         let attempt = newton_until(&contact, x.clone(), newton, |it: &Iterate| {
             let contracted = it.last.step == 1.0 && it.residual <= 0.5 * it.last.residual;
-            if !contracted || trend.is_some_and(|t| !t.promising(it.residual, settings.gamma_lin)) {
+            let promising = trend.is_none_or(|t| t.promising(it.residual, settings.gamma_lin));
+            if stopping == Stopping::Residual || !contracted || !promising {
                 return false;
             }
             let state = Linearisation::new(problem, disc, &contact.nitsche, smoothing, it.x_prev);
@@ -299,6 +397,8 @@ pub fn contact_level(
             solve_seconds,
             estimate_seconds: estimates.seconds,
             trend,
+            finish: None,
+            system: Some(contact),
         });
     }
 }

@@ -5,7 +5,9 @@
 //! estimator-driven stopping rules of [`level`]: Newton stops once
 //! η_lin ≤ γ_lin (η_osc + η_flux + η_Neu + η_disc), and δ is divided by ρ_δ until
 //! η_reg ≤ γ_reg (η_osc + η_flux + η_Neu + η_disc + η_lin). The run stops when η_tot meets the
-//! tolerance or after the last step; otherwise η_tot,T gives every cell a target size
+//! tolerance or after the last step, on a mesh whose Newton run is then finished to the
+//! residual tolerance and estimated again ([`level::Level::finish`]), so that the last step
+//! reports the iterate of the equations solved; otherwise η_tot,T gives every cell a target size
 //! ([`marking`]: equidistribution, or marking), and these sizes define the next mesh. δ is
 //! kept from one mesh to the next. On the first mesh, one Newton step from u = 0 at
 //! δ = `delta0` × S (S the stress scale of the loads) gives u_h¹, and δ₀ = `delta0` × max over
@@ -154,6 +156,8 @@ pub enum AdaptError {
     Regularisation { delta: f64, reductions: usize, eta_reg: f64 },
     #[error(transparent)]
     Contact(#[from] ContactError),
+    #[error("finishing Newton on the last mesh to the residual tolerance: {0}")]
+    Finish(Box<AdaptError>),
     #[error("writing step {step}: {source}")]
     Output { step: usize, source: Box<dyn std::error::Error + Send + Sync> },
 }
@@ -216,6 +220,9 @@ pub struct StepRecord {
     pub delta: Option<f64>,
     pub n_reg: usize,
     pub n_lin: usize,
+    /// With contact, on the last mesh: Newton finished after (S_lin) stopped it, to the
+    /// residual tolerance; the step's iterate, forces and estimate are the finished ones.
+    pub finish: Option<level::Finish>,
     /// With contact, whether the final estimate meets (S_reg): false when Newton stalled at
     /// the smaller δ and the level ended at a larger δ solved on it (docs/method.md §5.3).
     pub regularisation_balanced: Option<bool>,
@@ -331,12 +338,6 @@ pub fn run(
                 level::contact_level(&problem, &disc, joint, &model.newton(), settings, x0, start)?
             }
         };
-        let contact = level.solution.contact();
-        kept = contact.map(|c| (c.smoothing.delta, level.trend));
-        cracks = contact.map_or_else(Vec::new, |c| c.cracks.clone());
-        let line = model.joint_line(&problem);
-        seconds.solve = level.solve_seconds;
-        seconds.estimate = level.estimate_seconds;
         let eta = level.estimate.estimators.global();
         let stress = stress_norm(&problem, &level.estimate.reconstruction);
         let tol = settings.tolerance(stress);
@@ -351,6 +352,18 @@ pub fn run(
             (!sizes.is_empty()).then(|| stalled(settings.bulk, floor, &problem.mesh, eta_cells, &sizes)).flatten();
         done |= stall.is_some();
         seconds.remesh = clock.elapsed().as_secs_f64();
+        // the last mesh reports the iterate of Newton finished to its residual tolerance
+        let level = if done { level.finish(&model.newton(), settings)? } else { level };
+        let (eta, stress) = match level.finish {
+            Some(_) => (level.estimate.estimators.global(), stress_norm(&problem, &level.estimate.reconstruction)),
+            None => (eta, stress),
+        };
+        let contact = level.solution.contact();
+        kept = contact.map(|c| (c.smoothing.delta, level.trend));
+        cracks = contact.map_or_else(Vec::new, |c| c.cracks.clone());
+        let line = model.joint_line(&problem);
+        seconds.solve = level.solve_seconds;
+        seconds.estimate = level.estimate_seconds;
         let record = StepRecord {
             step,
             cells: problem.mesh.n_cells(),
@@ -360,6 +373,7 @@ pub fn run(
             delta: contact.map(|c| c.smoothing.delta),
             n_reg: level.n_reg,
             n_lin: level.n_lin,
+            finish: level.finish,
             regularisation_balanced: contact.map(|_| level::regularisation_small(&eta, settings.gamma_reg)),
             n_est: level.n_est,
             equilibration: level.estimate.equilibration.worst(problem.mesh.order),
@@ -384,6 +398,7 @@ pub fn run(
             break;
         }
         let u = problem.displacement(&disc, level.solution.x());
+        drop(level);
         previous = Some((problem.mesh, u, sizes));
     }
     Ok(history)

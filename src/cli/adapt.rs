@@ -363,12 +363,13 @@ fn step_line(r: &StepRecord) -> String {
     let crack = r.crack_length.map_or(String::new(), |c| format!("  crack {c:.3} m"));
     let resultant = r.resultant.map_or(String::new(), |f| format!("  resultant {:.3} m", f.position));
     let i_eff = r.i_eff.map_or(String::new(), |i| format!("  I_eff {i:.3}"));
+    let finish = r.finish.map_or(String::new(), |f| format!(" (+{} to the residual tolerance)", f.n_lin));
     let balance = match r.regularisation_balanced {
         Some(false) => "  (eta_reg above its share: Newton stalled at smaller delta)",
         _ => "",
     };
     format!(
-        "step {:>2}  {:>8} unknowns  eta {:.3e} ({:.2e} of |sigma_h|)  N_reg {:>2}  N_lin {:>2}{delta}{crack}{resultant}{i_eff}  {:.2} s{balance}",
+        "step {:>2}  {:>8} unknowns  eta {:.3e} ({:.2e} of |sigma_h|)  N_reg {:>2}  N_lin {:>2}{finish}{delta}{crack}{resultant}{i_eff}  {:.2} s{balance}",
         r.step,
         r.unknowns,
         r.eta.tot,

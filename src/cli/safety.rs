@@ -1,6 +1,6 @@
 //! `damfem safety`: the dam-safety analysis of a scene (docs/method.md §1.9). The adaptive
-//! loop of `damfem adapt` refines until η_tot ≤ `--tol-relative` ‖σ_h‖; on its last mesh the
-//! joint gives N, T, U, the contact and crack lengths, the resultant and the middle-third
+//! loop of `damfem adapt` refines until η_tot ≤ `--tol-relative` ‖σ_h‖; on its last mesh, whose
+//! Newton run the loop finishes to the residual tolerance, the joint gives N, T, U, the contact and crack lengths, the resultant and the middle-third
 //! check, the heel and toe normal stresses averaged over a stated length, FS_LE and FS_SR.
 
 use super::adapt::run_sequence;

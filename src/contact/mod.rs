@@ -303,13 +303,14 @@ impl<'a> ContactProblem<'a> {
 
     /// The solution `x` reached by `stages`, with the state of every face and the crack of
     /// each uplift diagram (`cracks`, in the order of `nitsche.uplift`; empty: none iterated).
-    /// The refinement lo of the last stage's report is kept if that report ends at `x`.
-    pub fn solution(self, x: Vec<f64>, stages: Vec<Stage>, cracks: Cracks) -> ContactSolution {
+    /// The refinement lo of the last stage's report is kept if that report ends at `x`. The
+    /// system stays, so that Newton may go on from `x`.
+    pub fn solution(&self, x: Vec<f64>, stages: Vec<Stage>, cracks: Cracks) -> ContactSolution {
         let faces = self.face_states(&x);
         let x_prev = stages.last().map_or_else(|| x.clone(), |s| s.report.x_prev.clone());
         let lo = stages.last().filter(|s| s.report.x == x).and_then(|s| s.report.lo.clone());
-        let smoothing = self.smoothing;
-        ContactSolution { x, lo, x_prev, smoothing, stages, faces, nitsche: self.nitsche, cracks, coarse: Vec::new() }
+        let (smoothing, nitsche) = (self.smoothing, self.nitsche.clone());
+        ContactSolution { x, lo, x_prev, smoothing, stages, faces, nitsche, cracks, coarse: Vec::new() }
     }
 
     /// The length open at the heel of each uplift diagram for `x`, over the faces of its curves
