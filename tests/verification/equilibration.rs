@@ -33,10 +33,11 @@ fn solve_and_check(problem: &Problem) -> (Vec<[f64; 2]>, Equilibration) {
 /// Goal: the divergence and interior normal-continuity conditions hold to round-off on
 /// cells of aspect ratio 1 to 10⁴ (they grew like the square of the aspect ratio, to 10⁻³).
 /// Parameters: V1 data on the structured rectangle \[0, 1\] × \[0, 1/a\], 4 × 4 cells, clamped
-/// bottom, a = 1, 10, 10², 10³, 10⁴, p = 1, 2. Measured: divergence ≤ 5.5·10⁻¹²,
-/// continuity ≤ 1.2·10⁻¹² (P1) and ≤ 6.1·10⁻¹² up to a = 10³, 4.6·10⁻¹⁰ at 10⁴ (P2). The
-/// last is the round-off of patch solutions that are themselves a² times too large (the face
-/// rows of a thin patch are nearly dependent; docs/method.md §4.1), not of their solver.
+/// bottom, a = 1, 10, 10², 10³, 10⁴, p = 1, 2. Measured (`-- --nocapture`): divergence
+/// ≤ 7.7·10⁻¹², continuity ≤ 6.5·10⁻¹³ (P1) and ≤ 9.4·10⁻¹² up to a = 10³, 2.1·10⁻¹⁰ at 10⁴
+/// (P2). The last is the round-off of patch solutions that are themselves a² times too large
+/// (the face rows of a thin patch are nearly dependent; docs/method.md §4.1), not of their
+/// solver.
 #[test]
 fn thin_cells_are_equilibrated_to_round_off() {
     for order in [1, 2] {
