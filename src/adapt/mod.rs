@@ -7,7 +7,9 @@
 //! η_reg ≤ γ_reg (η_osc + η_flux + η_Neu + η_disc + η_lin). The run stops when η_tot meets the
 //! tolerance or after the last step, on a mesh whose Newton run is then finished to the
 //! residual tolerance and estimated again ([`level::Level::finish`]), so that the last step
-//! reports the iterate of the equations solved; otherwise η_tot,T gives every cell a target size
+//! reports the iterate of the equations solved; a tolerance met before the finishing must
+//! hold for the finished estimate too, or the loop goes on from the finished iterate;
+//! otherwise η_tot,T gives every cell a target size
 //! ([`marking`]: equidistribution, or marking), and these sizes define the next mesh. δ is
 //! kept from one mesh to the next. On the first mesh, one Newton step from u = 0 at
 //! δ = `delta0` × S (S the stress scale of the loads) gives u_h¹, and δ₀ = `delta0` × max over
@@ -31,7 +33,7 @@ use crate::estimate::Estimate;
 use crate::estimate::EstimateError;
 use crate::mesh::Mesh;
 use crate::solve::{NewtonError, NewtonOptions, SolveError};
-use level::StartDelta;
+use level::{Level, StartDelta};
 use marking::Marking;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
@@ -134,6 +136,11 @@ impl AdaptSettings {
         let relative = self.tol_relative.map(|tol| tol * stress);
         self.tol.into_iter().chain(relative).reduce(f64::max)
     }
+
+    /// Whether η_tot meets the tolerance, given the global estimators and ‖σ_h‖.
+    fn met(&self, (eta, stress): (GlobalEstimators, f64)) -> bool {
+        self.tolerance(stress).is_some_and(|tol| eta.tot <= tol)
+    }
 }
 
 /// Why the adaptive loop stopped without finishing.
@@ -220,8 +227,9 @@ pub struct StepRecord {
     pub delta: Option<f64>,
     pub n_reg: usize,
     pub n_lin: usize,
-    /// With contact, on the last mesh: Newton finished after (S_lin) stopped it, to the
-    /// residual tolerance; the step's iterate, forces and estimate are the finished ones.
+    /// With contact, on the last mesh (or on a mesh whose finished estimate missed the
+    /// tolerance that its unfinished one met): Newton finished after (S_lin) stopped it, to
+    /// the residual tolerance; the step's iterate, forces and estimate are the finished ones.
     pub finish: Option<level::Finish>,
     /// With contact, whether the final estimate meets (S_reg): false when Newton stalled at
     /// the smaller δ and the level ended at a larger δ solved on it (docs/method.md §5.3).
@@ -338,26 +346,27 @@ pub fn run(
                 level::contact_level(&problem, &disc, joint, &model.newton(), settings, x0, start)?
             }
         };
-        let eta = level.estimate.estimators.global();
-        let stress = stress_norm(&problem, &level.estimate.reconstruction);
-        let tol = settings.tolerance(stress);
-        let mut done = step + 1 == settings.steps
-            || tol.is_some_and(|tol| eta.tot <= tol)
-            || settings.max_unknowns.is_some_and(|n| disc.dofs.n_free >= n);
+        // the last mesh reports the iterate of Newton finished to its residual tolerance, and
+        // the tolerance counts as met only on that iterate's estimate
+        let forced = step + 1 == settings.steps || settings.max_unknowns.is_some_and(|n| disc.dofs.n_free >= n);
+        let mut level = level;
+        if forced || settings.met(measures(&problem, &level)) {
+            level = level.finish(&model.newton(), settings)?;
+        }
+        let (mut eta, mut stress) = measures(&problem, &level);
+        let mut done = forced || settings.met((eta, stress));
         let clock = Instant::now();
         let eta_cells = &level.estimate.estimators.tot;
         let floor = marking::smallest_size(&problem.mesh).max(mesher.size_min().unwrap_or(0.0));
+        let tol = settings.tolerance(stress);
         let sizes = if done { Vec::new() } else { next_sizes(settings, &problem.mesh, eta_cells, tol, floor) };
         let stall =
             (!sizes.is_empty()).then(|| stalled(settings.bulk, floor, &problem.mesh, eta_cells, &sizes)).flatten();
-        done |= stall.is_some();
         seconds.remesh = clock.elapsed().as_secs_f64();
-        // the last mesh reports the iterate of Newton finished to its residual tolerance
-        let level = if done { level.finish(&model.newton(), settings)? } else { level };
-        let (eta, stress) = match level.finish {
-            Some(_) => (level.estimate.estimators.global(), stress_norm(&problem, &level.estimate.reconstruction)),
-            None => (eta, stress),
-        };
+        if stall.is_some() {
+            (done, level) = (true, level.finish(&model.newton(), settings)?);
+            (eta, stress) = measures(&problem, &level);
+        }
         let contact = level.solution.contact();
         kept = contact.map(|c| (c.smoothing.delta, level.trend));
         cracks = contact.map_or_else(Vec::new, |c| c.cracks.clone());
@@ -402,6 +411,11 @@ pub fn run(
         previous = Some((problem.mesh, u, sizes));
     }
     Ok(history)
+}
+
+/// The global estimators of a level and ‖σ_h‖ of its reconstruction.
+fn measures(problem: &Problem, level: &Level) -> (GlobalEstimators, f64) {
+    (level.estimate.estimators.global(), stress_norm(problem, &level.estimate.reconstruction))
 }
 
 /// Target cell sizes for the next mesh (empty for uniform refinement, which needs none).
