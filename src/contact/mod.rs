@@ -1000,12 +1000,17 @@ impl CrackSearch {
         if g.abs() <= tolerance || bracket.is_some_and(|[a, b]| b - a <= tolerance) {
             return Ok(bracket);
         }
-        let secant =
-            self.previous.filter(|&(_, g_prev)| g_prev != g).map(|(s, g_prev)| crack - g * (crack - s) / (g - g_prev));
+        // the secant step only where it moves s_c the way g points: where |g| grows with the
+        // crack (the crack feeds itself) it points back, to cracks whose g has the same sign
+        let secant = self
+            .previous
+            .filter(|&(_, g_prev)| g_prev != g)
+            .map(|(s, g_prev)| crack - g * (crack - s) / (g - g_prev))
+            .filter(|s| s.is_finite() && (s - crack) * g > 0.0);
         self.previous = Some((crack, g));
         Err(match bracket {
             Some([a, b]) => 0.5 * (a + b),
-            None => secant.filter(|s| s.is_finite()).unwrap_or(open).clamp(0.0, length),
+            None => secant.unwrap_or(open).clamp(0.0, length),
         })
     }
 }
@@ -1102,5 +1107,29 @@ impl Solution {
             Solution::Linear(_) => None,
             Solution::Contact(c) => Some(c),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::CrackSearch;
+
+    // A crack that feeds itself. Source: the base of geo/dam_lifts_on_rock_uplift.toml under a
+    // 55 m reservoir with its friction raised to 1.5 (docs/method.md §1.8), whose open lengths
+    // were 5.41 m with s_c = 0 and 17.53 m with s_c = 5.67 m. Goal: g = open − s_c grows with
+    // s_c, so the secant through the two points has its root behind both (at −4.4 m); the next
+    // crack must move the way g points (past the last crack, here the plain update s_c ← open),
+    // not back to 0 (clamped), where g > 0 is already known and the search would stay.
+    // Parameters: a joint of 40 m.
+    #[test]
+    fn a_crack_that_feeds_itself_grows() {
+        let mut search = CrackSearch::default();
+        assert_eq!(search.record(0.0, 5.67, 40.0), Err(5.67));
+        let next = search.record(5.67, 17.53, 40.0).unwrap_err();
+        assert_eq!(next, 17.53, "the secant's root lies behind both cracks");
+        // g falling towards 0 keeps the secant step: through (5.67, 11.86) and (17.53, 2.0)
+        let next = search.record(17.53, 19.53, 40.0).unwrap_err();
+        let secant = 17.53 - 2.0 * (17.53 - 5.67) / (2.0 - 11.86);
+        assert!((next - secant).abs() < 1e-12 && next > 19.53, "{next} against {secant}");
     }
 }
