@@ -933,7 +933,8 @@ pub struct NestedStart {
 /// the open length follows the crack closely), and once g has taken both signs, s_c ← the
 /// midpoint of the last crack of each sign (bisection: the open length may jump across the
 /// fixed point). Every diagram not yet settled is updated so, then Newton solves again from the
-/// last solution, until each has |g| ≤ [`Crack::TOLERANCE`] L or its bracket that narrow.
+/// last solution, until each has |g| ≤ [`Crack::TOLERANCE`] L or its bracket that narrow. A
+/// crack that moves clears the brackets of the others: their g changes with it.
 /// Returns the solution, the Newton stages of the new solves (none if `x` already settles
 /// them), and the crack of each diagram (None where it is not filled).
 pub fn settle_crack(
@@ -969,6 +970,16 @@ pub fn settle_crack(
         }
         if next.iter().all(Option::is_none) {
             return Ok((x, stages, cracks));
+        }
+        // a crack that moves changes the open length of the others: the signs of g they
+        // recorded before no longer bracket their fixed point
+        let moved: Vec<bool> = (next.iter().zip(&contact.nitsche.uplift))
+            .map(|(s, up)| s.is_some_and(|s| s != up.diagram.crack))
+            .collect();
+        for (d, search) in searches.iter_mut().enumerate() {
+            if moved.iter().enumerate().any(|(other, &m)| m && other != d) {
+                (search.below, search.above) = (None, None);
+            }
         }
         for (up, s) in contact.nitsche.uplift.iter_mut().zip(next) {
             up.diagram.crack = s.unwrap_or(up.diagram.crack);
