@@ -426,7 +426,42 @@ fn table(history: &[StepRecord]) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::{remesh_hint, AdaptError, Refinement};
+    use super::{remesh_hint, step_line, AdaptError, PhaseTimes, Refinement, StepRecord};
+    use crate::estimate::estimators::GlobalEstimators;
+
+    // The record of a step whose level ended at a δ_s solved on it after Newton failed below
+    // (docs/method.md §5.3; the level itself: tests/end_to_end/adapt.rs). Goal: history.json
+    // writes `regularisation_balanced: false` and the progress line says that Newton stalled
+    // at the smaller δ; a balanced step's line says nothing of it. Parameters: a record with
+    // η_reg = η_flux, above γ_reg = 0.1 of the rest.
+    #[test]
+    fn an_unbalanced_step_says_so() {
+        let eta = GlobalEstimators { osc: 0.0, flux: 1.0, neu: 0.0, disc: 0.0, reg: 1.0, lin: 0.0, tot: 2.0 };
+        let record = |balanced| StepRecord {
+            step: 0,
+            cells: 10,
+            unknowns: 20,
+            eta,
+            stress_norm: 1.0,
+            delta: Some(1.0),
+            n_reg: 1,
+            n_lin: 3,
+            regularisation_balanced: Some(balanced),
+            n_est: 1,
+            equilibration: 0.0,
+            i_eff: None,
+            crack_length: None,
+            resultant: None,
+            stall: None,
+            seconds: PhaseTimes::default(),
+            elapsed: 0.0,
+        };
+        let line = step_line(&record(false));
+        assert!(line.ends_with("(eta_reg above its share: Newton stalled at smaller delta)"), "{line}");
+        assert!(!step_line(&record(true)).contains("stalled"));
+        let json = serde_json::to_value(record(false)).unwrap();
+        assert_eq!(json["regularisation_balanced"], serde_json::Value::Bool(false), "{json}");
+    }
 
     #[test]
     fn a_failed_remesh_suggests_size_min_or_dorfler() {

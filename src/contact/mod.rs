@@ -934,7 +934,8 @@ pub struct NestedStart {
 /// the open length follows the crack closely), and once g has taken both signs, s_c ← the
 /// midpoint of the last crack of each sign (bisection: the open length may jump across the
 /// fixed point). Every diagram not yet settled is updated so, then Newton solves again from the
-/// last solution, until each has |g| ≤ [`Crack::TOLERANCE`] L or its bracket that narrow.
+/// last solution, until each has |g| ≤ [`Crack::TOLERANCE`] L or its bracket that narrow. A
+/// crack that moves clears the brackets of the others: their g changes with it.
 /// Returns the solution, the Newton stages of the new solves (none if `x` already settles
 /// them), and the crack of each diagram (None where it is not filled).
 pub fn settle_crack(
@@ -971,6 +972,16 @@ pub fn settle_crack(
         if next.iter().all(Option::is_none) {
             return Ok((x, stages, cracks));
         }
+        // a crack that moves changes the open length of the others: the signs of g they
+        // recorded before no longer bracket their fixed point
+        let moved: Vec<bool> = (next.iter().zip(&contact.nitsche.uplift))
+            .map(|(s, up)| s.is_some_and(|s| s != up.diagram.crack))
+            .collect();
+        for (d, search) in searches.iter_mut().enumerate() {
+            if moved.iter().enumerate().any(|(other, &m)| m && other != d) {
+                (search.below, search.above) = (None, None);
+            }
+        }
         for (up, s) in contact.nitsche.uplift.iter_mut().zip(next) {
             up.diagram.crack = s.unwrap_or(up.diagram.crack);
         }
@@ -1001,12 +1012,17 @@ impl CrackSearch {
         if g.abs() <= tolerance || bracket.is_some_and(|[a, b]| b - a <= tolerance) {
             return Ok(bracket);
         }
-        let secant =
-            self.previous.filter(|&(_, g_prev)| g_prev != g).map(|(s, g_prev)| crack - g * (crack - s) / (g - g_prev));
+        // the secant step only where it moves s_c the way g points: where |g| grows with the
+        // crack (the crack feeds itself) it points back, to cracks whose g has the same sign
+        let secant = self
+            .previous
+            .filter(|&(_, g_prev)| g_prev != g)
+            .map(|(s, g_prev)| crack - g * (crack - s) / (g - g_prev))
+            .filter(|s| s.is_finite() && (s - crack) * g > 0.0);
         self.previous = Some((crack, g));
         Err(match bracket {
             Some([a, b]) => 0.5 * (a + b),
-            None => secant.filter(|s| s.is_finite()).unwrap_or(open).clamp(0.0, length),
+            None => secant.unwrap_or(open).clamp(0.0, length),
         })
     }
 }
@@ -1103,5 +1119,29 @@ impl Solution {
             Solution::Linear(_) => None,
             Solution::Contact(c) => Some(c),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::CrackSearch;
+
+    // A crack that feeds itself. Source: the base of geo/dam_lifts_on_rock_uplift.toml under a
+    // 55 m reservoir with its friction raised to 1.5 (docs/method.md §1.8), whose open lengths
+    // were 5.67 m with s_c = 0 and 17.53 m with s_c = 5.67 m. Goal: g = open − s_c grows with
+    // s_c, so the secant through the two points has its root behind both (at −5.2 m); the next
+    // crack must move the way g points (past the last crack, here the plain update s_c ← open),
+    // not back to 0 (clamped), where g > 0 is already known and the search would stay.
+    // Parameters: a joint of 40 m.
+    #[test]
+    fn a_crack_that_feeds_itself_grows() {
+        let mut search = CrackSearch::default();
+        assert_eq!(search.record(0.0, 5.67, 40.0), Err(5.67));
+        let next = search.record(5.67, 17.53, 40.0).unwrap_err();
+        assert_eq!(next, 17.53, "the secant's root lies behind both cracks");
+        // g falling towards 0 keeps the secant step: through (5.67, 11.86) and (17.53, 2.0)
+        let next = search.record(17.53, 19.53, 40.0).unwrap_err();
+        let secant = 17.53 - 2.0 * (17.53 - 5.67) / (2.0 - 11.86);
+        assert!((next - secant).abs() < 1e-12 && next > 19.53, "{next} against {secant}");
     }
 }

@@ -480,3 +480,61 @@ fn adaptive_p2_reaches_the_optimal_rate_on_the_dam_on_rock() {
     eprintln!("adaptive rate {a:.3} over {} … {} unknowns", tail[0].unknowns, tail[3].unknowns);
     assert!((a + 1.0).abs() <= 0.1, "adaptive rate {a}");
 }
+
+/// Source: docs/method.md §5.3 (a level whose Newton runs fail twice below a δ_s solved on
+/// it). Goal: the fallback rule, triggered deterministically: a Newton budget of one step per
+/// run, met at δ_s from the iterate converged there but not at δ_s/ρ_δ nor at the middle
+/// √(δ_s δ_s/ρ_δ), with γ_lin so small that only the residual tolerance stops Newton; δ_s is
+/// large (four times the stress scale), so (S_reg) fails there and δ is reduced once. The
+/// level ends at δ_s (N_reg 1, N_lin 3: the step at δ_s and the two discarded runs) with the
+/// iterate of δ_s and its estimate, which fails (S_reg), is equilibrated (every check
+/// ≤ 10⁻¹⁰) and bounds the sharp reference of ‖R(u_h)‖ (I_eff ≥ 1). With the scene's own
+/// Newton budget the same level goes below δ_s and ends where (S_reg) holds.
+/// Parameters: Scene A, P1, gmsh's sizes × 4; Newton max_iter = 1, γ_lin = 10⁻¹², the
+/// default γ_reg = 0.1 and ρ_δ = 2.
+#[test]
+fn a_level_whose_newton_fails_below_delta_ends_at_the_delta_it_solved() {
+    use damfem::adapt::level::{contact_level, StartDelta};
+    use damfem::solve::newton;
+    let mut scene = scene("scene_a", 1);
+    scene.mesh.size_factor = 4.0;
+    let mesh = scene.mesher(Refinement::Adaptive).mesh(0, None).expect("mesh");
+    let (problem, joint) = scene.problem(mesh).expect("problem");
+    let joint = joint.expect("Scene A has a contact curve");
+    let disc = problem.discretise();
+    let delta_s = 4.0 * problem.stress_scale(&disc.topology);
+    let contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: delta_s });
+    let converged = newton(&contact, vec![0.0; disc.dofs.n_free], &scene.newton_options()).expect("Newton at δ_s");
+    drop(contact);
+    let settings = AdaptSettings { gamma_lin: 1e-12, ..Default::default() };
+    let one_step = NewtonOptions { max_iter: 1, ..scene.newton_options() };
+    let level =
+        contact_level(&problem, &disc, &joint, &one_step, &settings, converged.x, StartDelta::Kept(delta_s, None))
+            .unwrap_or_else(|e| panic!("the level ends at δ_s: {e}"));
+    let solution = level.solution.contact().expect("contact");
+    let g = level.estimate.estimators.global();
+    let equilibration = level.estimate.equilibration.worst(1);
+    let u = problem.displacement(&disc, &solution.x);
+    let reference = effectivity(&problem, &u, Some(&joint), g.tot).expect("reference");
+    eprintln!(
+        "δ_s {delta_s:.4e}: level at δ {:.4e}, N_reg {}, N_lin {}; η_reg {:.3e} against γ_reg × the rest {:.3e}; \
+         equilibration {equilibration:.1e}, I_eff {:.3}",
+        solution.smoothing.delta,
+        level.n_reg,
+        level.n_lin,
+        g.reg,
+        0.1 * (g.osc + g.flux + g.neu + g.disc + g.lin),
+        reference.i_eff
+    );
+    assert_eq!(solution.smoothing.delta, delta_s);
+    assert_eq!((level.n_reg, level.n_lin), (1, 3));
+    assert!(g.reg > settings.gamma_reg * (g.osc + g.flux + g.neu + g.disc + g.lin), "(S_reg) holds at δ_s: {g:?}");
+    assert!(equilibration <= 1e-10, "equilibration {equilibration:e}");
+    assert!(reference.i_eff >= 1.0, "I_eff {}", reference.i_eff);
+    let start = StartDelta::Kept(delta_s, None);
+    let x0 = solution.x.clone();
+    let free = contact_level(&problem, &disc, &joint, &scene.newton_options(), &settings, x0, start).expect("level");
+    let (delta, g) = (free.solution.contact().expect("contact").smoothing.delta, free.estimate.estimators.global());
+    eprintln!("the scene's Newton budget: δ {delta:.4e} after {} reductions", free.n_reg);
+    assert!(delta < delta_s && g.reg <= settings.gamma_reg * (g.osc + g.flux + g.neu + g.disc + g.lin), "δ {delta}");
+}

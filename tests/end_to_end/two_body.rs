@@ -3,7 +3,7 @@
 //! geo/scene_b.toml, and the refusals.
 
 use super::cli::{assert_ok, assert_refused, check_summary, damfem, repo, TempDir};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Writes geo/dam_on_rock.toml with `edit` applied into `tmp` as `name`, the geometry by
 /// absolute path.
@@ -609,4 +609,179 @@ fn safety_takes_the_sliding_planes_own_uplift() {
     assert_eq!(number(&report["crack_length"]), 0.0);
     assert!((u - expected).abs() <= 1e-9 * expected, "U = {u}, the lift joint's diagram gives {expected}");
     assert!((n + u - weight).abs() <= 1e-6 * weight, "N + U = {}, the upper block weighs {weight}", n + u);
+}
+
+/// geo/dam_lifts_on_rock_uplift.toml without its combinations, edited so that both joints crack
+/// at once: the reservoir at 55 m (on the dam, the rock and in both joints), a lower block of
+/// 3200 kg/m³, the base's drains 10 m from its heel and its friction 2; written into `tmp`.
+fn two_cracks_scene(tmp: &TempDir) -> PathBuf {
+    let text = std::fs::read_to_string(repo("geo/dam_lifts_on_rock_uplift.toml")).unwrap();
+    let geometry = format!("{:?}", repo("geo/dam_lifts_on_rock.geo").display().to_string());
+    let text = text[..text.find("\n[combinations.usual]").unwrap()]
+        .replace("\"dam_lifts_on_rock.geo\"", &geometry)
+        .replace("level = 45.0", "level = 55.0")
+        .replace("headwater = 45.0", "headwater = 55.0")
+        .replace(
+            "[materials.lower_block]\nE = 3.0e10\nnu = 0.2\nrho = 2400.0",
+            "[materials.lower_block]\nE = 3.0e10\nnu = 0.2\nrho = 3200.0",
+        )
+        .replace("drains = { x = 5.0,", "drains = { x = 10.0,")
+        .replace("friction = 0.8391\nslave = \"lower_block\"", "friction = 2.0\nslave = \"lower_block\"");
+    let path = tmp.join("two-cracks.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// The weights above each joint of the scene of [`two_cracks_scene`] \[N/m\]: (base, lift).
+fn two_cracks_weights() -> (f64, f64) {
+    let (lower, upper) = (0.5 * (40.0 + 26.0) * 20.0, 0.5 * (26.0 + 5.0) * 30.0);
+    (9.81 * (3200.0 * lower + 2400.0 * upper), 9.81 * 2400.0 * upper)
+}
+
+// Two cracks opening at once. Source: geo/dam_lifts_on_rock_uplift.toml with the reservoir at
+// 55 m, a lower block of 3200 kg/m³, the base's drains at 10 m and its friction 2
+// ([`two_cracks_scene`]); docs/method.md §1.8, §1.10. Goal: `damfem solve` opens both joints
+// at their heels, and both cracks settle in one fixed point (|open − s_c| ≤ 10⁻⁶ L each);
+// each block is held by its joint alone and the upstream face is vertical, so on each joint
+// N + U = the weight above it to 10⁻⁵ W and −T = the water's thrust on the face above it
+// (ρ_w g ∫_y^50 (55 − y') dy', the reservoir above the crest) to 10⁻⁶; each U
+// is its own diagram with its own crack to 10⁻⁹ (USACE, docs/method.md §1.8: ρ_w g 55 on the
+// base's crack, then its drains, the crack short of them; ρ_w g 35 on the lift's crack, then
+// linear to 0 at its toe); each joint is closed from its crack tip to its toe (its contact
+// length is L − s_c to within |open − s_c|: the normal traction changes sign at the tip, and
+// only there). `damfem adapt` finds two cracks on its second mesh, each settled, within a face
+// at the joint's end (0.75 m × 2) of those of `solve`, with the same statics; there the sides
+// no longer match, and up to 0.1 m past each tip may open again (0.043 m measured on the
+// base, 0.021 m on the lift joint).
+// Parameters: P2, gmsh's sizes × 2; `adapt` two steps.
+#[test]
+fn two_cracks_open_at_once() {
+    let tmp = TempDir::new("two-cracks");
+    let scene = two_cracks_scene(&tmp);
+    let gamma_w = 1000.0 * 9.81;
+    let (base_weight, lift_weight) = two_cracks_weights();
+    let base = |s_c: f64| {
+        let h_u = gamma_w * 55.0;
+        assert!(s_c < 10.0, "the base's crack {s_c} m reaches its drains");
+        integral(&[(0.0, h_u), (s_c, h_u), (10.0, (1.0 - 0.6667) * h_u * 30.0 / (40.0 - s_c)), (40.0, 0.0)])
+    };
+    let lift = |s_c: f64| integral(&[(0.0, gamma_w * 35.0), (s_c, gamma_w * 35.0), (26.0, 0.0)]);
+    // the water on the upstream face from y to the crest: ρ_w g ∫_y^50 (55 − y') dy'
+    let thrust = |y: f64| gamma_w * (55.0 * (50.0 - y) - 0.5 * (50.0f64.powi(2) - y * y));
+    let joints = [
+        ("base", 40.0, base_weight, thrust(0.0), &base as &dyn Fn(f64) -> f64),
+        ("lift", 26.0, lift_weight, thrust(20.0), &lift),
+    ];
+    // `open_beyond`: how much of the joint past its crack tip may be open
+    let cracks = |dir: &Path, open_beyond: f64| -> Vec<f64> {
+        let summary = check_summary(dir);
+        let curves = summary["contact"]["curves"].as_array().unwrap().clone();
+        let mut cracks = Vec::new();
+        for (name, length, weight, thrust, diagram) in &joints {
+            let c = curves.iter().find(|c| c["curve"] == *name).unwrap_or_else(|| panic!("{curves:?}"));
+            let number = |v: &serde_json::Value| v.as_f64().unwrap_or_else(|| panic!("{c}"));
+            let (n, t, u) = (number(&c["normal_force"]), number(&c["tangential_force"]), number(&c["uplift_force"]));
+            let (s_c, change, contact) =
+                (number(&c["crack"]["length"]), number(&c["crack"]["change"]), number(&c["contact_length"]));
+            let expected = diagram(s_c);
+            println!(
+                "{}: {name}: crack {s_c:.4} m (|open − s_c| {change:.1e} m, {} solves), contact {contact:.4} m; \
+                 N {n:.6e} U {u:.6e} (diagram {expected:.6e}), N + U − W = {:.1e} W, T {t:.6e}",
+                dir.display(),
+                c["crack"]["iterations"],
+                (n + u - weight) / weight
+            );
+            assert!(s_c > 1.0 && change <= 1e-6 * length, "{name}: {}", c["crack"]);
+            assert!((u - expected).abs() <= 1e-9 * expected, "{name}: U = {u}, its diagram gives {expected}");
+            assert!((n + u - weight).abs() <= 1e-5 * weight, "{name}: N + U = {}, W = {weight}", n + u);
+            assert!((t + thrust).abs() <= 1e-6 * thrust, "{name}: T = {t}, the thrust is {thrust}");
+            let closed_beyond = length - s_c;
+            assert!(
+                contact <= closed_beyond + change && contact >= closed_beyond - change - open_beyond,
+                "{name}: contact {contact} m, {closed_beyond} m past the tip"
+            );
+            cracks.push(s_c);
+        }
+        cracks
+    };
+    let solve_dir = tmp.join("solve");
+    assert_ok(&damfem(&[
+        "solve",
+        scene.to_str().unwrap(),
+        "--size-factor",
+        "2",
+        "-q",
+        "-o",
+        solve_dir.to_str().unwrap(),
+    ]));
+    let solved = cracks(&solve_dir, 1e-9 * 40.0);
+    let adapt_dir = tmp.join("adapt");
+    let args = ["--size-factor", "2", "--steps", "2", "-q", "-o", adapt_dir.to_str().unwrap()];
+    assert_ok(&damfem(&[&["adapt", scene.to_str().unwrap()], &args[..]].concat()));
+    let adapted = cracks(&adapt_dir, 0.1);
+    for (s, a) in solved.iter().zip(&adapted) {
+        assert!((s - a).abs() <= 1.5, "solve's cracks {solved:?}, adapt's {adapted:?}");
+    }
+}
+
+// The two cracks in either order. Source: the scene of [`two_cracks_open_at_once`]
+// ([`two_cracks_scene`]); docs/method.md §1.8. Goal: the fixed point does not depend on the
+// order in which the cracks settle: settled together from s_c = 0 (as `damfem solve` does),
+// and from the lift joint's crack given at that fixed point and the base's at 0 (the base
+// settles first, on it), each crack agrees to 10⁻⁵ L (the search stops at |open − s_c| ≤
+// 10⁻⁶ L, or a bracket that narrow, on each; measured: 2.8·10⁻⁷ L and 9.4·10⁻⁷ L; before a
+// moving crack cleared the others' brackets, the lift joint's closed on a bracket of zero
+// width, its two signs of g seen with two cracks of the base, at |open − s_c| = 5.2·10⁻⁵ L).
+// The base's crack given and the lift joint's at 0 is not tried: Newton stalls after the
+// first update of the cracks (to 7.03 m and 6.57 m at δ = 2·10⁴ Pa). On each joint of the
+// first, the normal traction changes sign at the crack tip: every face before the tip is
+// open (no contact length), every face past it closed over its whole length with a positive
+// pressure.
+// Parameters: P2, gmsh's sizes × 2, the δ of `damfem solve`.
+#[test]
+fn two_cracks_settle_in_either_order() {
+    use damfem::contact::{solve_by_continuation, ContactSolution};
+    use damfem::io::gmsh::{mesh_geo, MeshOptions};
+    let tmp = TempDir::new("two-cracks-order");
+    let scene = damfem::scene::Scene::load(&two_cracks_scene(&tmp)).unwrap_or_else(|e| panic!("{e}"));
+    let m = &scene.mesh;
+    let options =
+        MeshOptions { order: 2, size_factor: 2.0, size_min: m.size_min, size_max: m.size_max, algorithm: m.algorithm };
+    let mesh = mesh_geo(&scene.geometry, &options, false, false).unwrap_or_else(|e| panic!("{e}"));
+    let (problem, joint) = scene.problem(mesh).unwrap_or_else(|e| panic!("{e}"));
+    let joint = joint.expect("two joints");
+    let disc = problem.discretise();
+    let settings = scene.continuation(&problem, &disc.topology);
+    let together = solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("{e}"));
+    let lengths = |s: &ContactSolution| s.nitsche.uplift.iter().map(|u| u.diagram.crack).collect::<Vec<f64>>();
+    let reference = lengths(&together);
+    println!("together: cracks {reference:?}, {:?}", together.cracks);
+    for (d, up) in together.nitsche.uplift.iter().enumerate() {
+        let (line, s_c) = (&up.diagram.line, reference[d]);
+        let change = together.cracks[d].expect("a filled crack").change;
+        for k in (0..together.faces.len()).filter(|&k| together.on_line(k, line)) {
+            let [a, b] = [0.0, 1.0].map(|s| line.distance(together.nitsche.position(k, s)));
+            let (a, b, f) = (a.min(b), a.max(b), &together.faces[k]);
+            if b <= s_c - change {
+                assert_eq!(f.contact_length, 0.0, "diagram {d}: face [{a}, {b}] before the tip {s_c}: {f:?}");
+            } else if a >= s_c + change {
+                let closed = (f.contact_length - f.length).abs() <= 1e-12 * f.length && f.pressure > 0.0;
+                assert!(closed, "diagram {d}: face [{a}, {b}] past the tip {s_c}: {f:?}");
+            }
+        }
+    }
+    // the lift joint's crack given, the base's from 0: the base settles on it
+    let mut preset = joint.clone();
+    let lift = preset.uplift.iter().position(|up| up.diagram.line.heel[1] == 20.0).expect("the lift joint's diagram");
+    preset.uplift[lift].diagram.crack = reference[lift];
+    let solution = solve_by_continuation(&problem, &disc, &preset, &settings).unwrap_or_else(|e| panic!("{e}"));
+    let settled = lengths(&solution);
+    println!("the lift joint's crack given: cracks {settled:?}, {:?}", solution.cracks);
+    for (d, up) in solution.nitsche.uplift.iter().enumerate() {
+        let length = up.diagram.line.length;
+        assert!(
+            (settled[d] - reference[d]).abs() <= 1e-5 * length,
+            "diagram {d}: from the lift joint's crack given, {settled:?}; from none, {reference:?}"
+        );
+    }
 }
