@@ -446,6 +446,7 @@ mod tests {
             delta: Some(1.0),
             n_reg: 1,
             n_lin: 3,
+            finish: None,
             regularisation_balanced: Some(balanced),
             n_est: 1,
             equilibration: 0.0,
