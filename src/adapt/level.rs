@@ -398,7 +398,8 @@ fn solve_level<'a>(
             estimate_seconds: estimates.seconds,
             trend,
             finish: None,
-            system: Some(contact),
+            // a run to the residual tolerance leaves nothing to finish
+            system: (stopping == Stopping::Linearisation).then_some(contact),
         });
     }
 }
