@@ -221,7 +221,10 @@ fn analyse(
             let sr = progress
                 .stage(
                     "strength",
-                    || Ok(reduce_strength(&problem, &disc, &joint, &solution, &newton, STRENGTH_TOLERANCE)),
+                    || {
+                        let plane = solution.curves_on(&line);
+                        Ok(reduce_strength(&problem, &disc, &joint, &plane, &solution, &newton, STRENGTH_TOLERANCE))
+                    },
                     describe_strength,
                 )?
                 .0;

@@ -127,7 +127,17 @@ pub fn run(args: Args) -> Result<()> {
     let strength = match joint.as_ref().zip(solution.contact()).filter(|_| args.strength_reduction) {
         Some((joint, start)) => Some(progress.stage(
             "strength",
-            || Ok(reduce_strength(&problem, &disc, joint, start, &continuation.newton, STRENGTH_TOLERANCE)),
+            || {
+                Ok(reduce_strength(
+                    &problem,
+                    &disc,
+                    joint,
+                    &joint.every_curve(),
+                    start,
+                    &continuation.newton,
+                    STRENGTH_TOLERANCE,
+                ))
+            },
             |s: &StrengthReduction| format!("FS_SR in [{:.4}, {:.4}] after {} solves", s.held, s.failed, s.solves),
         )?),
         None => None,

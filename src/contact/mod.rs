@@ -94,9 +94,16 @@ impl ContactJoint {
         self.laws.iter().any(|c| c.law.has_friction())
     }
 
-    /// The joint with the strength of every curve divided by k (strength reduction).
-    pub fn reduced(&self, k: f64) -> ContactJoint {
-        ContactJoint { laws: self.laws.iter().map(|c| c.reduced(k)).collect(), ..self.clone() }
+    /// The joint with the strength of the curves i with `plane[i]` divided by k (strength
+    /// reduction on a sliding plane; the other curves keep theirs).
+    pub fn reduced(&self, k: f64, plane: &[bool]) -> ContactJoint {
+        let laws = self.laws.iter().zip(plane).map(|(c, &on)| if on { c.reduced(k) } else { *c }).collect();
+        ContactJoint { laws, ..self.clone() }
+    }
+
+    /// Every curve: the whole joint as the sliding plane of [`ContactJoint::reduced`].
+    pub fn every_curve(&self) -> Vec<bool> {
+        vec![true; self.laws.len()]
     }
 
     /// The contact faces of the joint on the mesh of `problem`.
@@ -671,6 +678,16 @@ impl ContactSolution {
         (self.faces.iter().enumerate()).filter(|&(k, _)| on(k)).map(|(_, f)| f.uplift * f.length).sum()
     }
 
+    /// The curves with a face on `line`, per curve of the joint: the sliding plane of
+    /// [`ContactJoint::reduced`].
+    pub fn curves_on(&self, line: &JointLine) -> Vec<bool> {
+        let mut plane = vec![false; self.nitsche.laws.len()];
+        for (k, face) in self.nitsche.faces.iter().enumerate() {
+            plane[face.curve] |= self.on_line(k, line);
+        }
+        plane
+    }
+
     /// Whether face k lies on `line` (a sliding plane among other joints).
     pub fn on_line(&self, k: usize, line: &JointLine) -> bool {
         [0.0, 1.0].iter().all(|&s| line.holds(self.nitsche.position(k, s)))
@@ -1042,8 +1059,8 @@ pub struct StrengthReduction {
     pub solves: usize,
 }
 
-/// FS_SR to the relative `tolerance`, from the solution at k = 1 reached along the δ path of
-/// `settings` ([`reduce_strength`]).
+/// FS_SR of the whole joint to the relative `tolerance`, from the solution at k = 1 reached
+/// along the δ path of `settings` ([`reduce_strength`]).
 pub fn strength_reduction(
     problem: &Problem,
     disc: &Discretisation,
@@ -1052,10 +1069,11 @@ pub fn strength_reduction(
     tolerance: f64,
 ) -> Result<StrengthReduction, ContactError> {
     let start = solve_by_continuation(problem, disc, joint, settings)?;
-    Ok(reduce_strength(problem, disc, joint, &start, &settings.newton, tolerance))
+    Ok(reduce_strength(problem, disc, joint, &joint.every_curve(), &start, &settings.newton, tolerance))
 }
 
-/// FS_SR to the relative `tolerance` from `start`, the solution at k = 1: k grows by a quarter
+/// FS_SR of the sliding plane made of the curves i with `plane[i]` (the other curves keep
+/// their strength) to the relative `tolerance` from `start`, the solution at k = 1: k grows by a quarter
 /// while the joint holds, then the bracket is bisected; every solve starts from the last
 /// solution that held, at the δ of `start`. Loss of equilibrium is a Newton failure (near the
 /// limit the tangential stiffness of the slipping joint vanishes); so a solve that fails only
@@ -1065,6 +1083,7 @@ pub fn reduce_strength(
     problem: &Problem,
     disc: &Discretisation,
     joint: &ContactJoint,
+    plane: &[bool],
     start: &ContactSolution,
     newton_options: &NewtonOptions,
     tolerance: f64,
@@ -1075,7 +1094,7 @@ pub fn reduce_strength(
     let mut contact = ContactProblem::new(problem, disc, &joint.as_solved(start), start.smoothing);
     while failed - held > tolerance * held {
         let k = if failed.is_finite() { 0.5 * (held + failed) } else { 1.25 * held };
-        contact.nitsche.laws = joint.reduced(k).laws;
+        contact.nitsche.laws = joint.reduced(k, plane).laws;
         solves += 1;
         match newton(&contact, x.clone(), newton_options) {
             Ok(report) => (held, x) = (k, report.x),

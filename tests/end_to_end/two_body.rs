@@ -300,6 +300,40 @@ fn safety_analyses_the_joint_it_is_given() {
     assert!(held <= exact && failed >= exact && failed <= 1.005 * held, "{sr} against {exact}");
 }
 
+// Strength reduction on the sliding plane alone. Source: geo/dam_lifts_on_rock.toml with
+// `[safety] joint = "lift"` and the lift joint's cohesion removed; docs/method.md §1.9. Goal:
+// FS_SR divides the strength of the lift joint only, the base keeping its own: its bracket
+// within 0.5 % around F W_u/T_u = 2.9966, the exact factor of the horizontal Coulomb lift
+// joint (c = 0) that alone holds the upper block (W_u its weight, T_u = ρ_w g (45 − 20)²/2 the
+// thrust on its face). Dividing the base's strength too would report the base's 2.2376 (what
+// `damfem safety` did before). Parameters: P1, gmsh's sizes × 2, one mesh.
+#[test]
+fn safety_reduces_the_sliding_plane_alone() {
+    let tmp = TempDir::new("sliding-plane-alone");
+    let text = std::fs::read_to_string(repo("geo/dam_lifts_on_rock.toml")).unwrap();
+    let geometry = format!("{:?}", repo("geo/dam_lifts_on_rock.geo").display().to_string());
+    let edited = text
+        .replace("\"dam_lifts_on_rock.geo\"", &geometry)
+        .replace("cohesion = 5.0e5\n", "")
+        .replace("joint = \"base\"", "joint = \"lift\"");
+    assert!(!edited.contains("5.0e5") && edited.contains("joint = \"lift\"") && edited != text);
+    let scene = tmp.join("lift_without_cohesion.toml");
+    std::fs::write(&scene, edited).unwrap();
+    let dir = tmp.join("safety");
+    let args = ["--size-factor", "2", "--order", "1", "--max-steps", "1", "-q", "-o", dir.to_str().unwrap()];
+    assert_ok(&damfem(&[&["safety", scene.to_str().unwrap()], &args[..]].concat()));
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("safety.json")).unwrap()).unwrap();
+    let number = |v: &serde_json::Value| v.as_f64().unwrap_or_else(|| panic!("{report}"));
+    let weight = 2400.0 * 9.81 * 0.5 * (26.0 + 5.0) * 30.0;
+    let thrust = 0.5 * 1000.0 * 9.81 * 25.0 * 25.0;
+    let exact = 0.8391 * weight / thrust;
+    let sr = &report["strength_reduction"];
+    println!("FS_SR {sr} against F W_u/T_u = {exact:.5}");
+    let (held, failed) = (number(&sr["held"]), number(&sr["failed"]));
+    assert!(held <= exact && failed >= exact && failed <= 1.005 * held, "{sr} against {exact}");
+}
+
 // A lift joint inside the dam. Source: geo/dam_lift_joint.toml (Scene A's dam cut at
 // y = 20 m, a Mohr–Coulomb joint between the two blocks, reservoir at 65 m, base fixed).
 // Goal: `damfem solve` and `damfem adapt` run on it; the joint carries the upper block alone,
