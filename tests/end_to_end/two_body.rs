@@ -271,11 +271,7 @@ fn safety_analyses_the_joint_it_is_given() {
     let tmp = TempDir::new("sliding-plane");
     let scene = repo("geo/dam_lifts_on_rock.toml");
     let dir = tmp.join("safety");
-    let args = ["--size-factor", "2", "--order", "1", "--max-steps", "1", "-q", "-o", dir.to_str().unwrap()];
-    let out = damfem(&[&["safety", scene.to_str().unwrap()], &args[..]].concat());
-    assert_ok(&out);
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("safety.json")).unwrap()).unwrap();
+    let report = quick_safety(&scene, &dir);
     let number = |v: &serde_json::Value| v.as_f64().unwrap_or_else(|| panic!("{report}"));
     let line = &report["joint_line"];
     assert_eq!((number(&line["heel"][0]), number(&line["heel"][1]), number(&line["length"])), (0.0, 0.0, 40.0));
@@ -300,6 +296,13 @@ fn safety_analyses_the_joint_it_is_given() {
     assert!(held <= exact && failed >= exact && failed <= 1.005 * held, "{sr} against {exact}");
 }
 
+/// `damfem safety` on `scene` (P1, gmsh's sizes × 2, one mesh) into `dir`: its safety.json.
+fn quick_safety(scene: &Path, dir: &Path) -> serde_json::Value {
+    let args = ["--size-factor", "2", "--order", "1", "--max-steps", "1", "-q", "-o", dir.to_str().unwrap()];
+    assert_ok(&damfem(&[&["safety", scene.to_str().unwrap()], &args[..]].concat()));
+    serde_json::from_str(&std::fs::read_to_string(dir.join("safety.json")).unwrap()).unwrap()
+}
+
 // Strength reduction on the sliding plane alone. Source: geo/dam_lifts_on_rock.toml with
 // `[safety] joint = "lift"` and the lift joint's cohesion removed; docs/method.md §1.9. Goal:
 // FS_SR divides the strength of the lift joint only, the base keeping its own: its bracket
@@ -320,10 +323,7 @@ fn safety_reduces_the_sliding_plane_alone() {
     let scene = tmp.join("lift_without_cohesion.toml");
     std::fs::write(&scene, edited).unwrap();
     let dir = tmp.join("safety");
-    let args = ["--size-factor", "2", "--order", "1", "--max-steps", "1", "-q", "-o", dir.to_str().unwrap()];
-    assert_ok(&damfem(&[&["safety", scene.to_str().unwrap()], &args[..]].concat()));
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("safety.json")).unwrap()).unwrap();
+    let report = quick_safety(&scene, &dir);
     let number = |v: &serde_json::Value| v.as_f64().unwrap_or_else(|| panic!("{report}"));
     let weight = 2400.0 * 9.81 * 0.5 * (26.0 + 5.0) * 30.0;
     let thrust = 0.5 * 1000.0 * 9.81 * 25.0 * 25.0;
@@ -622,10 +622,7 @@ fn safety_takes_the_sliding_planes_own_uplift() {
     let scene = tmp.join("lift.toml");
     std::fs::write(&scene, &text[..text.find("\n[combinations.usual]").unwrap()]).unwrap();
     let dir = tmp.join("safety");
-    let args = ["--size-factor", "2", "--order", "1", "--max-steps", "1", "-q", "-o", dir.to_str().unwrap()];
-    assert_ok(&damfem(&[&["safety", scene.to_str().unwrap()], &args[..]].concat()));
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("safety.json")).unwrap()).unwrap();
+    let report = quick_safety(&scene, &dir);
     let number = |v: &serde_json::Value| v.as_f64().unwrap_or_else(|| panic!("{report}"));
     let line = &report["joint_line"];
     assert_eq!((number(&line["heel"][0]), number(&line["heel"][1]), number(&line["length"])), (0.0, 20.0, 26.0));
