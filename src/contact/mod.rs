@@ -91,7 +91,13 @@ impl ContactJoint {
 
     /// Whether some curve has a tangential traction.
     pub fn has_friction(&self) -> bool {
-        self.laws.iter().any(|c| c.law.has_friction())
+        self.has_friction_on(&self.every_curve())
+    }
+
+    /// Whether some curve i with `plane[i]` has a tangential traction (the sliding plane of
+    /// [`ContactJoint::reduced`] has a strength to divide).
+    pub fn has_friction_on(&self, plane: &[bool]) -> bool {
+        self.laws.iter().zip(plane).any(|(c, &on)| on && c.law.has_friction())
     }
 
     /// The joint with the strength of the curves i with `plane[i]` divided by k (strength

@@ -334,6 +334,41 @@ fn safety_reduces_the_sliding_plane_alone() {
     assert!(held <= exact && failed >= exact && failed <= 1.005 * held, "{sr} against {exact}");
 }
 
+// A frictionless sliding plane beside a frictional joint. Source: geo/dam_lifts_on_rock.toml
+// with `[safety] joint = "lift"`, the lift joint frictionless (no friction, no cohesion) and
+// the crest held along x so that the upper block stands; docs/method.md §1.9. Goal: the lift
+// joint has no sliding resistance of its own, so `damfem safety` computes neither FS_LE nor
+// FS_SR on it and says why, although the base has friction (before, the friction of any joint
+// let FS_SR run on the lift joint, which held at every reduction: "> 1010" was reported).
+// Parameters: P1, gmsh's sizes × 2, one mesh.
+#[test]
+fn safety_on_a_frictionless_plane_computes_no_factor() {
+    let tmp = TempDir::new("frictionless-plane");
+    let scene = edited(&tmp, "dam_lifts_on_rock", "frictionless_lift.toml", |text| {
+        text.replace("friction = 0.8391\ncohesion = 5.0e5\n", "")
+            .replace("joint = \"base\"", "joint = \"lift\"")
+            .replace(
+                "[boundary.upstream]",
+                "[boundary.crest]\nrole = \"dirichlet\"\nfix = \"x\"\n\n[boundary.upstream]",
+            )
+    });
+    let text = std::fs::read_to_string(&scene).unwrap();
+    assert!(!text.contains("5.0e5") && text.contains("joint = \"lift\"") && text.contains("[boundary.crest]"));
+    let dir = tmp.join("safety");
+    let args = ["--size-factor", "2", "--order", "1", "--max-steps", "1", "-q", "-o", dir.to_str().unwrap()];
+    assert_ok(&damfem(&[&["safety", scene.to_str().unwrap()], &args[..]].concat()));
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("safety.json")).unwrap()).unwrap();
+    println!(
+        "FS_LE {}, FS_SR {}, note {}",
+        report["sliding_safety_factor"], report["strength_reduction"], report["safety_factor_note"]
+    );
+    assert!(report["sliding_safety_factor"].is_null(), "{report}");
+    assert!(report["strength_reduction"].is_null(), "{report}");
+    let note = report["safety_factor_note"].as_str().unwrap_or_else(|| panic!("{report}"));
+    assert!(note.contains("frictionless"), "{note}");
+}
+
 // A lift joint inside the dam. Source: geo/dam_lift_joint.toml (Scene A's dam cut at
 // y = 20 m, a Mohr–Coulomb joint between the two blocks, reservoir at 65 m, base fixed).
 // Goal: `damfem solve` and `damfem adapt` run on it; the joint carries the upper block alone,
