@@ -369,6 +369,57 @@ fn safety_on_a_frictionless_plane_computes_no_factor() {
     assert!(note.contains("frictionless"), "{note}");
 }
 
+// A base in two parts with their own tables, one of them named. Source: geo/dam_lifts_on_rock.toml
+// with its base cut at x = 20 m into "base" (the heel's half, `[safety] joint = "base"`) and
+// "base_down" (its own Coulomb table); docs/method.md §1.9. Goal: the sliding plane is the line
+// of the named curve with every joint curve on it, so `damfem safety` reports the whole base as
+// on the uncut scene: L = 40 m, N = the dam's weight, e = s_R − 20 m within the middle third
+// (before, L was the named half's 20 m while N, T and s_R were the whole base's: e = +9.14 m,
+// outside the middle third, and the "toe" mean taken at mid-base). Parameters: P1, gmsh's
+// sizes × 2, one mesh.
+#[test]
+fn safety_plane_spans_every_joint_curve_on_its_line() {
+    let tmp = TempDir::new("split-base");
+    let geo = std::fs::read_to_string(repo("geo/dam_lifts_on_rock.geo")).unwrap();
+    let cuts = [
+        ("Point(10) = {B + L, 0, 0, hr};", "Point(10) = {B + L, 0, 0, hr};\nPoint(11) = {B / 2, 0, 0, hb};"),
+        ("Line(1) = {1, 2};", "Line(1) = {1, 11};\nLine(13) = {11, 2};"),
+        ("Curve Loop(1) = {1, 2, -7, 6};", "Curve Loop(1) = {1, 13, 2, -7, 6};"),
+        ("Curve Loop(3) = {8, 1, 12, 11, 10, 9};", "Curve Loop(3) = {8, 1, 13, 12, 11, 10, 9};"),
+        ("Physical Curve(\"base\") = {1};", "Physical Curve(\"base\") = {1};\nPhysical Curve(\"base_down\") = {13};"),
+    ];
+    let geo = cuts.iter().fold(geo, |g, (from, to)| {
+        assert!(g.contains(from), "{from}");
+        g.replace(from, to)
+    });
+    let geometry = tmp.join("split_base.geo");
+    std::fs::write(&geometry, geo).unwrap();
+    let text = std::fs::read_to_string(repo("geo/dam_lifts_on_rock.toml")).unwrap();
+    let down = "[joints.base_down]\ngamma0 = 100.0\ntheta = 0.0\nfriction = 0.8391\nslave = \"lower_block\"\n\n";
+    let edited = text
+        .replace("\"dam_lifts_on_rock.geo\"", &format!("{:?}", geometry.display().to_string()))
+        .replace("\n[joints.lift]\n", &format!("\n{down}[joints.lift]\n"));
+    assert!(edited.contains("[joints.base_down]") && edited.contains("joint = \"base\""));
+    let scene = tmp.join("split_base.toml");
+    std::fs::write(&scene, edited).unwrap();
+    let dir = tmp.join("safety");
+    let args = ["--size-factor", "2", "--order", "1", "--max-steps", "1", "-q", "-o", dir.to_str().unwrap()];
+    assert_ok(&damfem(&[&["safety", scene.to_str().unwrap()], &args[..]].concat()));
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("safety.json")).unwrap()).unwrap();
+    let number = |v: &serde_json::Value| v.as_f64().unwrap_or_else(|| panic!("{report}"));
+    let line = &report["joint_line"];
+    assert_eq!((number(&line["heel"][0]), number(&line["heel"][1]), number(&line["length"])), (0.0, 0.0, 40.0));
+    let r = &report["resultant"];
+    let (n, e) = (number(&r["normal_force"]), number(&r["eccentricity"]));
+    let weight = 2400.0 * 9.81 * 0.5 * (40.0 + 5.0) * 50.0;
+    println!("L = {}, (N − W)/W = {:.2e}, e = {e:.4} m", line["length"], (n - weight) / weight);
+    assert!((n - weight).abs() <= 1e-5 * weight, "N = {n}, the dam weighs {weight}");
+    assert!((number(&r["position"]) - 20.0 - e).abs() <= 1e-9 && e.abs() <= 40.0 / 6.0, "{r}");
+    assert_eq!(r["middle_third"], true, "{r}");
+    assert_eq!(number(&report["base_stresses"]["length"]), 4.0, "{report}");
+}
+
 // A lift joint inside the dam. Source: geo/dam_lift_joint.toml (Scene A's dam cut at
 // y = 20 m, a Mohr–Coulomb joint between the two blocks, reservoir at 65 m, base fixed).
 // Goal: `damfem solve` and `damfem adapt` run on it; the joint carries the upper block alone,
