@@ -694,6 +694,16 @@ impl ContactSolution {
         plane
     }
 
+    /// Whether every face lies on one straight line, that of the first face (one sliding
+    /// plane, not a lift joint above a base).
+    pub fn on_one_line(&self) -> bool {
+        if self.nitsche.faces.is_empty() {
+            return true;
+        }
+        let line = JointLine::new(self.nitsche.position(0, 0.0), self.nitsche.position(0, 1.0));
+        (0..self.faces.len()).all(|k| self.on_line(k, &line))
+    }
+
     /// Whether face k lies on `line` (a sliding plane among other joints).
     pub fn on_line(&self, k: usize, line: &JointLine) -> bool {
         [0.0, 1.0].iter().all(|&s| line.holds(self.nitsche.position(k, s)))

@@ -420,6 +420,40 @@ fn safety_plane_spans_every_joint_curve_on_its_line() {
     assert_eq!(number(&report["base_stresses"]["length"]), 4.0, "{report}");
 }
 
+// No safety factor of two planes at once. Source: geo/dam_lifts_on_rock.toml; docs/method.md
+// §1.9. Goal: the base and the lift joint are on two lines, so `summary.json` gives no
+// `sliding_safety_factor` of Γ_C as a whole (before: 2.97 on this scene, (F (N_b + N_l) +
+// c L_l)/|T_b + T_l|, the factor of no plane), and each curve's own is the exact limit
+// equilibrium of the horizontal joint that alone holds the blocks above it, (F W + c L)/thrust
+// to 10⁻⁴ (base: W of the dam, c = 0, L = 40 m; lift: W of the upper block, c = 0.5 MPa,
+// L = 26 m). Parameters: P1, gmsh's sizes × 2.
+#[test]
+fn summary_gives_each_plane_its_own_safety_factor() {
+    let tmp = TempDir::new("planes");
+    let dir = tmp.join("solve");
+    let scene = repo("geo/dam_lifts_on_rock.toml");
+    let args = ["--size-factor", "2", "--order", "1", "-q", "-o", dir.to_str().unwrap()];
+    assert_ok(&damfem(&[&["solve", scene.to_str().unwrap()], &args[..]].concat()));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let contact = &summary["contact"];
+    assert!(contact["sliding_safety_factor"].is_null(), "{contact}");
+    let rho_g = 2400.0 * 9.81;
+    let thrust = |h: f64| 0.5 * 1000.0 * 9.81 * h * h;
+    let planes = [
+        ("base", rho_g * 0.5 * (40.0 + 5.0) * 50.0, thrust(45.0), 0.0),
+        ("lift", rho_g * 0.5 * (26.0 + 5.0) * 30.0, thrust(25.0), 5.0e5 * 26.0),
+    ];
+    for (name, weight, thrust, cohesion) in planes {
+        let curves = contact["curves"].as_array().unwrap();
+        let c = curves.iter().find(|c| c["curve"] == name).unwrap_or_else(|| panic!("{contact}"));
+        let fs = c["sliding_safety_factor"].as_f64().unwrap_or_else(|| panic!("{c}"));
+        let exact = (0.8391 * weight + cohesion) / thrust;
+        println!("{name}: FS_LE {fs:.6} against (F W + c L)/thrust = {exact:.6}");
+        assert!((fs - exact).abs() <= 1e-4 * exact, "{name}: FS_LE {fs}, exact {exact}");
+    }
+}
+
 // A lift joint inside the dam. Source: geo/dam_lift_joint.toml (Scene A's dam cut at
 // y = 20 m, a Mohr–Coulomb joint between the two blocks, reservoir at 65 m, base fixed).
 // Goal: `damfem solve` and `damfem adapt` run on it; the joint carries the upper block alone,
