@@ -811,17 +811,24 @@ impl Scene {
     }
 
     /// The straight joint of the sliding plane on `problem`'s mesh from its heel to its toe
-    /// (docs/method.md §1.9): the curve of `[safety] joint`, else every contact curve (or
-    /// every `[joints]` curve, on its slave side); None without them, on a joint that is not
+    /// (docs/method.md §1.9): every contact curve (or every `[joints]` curve, on its slave
+    /// side), or with `[safety] joint` those on the line of that curve (the parts of a base
+    /// with different laws slide together); None without them, on a joint that is not
     /// straight, or when nothing shows its upstream end (no `[uplift] heel`, no hydrostatic
     /// curve).
     pub fn joint_line(&self, problem: &Problem) -> Option<JointLine> {
-        let tags = match (&self.safety.joint, self.joints.is_empty()) {
-            (Some(name), _) => vec![self.group_tag(&problem.mesh, 1, name, "joint").ok()?],
-            (None, true) => self.contact_tags(&problem.mesh).ok()?,
-            (None, false) => self.joint_tags(&problem.mesh).ok()?,
+        let mesh = &problem.mesh;
+        let topology = Topology::new(mesh);
+        let tags = match self.joints.is_empty() {
+            true => self.contact_tags(mesh).ok()?,
+            false => self.joint_tags(mesh).ok()?,
         };
-        let facets = contact_facets(&problem.mesh, &Topology::new(&problem.mesh), &tags);
+        let mut facets = contact_facets(mesh, &topology, &tags);
+        if let Some(name) = &self.safety.joint {
+            let named = contact_facets(mesh, &topology, &[self.group_tag(mesh, 1, name, "joint").ok()?]);
+            let plane = self.straight_joint(problem, &named, self.heel()).ok()?;
+            facets.retain(|&(f, _)| mesh.facet(f)[..2].iter().all(|&n| plane.holds(mesh.points[n])));
+        }
         self.straight_joint(problem, &facets, self.heel()).ok()
     }
 

@@ -236,7 +236,8 @@ pub struct ContactSummary {
     /// ∫_{Γ_C} p_c ds and ∫_{Γ_C} t^t ds along τ = (−ν_y, ν_x) \[N/m\].
     pub normal_force: f64,
     pub tangential_force: f64,
-    /// With friction, FS_LE = ∫ (c q'(P_γ) + F p_c) / |∫ t^t| (docs/method.md §1.7, §1.9).
+    /// With friction, FS_LE = ∫ (c q'(P_γ) + F p_c) / |∫ t^t| (docs/method.md §1.7, §1.9), on
+    /// a Γ_C on one line (joints on several lines have each their own in `curves`).
     sliding_safety_factor: Option<f64>,
     /// With uplift: U = ∫_{Γ_C} p_u ds \[N/m\], and, with one diagram, the crack at the heel
     /// that it fills (each curve's in `curves`).
@@ -374,7 +375,7 @@ impl ContactSummary {
             slip_length: c.slip_length(),
             normal_force: c.normal_force(),
             tangential_force: c.tangential_force(),
-            sliding_safety_factor: c.sliding_safety_factor(),
+            sliding_safety_factor: c.sliding_safety_factor().filter(|_| c.on_one_line()),
             uplift_force: (!c.nitsche.uplift.is_empty()).then(|| c.uplift_force()),
             crack: if let [crack] = c.cracks[..] { crack } else { None },
             joint_line: line,

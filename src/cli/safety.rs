@@ -214,17 +214,16 @@ fn analyse(
     let (problem, joint, solution) = last.context("the adaptive run made no step")?;
     let record = history.last().context("the adaptive run made no step")?;
     let disc = problem.discretise();
-    let (strength, note) = match joint.has_friction() {
+    // the sliding plane's curves: their friction alone gives FS_SR a strength to divide
+    let plane = solution.curves_on(&line);
+    let (strength, note) = match joint.has_friction_on(&plane) {
         false => (None, Some(FRICTIONLESS.to_string())),
         true => {
             let newton = NewtonOptions { trace: args.input.newton_trace(), ..scene.newton_options() };
             let sr = progress
                 .stage(
                     "strength",
-                    || {
-                        let plane = solution.curves_on(&line);
-                        Ok(reduce_strength(&problem, &disc, &joint, &plane, &solution, &newton, STRENGTH_TOLERANCE))
-                    },
+                    || Ok(reduce_strength(&problem, &disc, &joint, &plane, &solution, &newton, STRENGTH_TOLERANCE)),
                     describe_strength,
                 )?
                 .0;
@@ -281,8 +280,8 @@ fn warn(r: &Report, progress: &Progress) {
 }
 
 /// What `safety.json` says without friction.
-const FRICTIONLESS: &str = "the joint is frictionless (no [contact] friction, cohesion or threshold): \
-     it has no sliding resistance of its own, so FS_LE and FS_SR are not computed";
+const FRICTIONLESS: &str = "the joint is frictionless (no [contact] friction, cohesion or threshold, or none \
+     in the [joints] table of the sliding plane): it has no sliding resistance of its own, so FS_LE and FS_SR are not computed";
 
 /// What `safety.json` says when the joint holds at every reduction.
 const UNBOUNDED: &str = "the joint still held with its strength divided by";

@@ -91,7 +91,13 @@ impl ContactJoint {
 
     /// Whether some curve has a tangential traction.
     pub fn has_friction(&self) -> bool {
-        self.laws.iter().any(|c| c.law.has_friction())
+        self.has_friction_on(&self.every_curve())
+    }
+
+    /// Whether some curve i with `plane[i]` has a tangential traction (the sliding plane of
+    /// [`ContactJoint::reduced`] has a strength to divide).
+    pub fn has_friction_on(&self, plane: &[bool]) -> bool {
+        self.laws.iter().zip(plane).any(|(c, &on)| on && c.law.has_friction())
     }
 
     /// The joint with the strength of the curves i with `plane[i]` divided by k (strength
@@ -686,6 +692,16 @@ impl ContactSolution {
             plane[face.curve] |= self.on_line(k, line);
         }
         plane
+    }
+
+    /// Whether every face lies on one straight line, that of the first face (one sliding
+    /// plane, not a lift joint above a base).
+    pub fn on_one_line(&self) -> bool {
+        if self.nitsche.faces.is_empty() {
+            return true;
+        }
+        let line = JointLine::new(self.nitsche.position(0, 0.0), self.nitsche.position(0, 1.0));
+        (0..self.faces.len()).all(|k| self.on_line(k, &line))
     }
 
     /// Whether face k lies on `line` (a sliding plane among other joints).

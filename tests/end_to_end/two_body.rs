@@ -334,6 +334,126 @@ fn safety_reduces_the_sliding_plane_alone() {
     assert!(held <= exact && failed >= exact && failed <= 1.005 * held, "{sr} against {exact}");
 }
 
+// A frictionless sliding plane beside a frictional joint. Source: geo/dam_lifts_on_rock.toml
+// with `[safety] joint = "lift"`, the lift joint frictionless (no friction, no cohesion) and
+// the crest held along x so that the upper block stands; docs/method.md §1.9. Goal: the lift
+// joint has no sliding resistance of its own, so `damfem safety` computes neither FS_LE nor
+// FS_SR on it and says why, although the base has friction (before, the friction of any joint
+// let FS_SR run on the lift joint, which held at every reduction: "> 1010" was reported).
+// Parameters: P1, gmsh's sizes × 2, one mesh.
+#[test]
+fn safety_on_a_frictionless_plane_computes_no_factor() {
+    let tmp = TempDir::new("frictionless-plane");
+    let scene = edited(&tmp, "dam_lifts_on_rock", "frictionless_lift.toml", |text| {
+        text.replace("friction = 0.8391\ncohesion = 5.0e5\n", "")
+            .replace("joint = \"base\"", "joint = \"lift\"")
+            .replace(
+                "[boundary.upstream]",
+                "[boundary.crest]\nrole = \"dirichlet\"\nfix = \"x\"\n\n[boundary.upstream]",
+            )
+    });
+    let text = std::fs::read_to_string(&scene).unwrap();
+    assert!(!text.contains("5.0e5") && text.contains("joint = \"lift\"") && text.contains("[boundary.crest]"));
+    let dir = tmp.join("safety");
+    let args = ["--size-factor", "2", "--order", "1", "--max-steps", "1", "-q", "-o", dir.to_str().unwrap()];
+    assert_ok(&damfem(&[&["safety", scene.to_str().unwrap()], &args[..]].concat()));
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("safety.json")).unwrap()).unwrap();
+    println!(
+        "FS_LE {}, FS_SR {}, note {}",
+        report["sliding_safety_factor"], report["strength_reduction"], report["safety_factor_note"]
+    );
+    assert!(report["sliding_safety_factor"].is_null(), "{report}");
+    assert!(report["strength_reduction"].is_null(), "{report}");
+    let note = report["safety_factor_note"].as_str().unwrap_or_else(|| panic!("{report}"));
+    assert!(note.contains("frictionless"), "{note}");
+}
+
+// A base in two parts with their own tables, one of them named. Source: geo/dam_lifts_on_rock.toml
+// with its base cut at x = 20 m into "base" (the heel's half, `[safety] joint = "base"`) and
+// "base_down" (its own Coulomb table); docs/method.md §1.9. Goal: the sliding plane is the line
+// of the named curve with every joint curve on it, so `damfem safety` reports the whole base as
+// on the uncut scene: L = 40 m, N = the dam's weight, e = s_R − 20 m within the middle third
+// (before, L was the named half's 20 m while N, T and s_R were the whole base's: e = +9.14 m,
+// outside the middle third, and the "toe" mean taken at mid-base). Parameters: P1, gmsh's
+// sizes × 2, one mesh.
+#[test]
+fn safety_plane_spans_every_joint_curve_on_its_line() {
+    let tmp = TempDir::new("split-base");
+    let geo = std::fs::read_to_string(repo("geo/dam_lifts_on_rock.geo")).unwrap();
+    let cuts = [
+        ("Point(10) = {B + L, 0, 0, hr};", "Point(10) = {B + L, 0, 0, hr};\nPoint(11) = {B / 2, 0, 0, hb};"),
+        ("Line(1) = {1, 2};", "Line(1) = {1, 11};\nLine(13) = {11, 2};"),
+        ("Curve Loop(1) = {1, 2, -7, 6};", "Curve Loop(1) = {1, 13, 2, -7, 6};"),
+        ("Curve Loop(3) = {8, 1, 12, 11, 10, 9};", "Curve Loop(3) = {8, 1, 13, 12, 11, 10, 9};"),
+        ("Physical Curve(\"base\") = {1};", "Physical Curve(\"base\") = {1};\nPhysical Curve(\"base_down\") = {13};"),
+    ];
+    let geo = cuts.iter().fold(geo, |g, (from, to)| {
+        assert!(g.contains(from), "{from}");
+        g.replace(from, to)
+    });
+    let geometry = tmp.join("split_base.geo");
+    std::fs::write(&geometry, geo).unwrap();
+    let text = std::fs::read_to_string(repo("geo/dam_lifts_on_rock.toml")).unwrap();
+    let down = "[joints.base_down]\ngamma0 = 100.0\ntheta = 0.0\nfriction = 0.8391\nslave = \"lower_block\"\n\n";
+    let edited = text
+        .replace("\"dam_lifts_on_rock.geo\"", &format!("{:?}", geometry.display().to_string()))
+        .replace("\n[joints.lift]\n", &format!("\n{down}[joints.lift]\n"));
+    assert!(edited.contains("[joints.base_down]") && edited.contains("joint = \"base\""));
+    let scene = tmp.join("split_base.toml");
+    std::fs::write(&scene, edited).unwrap();
+    let dir = tmp.join("safety");
+    let args = ["--size-factor", "2", "--order", "1", "--max-steps", "1", "-q", "-o", dir.to_str().unwrap()];
+    assert_ok(&damfem(&[&["safety", scene.to_str().unwrap()], &args[..]].concat()));
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("safety.json")).unwrap()).unwrap();
+    let number = |v: &serde_json::Value| v.as_f64().unwrap_or_else(|| panic!("{report}"));
+    let line = &report["joint_line"];
+    assert_eq!((number(&line["heel"][0]), number(&line["heel"][1]), number(&line["length"])), (0.0, 0.0, 40.0));
+    let r = &report["resultant"];
+    let (n, e) = (number(&r["normal_force"]), number(&r["eccentricity"]));
+    let weight = 2400.0 * 9.81 * 0.5 * (40.0 + 5.0) * 50.0;
+    println!("L = {}, (N − W)/W = {:.2e}, e = {e:.4} m", line["length"], (n - weight) / weight);
+    assert!((n - weight).abs() <= 1e-5 * weight, "N = {n}, the dam weighs {weight}");
+    assert!((number(&r["position"]) - 20.0 - e).abs() <= 1e-9 && e.abs() <= 40.0 / 6.0, "{r}");
+    assert_eq!(r["middle_third"], true, "{r}");
+    assert_eq!(number(&report["base_stresses"]["length"]), 4.0, "{report}");
+}
+
+// No safety factor of two planes at once. Source: geo/dam_lifts_on_rock.toml; docs/method.md
+// §1.9. Goal: the base and the lift joint are on two lines, so `summary.json` gives no
+// `sliding_safety_factor` of Γ_C as a whole (before: 2.97 on this scene, (F (N_b + N_l) +
+// c L_l)/|T_b + T_l|, the factor of no plane), and each curve's own is the exact limit
+// equilibrium of the horizontal joint that alone holds the blocks above it, (F W + c L)/thrust
+// to 10⁻⁴ (base: W of the dam, c = 0, L = 40 m; lift: W of the upper block, c = 0.5 MPa,
+// L = 26 m). Parameters: P1, gmsh's sizes × 2.
+#[test]
+fn summary_gives_each_plane_its_own_safety_factor() {
+    let tmp = TempDir::new("planes");
+    let dir = tmp.join("solve");
+    let scene = repo("geo/dam_lifts_on_rock.toml");
+    let args = ["--size-factor", "2", "--order", "1", "-q", "-o", dir.to_str().unwrap()];
+    assert_ok(&damfem(&[&["solve", scene.to_str().unwrap()], &args[..]].concat()));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let contact = &summary["contact"];
+    assert!(contact["sliding_safety_factor"].is_null(), "{contact}");
+    let rho_g = 2400.0 * 9.81;
+    let thrust = |h: f64| 0.5 * 1000.0 * 9.81 * h * h;
+    let planes = [
+        ("base", rho_g * 0.5 * (40.0 + 5.0) * 50.0, thrust(45.0), 0.0),
+        ("lift", rho_g * 0.5 * (26.0 + 5.0) * 30.0, thrust(25.0), 5.0e5 * 26.0),
+    ];
+    for (name, weight, thrust, cohesion) in planes {
+        let curves = contact["curves"].as_array().unwrap();
+        let c = curves.iter().find(|c| c["curve"] == name).unwrap_or_else(|| panic!("{contact}"));
+        let fs = c["sliding_safety_factor"].as_f64().unwrap_or_else(|| panic!("{c}"));
+        let exact = (0.8391 * weight + cohesion) / thrust;
+        println!("{name}: FS_LE {fs:.6} against (F W + c L)/thrust = {exact:.6}");
+        assert!((fs - exact).abs() <= 1e-4 * exact, "{name}: FS_LE {fs}, exact {exact}");
+    }
+}
+
 // A lift joint inside the dam. Source: geo/dam_lift_joint.toml (Scene A's dam cut at
 // y = 20 m, a Mohr–Coulomb joint between the two blocks, reservoir at 65 m, base fixed).
 // Goal: `damfem solve` and `damfem adapt` run on it; the joint carries the upper block alone,
