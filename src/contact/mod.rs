@@ -91,7 +91,7 @@ impl ContactJoint {
 
     /// Whether some curve has a tangential traction.
     pub fn has_friction(&self) -> bool {
-        self.has_friction_on(&self.every_curve())
+        self.laws.iter().any(|c| c.law.has_friction())
     }
 
     /// Whether some curve i with `plane[i]` has a tangential traction (the sliding plane of

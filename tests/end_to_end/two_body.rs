@@ -15,9 +15,11 @@ fn dam_on_rock(tmp: &TempDir, name: &str, edit: impl Fn(String) -> String) -> Pa
 /// path.
 fn edited(tmp: &TempDir, scene: &str, name: &str, edit: impl Fn(String) -> String) -> PathBuf {
     let text = std::fs::read_to_string(repo(&format!("geo/{scene}.toml"))).unwrap();
-    let geometry = format!("geometry = {:?}", repo(&format!("geo/{scene}.geo")).display().to_string());
+    let line = text.lines().find(|l| l.starts_with("geometry = ")).expect("the scene names its geometry");
+    let file = line.trim_start_matches("geometry = ").trim_matches('"');
+    let geometry = format!("geometry = {:?}", repo(&format!("geo/{file}")).display().to_string());
     let path = tmp.join(name);
-    std::fs::write(&path, edit(text.replace(&format!("geometry = \"{scene}.geo\""), &geometry))).unwrap();
+    std::fs::write(&path, edit(text.replace(line, &geometry))).unwrap();
     path
 }
 
@@ -273,11 +275,7 @@ fn safety_analyses_the_joint_it_is_given() {
     let dir = tmp.join("safety");
     let report = quick_safety(&scene, &dir);
     let number = |v: &serde_json::Value| v.as_f64().unwrap_or_else(|| panic!("{report}"));
-    let line = &report["joint_line"];
-    assert_eq!((number(&line["heel"][0]), number(&line["heel"][1]), number(&line["length"])), (0.0, 0.0, 40.0));
-    let csv = std::fs::read_to_string(dir.join("joint.csv")).unwrap();
-    let y: Vec<f64> = csv.lines().skip(1).map(|l| l.split(',').nth(1).unwrap().parse().unwrap()).collect();
-    assert!(!y.is_empty() && y.iter().all(|&y| y == 0.0), "{csv}");
+    assert_plane(&report, &dir, 0.0, 40.0);
     let r = &report["resultant"];
     let (n, t) = (number(&r["normal_force"]), number(&r["tangential_force"]));
     let weight = 2400.0 * 9.81 * 0.5 * (40.0 + 5.0) * 50.0;
@@ -303,6 +301,17 @@ fn quick_safety(scene: &Path, dir: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(dir.join("safety.json")).unwrap()).unwrap()
 }
 
+/// The sliding plane of a safety report in `dir`: the horizontal joint line from (0, `y`) over
+/// `length`, and joint.csv's faces all at height `y`.
+fn assert_plane(report: &serde_json::Value, dir: &Path, y: f64, length: f64) {
+    let line = &report["joint_line"];
+    let number = |v: &serde_json::Value| v.as_f64().unwrap_or_else(|| panic!("{report}"));
+    assert_eq!((number(&line["heel"][0]), number(&line["heel"][1]), number(&line["length"])), (0.0, y, length));
+    let csv = std::fs::read_to_string(dir.join("joint.csv")).unwrap();
+    let heights: Vec<f64> = csv.lines().skip(1).map(|l| l.split(',').nth(1).unwrap().parse().unwrap()).collect();
+    assert!(!heights.is_empty() && heights.iter().all(|&h| h == y), "{csv}");
+}
+
 // Strength reduction on the sliding plane alone. Source: geo/dam_lifts_on_rock.toml with
 // `[safety] joint = "lift"` and the lift joint's cohesion removed; docs/method.md §1.9. Goal:
 // FS_SR divides the strength of the lift joint only, the base keeping its own: its bracket
@@ -313,15 +322,11 @@ fn quick_safety(scene: &Path, dir: &Path) -> serde_json::Value {
 #[test]
 fn safety_reduces_the_sliding_plane_alone() {
     let tmp = TempDir::new("sliding-plane-alone");
-    let text = std::fs::read_to_string(repo("geo/dam_lifts_on_rock.toml")).unwrap();
-    let geometry = format!("{:?}", repo("geo/dam_lifts_on_rock.geo").display().to_string());
-    let edited = text
-        .replace("\"dam_lifts_on_rock.geo\"", &geometry)
-        .replace("cohesion = 5.0e5\n", "")
-        .replace("joint = \"base\"", "joint = \"lift\"");
-    assert!(!edited.contains("5.0e5") && edited.contains("joint = \"lift\"") && edited != text);
-    let scene = tmp.join("lift_without_cohesion.toml");
-    std::fs::write(&scene, edited).unwrap();
+    let scene = edited(&tmp, "dam_lifts_on_rock", "lift_without_cohesion.toml", |text| {
+        let edited = text.replace("cohesion = 5.0e5\n", "").replace("joint = \"base\"", "joint = \"lift\"");
+        assert!(!edited.contains("5.0e5") && edited.contains("joint = \"lift\"") && edited != text);
+        edited
+    });
     let dir = tmp.join("safety");
     let report = quick_safety(&scene, &dir);
     let number = |v: &serde_json::Value| v.as_f64().unwrap_or_else(|| panic!("{report}"));
@@ -736,19 +741,13 @@ fn joint_uplift_refuses_bad_input() {
 #[test]
 fn safety_takes_the_sliding_planes_own_uplift() {
     let tmp = TempDir::new("lift-safety");
-    let text = std::fs::read_to_string(repo("geo/dam_lifts_on_rock_uplift.toml")).unwrap();
-    let geometry = format!("{:?}", repo("geo/dam_lifts_on_rock.geo").display().to_string());
-    let text = text.replace("\"dam_lifts_on_rock.geo\"", &geometry).replace("joint = \"base\"", "joint = \"lift\"");
-    let scene = tmp.join("lift.toml");
-    std::fs::write(&scene, &text[..text.find("\n[combinations.usual]").unwrap()]).unwrap();
+    let scene = edited(&tmp, "dam_lifts_on_rock_uplift", "lift.toml", |text| {
+        text[..text.find("\n[combinations.usual]").unwrap()].replace("joint = \"base\"", "joint = \"lift\"")
+    });
     let dir = tmp.join("safety");
     let report = quick_safety(&scene, &dir);
     let number = |v: &serde_json::Value| v.as_f64().unwrap_or_else(|| panic!("{report}"));
-    let line = &report["joint_line"];
-    assert_eq!((number(&line["heel"][0]), number(&line["heel"][1]), number(&line["length"])), (0.0, 20.0, 26.0));
-    let csv = std::fs::read_to_string(dir.join("joint.csv")).unwrap();
-    let y: Vec<f64> = csv.lines().skip(1).map(|l| l.split(',').nth(1).unwrap().parse().unwrap()).collect();
-    assert!(!y.is_empty() && y.iter().all(|&y| y == 20.0), "{csv}");
+    assert_plane(&report, &dir, 20.0, 26.0);
     let r = &report["resultant"];
     let (n, u) = (number(&r["normal_force"]), number(&r["uplift_force"]));
     let weight = 2400.0 * 9.81 * 0.5 * (26.0 + 5.0) * 30.0;
@@ -766,21 +765,17 @@ fn safety_takes_the_sliding_planes_own_uplift() {
 /// at once: the reservoir at 55 m (on the dam, the rock and in both joints), a lower block of
 /// 3200 kg/m³, the base's drains 10 m from its heel and its friction 2; written into `tmp`.
 fn two_cracks_scene(tmp: &TempDir) -> PathBuf {
-    let text = std::fs::read_to_string(repo("geo/dam_lifts_on_rock_uplift.toml")).unwrap();
-    let geometry = format!("{:?}", repo("geo/dam_lifts_on_rock.geo").display().to_string());
-    let text = text[..text.find("\n[combinations.usual]").unwrap()]
-        .replace("\"dam_lifts_on_rock.geo\"", &geometry)
-        .replace("level = 45.0", "level = 55.0")
-        .replace("headwater = 45.0", "headwater = 55.0")
-        .replace(
-            "[materials.lower_block]\nE = 3.0e10\nnu = 0.2\nrho = 2400.0",
-            "[materials.lower_block]\nE = 3.0e10\nnu = 0.2\nrho = 3200.0",
-        )
-        .replace("drains = { x = 5.0,", "drains = { x = 10.0,")
-        .replace("friction = 0.8391\nslave = \"lower_block\"", "friction = 2.0\nslave = \"lower_block\"");
-    let path = tmp.join("two-cracks.toml");
-    std::fs::write(&path, text).unwrap();
-    path
+    edited(tmp, "dam_lifts_on_rock_uplift", "two-cracks.toml", |text| {
+        text[..text.find("\n[combinations.usual]").unwrap()]
+            .replace("level = 45.0", "level = 55.0")
+            .replace("headwater = 45.0", "headwater = 55.0")
+            .replace(
+                "[materials.lower_block]\nE = 3.0e10\nnu = 0.2\nrho = 2400.0",
+                "[materials.lower_block]\nE = 3.0e10\nnu = 0.2\nrho = 3200.0",
+            )
+            .replace("drains = { x = 5.0,", "drains = { x = 10.0,")
+            .replace("friction = 0.8391\nslave = \"lower_block\"", "friction = 2.0\nslave = \"lower_block\"")
+    })
 }
 
 /// The weights above each joint of the scene of [`two_cracks_scene`] \[N/m\]: (base, lift).
