@@ -668,6 +668,22 @@ impl Scene {
                 "{key} is read by `damfem solve` only; `damfem adapt` chooses the regularisation from \
                  adapt.delta0 and reduces it by adapt.rho_delta, so remove the key or use `damfem solve`"
             ))),
+            None => self.check_estimable("the error estimate of every mesh of `damfem adapt` and `damfem safety`"),
+        }
+    }
+
+    /// θ = 0 on every joint, as an error estimate needs (the bound of docs/method.md §5.2 rests
+    /// on ψ_a z being a test function of the discrete problem, §4.2); `estimate` names the
+    /// estimate asked for. `[contact] theta` counts where curves may have role contact.
+    pub fn check_estimable(&self, estimate: &str) -> Result<(), SceneError> {
+        let contact = self.boundary.is_empty() || self.boundary.values().any(|b| b.role == Role::Contact);
+        let rigid = contact.then(|| ("contact.theta".to_string(), self.contact.theta));
+        let joints = self.joints.iter().map(|(name, j)| (format!("joints.{name}.theta"), j.theta));
+        match rigid.into_iter().chain(joints).find(|(_, theta)| *theta != 0.0) {
+            Some((key, theta)) => Err(self.invalid(format!(
+                "{key} = {theta}: {estimate} covers the Nitsche variant theta = 0 only (docs/method.md §5.2); \
+                 set theta = 0"
+            ))),
             None => Ok(()),
         }
     }

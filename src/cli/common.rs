@@ -123,7 +123,13 @@ fn at_order(mesh: Mesh, order: Option<usize>, path: &Path) -> Result<Mesh> {
 /// Validates `scene` after the command-line overrides: an error on a key whose value came
 /// from a flag names the flag. `overrides` holds (flag, key, given) for each flag.
 pub fn validate_overrides(scene: &Scene, overrides: &[(&str, &str, bool)]) -> Result<()> {
-    let Err(e) = scene.validate() else { return Ok(()) };
+    blame_overrides(scene.validate(), overrides)
+}
+
+/// The error of a check of the scene, blamed on the flag (flag, key, given) that overrides the
+/// key it names, if one does.
+pub fn blame_overrides(checked: Result<(), SceneError>, overrides: &[(&str, &str, bool)]) -> Result<()> {
+    let Err(e) = checked else { return Ok(()) };
     let SceneError::Invalid { message, .. } = &e else { return Err(e.into()) };
     let blamed = overrides.iter().find(|(_, key, given)| *given && message.starts_with(&format!("{key} ")));
     match blamed {

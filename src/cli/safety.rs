@@ -528,7 +528,10 @@ fn markdown(r: &Report, table: &[[String; 3]]) -> String {
     let mut md = format!("# Dam safety: {}\n\n", r.scene.display());
     md += &format!(
         "P{} elements, refined adaptively until η_tot ≤ {} ‖σ_h‖ (adaptive steps: {}{}). Stresses are \
-         positive in tension; the heel and toe stresses are means of σ'ⁿ = −p_c over {:.3} m of the joint.\n\n",
+         positive in tension; the heel and toe stresses are means of σ'ⁿ = −p_c over {:.3} m of the joint. \
+         η_tot bounds the error of the last mesh in the dual norm of the residual (docs/method.md §2), not \
+         the error of the numbers below, which carry no error bar (their changes along the adaptive run \
+         are in its table); FS_SR's bracket is that of its search on the last mesh.\n\n",
         r.order,
         r.tol_relative,
         r.steps.len(),

@@ -1,7 +1,7 @@
 //! `damfem solve`: mesh, assemble, solve (with Nitsche contact when the scene has Γ_C),
 //! write ParaView files, `summary.json` and `history.json`.
 
-use super::common::{stem, validate_overrides, Input, Output};
+use super::common::{blame_overrides, stem, validate_overrides, Input, Output};
 use super::output::{write_results, EstimateSummary, Results, Summary, Units, UNITS};
 use crate::contact::{
     reduce_strength, ContactError, ContactJoint, Continuation, Solution, Stage, StrengthReduction, STRENGTH_TOLERANCE,
@@ -353,5 +353,10 @@ fn override_contact(args: &Args, scene: &mut Scene) -> Result<()> {
         ("--cohesion", "contact.cohesion", args.cohesion.is_some()),
         ("--threshold", "contact.threshold", args.threshold.is_some()),
     ];
-    validate_overrides(scene, &overrides)
+    validate_overrides(scene, &overrides)?;
+    if args.estimate || args.check_equilibration || args.effectivity {
+        let estimate = "the error estimate of --estimate, --check-equilibration and --effectivity";
+        blame_overrides(scene.check_estimable(estimate), &overrides)?;
+    }
+    Ok(())
 }

@@ -1092,3 +1092,33 @@ fn verbose_shows_newton_steps_quiet_shows_nothing_and_json_states_units() {
         assert!(printed.is_empty(), "{command}: {printed}");
     }
 }
+
+// The Nitsche variants the estimator does not cover. Source: docs/method.md §4.2 and §5.2 (the
+// bound needs θ = 0: ψ_a z is a test function of the discrete problem only then).
+// Goal: an estimate asked of a scene with θ ≠ 0 (`solve --estimate` or `--effectivity`,
+// `adapt`, `safety`, which estimate every mesh) is refused before meshing, in one line naming
+// the flag or the key (of `[contact]` or of the joint) and the file, with no output directory;
+// `solve` without an estimate still takes θ ≠ 0.
+// Parameters: Scene A and the lift joint of geo/dam_lift_joint.toml, θ = 1 and −1, P1.
+#[test]
+fn estimate_refuses_a_nitsche_variant_it_does_not_cover() {
+    let tmp = TempDir::new("theta-estimate");
+    let scene_a = repo("geo/scene_a.toml");
+    let flag = assert_refused(
+        "theta-flag",
+        "solve",
+        &scene_a,
+        &["--estimate", "--theta", "1"],
+        &["--theta = 1", "command line", "contact.theta", "theta = 0"],
+    );
+    assert!(!flag.contains("scene_a.toml"), "the scene is not at fault: {flag}");
+    let skew = edited_scene(&tmp, "scene_a", |s| s.replace("theta = 0.0", "theta = -1.0"));
+    for (command, extra) in [("solve", &["--effectivity"][..]), ("adapt", &[]), ("safety", &[])] {
+        assert_refused("theta-key", command, &skew, extra, &["contact.theta = -1", "scene_a.toml", "theta = 0"]);
+    }
+    let lift = edited_scene(&tmp, "dam_lift_joint", |s| s.replace("theta = 0.0", "theta = 1.0"));
+    assert_refused("theta-joint", "adapt", &lift, &[], &["joints.lift.theta = 1", "dam_lift_joint.toml", "theta = 0"]);
+    let out = tmp.join("out");
+    let args = [OsStr::new("solve"), OsStr::new("-q"), skew.as_os_str(), OsStr::new("--order"), OsStr::new("1")];
+    assert_ok(&damfem(&[&args[..], &[OsStr::new("-o"), out.as_os_str()]].concat()));
+}

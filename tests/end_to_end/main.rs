@@ -2,6 +2,7 @@
 //! remeshing, and the tutorial example.
 
 mod adapt;
+mod bound;
 mod cli;
 mod joint;
 mod tutorial;
