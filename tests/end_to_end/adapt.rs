@@ -218,9 +218,10 @@ fn first_iterate_p_max(scene: &Scene, step: &Step, delta0: f64) -> f64 {
 fn warm_starts_need_few_newton_steps_and_delta_moves_mostly_on_the_first_mesh() {
     // δ₀ = delta0 × max_{Γ_C} |P_γ(u_h¹)|; with delta0 = 1, ten times the default, (S_reg)
     // fails at δ₀ on the first mesh, so δ is reduced there; the warm-started later meshes keep
-    // the reduced δ, and reduce it again only as η falls
+    // the reduced δ, and reduce it again only as η falls. (S_lin) stops Newton on meshes 0–2;
+    // the fourth, the last, runs it to the residual tolerance (docs/method.md §5.3)
     let scene = scene("scene_a", 2);
-    let settings = AdaptSettings { steps: 3, delta0: 1.0, ..Default::default() };
+    let settings = AdaptSettings { steps: 4, delta0: 1.0, ..Default::default() };
     let mut p_max = None;
     let history = adapt::run(&settings, &mut scene.mesher(Refinement::Adaptive), &scene, |step| {
         p_max.get_or_insert_with(|| first_iterate_p_max(&scene, step, settings.delta0));
@@ -234,9 +235,10 @@ fn warm_starts_need_few_newton_steps_and_delta_moves_mostly_on_the_first_mesh() 
     eprintln!("delta0 {delta0:.4e} (max |P_gamma(u1)| {p_max:.4e}), N_reg {n_reg:?}, N_lin {n_lin:?}");
     assert!((delta0 - settings.delta0 * p_max).abs() <= 1e-12 * delta0, "delta0 {delta0}, max |P_gamma| {p_max}");
     assert!(n_reg[1..].iter().sum::<usize>() < n_reg[0], "N_reg {n_reg:?}");
-    assert!(n_lin[1..].iter().all(|&n| 2 * n <= n_lin[0]), "N_lin {n_lin:?}");
+    assert!(n_lin[1..3].iter().all(|&n| 2 * n <= n_lin[0]), "N_lin {n_lin:?}");
     let n_est: Vec<usize> = history.iter().map(|r| r.n_est).collect();
     eprintln!("N_est {n_est:?}");
+    assert_eq!(n_est[3], n_reg[3] + 1, "the last mesh estimates only what (S_reg) needs");
     for r in &history {
         // one estimate ends every δ; the others follow Newton steps
         assert!((r.n_reg + 1..=r.n_reg + 1 + r.n_lin).contains(&r.n_est), "step {}: N_est {}", r.step, r.n_est);
@@ -449,7 +451,8 @@ fn adaptive_p1_reaches_the_optimal_rate_on_hertz() {
 /// zone are resolved; uniform refinement is held to about N^{−3/4} or less by the H^{5/2−ε}
 /// regularity there. The counters have the reference shape with the default δ₀: most δ
 /// reductions on the first mesh (measured N_reg = 12, 0, 0, 1, 0, 0, 1, 0), then a few Newton
-/// steps per mesh (N_lin = 49, 3, 2, 3, 2, 2, 3, 1).
+/// steps per mesh (N_lin = 49, 3, 2, 3, 2, 2, 3, 5, the last mesh's run going to the residual
+/// tolerance at once).
 /// Parameters: geo/hertz.toml (contact direction (0, −1)), P2, size factor 2 (1 416 unknowns at
 /// first), 8 adaptive and 3 uniform steps; slopes over the last four adaptive steps (measured
 /// −1.03 over 11 122 … 85 258 unknowns) and the three uniform steps (−0.50 over

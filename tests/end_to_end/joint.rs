@@ -293,8 +293,8 @@ fn solve_reports_the_joint_resultant_in_equilibrium() {
 // `adapt` iterates the crack–uplift fixed point on every mesh and writes `summary.json` of the
 // last step; its history has the crack and the resultant of every step. Source:
 // geo/scene_a_uplift.toml (crack = "full"). Goal: every step's crack settled to 10⁻⁶ L (on the
-// last mesh, the only one whose Newton run is finished to its tolerance, settled again from the
-// finished iterate, docs/method.md §5.3), the history's crack and resultant per step (JSON and
+// last mesh, the only one whose Newton runs go to its tolerance, from converged iterates,
+// docs/method.md §5.3), the history's crack and resultant per step (JSON and
 // CSV) and summary.json's equal to the last step's, and the last step's closing lines.
 // Parameters: P1, mesh sizes × 2, three meshes.
 #[test]
@@ -551,8 +551,8 @@ fn safety_runs_every_load_combination() {
 // the crack being closed); docs/method.md §1.9–§1.10. Goal: safety.json gives the joint line
 // from the heel (0, 0) to the toe (40, 0), N + U = W to 10⁻⁵ on every mesh (N from the solved,
 // smoothed traction; the second mesh's sides remeshed apart), |T| = the thrust to 10⁻⁶ on the
-// last mesh (the adaptive loop's Newton, stopped once its linearisation error is below the
-// discretisation error, is finished there to its tolerance), U from the drained diagram, FS_SR's bracket around F (W − U)/thrust
+// last mesh (the adaptive loop's Newton, stopped on the first mesh once its linearisation error
+// is below the discretisation error, runs there to its tolerance), U from the drained diagram, FS_SR's bracket around F (W − U)/thrust
 // within 0.5 %, FS_LE = F N/|T|, compressive heel and toe means; joint.csv runs from the heel
 // to the toe. Parameters: P1, mesh sizes × 2, two meshes.
 #[test]
