@@ -575,8 +575,9 @@ fn safety_reports_the_dam_on_its_rock_with_a_frictional_joint() {
     // N is the normal force of the traction the solved equations carry, at their δ: the dam's
     // vertical translation, a test function, balances it against W − U up to the residual of the
     // last Newton iterate, on every mesh, matching (the first) or remeshed apart (the second):
-    // measured 2.0·10⁻¹⁰ of W at the iterate of (S_lin) on the first mesh and 5.3·10⁻¹⁴ at the
-    // finished one on the second (2.6·10⁻⁶ at its iterate of (S_lin)), where the plain projection
+    // measured 2.0·10⁻¹⁰ of W at the iterate of (S_lin) on the first mesh and 2.4·10⁻¹⁴ on the
+    // second, solved to Newton's tolerance (2.6·10⁻⁶ at the iterate where (S_lin) stopped Newton
+    // there when the last mesh was finished from it), where the plain projection
     // of the iterate gave 0.66 %
     let history: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(tmp.join("out/history.json")).unwrap()).unwrap();
@@ -587,9 +588,9 @@ fn safety_reports_the_dam_on_its_rock_with_a_frictional_joint() {
         assert!(balance.abs() <= 1e-5 * weight, "step {}: N + U − W = {balance}", step["step"]);
     }
     assert!((n + u - weight).abs() <= 1e-5 * weight, "N + U = {} against W = {weight}", n + u);
-    // T balances the thrust up to the residual of the last mesh's iterate, which Newton
-    // finishes to its tolerance after (S_lin) stopped it: |T| − thrust measured 5.5·10⁻¹¹ of the
-    // thrust (2.0·10⁻³ when the iterate of (S_lin), at a relative residual of 1.7·10⁻³, was reported)
+    // T balances the thrust up to the residual of the last mesh's iterate, which Newton takes
+    // to its tolerance: |T| − thrust measured 5.5·10⁻¹¹ of the thrust (2.0·10⁻³ when the
+    // iterate of (S_lin), at a relative residual of 1.7·10⁻³, was reported)
     println!("(|T| − thrust)/thrust = {:.2e}", (t.abs() - thrust) / thrust);
     assert!((t.abs() - thrust).abs() <= 1e-6 * thrust, "|T| = {} against the thrust {thrust}", t.abs());
     // the drained diagram without a crack: H_u = ρ_w g 45 to the drains at 5 m, then to 0 at the toe
