@@ -11,7 +11,8 @@ delta,n_reg,n_lin,n_est,n_finish,equilibration,i_eff,crack_length,normal_force,t
 t_mesh,t_transfer,t_assemble,t_solve,t_estimate,t_remesh,elapsed";
 
 /// One line per step; δ is empty without contact, n_finish (the Newton steps that finished
-/// the last mesh's run) on the other steps, I_eff when it was not computed, the joint's numbers
+/// the last mesh's run after (S_lin) stopped it, 0 where it ran to the residual tolerance from
+/// the start) on the other steps, I_eff when it was not computed, the joint's numbers
 /// without a straight joint with a heel (docs/method.md §1.9).
 pub fn to_csv(history: &[StepRecord]) -> String {
     let mut csv = format!("{HEADER}\n");

@@ -26,23 +26,31 @@ pub struct Level<'a> {
     pub estimate_seconds: f64,
     /// The linearisation trend of the last estimate (None without Γ_C).
     pub trend: Option<Trend>,
-    /// What [`Level::finish`] took, once it has run.
+    /// How Newton was run to the residual tolerance, once it has been (the last mesh).
     pub finish: Option<Finish>,
     /// With Γ_C, until [`Level::finish`]: the contact system at the δ and cracks of the
     /// solution, its stiffness factorised.
     system: Option<ContactProblem<'a>>,
 }
 
-/// Newton finished on the last mesh after (S_lin) stopped it (docs/method.md §5.3): its Newton
-/// steps (crack solves included), δ reductions and estimates, its wall time \[s\] (also in the
-/// level's solve and estimate times), and η_lin \[Pa m\] of the estimate that stopped Newton.
+/// Newton run to the residual tolerance on the last mesh (docs/method.md §5.3). After (S_lin)
+/// stopped it: the Newton steps (crack solves included), δ reductions and estimates that
+/// finished it, their wall time \[s\] (also in the level's solve and estimate times), and
+/// η_lin \[Pa m\] of the estimate that stopped Newton. On a mesh known to be the last before
+/// its solve, Newton ran to the residual tolerance from the start ([`Finish::FROM_START`]):
+/// nothing was added, and no estimate stopped Newton.
 #[derive(Debug, Clone, Copy, Serialize)]
 pub struct Finish {
     pub n_lin: usize,
     pub n_reg: usize,
     pub n_est: usize,
     pub seconds: f64,
-    pub eta_lin_stopped: f64,
+    pub eta_lin_stopped: Option<f64>,
+}
+
+impl Finish {
+    /// Newton run to the residual tolerance at every δ of the level, (S_lin) never tested.
+    pub const FROM_START: Finish = Finish { n_lin: 0, n_reg: 0, n_est: 0, seconds: 0.0, eta_lin_stopped: None };
 }
 
 /// Without Γ_C: one Cholesky solve and one estimate.
@@ -179,14 +187,17 @@ const MAX_RETRIES: usize = 4;
 /// cannot hold. The prediction only saves estimates: Newton stops on an estimated (S_lin).
 /// The final iterate is always estimated. If Newton fails twice in a row below a δ_s solved on
 /// this level (at δ_s/ρ_δ, then at the middle), the level ends at δ_s with (S_reg) unmet.
+/// With [`Stopping::Residual`] (a mesh known to be the last), Newton runs to the residual
+/// tolerance at every δ: the only estimates are the one (S_reg) needs after each run, the last
+/// of them the final one, and the level's [`Finish`] is [`Finish::FROM_START`].
 pub fn contact_level<'a>(
     problem: &'a Problem,
     disc: &'a Discretisation,
     joint: &ContactJoint,
     newton: &NewtonOptions,
     settings: &AdaptSettings,
-    x0: Vec<f64>,
-    start: StartDelta,
+    (x0, start): (Vec<f64>, StartDelta),
+    stopping: Stopping,
 ) -> Result<Level<'a>, AdaptError> {
     let delta = start.first_step(settings.delta0);
     let contact = ContactProblem::new(problem, disc, joint, Smoothing { delta });
@@ -202,7 +213,9 @@ pub fn contact_level<'a>(
         }
     };
     let run = Run { x, delta, trend, stages, solve_seconds: clock.elapsed().as_secs_f64() };
-    solve_level(contact, newton, settings, run, Stopping::Linearisation)
+    let level = solve_level(contact, newton, settings, run, stopping)?;
+    let finish = (stopping == Stopping::Residual).then_some(Finish::FROM_START);
+    Ok(Level { finish, ..level })
 }
 
 impl<'a> Level<'a> {
@@ -214,19 +227,20 @@ impl<'a> Level<'a> {
     /// then those of one iterate that solves the equations to Newton's tolerance. Its counters,
     /// wall time and the η_lin that (S_lin) stopped on go to the level's [`Finish`]; N_reg,
     /// N_lin and N_est stay those of the adaptive solve. A level without Γ_C is returned as it
-    /// is; a failure is an error ([`AdaptError::Finish`]), never the unfinished iterate.
+    /// is; a failure is an error (of Newton: [`AdaptError::Finish`]), never the unfinished
+    /// iterate.
     pub fn finish(mut self, newton: &NewtonOptions, settings: &AdaptSettings) -> Result<Level<'a>, AdaptError> {
         let Some(contact) = self.system.take() else { return Ok(self) };
         let x = self.solution.x().to_vec();
         let run = Run { x, delta: contact.smoothing.delta, trend: self.trend, stages: Vec::new(), solve_seconds: 0.0 };
-        let mut finished = solve_level(contact, newton, settings, run, Stopping::Residual)
-            .map_err(|e| AdaptError::Finish(Box::new(e)))?;
+        let mut finished =
+            solve_level(contact, newton, settings, run, Stopping::Residual).map_err(super::unfinished)?;
         finished.finish = Some(Finish {
             n_lin: finished.n_lin,
             n_reg: finished.n_reg,
             n_est: finished.n_est,
             seconds: finished.solve_seconds + finished.estimate_seconds,
-            eta_lin_stopped: self.estimate.estimators.global().lin,
+            eta_lin_stopped: Some(self.estimate.estimators.global().lin),
         });
         if let (Solution::Contact(before), Solution::Contact(after)) = (&mut self.solution, &mut finished.solution) {
             after.stages.splice(0..0, before.stages.drain(..));
@@ -260,7 +274,7 @@ struct Run {
 
 /// What stops Newton at each δ.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Stopping {
+pub enum Stopping {
     /// (S_lin) on an estimated iterate, or the residual tolerance.
     Linearisation,
     /// The residual tolerance alone.

@@ -5,9 +5,11 @@
 //! estimator-driven stopping rules of [`level`]: Newton stops once
 //! η_lin ≤ γ_lin (η_osc + η_flux + η_Neu + η_disc), and δ is divided by ρ_δ until
 //! η_reg ≤ γ_reg (η_osc + η_flux + η_Neu + η_disc + η_lin). The run stops when η_tot meets the
-//! tolerance or after the last step, on a mesh whose Newton run is then finished to the
-//! residual tolerance and estimated again ([`level::Level::finish`]), so that the last step
-//! reports the iterate of the equations solved; a tolerance met before the finishing must
+//! tolerance or after the last step, and the last step reports the iterate of the equations
+//! solved: on a mesh known to be the last before its solve (the last by count, or one with
+//! `max_unknowns`), Newton runs to the residual tolerance at every δ, without (S_lin); on a
+//! mesh that meets the tolerance, Newton is finished to the residual tolerance from where
+//! (S_lin) stopped it and estimated again ([`level::Level::finish`]), and the tolerance must
 //! hold for the finished estimate too, or the loop goes on from the finished iterate;
 //! otherwise η_tot,T gives every cell a target size
 //! ([`marking`]: equidistribution, or marking), and these sizes define the next mesh. δ is
@@ -33,7 +35,7 @@ use crate::estimate::Estimate;
 use crate::estimate::EstimateError;
 use crate::mesh::Mesh;
 use crate::solve::{NewtonError, NewtonOptions, SolveError};
-use level::{Level, StartDelta};
+use level::{Level, StartDelta, Stopping};
 use marking::Marking;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
@@ -163,7 +165,7 @@ pub enum AdaptError {
     Regularisation { delta: f64, reductions: usize, eta_reg: f64 },
     #[error(transparent)]
     Contact(#[from] ContactError),
-    #[error("finishing Newton on the last mesh to the residual tolerance: {0}")]
+    #[error("on the last mesh, Newton did not reach the residual tolerance contact.rtol: {0}")]
     Finish(Box<AdaptError>),
     #[error("writing step {step}: {source}")]
     Output { step: usize, source: Box<dyn std::error::Error + Send + Sync> },
@@ -228,8 +230,9 @@ pub struct StepRecord {
     pub n_reg: usize,
     pub n_lin: usize,
     /// With contact, on the last mesh (or on a mesh whose finished estimate missed the
-    /// tolerance that its unfinished one met): Newton finished after (S_lin) stopped it, to
-    /// the residual tolerance; the step's iterate, forces and estimate are the finished ones.
+    /// tolerance that its unfinished one met): how Newton was run to the residual tolerance,
+    /// from the start or after (S_lin) stopped it; the step's iterate, forces and estimate
+    /// are the finished ones.
     pub finish: Option<level::Finish>,
     /// With contact, whether the final estimate meets (S_reg): false when Newton stalled at
     /// the smaller δ and the level ended at a larger δ solved on it (docs/method.md §5.3).
@@ -330,6 +333,9 @@ pub fn run(
         let clock = Instant::now();
         let disc = problem.discretise();
         seconds.assemble = clock.elapsed().as_secs_f64();
+        // the last mesh by count or size, known before its solve: Newton runs to the
+        // residual tolerance at once
+        let last = step + 1 == settings.steps || settings.max_unknowns.is_some_and(|n| disc.dofs.n_free >= n);
         let clock = Instant::now();
         let x0 = match &previous {
             Some((mesh, u, _)) => problem.interpolated(&disc, mesh, u),
@@ -343,18 +349,19 @@ pub fn run(
                     || StartDelta::FirstIterate { load_scale: problem.stress_scale(&disc.topology) },
                     |(delta, trend)| StartDelta::Kept(delta, trend),
                 );
-                level::contact_level(&problem, &disc, joint, &model.newton(), settings, x0, start)?
+                let stopping = if last { Stopping::Residual } else { Stopping::Linearisation };
+                level::contact_level(&problem, &disc, joint, &model.newton(), settings, (x0, start), stopping)
+                    .map_err(|e| if last { unfinished(e) } else { e })?
             }
         };
-        // the last mesh reports the iterate of Newton finished to its residual tolerance, and
-        // the tolerance counts as met only on that iterate's estimate
-        let forced = step + 1 == settings.steps || settings.max_unknowns.is_some_and(|n| disc.dofs.n_free >= n);
+        // a mesh that turns out to be the last reports the iterate of Newton finished to its
+        // residual tolerance, and the tolerance counts as met only on that iterate's estimate
         let mut level = level;
-        if forced || settings.met(measures(&problem, &level)) {
+        if !last && settings.met(measures(&problem, &level)) {
             level = level.finish(&model.newton(), settings)?;
         }
         let (mut eta, mut stress) = measures(&problem, &level);
-        let mut done = forced || settings.met((eta, stress));
+        let mut done = last || settings.met((eta, stress));
         let clock = Instant::now();
         let eta_cells = &level.estimate.estimators.tot;
         let floor = marking::smallest_size(&problem.mesh).max(mesher.size_min().unwrap_or(0.0));
@@ -411,6 +418,15 @@ pub fn run(
         previous = Some((problem.mesh, u, sizes));
     }
     Ok(history)
+}
+
+/// A Newton failure on the last mesh, where Newton runs to the residual tolerance, as
+/// [`AdaptError::Finish`]; other errors as they are.
+fn unfinished(e: AdaptError) -> AdaptError {
+    match e {
+        AdaptError::Newton { .. } => AdaptError::Finish(Box::new(e)),
+        e => e,
+    }
 }
 
 /// The global estimators of a level and ‖σ_h‖ of its reconstruction.

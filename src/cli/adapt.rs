@@ -363,7 +363,11 @@ fn step_line(r: &StepRecord) -> String {
     let crack = r.crack_length.map_or(String::new(), |c| format!("  crack {c:.3} m"));
     let resultant = r.resultant.map_or(String::new(), |f| format!("  resultant {:.3} m", f.position));
     let i_eff = r.i_eff.map_or(String::new(), |i| format!("  I_eff {i:.3}"));
-    let finish = r.finish.map_or(String::new(), |f| format!(" (+{} to the residual tolerance)", f.n_lin));
+    let finish = match r.finish {
+        Some(f) if f.eta_lin_stopped.is_some() => format!(" (+{} to the residual tolerance)", f.n_lin),
+        Some(_) => " (to the residual tolerance)".into(),
+        None => String::new(),
+    };
     let balance = match r.regularisation_balanced {
         Some(false) => "  (eta_reg above its share: Newton stalled at smaller delta)",
         _ => "",

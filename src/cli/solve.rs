@@ -44,7 +44,9 @@ pub struct Args {
     /// Use the plain projection min(x, 0) with its semismooth derivative (δ = 0)
     #[arg(long)]
     semismooth: bool,
-    /// Also find the sliding safety factor by strength reduction (F, c, s divided by k) to 0.2 %
+    /// Also find the sliding safety factor FS_SR by strength reduction to 0.2 %: F, c and s of
+    /// every joint divided by k, so with several joints FS_SR is the weakest plane's (for one
+    /// plane: `damfem safety` with `[safety] joint`)
     #[arg(long)]
     strength_reduction: bool,
     /// Estimate the error: equilibrated stress reconstruction and the six estimators

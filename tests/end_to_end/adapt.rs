@@ -158,6 +158,49 @@ fn a_newton_failure_is_reported_with_its_history() {
     assert!(message.contains("at delta = ") && message.contains("Newton did not converge in 2 step(s)"), "{message}");
 }
 
+/// Scene A whose Newton runs after the first `full` get one step each.
+struct LastLimited {
+    scene: Scene,
+    full: usize,
+    runs: std::cell::Cell<usize>,
+}
+
+impl Model for LastLimited {
+    fn problem(&self, mesh: Mesh) -> Result<(Problem, Option<ContactJoint>), AdaptError> {
+        Model::problem(&self.scene, mesh)
+    }
+
+    fn newton(&self) -> NewtonOptions {
+        self.runs.set(self.runs.get() + 1);
+        let max_iter = if self.runs.get() <= self.full { self.scene.newton_options().max_iter } else { 1 };
+        NewtonOptions { max_iter, ..self.scene.newton_options() }
+    }
+}
+
+/// Source: docs/method.md §5.3 (the last mesh's Newton run to the residual tolerance). Goal:
+/// Newton that does not reach its tolerance on the last mesh (here: one step per run, from the
+/// start and at every larger δ tried) stops the run with an error that says so, and no step
+/// of that mesh is reported, whether the mesh was known to be the last before its solve
+/// (`steps` = 2: the second) or met the tolerance after (S_lin) stopped Newton (tol = 10³⁰:
+/// the first, finished from that iterate). Parameters: Scene A, P1, the first Newton run with
+/// the scene's budget of 50 steps.
+#[test]
+fn a_newton_failure_on_the_last_mesh_stops_the_run_and_reports_no_unfinished_step() {
+    let scene = scene("scene_a", 1);
+    let known = steps(2);
+    let met = AdaptSettings { steps: 3, tol: Some(1e30), ..Default::default() };
+    for (settings, reported) in [(known, vec![0]), (met, vec![])] {
+        let model = LastLimited { scene: scene.clone(), full: 1, runs: Default::default() };
+        let mut seen = Vec::new();
+        let result = run(settings, &mut scene.mesher(Refinement::Adaptive), &model, |_, r| seen.push(r.step));
+        let message = result.expect_err("one Newton step cannot reach the tolerance").to_string();
+        eprintln!("{message}");
+        assert_eq!(seen, reported, "{message}");
+        assert!(message.starts_with("on the last mesh, Newton did not reach the residual tolerance contact.rtol: "));
+        assert!(message.contains("Newton did not converge in 1 step(s)"), "{message}");
+    }
+}
+
 /// max_{Γ_C} |P_γ(u_h¹)| of the first Newton iterate from u = 0 at δ = `delta0` × the stress
 /// scale of the loads, on the mesh of `step`.
 fn first_iterate_p_max(scene: &Scene, step: &Step, delta0: f64) -> f64 {
@@ -175,9 +218,10 @@ fn first_iterate_p_max(scene: &Scene, step: &Step, delta0: f64) -> f64 {
 fn warm_starts_need_few_newton_steps_and_delta_moves_mostly_on_the_first_mesh() {
     // δ₀ = delta0 × max_{Γ_C} |P_γ(u_h¹)|; with delta0 = 1, ten times the default, (S_reg)
     // fails at δ₀ on the first mesh, so δ is reduced there; the warm-started later meshes keep
-    // the reduced δ, and reduce it again only as η falls
+    // the reduced δ, and reduce it again only as η falls. (S_lin) stops Newton on meshes 0–2;
+    // the fourth, the last, runs it to the residual tolerance (docs/method.md §5.3)
     let scene = scene("scene_a", 2);
-    let settings = AdaptSettings { steps: 3, delta0: 1.0, ..Default::default() };
+    let settings = AdaptSettings { steps: 4, delta0: 1.0, ..Default::default() };
     let mut p_max = None;
     let history = adapt::run(&settings, &mut scene.mesher(Refinement::Adaptive), &scene, |step| {
         p_max.get_or_insert_with(|| first_iterate_p_max(&scene, step, settings.delta0));
@@ -191,9 +235,10 @@ fn warm_starts_need_few_newton_steps_and_delta_moves_mostly_on_the_first_mesh() 
     eprintln!("delta0 {delta0:.4e} (max |P_gamma(u1)| {p_max:.4e}), N_reg {n_reg:?}, N_lin {n_lin:?}");
     assert!((delta0 - settings.delta0 * p_max).abs() <= 1e-12 * delta0, "delta0 {delta0}, max |P_gamma| {p_max}");
     assert!(n_reg[1..].iter().sum::<usize>() < n_reg[0], "N_reg {n_reg:?}");
-    assert!(n_lin[1..].iter().all(|&n| 2 * n <= n_lin[0]), "N_lin {n_lin:?}");
+    assert!(n_lin[1..3].iter().all(|&n| 2 * n <= n_lin[0]), "N_lin {n_lin:?}");
     let n_est: Vec<usize> = history.iter().map(|r| r.n_est).collect();
     eprintln!("N_est {n_est:?}");
+    assert_eq!(n_est[3], n_reg[3] + 1, "the last mesh estimates only what (S_reg) needs");
     for r in &history {
         // one estimate ends every δ; the others follow Newton steps
         assert!((r.n_reg + 1..=r.n_reg + 1 + r.n_lin).contains(&r.n_est), "step {}: N_est {}", r.step, r.n_est);
@@ -204,30 +249,92 @@ fn warm_starts_need_few_newton_steps_and_delta_moves_mostly_on_the_first_mesh() 
     }
 }
 
-/// Source: docs/method.md §5.3 (the last mesh's Newton run finished). Goal: the meshes before
-/// the last keep the iterate at which (S_lin) stopped Newton; on the last, Newton goes on from
-/// there at the same δ to ‖F‖ ≤ rtol ‖b‖, the tolerance of `damfem solve`, and the step's
-/// estimate is that of the finished iterate, with η_lin far below the η_lin that stopped
-/// Newton. Parameters: Scene A, P1, two meshes. Measured: relative residuals 2.0·10⁻² on the
-/// first mesh and 4.5·10⁻¹³ on the last after 5 more steps; η_lin from 6.1·10⁴ to 5.6·10⁻⁶ Pa m.
+/// Source: docs/method.md §5.3 (the last mesh's Newton run to the residual tolerance). Goal:
+/// the meshes before the last keep the iterate at which (S_lin) stopped Newton; the last,
+/// known to be the last before its solve, runs Newton at every δ to ‖F‖ ≤ rtol ‖b‖, the
+/// tolerance of `damfem solve`, with no estimate but the one (S_reg) needs after each δ
+/// (N_est = N_reg + 1), and the step's estimate is that of the finished iterate, with η_lin a
+/// millionth of what (S_lin) accepts, γ_lin (η_osc + η_flux + η_Neu + η_disc). Parameters:
+/// Scene A, P1, two meshes. Measured: relative residuals 2.0·10⁻² on the first mesh and
+/// 4.5·10⁻¹³ on the last after N_lin = 8 steps and N_est = 1 estimate (N_reg = 0); η_lin
+/// 5.6·10⁻⁶ Pa m beside 3.5·10⁶ for the rest.
 #[test]
 fn the_last_mesh_is_solved_to_the_residual_tolerance() {
     let scene = scene("scene_a", 1);
     let rtol = scene.newton_options().rtol;
+    let settings = steps(2);
     let mut residuals = Vec::new();
-    let history = adapt::run(&steps(2), &mut scene.mesher(Refinement::Adaptive), &scene, |step| {
+    let history = adapt::run(&settings, &mut scene.mesher(Refinement::Adaptive), &scene, |step| {
         let report = &step.contact.expect("contact").stages.last().expect("a Newton run").report;
         residuals.push(report.residual / report.scale);
         Ok(())
     })
     .expect("adaptive run");
-    let finish = history[1].finish.expect("the last mesh is finished");
-    eprintln!("relative residuals {residuals:?}, {finish:?}, eta_lin {:.2e}", history[1].eta.lin);
-    assert!(history[0].finish.is_none(), "{:?}", history[0].finish);
+    let (first, last) = (&history[0], &history[1]);
+    let e = &last.eta;
+    eprintln!(
+        "relative residuals {residuals:?}, {:?}, N_reg {} N_lin {} N_est {}, eta_lin {:.2e} of {:.2e}",
+        last.finish,
+        last.n_reg,
+        last.n_lin,
+        last.n_est,
+        e.lin,
+        e.osc + e.flux + e.neu + e.disc
+    );
+    assert!(first.finish.is_none(), "{:?}", first.finish);
     assert!(residuals[0] > rtol, "(S_lin) stopped Newton on the first mesh at {:.2e}", residuals[0]);
     assert!(residuals[1] <= rtol, "relative residual {:.2e} on the last mesh", residuals[1]);
+    let finish = last.finish.expect("the last mesh is solved to the residual tolerance");
+    assert!(finish.eta_lin_stopped.is_none() && finish.n_lin == 0, "(S_lin) never stopped Newton: {finish:?}");
+    assert_eq!(last.n_est, last.n_reg + 1, "one estimate per δ");
+    assert!(e.lin <= 1e-6 * settings.gamma_lin * (e.osc + e.flux + e.neu + e.disc), "eta_lin {e:?}");
+}
+
+/// Source: docs/method.md §5.3 (a mesh that meets the tolerance is finished). Goal: a mesh
+/// not known to be the last whose (S_lin) iterate meets the tolerance is finished from that
+/// iterate to ‖F‖ ≤ rtol ‖b‖ and estimated again; the run stops there, the finished estimate
+/// meeting the tolerance too, and the step's record holds the η_lin that stopped Newton and
+/// η_lin of the finished iterate far below it. Parameters: Scene A, P1, up to three meshes,
+/// tol = η_tot of the first mesh's (S_lin) iterate, solved by `contact_level` as the loop
+/// solves it. Measured: η_tot 5.647·10⁶ → 5.640·10⁶ Pa m (finished / unfinished 0.9989),
+/// η_lin 2.0·10⁵ → 4.4·10⁻⁷ Pa m.
+#[test]
+fn a_mesh_that_meets_the_tolerance_is_finished_where_s_lin_stopped() {
+    use damfem::adapt::level::{contact_level, StartDelta, Stopping};
+    let scene = scene("scene_a", 1);
+    let newton = scene.newton_options();
+    let mesh = scene.mesher(Refinement::Adaptive).mesh(0, None).expect("mesh");
+    let (problem, joint) = scene.problem(mesh).expect("problem");
+    let joint = joint.expect("Scene A has a contact curve");
+    let disc = problem.discretise();
+    let start = StartDelta::FirstIterate { load_scale: problem.stress_scale(&disc.topology) };
+    let settings = steps(3);
+    let start = (vec![0.0; disc.dofs.n_free], start);
+    let level = contact_level(&problem, &disc, &joint, &newton, &settings, start, Stopping::Linearisation);
+    let unfinished = level.expect("level").estimate.estimators.global();
+    let settings = AdaptSettings { tol: Some(unfinished.tot), ..settings };
+    let mut residual = f64::NAN;
+    let history = adapt::run(&settings, &mut scene.mesher(Refinement::Adaptive), &scene, |step| {
+        let report = &step.contact.expect("contact").stages.last().expect("a Newton run").report;
+        residual = report.residual / report.scale;
+        Ok(())
+    })
+    .expect("adaptive run");
+    let (eta, finish) = (history[0].eta, history[0].finish.expect("the first mesh is finished"));
+    eprintln!(
+        "eta_tot {:.4e} -> {:.4e} (ratio {:.4}), eta_lin {:.2e} -> {:.2e}, relative residual {residual:.2e}, {finish:?}",
+        unfinished.tot,
+        eta.tot,
+        eta.tot / unfinished.tot,
+        unfinished.lin,
+        eta.lin
+    );
+    assert_eq!(history.len(), 1, "the finished estimate meets the tolerance: the run stops");
+    let stopped = finish.eta_lin_stopped.expect("(S_lin) stopped Newton");
+    assert!((stopped - unfinished.lin).abs() <= 1e-9 * unfinished.lin, "the loop's first mesh: {stopped}");
+    assert!(residual <= newton.rtol, "relative residual {residual:.2e}");
     assert!(finish.n_lin >= 1 && finish.n_est >= 1, "{finish:?}");
-    assert!(history[1].eta.lin <= 1e-6 * finish.eta_lin_stopped, "eta_lin {} after {finish:?}", history[1].eta.lin);
+    assert!(eta.lin <= 1e-6 * stopped, "{eta:?}");
 }
 
 /// Source: docs/method.md §5.3 (estimates skipped on a prediction). Goal: η_lin of a Newton
@@ -344,7 +451,8 @@ fn adaptive_p1_reaches_the_optimal_rate_on_hertz() {
 /// zone are resolved; uniform refinement is held to about N^{−3/4} or less by the H^{5/2−ε}
 /// regularity there. The counters have the reference shape with the default δ₀: most δ
 /// reductions on the first mesh (measured N_reg = 12, 0, 0, 1, 0, 0, 1, 0), then a few Newton
-/// steps per mesh (N_lin = 49, 3, 2, 3, 2, 2, 3, 1).
+/// steps per mesh (N_lin = 49, 3, 2, 3, 2, 2, 3, 5, the last mesh's run going to the residual
+/// tolerance at once).
 /// Parameters: geo/hertz.toml (contact direction (0, −1)), P2, size factor 2 (1 416 unknowns at
 /// first), 8 adaptive and 3 uniform steps; slopes over the last four adaptive steps (measured
 /// −1.03 over 11 122 … 85 258 unknowns) and the three uniform steps (−0.50 over
@@ -494,7 +602,7 @@ fn adaptive_p2_reaches_the_optimal_rate_on_the_dam_on_rock() {
 /// default γ_reg = 0.1 and ρ_δ = 2.
 #[test]
 fn a_level_whose_newton_fails_below_delta_ends_at_the_delta_it_solved() {
-    use damfem::adapt::level::{contact_level, StartDelta};
+    use damfem::adapt::level::{contact_level, StartDelta, Stopping};
     use damfem::solve::newton;
     let mut scene = scene("scene_a", 1);
     scene.mesh.size_factor = 4.0;
@@ -508,9 +616,9 @@ fn a_level_whose_newton_fails_below_delta_ends_at_the_delta_it_solved() {
     drop(contact);
     let settings = AdaptSettings { gamma_lin: 1e-12, ..Default::default() };
     let one_step = NewtonOptions { max_iter: 1, ..scene.newton_options() };
-    let level =
-        contact_level(&problem, &disc, &joint, &one_step, &settings, converged.x, StartDelta::Kept(delta_s, None))
-            .unwrap_or_else(|e| panic!("the level ends at δ_s: {e}"));
+    let start = (converged.x, StartDelta::Kept(delta_s, None));
+    let level = contact_level(&problem, &disc, &joint, &one_step, &settings, start, Stopping::Linearisation)
+        .unwrap_or_else(|e| panic!("the level ends at δ_s: {e}"));
     let solution = level.solution.contact().expect("contact");
     let g = level.estimate.estimators.global();
     let equilibration = level.estimate.equilibration.worst(1);
@@ -531,9 +639,10 @@ fn a_level_whose_newton_fails_below_delta_ends_at_the_delta_it_solved() {
     assert!(g.reg > settings.gamma_reg * (g.osc + g.flux + g.neu + g.disc + g.lin), "(S_reg) holds at δ_s: {g:?}");
     assert!(equilibration <= 1e-10, "equilibration {equilibration:e}");
     assert!(reference.i_eff >= 1.0, "I_eff {}", reference.i_eff);
-    let start = StartDelta::Kept(delta_s, None);
-    let x0 = solution.x.clone();
-    let free = contact_level(&problem, &disc, &joint, &scene.newton_options(), &settings, x0, start).expect("level");
+    let start = (solution.x.clone(), StartDelta::Kept(delta_s, None));
+    let free =
+        contact_level(&problem, &disc, &joint, &scene.newton_options(), &settings, start, Stopping::Linearisation)
+            .expect("level");
     let (delta, g) = (free.solution.contact().expect("contact").smoothing.delta, free.estimate.estimators.global());
     eprintln!("the scene's Newton budget: δ {delta:.4e} after {} reductions", free.n_reg);
     assert!(delta < delta_s && g.reg <= settings.gamma_reg * (g.osc + g.flux + g.neu + g.disc + g.lin), "δ {delta}");

@@ -228,6 +228,12 @@ fn help_texts() {
             assert!(help.contains("--output"), "{command}: {help}");
         }
     }
+    // strength reduction divides every joint's strength; `safety` reduces one plane's
+    let solve =
+        String::from_utf8_lossy(&damfem(&["solve", "--help"]).stdout).split_whitespace().collect::<Vec<_>>().join(" ");
+    for words in ["every joint", "the weakest plane's", "damfem safety", "[safety] joint"] {
+        assert!(solve.contains(words), "{words:?} not in: {solve}");
+    }
 }
 
 // (a) A missing scene file is named in the error.

@@ -263,8 +263,8 @@ fn each_joint_has_its_own_law() {
 // Goal: `damfem safety` reports the base alone: its joint line from the heel (0, 0) to the toe
 // (40, 0), joint.csv with faces at y = 0 only, N the whole dam's weight (the base carries both
 // lifts; with the lift joint's faces it would be 1.41 times that) to 10⁻⁵, |T| the thrust
-// ρ_w g 45²/2 to 10⁻⁶ (measured 1.0·10⁻¹⁴: Newton is finished on the last mesh after the
-// adaptive loop's rule stopped it, where |T| was 1.6·10⁻³ off), FS_SR's bracket within 0.5 % around F W/thrust, the
+// ρ_w g 45²/2 to 10⁻⁶ (measured 5.8·10⁻¹⁴: Newton runs to its tolerance on the last mesh; at
+// the iterate where the adaptive loop's rule stopped it, |T| was 1.6·10⁻³ off), FS_SR's bracket within 0.5 % around F W/thrust, the
 // exact factor of a horizontal Coulomb joint (c = 0) that alone holds the dam, since the lift
 // joint (FS_LE 7.2) holds far longer.
 // Parameters: P1, gmsh's sizes × 2, one mesh.
@@ -735,8 +735,9 @@ fn joint_uplift_refuses_bad_input() {
 // safety` analyses the lift joint with its own diagram: its joint line from the heel (0, 20) over
 // 26 m, joint.csv with faces at y = 20 only, U = ρ_w g (45 − 20) · 26/2 (the joint stays
 // closed, crack 0) to 10⁻⁹, where the base's diagram would give more than its 40 m, and
-// N + U = the upper block's weight to 10⁻⁶ (measured 9.7·10⁻¹⁴: Newton is finished on the
-// last mesh after the adaptive loop's rule stopped it, where N + U − W was 0.49 % of W).
+// N + U = the upper block's weight to 10⁻⁶ (measured 2.1·10⁻¹⁴: Newton runs to its tolerance
+// on the last mesh; at the iterate where the adaptive loop's rule stopped it, N + U − W was
+// 0.49 % of W).
 // Parameters: P1, gmsh's sizes × 2, one mesh.
 #[test]
 fn safety_takes_the_sliding_planes_own_uplift() {
