@@ -243,6 +243,9 @@ pub struct StepRecord {
     pub equilibration: f64,
     /// η_tot / a sharp lower bound of ‖R(u_h)‖, if the caller computed one.
     pub i_eff: Option<f64>,
+    /// Whether the last two references of I_eff agree within 2 %: if not (the reference's
+    /// size limit), I_eff is only an upper bound of the true η_tot / ‖R(u_h)‖.
+    pub i_eff_reference_converged: Option<bool>,
     /// On a straight joint with a heel: the length open at the heel \[m\] and the resultant
     /// of the joint traction (docs/method.md §1.9).
     pub crack_length: Option<f64>,
@@ -394,6 +397,7 @@ pub fn run(
             n_est: level.n_est,
             equilibration: level.estimate.equilibration.worst(problem.mesh.order),
             i_eff: None,
+            i_eff_reference_converged: None,
             crack_length: contact.zip(line).map(|(c, line)| c.crack_from_heel(&line)),
             resultant: contact.zip(line).and_then(|(c, line)| c.resultant(&line)),
             stall,
