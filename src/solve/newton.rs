@@ -48,6 +48,12 @@ pub trait NonlinearSystem {
     fn schur(&self) -> Option<&LayerSchur> {
         None
     }
+    /// Writes into `jacobian` the Jacobian at x of a model whose law does not soften (the
+    /// cohesion's closed indicator held at its value at x), for the steps of a stalled run;
+    /// false (the default): the system has none.
+    fn frozen_jacobian(&self, _x: &[f64], _jacobian: &mut [f64]) -> bool {
+        false
+    }
     /// F(x_prev) + J(x_prev)(x + lo − x_prev), the residual at the pair x + lo of the Newton
     /// equation linearised at `x_prev`, computed without the rounding of the values of x
     /// (differences of nearby nodal values, compensated sums); None (the default): iterates
@@ -121,13 +127,29 @@ impl Default for NewtonOptions {
     }
 }
 
-/// One Newton step: residual before it, increment taken, step length.
+/// One Newton step: residual before it, increment taken, step length, and whether its
+/// direction came from the frozen Jacobian ([`NonlinearSystem::frozen_jacobian`]).
 #[derive(Debug, Clone, Copy, Serialize)]
 pub struct Iteration {
     pub residual: f64,
     pub increment: f64,
     pub step: f64,
+    pub frozen: bool,
 }
+
+impl Iteration {
+    /// A full step of the exact Jacobian: its iterate solves the linearised problem of the
+    /// step, as the estimator's bound assumes.
+    pub fn full(&self) -> bool {
+        self.step == 1.0 && !self.frozen
+    }
+}
+
+/// An exact Newton step cut below this length counts as stalled.
+const STALLED_STEP: f64 = 1.0 / 16.0;
+/// After this many stalled steps in a row, the steps take the frozen Jacobian, until one of
+/// them is full and halves ‖F‖.
+const STALLED_STEPS: usize = 3;
 
 /// Wall time spent in each part of the Newton loop, in seconds.
 #[derive(Debug, Clone, Copy, Default, Serialize)]
@@ -253,6 +275,7 @@ pub fn newton_until(
     let mut seconds = NewtonTimings::default();
     let mut polished = false;
     let mut factors_of_last_step = None;
+    let (mut stalled, mut frozen) = (0, false);
     for step in 0..=options.max_iter {
         let clock = Instant::now();
         system.evaluate(&x, &mut residual, Some(&mut jacobian));
@@ -266,7 +289,7 @@ pub fn newton_until(
             history.last().is_some_and(|it: &Iteration| it.increment <= 1e-10 * norm(&x) && r >= 0.5 * it.residual);
         let converged = r <= options.rtol * scale || stagnated;
         let due = step >= options.min_steps;
-        let full_step = history.last().filter(|it| it.step == 1.0).and(factors_of_last_step.as_ref());
+        let full_step = history.last().filter(|it| it.full()).and(factors_of_last_step.as_ref());
         let refine = || refinement(system, &x, &x_prev, full_step?);
         let refined = OnceCell::new();
         let accepted = due
@@ -275,7 +298,7 @@ pub fn newton_until(
             });
         // a converged iterate should solve the linearised problem of its step, which the
         // estimator's bound assumes: after a damped step, one full step more (once)
-        let polish = !polished && step < options.max_iter && history.last().is_some_and(|it| it.step < 1.0);
+        let polish = !polished && step < options.max_iter && history.last().is_some_and(|it| !it.full());
         if accepted || (due && converged && !polish) {
             let clock = Instant::now();
             let (x, lo) = match refined.into_inner().unwrap_or_else(refine) {
@@ -291,6 +314,8 @@ pub fn newton_until(
         }
         let clock = Instant::now();
         let solve_error = |source| NewtonError::Solve { step, source };
+        // the polishing step takes the exact Jacobian
+        let frozen_step = frozen && !(due && converged) && system.frozen_jacobian(&x, &mut jacobian);
         let factors = linear.factor(pattern, &jacobian).map_err(solve_error)?;
         seconds.factor += clock.elapsed().as_secs_f64();
         let clock = Instant::now();
@@ -306,19 +331,28 @@ pub fn newton_until(
         if !delta.iter().all(|v| v.is_finite()) {
             return Err(NewtonError::NonFinite { step });
         }
-        factors_of_last_step = Some(factors);
+        factors_of_last_step = (!frozen_step).then_some(factors);
         let clock = Instant::now();
-        let t = if due && converged {
-            1.0
+        let (t, r_trial) = if due && converged {
+            (1.0, None)
         } else {
             line_search(system, &x, &delta, r, options, &mut trial, &mut trial_residual)
         };
         seconds.line_search += clock.elapsed().as_secs_f64();
+        // a softening law's exact steps stall where the Newton model holds only over tiny
+        // steps; the frozen Jacobian's steps go on until one is full and halves ‖F‖
+        if frozen_step {
+            frozen = !(t == 1.0 && r_trial.is_some_and(|rt| rt <= 0.5 * r));
+            stalled = 0;
+        } else {
+            stalled = if t < STALLED_STEP { stalled + 1 } else { 0 };
+            frozen = stalled >= STALLED_STEPS;
+        }
         x_prev.copy_from_slice(&x);
         for (xi, di) in x.iter_mut().zip(&delta) {
             *xi += t * di;
         }
-        history.push(Iteration { residual: r, increment: t * norm(&delta), step: t });
+        history.push(Iteration { residual: r, increment: t * norm(&delta), step: t, frozen: frozen_step });
     }
     Err(NewtonError::NotConverged { history, scale })
 }
@@ -336,7 +370,8 @@ fn refinement(system: &impl NonlinearSystem, x: &[f64], x_prev: &[f64], factors:
 }
 
 /// The step length: the largest t = 2^−j with ‖F(x + tΔ)‖ ≤ κ‖F(x)‖ (for a monotone system,
-/// the largest with ‖F(x + tΔ)‖ < ‖F(x)‖ first); the last halving if none qualifies.
+/// the largest with ‖F(x + tΔ)‖ < ‖F(x)‖ first); the last halving if none qualifies. With
+/// ‖F(x + tΔ)‖ (None for the last halving).
 fn line_search(
     system: &impl NonlinearSystem,
     x: &[f64],
@@ -345,7 +380,7 @@ fn line_search(
     options: &NewtonOptions,
     trial: &mut [f64],
     trial_residual: &mut [f64],
-) -> f64 {
+) -> (f64, Option<f64>) {
     let (mut t, mut bounded) = (1.0, None);
     for _ in 0..options.max_halvings {
         for ((y, xi), di) in trial.iter_mut().zip(x).zip(delta) {
@@ -355,12 +390,12 @@ fn line_search(
         let r_trial = norm(trial_residual);
         let within = r_trial <= options.max_growth * r;
         if (within && !system.monotone()) || r_trial < r {
-            return t;
+            return (t, Some(r_trial));
         }
         if within && bounded.is_none() {
-            bounded = Some(t);
+            bounded = Some((t, Some(r_trial)));
         }
         t *= 0.5;
     }
-    bounded.unwrap_or(2.0 * t)
+    bounded.unwrap_or((2.0 * t, None))
 }
