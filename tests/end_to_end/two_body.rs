@@ -901,8 +901,17 @@ fn two_cracks_settle_in_either_order() {
     let settings = scene.continuation(&problem, &disc.topology);
     let together = solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("{e}"));
     let lengths = |s: &ContactSolution| s.nitsche.uplift.iter().map(|u| u.diagram.crack).collect::<Vec<f64>>();
+    // Newton steps of each solve, and those of the frozen Jacobian among them
+    let steps = |s: &ContactSolution| {
+        let its = s.stages.iter().flat_map(|stage| &stage.report.iterations);
+        (its.clone().count(), its.filter(|it| it.frozen).count())
+    };
     let reference = lengths(&together);
-    println!("together: cracks {reference:?}, {:?}", together.cracks);
+    println!(
+        "together: cracks {reference:?}, {:?}; Newton steps (all, frozen) {:?}",
+        together.cracks,
+        steps(&together)
+    );
     for (d, up) in together.nitsche.uplift.iter().enumerate() {
         let (line, s_c) = (&up.diagram.line, reference[d]);
         let change = together.cracks[d].expect("a filled crack").change;
@@ -925,7 +934,7 @@ fn two_cracks_settle_in_either_order() {
         let solution = solve_by_continuation(&problem, &disc, &preset, &settings)
             .unwrap_or_else(|e| panic!("{name} crack given: {e}"));
         let settled = lengths(&solution);
-        println!("{name} crack given: cracks {settled:?}, {:?}", solution.cracks);
+        println!("{name} crack given: cracks {settled:?}, {:?}; Newton steps {:?}", solution.cracks, steps(&solution));
         for (d, up) in solution.nitsche.uplift.iter().enumerate() {
             let length = up.diagram.line.length;
             assert!(
