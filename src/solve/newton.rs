@@ -8,7 +8,9 @@
 //! largest t that lowers ‖F‖ instead, and the rule above only where none does (a kink). Each
 //! linear solve gets one step of iterative refinement. It stops when ‖F(x_k)‖ ≤ rtol · scale,
 //! where `scale` is the system's load norm, or when it stagnates at round-off: ‖Δ‖ ≤ 10⁻¹⁰ ‖x‖
-//! with no halving of ‖F‖. A run that gets there by a damped step takes one full step more,
+//! with no halving of ‖F‖. After three exact steps in a row cut below t = 1/16, a system
+//! with a [`NonlinearSystem::frozen_jacobian`] (a softening law) takes its steps until one is
+//! full. A run that gets there by a damped or frozen step takes one exact full step more,
 //! so that the iterate it returns solves the linearised problem of its last step (what the
 //! estimator's bound assumes). Running out of iterations is an error that carries the whole
 //! history: never a silent wrong answer.
@@ -148,7 +150,7 @@ impl Iteration {
 /// An exact Newton step cut below this length counts as stalled.
 const STALLED_STEP: f64 = 1.0 / 16.0;
 /// After this many stalled steps in a row, the steps take the frozen Jacobian, until one of
-/// them is full and halves ‖F‖.
+/// them is full.
 const STALLED_STEPS: usize = 3;
 
 /// Wall time spent in each part of the Newton loop, in seconds.
@@ -333,16 +335,16 @@ pub fn newton_until(
         }
         factors_of_last_step = (!frozen_step).then_some(factors);
         let clock = Instant::now();
-        let (t, r_trial) = if due && converged {
-            (1.0, None)
+        let t = if due && converged {
+            1.0
         } else {
             line_search(system, &x, &delta, r, options, &mut trial, &mut trial_residual)
         };
         seconds.line_search += clock.elapsed().as_secs_f64();
         // a softening law's exact steps stall where the Newton model holds only over tiny
-        // steps; the frozen Jacobian's steps go on until one is full and halves ‖F‖
+        // steps; the frozen Jacobian's steps go on until one is full
         if frozen_step {
-            frozen = !(t == 1.0 && r_trial.is_some_and(|rt| rt <= 0.5 * r));
+            frozen = t < 1.0;
             stalled = 0;
         } else {
             stalled = if t < STALLED_STEP { stalled + 1 } else { 0 };
@@ -370,8 +372,7 @@ fn refinement(system: &impl NonlinearSystem, x: &[f64], x_prev: &[f64], factors:
 }
 
 /// The step length: the largest t = 2^−j with ‖F(x + tΔ)‖ ≤ κ‖F(x)‖ (for a monotone system,
-/// the largest with ‖F(x + tΔ)‖ < ‖F(x)‖ first); the last halving if none qualifies. With
-/// ‖F(x + tΔ)‖ (None for the last halving).
+/// the largest with ‖F(x + tΔ)‖ < ‖F(x)‖ first); the last halving if none qualifies.
 fn line_search(
     system: &impl NonlinearSystem,
     x: &[f64],
@@ -380,7 +381,7 @@ fn line_search(
     options: &NewtonOptions,
     trial: &mut [f64],
     trial_residual: &mut [f64],
-) -> (f64, Option<f64>) {
+) -> f64 {
     let (mut t, mut bounded) = (1.0, None);
     for _ in 0..options.max_halvings {
         for ((y, xi), di) in trial.iter_mut().zip(x).zip(delta) {
@@ -390,12 +391,12 @@ fn line_search(
         let r_trial = norm(trial_residual);
         let within = r_trial <= options.max_growth * r;
         if (within && !system.monotone()) || r_trial < r {
-            return (t, Some(r_trial));
+            return t;
         }
         if within && bounded.is_none() {
-            bounded = Some((t, Some(r_trial)));
+            bounded = Some(t);
         }
         t *= 0.5;
     }
-    bounded.unwrap_or((2.0 * t, None))
+    bounded.unwrap_or(2.0 * t)
 }
