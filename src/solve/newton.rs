@@ -299,8 +299,10 @@ pub fn newton_until(
                 stop(&Iterate { x: &x, x_prev: &x_prev, last, residual: r, refined: &refined, refine: &refine })
             });
         // a converged iterate should solve the linearised problem of its step, which the
-        // estimator's bound assumes: after a damped step, one full step more (once)
-        let polish = !polished && step < options.max_iter && history.last().is_some_and(|it| !it.full());
+        // estimator's bound assumes: after a damped step, one full step more (once), and after
+        // a frozen step always
+        let polish =
+            step < options.max_iter && history.last().is_some_and(|it| it.frozen || (!polished && it.step < 1.0));
         if accepted || (due && converged && !polish) {
             let clock = Instant::now();
             let (x, lo) = match refined.into_inner().unwrap_or_else(refine) {
