@@ -306,7 +306,7 @@ fn solve_level<'a>(
         let mut inside = EstimateCount::default();
         let clock = Instant::now();
         let attempt = newton_until(&contact, x.clone(), newton, |it: &Iterate| {
-            let contracted = it.last.step == 1.0 && it.residual <= 0.5 * it.last.residual;
+            let contracted = it.last.full() && it.residual <= 0.5 * it.last.residual;
             let promising = trend.is_none_or(|t| t.promising(it.residual, settings.gamma_lin));
             if stopping == Stopping::Residual || !contracted || !promising {
                 return false;

@@ -39,6 +39,10 @@ pub struct Tangential {
     pub value: f64,
     pub d_tangential: f64,
     pub d_normal: f64,
+    /// ∂/∂P^n with the cohesion's closed indicator q'(P^n) held fixed: (q'(S − p_t) −
+    /// q'(p_t + S)) (−F q'(P^n)), the derivative of a law that does not soften as the joint
+    /// opens (docs/method.md §1.5); d_normal for the other laws.
+    pub d_normal_frozen: f64,
     /// The threshold S at the point.
     pub threshold: f64,
 }
@@ -86,17 +90,28 @@ impl JointLaw {
         }
     }
 
-    /// S and dS/dP^n at the normal argument `p_n`.
-    fn threshold(&self, p_n: f64, q: Smoothing) -> (f64, f64) {
+    /// S, dS/dP^n and dS/dP^n with the cohesion's closed indicator held fixed (−F q'(P^n) for
+    /// Mohr–Coulomb, dS/dP^n for the other laws) at the normal argument `p_n`.
+    fn threshold(&self, p_n: f64, q: Smoothing) -> (f64, f64, f64) {
         match *self {
-            JointLaw::Frictionless => (0.0, 0.0),
-            JointLaw::Tresca { threshold } => (threshold, 0.0),
-            JointLaw::Coulomb { friction } => (-friction * q.value(p_n), -friction * q.derivative(p_n)),
-            JointLaw::MohrCoulomb { friction, cohesion } => (
-                cohesion * q.derivative(p_n) - friction * q.value(p_n),
-                cohesion * q.second_derivative(p_n) - friction * q.derivative(p_n),
-            ),
+            JointLaw::Frictionless => (0.0, 0.0, 0.0),
+            JointLaw::Tresca { threshold } => (threshold, 0.0, 0.0),
+            JointLaw::Coulomb { friction } => {
+                let ds = -friction * q.derivative(p_n);
+                (-friction * q.value(p_n), ds, ds)
+            }
+            JointLaw::MohrCoulomb { friction, cohesion } => {
+                let ds_frozen = -friction * q.derivative(p_n);
+                let s = cohesion * q.derivative(p_n) - friction * q.value(p_n);
+                (s, cohesion * q.second_derivative(p_n) + ds_frozen, ds_frozen)
+            }
         }
+    }
+
+    /// Whether the threshold softens: S falls as P^n rises towards the open state (the
+    /// cohesion of Mohr–Coulomb, lost where the joint opens).
+    pub fn softens(&self) -> bool {
+        matches!(self, JointLaw::MohrCoulomb { cohesion, .. } if *cohesion > 0.0)
     }
 
     /// Π_S(p_t) with S at `p_n`, and its derivatives: ∂/∂p_t = 1 − q'(S − p_t) − q'(p_t + S),
@@ -104,14 +119,22 @@ impl JointLaw {
     /// joint is held closed and sticking (S = ∞): Π = p_t, the bonded interface.
     pub fn tangential(&self, p_n: f64, p_t: f64, q: Smoothing) -> Tangential {
         if q == Smoothing::CLOSED && self.has_friction() {
-            return Tangential { value: p_t, d_tangential: 1.0, d_normal: 0.0, threshold: f64::INFINITY };
+            let (d_tangential, d_normal) = (1.0, 0.0);
+            return Tangential {
+                value: p_t,
+                d_tangential,
+                d_normal,
+                d_normal_frozen: d_normal,
+                threshold: f64::INFINITY,
+            };
         }
-        let (s, ds) = self.threshold(p_n, q);
+        let (s, ds, ds_frozen) = self.threshold(p_n, q);
         let (upper, lower) = (q.derivative(s - p_t), q.derivative(p_t + s));
         Tangential {
             value: p_t + q.value(s - p_t) - q.value(p_t + s),
             d_tangential: 1.0 - upper - lower,
             d_normal: (upper - lower) * ds,
+            d_normal_frozen: (upper - lower) * ds_frozen,
             threshold: s,
         }
     }
@@ -166,6 +189,33 @@ mod tests {
                 assert_eq!((t.value, t.d_tangential, t.d_normal), (p_t, 1.0, 0.0), "{law:?} at ({p_n}, {p_t})");
             }
         }
+    }
+
+    /// Source: docs/method.md §1.5 (the frozen Jacobian of a stalled run). Goal: d_normal_frozen
+    /// is the derivative in P^n of Π_S with S = c q'(p̄) − F q(P^n), the cohesion's indicator
+    /// held at p̄ (central differences), and d_normal itself for the laws that do not soften.
+    /// Parameters: LAWS, δ = 0.05, (p_n, p_t) on a grid of step 0.05 across both kinks.
+    #[test]
+    fn the_frozen_derivative_holds_the_cohesion_fixed() {
+        let q = Smoothing { delta: 0.05 };
+        for law in LAWS {
+            for i in -40..=40 {
+                for j in -40..=40 {
+                    let (p_n, p_t) = (0.05 * i as f64 + 0.0071, 0.05 * j as f64 + 0.0123);
+                    let t = law.tangential(p_n, p_t, q);
+                    let JointLaw::MohrCoulomb { friction, cohesion } = law else {
+                        assert_eq!(t.d_normal_frozen, t.d_normal, "{law:?}");
+                        continue;
+                    };
+                    let clamp = |s: f64| p_t + q.value(s - p_t) - q.value(p_t + s);
+                    let frozen = |p: f64| clamp(cohesion * q.derivative(p_n) - friction * q.value(p));
+                    let h = 1e-7;
+                    let fd = (frozen(p_n + h) - frozen(p_n - h)) / (2.0 * h);
+                    assert!((fd - t.d_normal_frozen).abs() < 1e-5, "{law:?} at ({p_n}, {p_t}): {fd} against {t:?}");
+                }
+            }
+        }
+        assert!(LAWS[2].softens() && !LAWS[1].softens());
     }
 
     #[test]

@@ -287,6 +287,48 @@ impl<'a> ContactProblem<'a> {
         Ok(report?.x)
     }
 
+    /// F(x) and, when asked, its Jacobian (with the cohesion's indicator held fixed if
+    /// `frozen`): the bulk K x − b and K, and the terms of each contact face.
+    fn assemble(&self, x: &[f64], residual: &mut [f64], mut jacobian: Option<&mut [f64]>, frozen: bool) {
+        // bulk: F = K x − b, J = K
+        let pattern = self.pattern();
+        pattern.multiply(&self.bulk.values, x, residual);
+        for (r, b) in residual.iter_mut().zip(&self.bulk.rhs) {
+            *r -= b;
+        }
+        if let Some(j) = jacobian.as_deref_mut() {
+            j.copy_from_slice(&self.bulk.values);
+        }
+        let u_full = self.disc.dofs.expand(x);
+        let n = self.nitsche.n_local();
+        let (mut r_local, mut j_local, mut dofs) = (vec![0.0; n], vec![0.0; n * n], Vec::new());
+        let free = &self.disc.dofs.free;
+        for k in 0..self.nitsche.faces.len() {
+            let u = local(&self.problem.mesh, &self.nitsche, k, &u_full, &mut dofs);
+            let want_j = jacobian.is_some();
+            let j = want_j.then_some(&mut j_local[..]);
+            if frozen {
+                self.nitsche.frozen_face_terms(k, &u, self.smoothing, &mut r_local, j);
+            } else {
+                self.nitsche.face_terms(k, &u, self.smoothing, &mut r_local, j);
+            }
+            for (i, &gi) in dofs.iter().enumerate() {
+                let row = free[gi];
+                if row == FIXED {
+                    continue;
+                }
+                residual[row] += r_local[i];
+                if let Some(j) = jacobian.as_deref_mut() {
+                    for (c, &gc) in dofs.iter().enumerate() {
+                        if free[gc] != FIXED {
+                            j[pattern.position(row, free[gc])] += j_local[i * n + c];
+                        }
+                    }
+                }
+            }
+        }
+    }
+
     /// Contact state of every face for the free unknowns `x`.
     pub fn face_states(&self, x: &[f64]) -> Vec<FaceState> {
         let u_full = self.disc.dofs.expand(x);
@@ -429,39 +471,18 @@ impl NonlinearSystem for ContactProblem<'_> {
         self.nitsche.has_friction()
     }
 
-    fn evaluate(&self, x: &[f64], residual: &mut [f64], mut jacobian: Option<&mut [f64]>) {
-        // bulk: F = K x − b, J = K
-        let pattern = self.pattern();
-        pattern.multiply(&self.bulk.values, x, residual);
-        for (r, b) in residual.iter_mut().zip(&self.bulk.rhs) {
-            *r -= b;
+    fn evaluate(&self, x: &[f64], residual: &mut [f64], jacobian: Option<&mut [f64]>) {
+        self.assemble(x, residual, jacobian, false)
+    }
+
+    /// The Jacobian with the cohesion's closed indicator held at its value at x
+    /// ([`Nitsche::frozen_face_terms`]), where some joint's threshold softens.
+    fn frozen_jacobian(&self, x: &[f64], jacobian: &mut [f64]) -> bool {
+        let softens = self.nitsche.softens();
+        if softens {
+            self.assemble(x, &mut vec![0.0; x.len()], Some(jacobian), true);
         }
-        if let Some(j) = jacobian.as_deref_mut() {
-            j.copy_from_slice(&self.bulk.values);
-        }
-        let u_full = self.disc.dofs.expand(x);
-        let n = self.nitsche.n_local();
-        let (mut r_local, mut j_local, mut dofs) = (vec![0.0; n], vec![0.0; n * n], Vec::new());
-        let free = &self.disc.dofs.free;
-        for k in 0..self.nitsche.faces.len() {
-            let u = local(&self.problem.mesh, &self.nitsche, k, &u_full, &mut dofs);
-            let want_j = jacobian.is_some();
-            self.nitsche.face_terms(k, &u, self.smoothing, &mut r_local, want_j.then_some(&mut j_local[..]));
-            for (i, &gi) in dofs.iter().enumerate() {
-                let row = free[gi];
-                if row == FIXED {
-                    continue;
-                }
-                residual[row] += r_local[i];
-                if let Some(j) = jacobian.as_deref_mut() {
-                    for (c, &gc) in dofs.iter().enumerate() {
-                        if free[gc] != FIXED {
-                            j[pattern.position(row, free[gc])] += j_local[i * n + c];
-                        }
-                    }
-                }
-            }
-        }
+        softens
     }
 
     /// The bulk K(x + lo) − b in difference form ([`Problem::residual`]) and each face's

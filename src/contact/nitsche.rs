@@ -196,6 +196,11 @@ impl Nitsche {
         self.laws.iter().any(|c| c.law.has_friction())
     }
 
+    /// Whether some face's threshold softens as the joint opens ([`JointLaw::softens`]).
+    pub fn softens(&self) -> bool {
+        self.laws.iter().any(|c| c.law.softens())
+    }
+
     /// Number of local dofs of a face: those of the owning cell, and of the master cell on a
     /// joint between two bodies.
     pub fn n_local(&self) -> usize {
@@ -507,7 +512,21 @@ impl Nitsche {
         residual: &mut [f64],
         jacobian: Option<&mut [f64]>,
     ) {
-        self.terms(k, u, None, smoothing, residual, jacobian)
+        self.terms(k, u, None, smoothing, false, residual, jacobian)
+    }
+
+    /// [`Nitsche::face_terms`] with the Jacobian of the law whose cohesion's closed indicator
+    /// q'(P_γ) is held at its value at `u` ([`Tangential::d_normal_frozen`]): a law that does
+    /// not soften, for the steps of a stalled Newton run (docs/method.md §1.5).
+    pub fn frozen_face_terms(
+        &self,
+        k: usize,
+        u: &FaceDisplacement,
+        smoothing: Smoothing,
+        residual: &mut [f64],
+        jacobian: Option<&mut [f64]>,
+    ) {
+        self.terms(k, u, None, smoothing, true, residual, jacobian)
     }
 
     /// R_F(u_prev; φ_k) + J_F(u_prev; w, φ_k) of face k: its residual of the Newton equation
@@ -522,18 +541,20 @@ impl Nitsche {
         smoothing: Smoothing,
         residual: &mut [f64],
     ) {
-        self.terms(k, u_prev, Some((u, step)), smoothing, residual, None)
+        self.terms(k, u_prev, Some((u, step)), smoothing, false, residual, None)
     }
 
     /// The face terms at `u`, or with `moved` = (u_new, w), those linearised at `u` evaluated
     /// at u_new = u + w, on the rule of `u` (the linearised integrands are polynomial between
-    /// its kinks).
+    /// its kinks); the Jacobian with the cohesion's indicator held fixed if `frozen`.
+    #[allow(clippy::too_many_arguments)]
     fn terms(
         &self,
         k: usize,
         u: &FaceDisplacement,
         moved: Option<(&FaceDisplacement, &FaceDisplacement)>,
         smoothing: Smoothing,
+        frozen: bool,
         residual: &mut [f64],
         mut jacobian: Option<&mut [f64]>,
     ) {
@@ -574,6 +595,7 @@ impl Nitsche {
             if self.law(k).has_friction() {
                 let sigma_t_u = dot(&pt.sigma_t, &u_new.relative);
                 let t = self.tangential(k, &pt, u, smoothing);
+                let t = if frozen { Tangential { d_normal: t.d_normal_frozen, ..t } } else { t };
                 let traction = [sigma_t_u, tangential];
                 self.tangential_terms(k, &pt, &t, traction, w, &trial, residual, jacobian.as_deref_mut());
             }

@@ -8,7 +8,9 @@
 //! largest t that lowers ‖F‖ instead, and the rule above only where none does (a kink). Each
 //! linear solve gets one step of iterative refinement. It stops when ‖F(x_k)‖ ≤ rtol · scale,
 //! where `scale` is the system's load norm, or when it stagnates at round-off: ‖Δ‖ ≤ 10⁻¹⁰ ‖x‖
-//! with no halving of ‖F‖. A run that gets there by a damped step takes one full step more,
+//! with no halving of ‖F‖. After three exact steps in a row cut below t = 1/16, a system
+//! with a [`NonlinearSystem::frozen_jacobian`] (a softening law) takes its steps until one is
+//! full. A run that gets there by a damped or frozen step takes one exact full step more,
 //! so that the iterate it returns solves the linearised problem of its last step (what the
 //! estimator's bound assumes). Running out of iterations is an error that carries the whole
 //! history: never a silent wrong answer.
@@ -47,6 +49,12 @@ pub trait NonlinearSystem {
     /// nonlinear part touches; None (the default): every step factors J by sparse LU.
     fn schur(&self) -> Option<&LayerSchur> {
         None
+    }
+    /// Writes into `jacobian` the Jacobian at x of a model whose law does not soften (the
+    /// cohesion's closed indicator held at its value at x), for the steps of a stalled run;
+    /// false (the default): the system has none.
+    fn frozen_jacobian(&self, _x: &[f64], _jacobian: &mut [f64]) -> bool {
+        false
     }
     /// F(x_prev) + J(x_prev)(x + lo − x_prev), the residual at the pair x + lo of the Newton
     /// equation linearised at `x_prev`, computed without the rounding of the values of x
@@ -121,13 +129,29 @@ impl Default for NewtonOptions {
     }
 }
 
-/// One Newton step: residual before it, increment taken, step length.
+/// One Newton step: residual before it, increment taken, step length, and whether its
+/// direction came from the frozen Jacobian ([`NonlinearSystem::frozen_jacobian`]).
 #[derive(Debug, Clone, Copy, Serialize)]
 pub struct Iteration {
     pub residual: f64,
     pub increment: f64,
     pub step: f64,
+    pub frozen: bool,
 }
+
+impl Iteration {
+    /// A full step of the exact Jacobian: its iterate solves the linearised problem of the
+    /// step, as the estimator's bound assumes.
+    pub fn full(&self) -> bool {
+        self.step == 1.0 && !self.frozen
+    }
+}
+
+/// An exact Newton step cut below this length counts as stalled.
+const STALLED_STEP: f64 = 1.0 / 16.0;
+/// After this many stalled steps in a row, the steps take the frozen Jacobian, until one of
+/// them is full.
+const STALLED_STEPS: usize = 3;
 
 /// Wall time spent in each part of the Newton loop, in seconds.
 #[derive(Debug, Clone, Copy, Default, Serialize)]
@@ -253,6 +277,7 @@ pub fn newton_until(
     let mut seconds = NewtonTimings::default();
     let mut polished = false;
     let mut factors_of_last_step = None;
+    let (mut stalled, mut frozen) = (0, false);
     for step in 0..=options.max_iter {
         let clock = Instant::now();
         system.evaluate(&x, &mut residual, Some(&mut jacobian));
@@ -266,7 +291,7 @@ pub fn newton_until(
             history.last().is_some_and(|it: &Iteration| it.increment <= 1e-10 * norm(&x) && r >= 0.5 * it.residual);
         let converged = r <= options.rtol * scale || stagnated;
         let due = step >= options.min_steps;
-        let full_step = history.last().filter(|it| it.step == 1.0).and(factors_of_last_step.as_ref());
+        let full_step = history.last().filter(|it| it.full()).and(factors_of_last_step.as_ref());
         let refine = || refinement(system, &x, &x_prev, full_step?);
         let refined = OnceCell::new();
         let accepted = due
@@ -274,8 +299,10 @@ pub fn newton_until(
                 stop(&Iterate { x: &x, x_prev: &x_prev, last, residual: r, refined: &refined, refine: &refine })
             });
         // a converged iterate should solve the linearised problem of its step, which the
-        // estimator's bound assumes: after a damped step, one full step more (once)
-        let polish = !polished && step < options.max_iter && history.last().is_some_and(|it| it.step < 1.0);
+        // estimator's bound assumes: after a damped step, one full step more (once), and after
+        // a frozen step always
+        let polish =
+            step < options.max_iter && history.last().is_some_and(|it| it.frozen || (!polished && it.step < 1.0));
         if accepted || (due && converged && !polish) {
             let clock = Instant::now();
             let (x, lo) = match refined.into_inner().unwrap_or_else(refine) {
@@ -291,6 +318,8 @@ pub fn newton_until(
         }
         let clock = Instant::now();
         let solve_error = |source| NewtonError::Solve { step, source };
+        // the polishing step takes the exact Jacobian
+        let frozen_step = frozen && !(due && converged) && system.frozen_jacobian(&x, &mut jacobian);
         let factors = linear.factor(pattern, &jacobian).map_err(solve_error)?;
         seconds.factor += clock.elapsed().as_secs_f64();
         let clock = Instant::now();
@@ -306,7 +335,7 @@ pub fn newton_until(
         if !delta.iter().all(|v| v.is_finite()) {
             return Err(NewtonError::NonFinite { step });
         }
-        factors_of_last_step = Some(factors);
+        factors_of_last_step = (!frozen_step).then_some(factors);
         let clock = Instant::now();
         let t = if due && converged {
             1.0
@@ -314,11 +343,20 @@ pub fn newton_until(
             line_search(system, &x, &delta, r, options, &mut trial, &mut trial_residual)
         };
         seconds.line_search += clock.elapsed().as_secs_f64();
+        // a softening law's exact steps stall where the Newton model holds only over tiny
+        // steps; the frozen Jacobian's steps go on until one is full
+        if frozen_step {
+            frozen = t < 1.0;
+            stalled = 0;
+        } else {
+            stalled = if t < STALLED_STEP { stalled + 1 } else { 0 };
+            frozen = stalled >= STALLED_STEPS;
+        }
         x_prev.copy_from_slice(&x);
         for (xi, di) in x.iter_mut().zip(&delta) {
             *xi += t * di;
         }
-        history.push(Iteration { residual: r, increment: t * norm(&delta), step: t });
+        history.push(Iteration { residual: r, increment: t * norm(&delta), step: t, frozen: frozen_step });
     }
     Err(NewtonError::NotConverged { history, scale })
 }
