@@ -307,11 +307,7 @@ impl<'a> ContactProblem<'a> {
             let u = local(&self.problem.mesh, &self.nitsche, k, &u_full, &mut dofs);
             let want_j = jacobian.is_some();
             let j = want_j.then_some(&mut j_local[..]);
-            if frozen {
-                self.nitsche.frozen_face_terms(k, &u, self.smoothing, &mut r_local, j);
-            } else {
-                self.nitsche.face_terms(k, &u, self.smoothing, &mut r_local, j);
-            }
+            self.nitsche.face_terms(k, &u, self.smoothing, frozen, &mut r_local, j);
             for (i, &gi) in dofs.iter().enumerate() {
                 let row = free[gi];
                 if row == FIXED {
@@ -476,7 +472,7 @@ impl NonlinearSystem for ContactProblem<'_> {
     }
 
     /// The Jacobian with the cohesion's closed indicator held at its value at x
-    /// ([`Nitsche::frozen_face_terms`]), where some joint's threshold softens.
+    /// ([`Nitsche::face_terms`] with `frozen`), where some joint's threshold softens.
     fn frozen_jacobian(&self, x: &[f64], jacobian: &mut [f64]) -> bool {
         let softens = self.nitsche.softens();
         if softens {

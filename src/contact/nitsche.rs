@@ -503,30 +503,20 @@ impl Nitsche {
     }
 
     /// Local residual R_F(u; φ_k) and, if asked, Jacobian J_F(u; φ_l, φ_k) (row-major, k × l)
-    /// of face k with local nodal displacements `u`.
+    /// of face k with local nodal displacements `u`. With `frozen`, the Jacobian is that of the
+    /// law whose cohesion's closed indicator q'(P_γ) is held at its value at `u`
+    /// ([`Tangential::d_normal_frozen`]): a law that does not soften, for the steps of a
+    /// stalled Newton run (docs/method.md §1.5).
     pub fn face_terms(
         &self,
         k: usize,
         u: &FaceDisplacement,
         smoothing: Smoothing,
+        frozen: bool,
         residual: &mut [f64],
         jacobian: Option<&mut [f64]>,
     ) {
-        self.terms(k, u, None, smoothing, false, residual, jacobian)
-    }
-
-    /// [`Nitsche::face_terms`] with the Jacobian of the law whose cohesion's closed indicator
-    /// q'(P_γ) is held at its value at `u` ([`Tangential::d_normal_frozen`]): a law that does
-    /// not soften, for the steps of a stalled Newton run (docs/method.md §1.5).
-    pub fn frozen_face_terms(
-        &self,
-        k: usize,
-        u: &FaceDisplacement,
-        smoothing: Smoothing,
-        residual: &mut [f64],
-        jacobian: Option<&mut [f64]>,
-    ) {
-        self.terms(k, u, None, smoothing, true, residual, jacobian)
+        self.terms(k, u, None, smoothing, frozen, residual, jacobian)
     }
 
     /// R_F(u_prev; φ_k) + J_F(u_prev; w, φ_k) of face k: its residual of the Newton equation

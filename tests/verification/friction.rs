@@ -576,7 +576,7 @@ fn the_face_integrals_are_exact_where_both_projections_are_smoothed() {
                 let (u, u_prev) = (nitsche.local(k, &values, None), nitsche.local(k, &values_prev, None));
                 let step = nitsche.increment(k, &values, None, &values_prev);
                 let (mut r, mut j) = (vec![0.0; n], vec![0.0; n * n]);
-                nitsche.face_terms(k, &u_prev, smoothing, &mut r, Some(&mut j));
+                nitsche.face_terms(k, &u_prev, smoothing, false, &mut r, Some(&mut j));
                 let newton: Vec<f64> = (0..n)
                     .map(|i| r[i] + (0..n).map(|c| j[i * n + c] * (values[c] - values_prev[c])).sum::<f64>())
                     .collect();
