@@ -345,7 +345,7 @@ pub fn run(
             None => vec![0.0; disc.dofs.n_free],
         };
         seconds.transfer = clock.elapsed().as_secs_f64();
-        let level = match &joint {
+        let mut level = match &joint {
             None => level::linear_level(&problem, &disc)?,
             Some(joint) => {
                 let start = kept.map_or_else(
@@ -359,7 +359,6 @@ pub fn run(
         };
         // a mesh that turns out to be the last reports the iterate of Newton finished to its
         // residual tolerance, and the tolerance counts as met only on that iterate's estimate
-        let mut level = level;
         if !last && settings.met(measures(&problem, &level)) {
             level = level.finish(&model.newton(), settings)?;
         }
