@@ -167,7 +167,7 @@ fn first_iterate(
     let one_step = NewtonOptions { max_iter: 1, min_steps: 1, ..*newton };
     let delta = contact.smoothing.delta;
     let report =
-        newton_until(contact, x0, &one_step, |_| true).map_err(|source| AdaptError::Newton { delta, source })?;
+        newton_until(contact, x0, &one_step, |it| !it.probe).map_err(|source| AdaptError::Newton { delta, source })?;
     let p_max = contact.max_abs_p_gamma(&report.x);
     let scale = if p_max > 0.0 { p_max } else { load_scale };
     Ok((Stage { delta, report }, delta0 * scale))
@@ -180,7 +180,8 @@ const MAX_RETRIES: usize = 4;
 /// With contact on `joint`: Newton from `x0` at δ, stopped by (S_lin), and δ ← δ/ρ_δ until
 /// (S_reg); with the reservoir's pressure in the crack at the heel, solved again at that δ
 /// until the crack settles. On the first mesh δ₀ comes from the first Newton iterate, which counts in N_lin.
-/// An estimate follows every full Newton step that at least halved the residual, unless the
+/// An estimate follows every full Newton step that at least halved the residual, and the full
+/// step of every step that the line search cut (docs/method.md §5.3), unless the
 /// [`Trend`] of the last estimate (on this mesh or the previous one) predicts that (S_lin)
 /// fails: a damped step does not solve the linearised problem, so its η_lin would not be a
 /// bound, and while the residual does not contract (the active set still moves) (S_lin)
@@ -306,7 +307,8 @@ fn solve_level<'a>(
         let mut inside = EstimateCount::default();
         let clock = Instant::now();
         let attempt = newton_until(&contact, x.clone(), newton, |it: &Iterate| {
-            let contracted = it.last.full() && it.residual <= 0.5 * it.last.residual;
+            // the full step of a damped one is estimated as any other, when promising
+            let contracted = it.last.full() && (it.probe || it.residual <= 0.5 * it.last.residual);
             let promising = trend.is_none_or(|t| t.promising(it.residual, settings.gamma_lin));
             if stopping == Stopping::Residual || !contracted || !promising {
                 return false;
