@@ -517,8 +517,11 @@ fn table(history: &[StepRecord]) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::{remesh_hint, step_line, AdaptError, PhaseTimes, Refinement, StepRecord};
+    use super::{
+        best_step, remesh_hint, step_line, AdaptError, AdaptSummary, BestStep, PhaseTimes, Refinement, StepRecord,
+    };
     use crate::estimate::estimators::GlobalEstimators;
+    use std::path::PathBuf;
 
     /// A step's record with η_reg = η_flux, balanced, without I_eff.
     fn record() -> StepRecord {
@@ -573,6 +576,50 @@ mod tests {
         assert!(!step_line(&record(true)).contains("not converged"));
         let json = serde_json::to_value(record(false)).unwrap();
         assert_eq!(json["i_eff_reference_converged"], serde_json::Value::Bool(false), "{json}");
+    }
+
+    /// Records of steps 0, 1, … with these η_tot and 100 (k + 1) unknowns.
+    fn run(eta_tot: &[f64]) -> Vec<StepRecord> {
+        let step = |(k, &tot): (usize, &f64)| {
+            let r = record();
+            StepRecord { step: k, unknowns: 100 * (k + 1), eta: GlobalEstimators { tot, ..r.eta }, ..r }
+        };
+        eta_tot.iter().enumerate().map(step).collect()
+    }
+
+    // Source: the adaptive run of geo/dam_lift_joint.toml (docs/results.md), whose η_tot falls
+    // over six meshes and rises on the last two, the last mesh 19 times looser than the sixth.
+    // Goal: the step of smallest η_tot is named only when the last step's η_tot is larger: not
+    // on a falling run, a single step, or a last step that ties the smallest; the first of equal
+    // minima; summary.json's `best_step` holds that step's η_tot, unknowns and file, and is
+    // null otherwise; the closing line names both steps and the file. Parameters: hand-built
+    // records, η_tot in Pa m.
+    #[test]
+    fn the_step_of_smallest_eta_is_named_when_the_last_is_looser() {
+        let lift = [3.85e5, 1.2e5, 5.0e4, 3.0e4, 1.5e4, 1.06e4, 2.36e4, 2.01e5];
+        assert_eq!(best_step(&run(&lift)), Some(5));
+        assert_eq!(best_step(&run(&[3.0, 1.0, 2.0, 1.0, 1.5])), Some(1), "the first of equal minima");
+        assert_eq!(best_step(&run(&[3.0, 2.0, 1.0])), None, "the last step has the smallest");
+        assert_eq!(best_step(&run(&[3.0, 1.0, 2.0, 1.0])), None, "the last step ties the smallest");
+        assert_eq!(best_step(&run(&[3.0])), None);
+        assert_eq!(best_step(&[]), None);
+        let history = run(&lift);
+        let vtu: Vec<Vec<PathBuf>> = (0..lift.len())
+            .map(|k| vec![format!("d_{k:02}.vtu").into(), format!("d_{k:02}_boundary.vtu").into()])
+            .collect();
+        let best = BestStep::of(&history, &vtu).unwrap();
+        assert_eq!((best.step, best.eta_tot, best.unknowns, best.file.clone()), (5, 1.06e4, 600, "d_05.vtu".into()));
+        let line = best.line(history.last().unwrap());
+        assert!(line.starts_with("step 5 has the smallest eta_tot, 1.060e4 Pa m with 600 unknowns"), "{line}");
+        assert!(line.contains("against 2.010e5 Pa m with 800 unknowns on the last step 7"), "{line}");
+        assert!(line.ends_with("its fields are in d_05.vtu"), "{line}");
+        let summary = |best_step| AdaptSummary { step: 7, seconds: PhaseTimes::default(), best_step };
+        let json = serde_json::to_value(summary(Some(best))).unwrap();
+        assert_eq!(json["best_step"]["step"], 5, "{json}");
+        assert_eq!(json["best_step"]["eta_tot"], 1.06e4, "{json}");
+        assert_eq!(json["best_step"]["file"], "d_05.vtu", "{json}");
+        let falling = BestStep::of(&run(&[3.0, 2.0, 1.0]), &vtu[..3]);
+        assert!(serde_json::to_value(summary(falling)).unwrap()["best_step"].is_null());
     }
 
     #[test]
