@@ -8,7 +8,7 @@ use crate::adapt::geo::GeoMesher;
 use crate::adapt::history::{to_csv, write_adaptive_uniform, write_plots};
 use crate::adapt::marking::Marking;
 use crate::adapt::{self, AdaptError, AdaptSettings, Model, PhaseTimes, Refinement, Step, StepRecord};
-use crate::contact::{ContactJoint, JointLine};
+use crate::contact::{ContactJoint, JointLine, Resultant};
 use crate::elasticity::stress::cell_mean_stress;
 use crate::elasticity::Problem;
 use crate::io::atomic::write_output;
@@ -79,11 +79,75 @@ struct History<'a> {
     error: Option<String>,
 }
 
-/// What `summary.json` records of `adapt` beside the last step's solution.
+/// What `summary.json` records of `adapt` beside the last step's solution: with `best_step`,
+/// the earlier step of smallest η_tot, null when the last step has it.
 #[derive(Serialize)]
 struct AdaptSummary {
     step: usize,
     seconds: PhaseTimes,
+    best_step: Option<BestStep>,
+}
+
+/// The step of smallest η_tot when the last step's η_tot is larger: the run's tightest bound
+/// of the error, its size, its joint numbers as `history.json` has them, and its fields.
+#[derive(Serialize, Clone, Debug)]
+pub struct BestStep {
+    pub step: usize,
+    pub eta_tot: f64,
+    pub unknowns: usize,
+    /// On a straight joint with a heel: the crack open from the heel \[m\] and the resultant.
+    pub crack_length: Option<f64>,
+    pub resultant: Option<Resultant>,
+    /// Its `<scene>_NN.vtu`.
+    pub file: PathBuf,
+}
+
+/// The index in `history` of the step of smallest η_tot, if the last step's η_tot is larger
+/// (the first of equal ones).
+pub fn best_step(history: &[StepRecord]) -> Option<usize> {
+    let last = history.last()?.eta.tot;
+    let (k, best) = history.iter().enumerate().min_by(|a, b| a.1.eta.tot.total_cmp(&b.1.eta.tot))?;
+    (best.eta.tot < last).then_some(k)
+}
+
+impl BestStep {
+    /// The [`best_step`] of `history`, whose steps wrote the VTU files `vtu` (the main one
+    /// first).
+    fn of(history: &[StepRecord], vtu: &[Vec<PathBuf>]) -> Option<Self> {
+        let k = best_step(history)?;
+        let r = &history[k];
+        Some(BestStep {
+            step: r.step,
+            eta_tot: r.eta.tot,
+            unknowns: r.unknowns,
+            crack_length: r.crack_length,
+            resultant: r.resultant,
+            file: vtu[k][0].clone(),
+        })
+    }
+
+    /// The closing line of a run whose last step is `last`.
+    fn line(&self, last: &StepRecord) -> String {
+        format!(
+            "step {} has the smallest eta_tot, {:.3e} Pa m with {} unknowns, against {:.3e} Pa m with {} unknowns \
+             on the last step {}, which summary.json describes; its fields are in {}",
+            self.step,
+            self.eta_tot,
+            self.unknowns,
+            last.eta.tot,
+            last.unknowns,
+            last.step,
+            self.file.display()
+        )
+    }
+}
+
+/// What an adaptive run leaves to its command.
+pub struct Sequence {
+    pub history: Vec<StepRecord>,
+    /// The closing lines of the last step's summary.
+    pub headline: Vec<String>,
+    pub best: Option<BestStep>,
 }
 
 /// The scene as the adaptive loop's model, with the Newton trace of `-v`.
@@ -117,14 +181,14 @@ pub fn run(args: Args) -> Result<()> {
     );
     let dir = args.output.dir(&scene)?;
     let name = stem(&scene.source);
-    let (history, headline) = run_sequence(&scene, &args.input, &dir, &name, "", &mut |_| Ok(()), args.effectivity)?;
+    let run = run_sequence(&scene, &args.input, &dir, &name, "", &mut |_| Ok(()), args.effectivity)?;
     progress.say(&format!("results in {} ({name}.pvd, history.csv, {name}_eta.png)", dir.display()));
-    progress.result(&table(&history));
-    for line in headline {
+    progress.result(&table(&run.history));
+    for line in run.headline {
         progress.result(&format!("last step: {line}"));
     }
     if scene.adapt.compare_uniform {
-        compare_uniform(&scene, &args.input, &dir, &name, &history)?;
+        compare_uniform(&scene, &args.input, &dir, &name, &run.history)?;
     }
     Ok(())
 }
@@ -132,7 +196,7 @@ pub fn run(args: Args) -> Result<()> {
 /// The refinement sequence of `scene` into `dir`: every step written as it comes (and handed
 /// to `also`), then the lists and figures; progress lines start with `prefix`. An error names
 /// the step and where the steps before it are. With `effectivity`, every step records its
-/// I_eff. Returns the history and the closing lines of the last step's summary.
+/// I_eff. Closes with a line naming the step of smallest η_tot if it is not the last.
 pub fn run_sequence(
     scene: &Scene,
     input: &Input,
@@ -141,7 +205,7 @@ pub fn run_sequence(
     prefix: &str,
     also: &mut dyn FnMut(&Step) -> Result<()>,
     effectivity: bool,
-) -> Result<(Vec<StepRecord>, Vec<String>)> {
+) -> Result<Sequence> {
     let progress = input.progress();
     let removed = remove_earlier_steps(dir, name)?;
     interrupt::record_in(&dir.join("history.json"));
@@ -153,8 +217,16 @@ pub fn run_sequence(
         allow_system_calls: input.allow_system_calls,
         ..scene.mesher(scene.adapt.refinement)
     };
-    let mut writer =
-        StepWriter { dir, name, scene, effectivity, history: Vec::new(), vtu: Vec::new(), headline: Vec::new() };
+    let mut writer = StepWriter {
+        dir,
+        name,
+        scene,
+        effectivity,
+        history: Vec::new(),
+        vtu: Vec::new(),
+        headline: Vec::new(),
+        best: None,
+    };
     let model = Traced { scene, trace: input.newton_trace() };
     let result = adapt::run(&scene.adapt, &mut mesher, &model, |step| {
         let output = |source: anyhow::Error| AdaptError::Output { step: step.record.step, source: source.into() };
@@ -167,6 +239,9 @@ pub fn run_sequence(
     writer.finish(error.clone())?;
     if let Some((last, stall)) = writer.history.last().and_then(|r| Some((r.step, r.stall?))) {
         progress.say(&format!("{prefix}stopped after step {last}: {stall}"));
+    }
+    if let Some((best, last)) = writer.best.as_ref().zip(writer.history.last()) {
+        progress.say(&format!("{prefix}{}", best.line(last)));
     }
     if let Some(e) = error {
         let kind = match scene.adapt.refinement {
@@ -182,7 +257,7 @@ pub fn run_sequence(
             hint.map_or(String::new(), |h| format!("\n{h}"))
         );
     }
-    Ok((writer.history, writer.headline))
+    Ok(Sequence { history: writer.history, headline: writer.headline, best: writer.best })
 }
 
 /// Uniform refinement of `scene` from the same first mesh into `<dir>/uniform`, up to the
@@ -192,7 +267,7 @@ fn compare_uniform(scene: &Scene, input: &Input, dir: &Path, name: &str, adaptiv
     let mut uniform = scene.clone();
     uniform.adapt = uniform_settings(&scene.adapt, adaptive.last().map_or(0, |r| r.unknowns));
     let sub = output_dir(dir.join("uniform"))?;
-    let (history, _) = run_sequence(&uniform, input, &sub, name, "uniform ", &mut |_| Ok(()), false)?;
+    let history = run_sequence(&uniform, input, &sub, name, "uniform ", &mut |_| Ok(()), false)?.history;
     input.progress().result(&format!("uniform refinement from the same first mesh:\n{}", table(&history)));
     let files = write_adaptive_uniform(dir, name, adaptive, &history).context("writing the comparison figure")?;
     let figures: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
@@ -267,6 +342,8 @@ struct StepWriter<'a> {
     vtu: Vec<Vec<PathBuf>>,
     /// The closing lines of the last step's summary.
     headline: Vec<String>,
+    /// The step of smallest η_tot so far, if not the last.
+    best: Option<BestStep>,
 }
 
 impl StepWriter<'_> {
@@ -278,16 +355,18 @@ impl StepWriter<'_> {
         let results = Results { problem, u: &u, sigma: &sigma, contact: step.contact, estimate: Some(step.estimate) };
         let name = format!("{}_{:02}", self.name, step.record.step);
         let files = write_results(self.dir, &name, self.scene, &results)?;
-        let line = self.scene.joint_line(problem);
-        let command = AdaptSummary { step: step.record.step, seconds: step.record.seconds };
-        let summary = Summary::new(self.scene, step.disc, &results, line, files.clone(), command);
-        self.vtu.push(files);
+        self.vtu.push(files.clone());
         let reference = self.effectivity.then(|| self.reference(step, &u)).transpose()?;
         self.history.push(StepRecord {
             i_eff: reference.as_ref().map(|r| r.i_eff),
             i_eff_reference_converged: reference.map(|r| r.converged),
             ..step.record.clone()
         });
+        self.best = BestStep::of(&self.history, &self.vtu);
+        let line = self.scene.joint_line(problem);
+        let command =
+            AdaptSummary { step: step.record.step, seconds: step.record.seconds, best_step: self.best.clone() };
+        let summary = Summary::new(self.scene, step.disc, &results, line, files, command);
         self.write_lists(None)?;
         write_output(&self.dir.join("summary.json"), serde_json::to_string_pretty(&summary)?.as_bytes())?;
         self.headline = summary.headline();
@@ -442,8 +521,11 @@ fn table(history: &[StepRecord]) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::{remesh_hint, step_line, AdaptError, PhaseTimes, Refinement, StepRecord};
+    use super::{
+        best_step, remesh_hint, step_line, AdaptError, AdaptSummary, BestStep, PhaseTimes, Refinement, StepRecord,
+    };
     use crate::estimate::estimators::GlobalEstimators;
+    use std::path::PathBuf;
 
     /// A step's record with η_reg = η_flux, balanced, without I_eff.
     fn record() -> StepRecord {
@@ -499,6 +581,50 @@ mod tests {
         assert!(!step_line(&record(true)).contains("not converged"));
         let json = serde_json::to_value(record(false)).unwrap();
         assert_eq!(json["i_eff_reference_converged"], serde_json::Value::Bool(false), "{json}");
+    }
+
+    /// Records of steps 0, 1, … with these η_tot and 100 (k + 1) unknowns.
+    fn run(eta_tot: &[f64]) -> Vec<StepRecord> {
+        let step = |(k, &tot): (usize, &f64)| {
+            let r = record();
+            StepRecord { step: k, unknowns: 100 * (k + 1), eta: GlobalEstimators { tot, ..r.eta }, ..r }
+        };
+        eta_tot.iter().enumerate().map(step).collect()
+    }
+
+    // Source: the adaptive run of geo/dam_lift_joint.toml (docs/results.md), whose η_tot falls
+    // over six meshes and rises on the last two, the last mesh 19 times looser than the sixth.
+    // Goal: the step of smallest η_tot is named only when the last step's η_tot is larger: not
+    // on a falling run, a single step, or a last step that ties the smallest; the first of equal
+    // minima; summary.json's `best_step` holds that step's η_tot, unknowns and file, and is
+    // null otherwise; the closing line names both steps and the file. Parameters: hand-built
+    // records, η_tot in Pa m.
+    #[test]
+    fn the_step_of_smallest_eta_is_named_when_the_last_is_looser() {
+        let lift = [3.85e5, 1.2e5, 5.0e4, 3.0e4, 1.5e4, 1.06e4, 2.36e4, 2.01e5];
+        assert_eq!(best_step(&run(&lift)), Some(5));
+        assert_eq!(best_step(&run(&[3.0, 1.0, 2.0, 1.0, 1.5])), Some(1), "the first of equal minima");
+        assert_eq!(best_step(&run(&[3.0, 2.0, 1.0])), None, "the last step has the smallest");
+        assert_eq!(best_step(&run(&[3.0, 1.0, 2.0, 1.0])), None, "the last step ties the smallest");
+        assert_eq!(best_step(&run(&[3.0])), None);
+        assert_eq!(best_step(&[]), None);
+        let history = run(&lift);
+        let vtu: Vec<Vec<PathBuf>> = (0..lift.len())
+            .map(|k| vec![format!("d_{k:02}.vtu").into(), format!("d_{k:02}_boundary.vtu").into()])
+            .collect();
+        let best = BestStep::of(&history, &vtu).unwrap();
+        assert_eq!((best.step, best.eta_tot, best.unknowns, best.file.clone()), (5, 1.06e4, 600, "d_05.vtu".into()));
+        let line = best.line(history.last().unwrap());
+        assert!(line.starts_with("step 5 has the smallest eta_tot, 1.060e4 Pa m with 600 unknowns"), "{line}");
+        assert!(line.contains("against 2.010e5 Pa m with 800 unknowns on the last step 7"), "{line}");
+        assert!(line.ends_with("its fields are in d_05.vtu"), "{line}");
+        let summary = |best_step| AdaptSummary { step: 7, seconds: PhaseTimes::default(), best_step };
+        let json = serde_json::to_value(summary(Some(best))).unwrap();
+        assert_eq!(json["best_step"]["step"], 5, "{json}");
+        assert_eq!(json["best_step"]["eta_tot"], 1.06e4, "{json}");
+        assert_eq!(json["best_step"]["file"], "d_05.vtu", "{json}");
+        let falling = BestStep::of(&run(&[3.0, 2.0, 1.0]), &vtu[..3]);
+        assert!(serde_json::to_value(summary(falling)).unwrap()["best_step"].is_null());
     }
 
     #[test]

@@ -3,7 +3,7 @@
 //! Newton run the loop finishes to the residual tolerance, the joint gives N, T, U, the contact and crack lengths, the resultant and the middle-third
 //! check, the heel and toe normal stresses averaged over a stated length, FS_LE and FS_SR.
 
-use super::adapt::run_sequence;
+use super::adapt::{run_sequence, BestStep};
 use super::common::{output_dir, stem, validate_overrides, Input, Output, Progress};
 use super::output::{Units, UNITS};
 use crate::adapt::Step;
@@ -79,6 +79,9 @@ struct Report {
     /// η_tot of the last mesh \[Pa m\] and η_tot / ‖σ_h‖.
     eta_tot: f64,
     eta_relative: f64,
+    /// The earlier step of smallest η_tot, when the last mesh's η_tot is larger (null
+    /// otherwise); the numbers below are the last mesh's.
+    best_step: Option<BestStep>,
     joint_line: JointLine,
     contact_length: f64,
     crack_length: f64,
@@ -158,7 +161,7 @@ fn write_combinations(dir: &Path, scene: &Scene, reports: &[Combination], quiet:
     let rows = combination_rows(reports);
     let json = serde_json::to_string_pretty(&Combinations { units: UNITS, combinations: reports })?;
     write_output(&dir.join("safety.json"), json.as_bytes())?;
-    write_output(&dir.join("report.md"), combinations_markdown(scene, &rows).as_bytes())?;
+    write_output(&dir.join("report.md"), combinations_markdown(&scene.source, &rows, reports).as_bytes())?;
     if !quiet {
         println!("{}", text_columns(&rows));
     }
@@ -210,9 +213,9 @@ fn analyse(
         last = Some((step.problem.clone(), joint.clone(), c.clone()));
         Ok(())
     };
-    let (history, _) = run_sequence(scene, &args.input, dir, &name, "", &mut keep, false)?;
+    let run = run_sequence(scene, &args.input, dir, &name, "", &mut keep, false)?;
     let (problem, joint, solution) = last.context("the adaptive run made no step")?;
-    let record = history.last().context("the adaptive run made no step")?;
+    let record = run.history.last().context("the adaptive run made no step")?;
     let disc = problem.discretise();
     // the sliding plane's curves: their friction alone gives FS_SR a strength to divide
     let plane = solution.curves_on(&line);
@@ -242,6 +245,7 @@ fn analyse(
         unknowns: record.unknowns,
         eta_tot: record.eta.tot,
         eta_relative,
+        best_step: run.best.clone(),
         joint_line: line,
         contact_length: solution.forces_on(&line).contact_length,
         crack_length: solution.crack_from_heel(&line),
@@ -438,9 +442,10 @@ fn text_columns(rows: &[Vec<String>]) -> String {
     rows.iter().map(line).collect::<Vec<_>>().join("\n")
 }
 
-/// `report.md` of a scene with combinations: one row per combination, linked to its report.
-fn combinations_markdown(scene: &Scene, rows: &[Vec<String>]) -> String {
-    let mut md = format!("# Dam safety: {}, load combinations\n\n", scene.source.display());
+/// `report.md` of a scene with combinations: one row per combination, linked to its report,
+/// and a line for each combination whose last mesh has not the smallest η_tot of its run.
+fn combinations_markdown(scene: &Path, rows: &[Vec<String>], reports: &[Combination]) -> String {
+    let mut md = format!("# Dam safety: {}, load combinations\n\n", scene.display());
     md += "Stresses are positive in tension. Each combination's report, joint stresses and figure are in \
            its own directory.\n\n";
     let cells = |row: &[String]| row.iter().map(|c| c.replace('|', "\\|")).collect::<Vec<_>>().join(" | ");
@@ -448,7 +453,26 @@ fn combinations_markdown(scene: &Scene, rows: &[Vec<String>]) -> String {
     for row in &rows[1..] {
         md += &format!("| [{}]({}/report.md) | {} |\n", row[0], row[0], cells(&row[1..]));
     }
+    for Combination { name, report: r } in reports {
+        if let Some(b) = &r.best_step {
+            md += &format!(
+                "\n{name}: step {} has a smaller η_tot than the last mesh, {:.3e} against {:.3e} Pa m (its report).\n",
+                b.step, b.eta_tot, r.eta_tot
+            );
+        }
+    }
     md
+}
+
+/// The sentence of `report.md` on the step `b` whose η_tot is below the last mesh's.
+fn best_sentence(b: &BestStep, r: &Report) -> String {
+    let file = b.file.file_name().map_or(b.file.display().to_string(), |f| f.to_string_lossy().into_owned());
+    format!(
+        "\nStep {} has the smallest η_tot of the run, {:.3e} Pa m with {} unknowns, against {:.3e} Pa m with {} \
+         unknowns on the last mesh, whose numbers this report gives; its crack, s_R and FS_LE are in its row \
+         above, and its fields in `{file}`.\n",
+        b.step, b.eta_tot, b.unknowns, r.eta_tot, r.unknowns
+    )
 }
 
 /// One contact face along the joint: its midpoint x, its distance s from the heel, and the
@@ -559,7 +583,86 @@ fn markdown(r: &Report, table: &[[String; 3]]) -> String {
             optional(s.sliding_safety_factor)
         );
     }
+    md += &r.best_step.as_ref().map_or(String::new(), |b| best_sentence(b, r));
     md += "\n## Stresses along the joint\n\n![stresses along the joint](base_stresses.png)\n\n\
            The values per contact face are in `joint.csv`.\n";
     md
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{
+        combination_rows, combinations_markdown, markdown, table, BaseStresses, BestStep, Combination, Report, StepRow,
+        UNITS,
+    };
+    use crate::contact::JointLine;
+    use std::path::Path;
+
+    /// The report of a frictionless joint after two steps, the last with η_tot = 2 Pa m and 100
+    /// unknowns, and `best_step`.
+    fn report(best_step: Option<BestStep>) -> Report {
+        let row = |step| StepRow {
+            step,
+            unknowns: 100,
+            eta_relative: 0.1,
+            crack_length: 1.0,
+            resultant_position: None,
+            sliding_safety_factor: None,
+        };
+        Report {
+            units: UNITS,
+            scene: "dam.toml".into(),
+            order: 1,
+            tol_relative: 0.01,
+            tolerance_met: false,
+            steps: vec![row(0), row(1)],
+            unknowns: 100,
+            eta_tot: 2.0,
+            eta_relative: 0.1,
+            best_step,
+            joint_line: JointLine::new([0.0, 0.0], [10.0, 0.0]),
+            contact_length: 9.0,
+            crack_length: 1.0,
+            resultant: None,
+            base_stresses: BaseStresses { length: 1.0, heel: 0.0, toe: -1.0 },
+            sliding_safety_factor: None,
+            strength_reduction: None,
+            safety_factor_note: None,
+        }
+    }
+
+    // Source: the adaptive run of geo/dam_lift_joint.toml (docs/results.md), whose last mesh
+    // has an η_tot 19 times that of the sixth. Goal: report.md names the step of smallest η_tot
+    // under the adaptive run, with its η_tot and unknowns against the last mesh's and its VTU
+    // file, and the report of load combinations names each combination that has one; neither
+    // says anything without one. Parameters: hand-built reports of two steps, the first with
+    // η_tot = 1 Pa m and 200 unknowns.
+    #[test]
+    fn the_report_names_a_step_tighter_than_the_last_mesh() {
+        let best = BestStep {
+            step: 0,
+            eta_tot: 1.0,
+            unknowns: 200,
+            crack_length: Some(1.0),
+            resultant: None,
+            file: "out/dam_00.vtu".into(),
+        };
+        let with = report(Some(best));
+        let md = markdown(&with, &table(&with));
+        let sentence =
+            "Step 0 has the smallest η_tot of the run, 1.000e0 Pa m with 200 unknowns, against 2.000e0 Pa m \
+                        with 100 unknowns on the last mesh";
+        let adaptive = md.split("## Adaptive run").nth(1).unwrap();
+        assert!(adaptive.contains(sentence) && adaptive.contains("`dam_00.vtu`"), "{md}");
+        let without = report(None);
+        assert!(!markdown(&without, &table(&without)).contains("smallest η_tot"));
+        let reports =
+            [Combination { name: "flood".into(), report: with }, Combination { name: "usual".into(), report: without }];
+        let md = combinations_markdown(Path::new("dam.toml"), &combination_rows(&reports), &reports);
+        assert!(
+            md.contains("\nflood: step 0 has a smaller η_tot than the last mesh, 1.000e0 against 2.000e0 Pa m"),
+            "{md}"
+        );
+        assert!(!md.contains("usual: step"), "{md}");
+    }
 }

@@ -486,6 +486,78 @@ fn adapt_stops_when_the_largest_estimators_sit_at_the_smallest_size() {
     assert!(last["stall"]["cells"].as_u64().unwrap() >= 1 && last["stall"]["share"].as_f64().unwrap() >= 0.25);
 }
 
+/// The JSON file `path`.
+fn json_file(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))).unwrap()
+}
+
+/// The index of the step of smallest η_tot in `<dir>/history.json`, and every η_tot.
+fn smallest_eta(dir: &Path) -> (usize, Vec<f64>) {
+    let history = json_file(&dir.join("history.json"));
+    let eta: Vec<f64> =
+        history["steps"].as_array().unwrap().iter().map(|s| s["eta"]["tot"].as_f64().unwrap()).collect();
+    ((0..eta.len()).min_by(|&a, &b| eta[a].total_cmp(&eta[b])).unwrap(), eta)
+}
+
+// An adaptive run whose last mesh is not its best. Source: geo/scene_a.toml with gmsh's
+// smallest size 1.5 m, above every size of its .geo, so that the first mesh is uniform at that
+// size and no cell can be refined, and adapt.bulk = 1 (equidistribution then aims at the same
+// η_tot): the cells below the target are coarsened, by up to 2, and η_tot rises at every step
+// (measured at P1: 7.88·10⁶, 8.36·10⁶, 9.36·10⁶, 1.05·10⁷ Pa m on 1 158, 380, 170, 100
+// unknowns). Goal: `adapt` names the step of smallest η_tot of history.json on stderr with its
+// VTU file; summary.json stays the last step's and its `best_step` gives that step's η_tot,
+// unknowns, crack and resultant as history.json has them, and its file, which exists; `safety`
+// on the same scene names it in safety.json and report.md; a run whose last step has the
+// smallest η_tot (the file's scene) writes `best_step: null` and no line. Parameters: P1, four
+// meshes (`safety`: three).
+#[test]
+fn adapt_and_safety_name_a_step_tighter_than_the_last() {
+    let tmp = TempDir::new("best-step");
+    let scene = edited_scene(&tmp, "scene_a", |s| {
+        s.replace("[mesh]\n", "[mesh]\nsize_min = 1.5\n") + "\n[adapt]\nbulk = 1.0\n"
+    });
+    let run = |command: &str, steps: &[&str], scene: &Path, dir: &Path| {
+        let mut args: Vec<&OsStr> =
+            [command, "--order", "1"].into_iter().chain(steps.iter().copied()).map(OsStr::new).collect();
+        args.extend([scene.as_os_str(), OsStr::new("-o"), dir.as_os_str()]);
+        let out = damfem(&args);
+        assert_ok(&out);
+        stderr(&out)
+    };
+    let dir = tmp.join("adapt");
+    let progress = run("adapt", &["--steps", "4"], &scene, &dir);
+    let (best, eta) = smallest_eta(&dir);
+    assert!(eta[best] < eta[eta.len() - 1], "η_tot {eta:?}: the last step has the smallest");
+    let step = json_file(&dir.join("history.json"))["steps"][best].clone();
+    let summary = json_file(&dir.join("summary.json"));
+    assert_eq!(summary["step"], eta.len() - 1, "the summary is the last step's");
+    let b = &summary["best_step"];
+    assert_eq!((&b["step"], &b["eta_tot"], &b["unknowns"]), (&step["step"], &step["eta"]["tot"], &step["unknowns"]));
+    assert_eq!((&b["crack_length"], &b["resultant"]), (&step["crack_length"], &step["resultant"]));
+    assert!(b["resultant"]["normal_force"].as_f64().unwrap() > 0.0, "{b}");
+    let file = PathBuf::from(b["file"].as_str().unwrap());
+    assert_eq!(file, dir.join(format!("scene_a_{best:02}.vtu")));
+    assert!(file.is_file());
+    let line = format!("step {best} has the smallest eta_tot, {:.3e} Pa m", eta[best]);
+    assert!(progress.contains(&line) && progress.contains(&format!("in {}", file.display())), "{progress}");
+    let dir = tmp.join("safety");
+    let progress = run("safety", &["--max-steps", "3"], &scene, &dir);
+    let (best, eta) = smallest_eta(&dir);
+    assert!(eta[best] < eta[eta.len() - 1], "η_tot {eta:?}: the last step has the smallest");
+    let report = json_file(&dir.join("safety.json"));
+    assert_eq!(report["best_step"]["step"], best, "{report}");
+    assert!(progress.contains(&format!("step {best} has the smallest eta_tot")), "{progress}");
+    let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    let sentence = format!("Step {best} has the smallest η_tot of the run, {:.3e} Pa m", eta[best]);
+    assert!(md.contains(&sentence) && md.contains(&format!("`scene_a_{best:02}.vtu`")), "{md}");
+    let dir = tmp.join("falling");
+    let progress = run("adapt", &["--steps", "2"], &repo("geo/scene_a.toml"), &dir);
+    let (best, eta) = smallest_eta(&dir);
+    assert_eq!(best, eta.len() - 1, "η_tot {eta:?}");
+    assert!(json_file(&dir.join("summary.json"))["best_step"].is_null());
+    assert!(!progress.contains("has the smallest eta_tot"), "{progress}");
+}
+
 /// The `unknowns` of every step of `<dir>/history.json`.
 fn history_unknowns(dir: &Path) -> Vec<u64> {
     let history: serde_json::Value =
