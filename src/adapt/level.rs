@@ -28,6 +28,9 @@ pub struct Level<'a> {
     pub trend: Option<Trend>,
     /// How Newton was run to the residual tolerance, once it has been (the last mesh).
     pub finish: Option<Finish>,
+    /// Whether a Newton run to the residual tolerance stalled on this level, which then ended
+    /// where (S_lin) stopped Newton (docs/method.md §5.3).
+    pub stalled_before_tolerance: bool,
     /// With Γ_C, until [`Level::finish`]: the contact system at the δ and cracks of the
     /// solution, its stiffness factorised.
     system: Option<ContactProblem<'a>>,
@@ -70,6 +73,7 @@ pub fn linear_level<'a>(problem: &Problem, disc: &Discretisation) -> Result<Leve
         estimate_seconds: clock.elapsed().as_secs_f64(),
         trend: None,
         finish: None,
+        stalled_before_tolerance: false,
         system: None,
     })
 }
@@ -167,7 +171,7 @@ fn first_iterate(
     let one_step = NewtonOptions { max_iter: 1, min_steps: 1, ..*newton };
     let delta = contact.smoothing.delta;
     let report =
-        newton_until(contact, x0, &one_step, |_| true).map_err(|source| AdaptError::Newton { delta, source })?;
+        newton_until(contact, x0, &one_step, |it| !it.probe).map_err(|source| AdaptError::Newton { delta, source })?;
     let p_max = contact.max_abs_p_gamma(&report.x);
     let scale = if p_max > 0.0 { p_max } else { load_scale };
     Ok((Stage { delta, report }, delta0 * scale))
@@ -180,7 +184,8 @@ const MAX_RETRIES: usize = 4;
 /// With contact on `joint`: Newton from `x0` at δ, stopped by (S_lin), and δ ← δ/ρ_δ until
 /// (S_reg); with the reservoir's pressure in the crack at the heel, solved again at that δ
 /// until the crack settles. On the first mesh δ₀ comes from the first Newton iterate, which counts in N_lin.
-/// An estimate follows every full Newton step that at least halved the residual, unless the
+/// An estimate follows every full Newton step that at least halved the residual, and the full
+/// step of every step that the line search cut (docs/method.md §5.3), unless the
 /// [`Trend`] of the last estimate (on this mesh or the previous one) predicts that (S_lin)
 /// fails: a damped step does not solve the linearised problem, so its η_lin would not be a
 /// bound, and while the residual does not contract (the active set still moves) (S_lin)
@@ -214,7 +219,7 @@ pub fn contact_level<'a>(
     };
     let run = Run { x, delta, trend, stages, solve_seconds: clock.elapsed().as_secs_f64() };
     let level = solve_level(contact, newton, settings, run, stopping)?;
-    let finish = (stopping == Stopping::Residual).then_some(Finish::FROM_START);
+    let finish = (stopping == Stopping::Residual && !level.stalled_before_tolerance).then_some(Finish::FROM_START);
     Ok(Level { finish, ..level })
 }
 
@@ -235,7 +240,7 @@ impl<'a> Level<'a> {
         let run = Run { x, delta: contact.smoothing.delta, trend: self.trend, stages: Vec::new(), solve_seconds: 0.0 };
         let mut finished =
             solve_level(contact, newton, settings, run, Stopping::Residual).map_err(super::unfinished)?;
-        finished.finish = Some(Finish {
+        finished.finish = (!finished.stalled_before_tolerance).then(|| Finish {
             n_lin: finished.n_lin,
             n_reg: finished.n_reg,
             n_est: finished.n_est,
@@ -287,8 +292,9 @@ fn solve_level<'a>(
     newton: &NewtonOptions,
     settings: &AdaptSettings,
     run: Run,
-    stopping: Stopping,
+    mut stopping: Stopping,
 ) -> Result<Level<'a>, AdaptError> {
+    let asked = stopping;
     let (problem, disc) = (contact.problem, contact.disc);
     let Run { mut x, mut delta, mut trend, mut stages, mut solve_seconds } = run;
     let (mut estimates, mut n_reg) = (EstimateCount::default(), 0);
@@ -306,7 +312,8 @@ fn solve_level<'a>(
         let mut inside = EstimateCount::default();
         let clock = Instant::now();
         let attempt = newton_until(&contact, x.clone(), newton, |it: &Iterate| {
-            let contracted = it.last.full() && it.residual <= 0.5 * it.last.residual;
+            // the full step of a damped one is estimated as any other, when promising
+            let contracted = it.last.full() && (it.probe || it.residual <= 0.5 * it.last.residual);
             let promising = trend.is_none_or(|t| t.promising(it.residual, settings.gamma_lin));
             if stopping == Stopping::Residual || !contracted || !promising {
                 return false;
@@ -361,6 +368,13 @@ fn solve_level<'a>(
                     NewtonError::NotConverged { history, .. } => history.len(),
                     NewtonError::NonFinite { step } | NewtonError::Solve { step, .. } => *step,
                 };
+                // a run to the residual tolerance that stalls goes on, at the same δ and from
+                // the same iterate, under (S_lin), which may stop on an iterate the crawl of a
+                // softening law never leaves (docs/method.md §5.3)
+                if stopping == Stopping::Residual && matches!(failed, NewtonError::NotConverged { .. }) {
+                    stopping = Stopping::Linearisation;
+                    continue;
+                }
                 retries += 1;
                 match solved.take() {
                     Some(s) if retries == 1 => {
@@ -412,8 +426,9 @@ fn solve_level<'a>(
             estimate_seconds: estimates.seconds,
             trend,
             finish: None,
+            stalled_before_tolerance: stopping != asked,
             // a run to the residual tolerance leaves nothing to finish
-            system: (stopping == Stopping::Linearisation).then_some(contact),
+            system: (asked == Stopping::Linearisation).then_some(contact),
         });
     }
 }

@@ -234,6 +234,11 @@ pub struct StepRecord {
     /// from the start or after (S_lin) stopped it; the step's iterate, forces and estimate
     /// are the finished ones.
     pub finish: Option<level::Finish>,
+    /// On a mesh whose Newton run was to reach the residual tolerance (the last, or one
+    /// finished): true when it stalled before, and the step reports the iterate where (S_lin)
+    /// stopped Newton at that δ instead (its η_tot bounds the error, η_lin included;
+    /// docs/method.md §5.3).
+    pub newton_stalled: bool,
     /// With contact, whether the final estimate meets (S_reg): false when Newton stalled at
     /// the smaller δ and the level ended at a larger δ solved on it (docs/method.md §5.3).
     pub regularisation_balanced: Option<bool>,
@@ -392,6 +397,7 @@ pub fn run(
             n_reg: level.n_reg,
             n_lin: level.n_lin,
             finish: level.finish,
+            newton_stalled: level.stalled_before_tolerance,
             regularisation_balanced: contact.map(|_| level::regularisation_small(&eta, settings.gamma_reg)),
             n_est: level.n_est,
             equilibration: level.estimate.equilibration.worst(problem.mesh.order),

@@ -459,8 +459,12 @@ fn step_line(r: &StepRecord) -> String {
         Some(false) => "  (eta_reg above its share: Newton stalled at smaller delta)",
         _ => "",
     };
+    let stalled = match r.newton_stalled {
+        true => "  (Newton stalled before the residual tolerance: the iterate where eta_lin met its share)",
+        false => "",
+    };
     format!(
-        "step {:>2}  {:>8} unknowns  eta {:.3e} ({:.2e} of |sigma_h|)  N_reg {:>2}  N_lin {:>2}{finish}{delta}{crack}{resultant}{i_eff}  {:.2} s{balance}",
+        "step {:>2}  {:>8} unknowns  eta {:.3e} ({:.2e} of |sigma_h|)  N_reg {:>2}  N_lin {:>2}{finish}{delta}{crack}{resultant}{i_eff}  {:.2} s{balance}{stalled}",
         r.step,
         r.unknowns,
         r.eta.tot,
@@ -535,6 +539,7 @@ mod tests {
             n_reg: 1,
             n_lin: 3,
             finish: None,
+            newton_stalled: false,
             regularisation_balanced: Some(true),
             n_est: 1,
             equilibration: 0.0,

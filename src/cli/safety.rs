@@ -82,6 +82,9 @@ struct Report {
     /// The earlier step of smallest η_tot, when the last mesh's η_tot is larger (null
     /// otherwise); the numbers below are the last mesh's.
     best_step: Option<BestStep>,
+    /// Whether the last mesh's Newton run stalled before the residual tolerance: its numbers
+    /// are then those of the iterate where (S_lin) stopped Newton (docs/method.md §5.3).
+    newton_stalled: bool,
     joint_line: JointLine,
     contact_length: f64,
     crack_length: f64,
@@ -246,6 +249,7 @@ fn analyse(
         eta_tot: record.eta.tot,
         eta_relative,
         best_step: run.best.clone(),
+        newton_stalled: record.newton_stalled,
         joint_line: line,
         contact_length: solution.forces_on(&line).contact_length,
         crack_length: solution.crack_from_heel(&line),
@@ -281,7 +285,13 @@ fn warn(r: &Report, progress: &Progress) {
     if let Some(note) = &r.safety_factor_note {
         progress.say(&format!("warning: {note}"));
     }
+    if r.newton_stalled {
+        progress.say(&format!("warning: {STALLED}"));
+    }
 }
+
+/// What the report says of a last mesh whose Newton run stalled before the residual tolerance.
+const STALLED: &str = "on the last mesh Newton stalled before the residual tolerance: its numbers are those of      the iterate where eta_lin met its share (S_lin), whose eta_tot still bounds the error";
 
 /// What `safety.json` says without friction.
 const FRICTIONLESS: &str = "the joint is frictionless (no [contact] friction, cohesion or threshold, or none \
@@ -570,6 +580,9 @@ fn markdown(r: &Report, table: &[[String; 3]]) -> String {
     if let Some(note) = &r.safety_factor_note {
         md += &format!("\n{note}.\n");
     }
+    if r.newton_stalled {
+        md += &format!("\nO{}.\n", &STALLED[1..]);
+    }
     md += "\n## Adaptive run\n\n| step | unknowns | η_tot / ‖σ_h‖ | crack [m] | s_R [m] | FS_LE |\n|---|---|---|---|---|---|\n";
     let optional = |v: Option<f64>| v.map_or("–".to_string(), |v| format!("{v:.4}"));
     for s in &r.steps {
@@ -620,6 +633,7 @@ mod tests {
             eta_tot: 2.0,
             eta_relative: 0.1,
             best_step,
+            newton_stalled: false,
             joint_line: JointLine::new([0.0, 0.0], [10.0, 0.0]),
             contact_length: 9.0,
             crack_length: 1.0,
@@ -664,5 +678,21 @@ mod tests {
             "{md}"
         );
         assert!(!md.contains("usual: step"), "{md}");
+    }
+
+    // Source: docs/method.md §5.3 (a last mesh whose Newton run stalls before the residual
+    // tolerance ends where (S_lin) stopped it). Goal: report.md says that the numbers are those
+    // of that iterate, and says nothing of it otherwise. Parameters: the hand-built report
+    // above, with and without the flag.
+    #[test]
+    fn the_report_says_when_the_last_mesh_stopped_short_of_the_residual_tolerance() {
+        let stalled = Report { newton_stalled: true, ..report(None) };
+        let md = markdown(&stalled, &table(&stalled));
+        assert!(
+            md.contains("\nOn the last mesh Newton stalled before the residual tolerance: its numbers are those"),
+            "{md}"
+        );
+        let converged = report(None);
+        assert!(!markdown(&converged, &table(&converged)).contains("Newton stalled"));
     }
 }

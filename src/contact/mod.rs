@@ -282,7 +282,7 @@ impl<'a> ContactProblem<'a> {
     pub fn fully_active_start(&mut self) -> Result<Vec<f64>, NewtonError> {
         let smoothing = std::mem::replace(&mut self.smoothing, Smoothing::CLOSED);
         let x0 = vec![0.0; self.disc.dofs.n_free];
-        let report = newton_until(self, x0, &NewtonOptions { max_iter: 1, ..Default::default() }, |_| true);
+        let report = newton_until(self, x0, &NewtonOptions { max_iter: 1, ..Default::default() }, |it| !it.probe);
         self.smoothing = smoothing;
         Ok(report?.x)
     }

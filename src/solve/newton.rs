@@ -12,8 +12,10 @@
 //! with a [`NonlinearSystem::frozen_jacobian`] (a softening law) takes its steps until one is
 //! full. A run that gets there by a damped or frozen step takes one exact full step more,
 //! so that the iterate it returns solves the linearised problem of its last step (what the
-//! estimator's bound assumes). Running out of iterations is an error that carries the whole
-//! history: never a silent wrong answer.
+//! estimator's bound assumes). Where the line search cuts an exact step, the full step
+//! x_k + Δ, which solves the linearised problem all the same, is shown to the stopping rule
+//! ([`Iterate::probe`]) before Newton goes on from the damped iterate. Running out of
+//! iterations is an error that carries the whole history: never a silent wrong answer.
 //!
 //! A system with a linearised residual in difference form
 //! ([`NonlinearSystem::linearised_residual`]) gets a refinement round on the iterate it
@@ -239,6 +241,9 @@ pub struct Iterate<'a> {
     pub x_prev: &'a [f64],
     /// The step that led to x_k.
     pub last: &'a Iteration,
+    /// Whether x_k is the full step x_{k−1} + Δ that the line search cut short: Newton goes
+    /// on from the damped iterate unless the rule accepts this one.
+    pub probe: bool,
     /// ‖F(x_k)‖.
     pub residual: f64,
     refined: &'a OnceCell<Option<Pair>>,
@@ -296,7 +301,16 @@ pub fn newton_until(
         let refined = OnceCell::new();
         let accepted = due
             && history.last().is_some_and(|last| {
-                stop(&Iterate { x: &x, x_prev: &x_prev, last, residual: r, refined: &refined, refine: &refine })
+                let it = Iterate {
+                    x: &x,
+                    x_prev: &x_prev,
+                    last,
+                    probe: false,
+                    residual: r,
+                    refined: &refined,
+                    refine: &refine,
+                };
+                stop(&it)
             });
         // a converged iterate should solve the linearised problem of its step, which the
         // estimator's bound assumes: after a damped step, one full step more (once), and after
@@ -305,10 +319,7 @@ pub fn newton_until(
             step < options.max_iter && history.last().is_some_and(|it| it.frozen || (!polished && it.step < 1.0));
         if accepted || (due && converged && !polish) {
             let clock = Instant::now();
-            let (x, lo) = match refined.into_inner().unwrap_or_else(refine) {
-                Some((x, lo)) => (x, Some(lo)),
-                None => (x.clone(), None),
-            };
+            let (x, lo) = returned(&x, refined.into_inner().unwrap_or_else(refine));
             seconds.solve += clock.elapsed().as_secs_f64();
             return Ok(NewtonReport { x, x_prev, lo, iterations: history, residual: r, scale, seconds });
         }
@@ -337,12 +348,43 @@ pub fn newton_until(
         }
         factors_of_last_step = (!frozen_step).then_some(factors);
         let clock = Instant::now();
-        let t = if due && converged {
-            1.0
+        let (t, r_full) = if due && converged {
+            (1.0, None)
         } else {
             line_search(system, &x, &delta, r, options, &mut trial, &mut trial_residual)
         };
         seconds.line_search += clock.elapsed().as_secs_f64();
+        // the full step solves the linearised problem at x even where the line search cuts it:
+        // the stopping rule may take it
+        let offered = t < 1.0 && !frozen_step && step + 1 >= options.min_steps;
+        if let (Some(r_full), Some(factors), true) = (r_full, &factors_of_last_step, offered) {
+            let full: Vec<f64> = x.iter().zip(&delta).map(|(x, d)| x + d).collect();
+            let last = Iteration { residual: r, increment: norm(&delta), step: 1.0, frozen: false };
+            let refine = || refinement(system, &full, &x, factors);
+            let refined = OnceCell::new();
+            let it = Iterate {
+                x: &full,
+                x_prev: &x,
+                last: &last,
+                probe: true,
+                residual: r_full,
+                refined: &refined,
+                refine: &refine,
+            };
+            if stop(&it) {
+                let (full, lo) = returned(&full, refined.into_inner().unwrap_or_else(refine));
+                history.push(last);
+                return Ok(NewtonReport {
+                    x: full,
+                    x_prev: x,
+                    lo,
+                    iterations: history,
+                    residual: r_full,
+                    scale,
+                    seconds,
+                });
+            }
+        }
         // a softening law's exact steps stall where the Newton model holds only over tiny
         // steps; the frozen Jacobian's steps go on until one is full
         if frozen_step {
@@ -361,6 +403,14 @@ pub fn newton_until(
     Err(NewtonError::NotConverged { history, scale })
 }
 
+/// The iterate Newton returns and its refinement: the `refined` pair if there is one, else x.
+fn returned(x: &[f64], refined: Option<Pair>) -> (Vec<f64>, Option<Vec<f64>>) {
+    match refined {
+        Some((x, lo)) => (x, Some(lo)),
+        None => (x.to_vec(), None),
+    }
+}
+
 /// The refinement round of the iterate `x` reached by a full step from `x_prev` with the
 /// `factors` of J(x_prev): lo = −J⁻¹ F_lin(x), F_lin the system's linearised residual, and
 /// (x, lo) renormalised by TwoSum so that x = fl(x + lo). None if the system has no linearised
@@ -374,7 +424,8 @@ fn refinement(system: &impl NonlinearSystem, x: &[f64], x_prev: &[f64], factors:
 }
 
 /// The step length: the largest t = 2^−j with ‖F(x + tΔ)‖ ≤ κ‖F(x)‖ (for a monotone system,
-/// the largest with ‖F(x + tΔ)‖ < ‖F(x)‖ first); the last halving if none qualifies.
+/// the largest with ‖F(x + tΔ)‖ < ‖F(x)‖ first); the last halving if none qualifies. Also
+/// ‖F(x + Δ)‖ of the full step.
 fn line_search(
     system: &impl NonlinearSystem,
     x: &[f64],
@@ -383,22 +434,23 @@ fn line_search(
     options: &NewtonOptions,
     trial: &mut [f64],
     trial_residual: &mut [f64],
-) -> f64 {
-    let (mut t, mut bounded) = (1.0, None);
+) -> (f64, Option<f64>) {
+    let (mut t, mut bounded, mut r_full) = (1.0, None, None);
     for _ in 0..options.max_halvings {
         for ((y, xi), di) in trial.iter_mut().zip(x).zip(delta) {
             *y = xi + t * di;
         }
         system.evaluate(trial, trial_residual, None);
         let r_trial = norm(trial_residual);
+        r_full = r_full.or(Some(r_trial));
         let within = r_trial <= options.max_growth * r;
         if (within && !system.monotone()) || r_trial < r {
-            return t;
+            return (t, r_full);
         }
         if within && bounded.is_none() {
             bounded = Some(t);
         }
         t *= 0.5;
     }
-    bounded.unwrap_or(2.0 * t)
+    (bounded.unwrap_or(2.0 * t), r_full)
 }

@@ -16,7 +16,7 @@ use damfem::fem::sparse::SparsePattern;
 use damfem::io::gmsh::{mesh_geo, MeshOptions};
 use damfem::mesh::structured::{unit_square, BOTTOM, LEFT, RIGHT, TOP};
 use damfem::scene::Scene;
-use damfem::solve::{newton, LayerSchur, NewtonError, NewtonOptions, NonlinearSystem, SparseLu};
+use damfem::solve::{newton, newton_until, LayerSchur, NewtonError, NewtonOptions, NonlinearSystem, SparseLu};
 use std::path::Path;
 use std::sync::Arc;
 
@@ -24,17 +24,23 @@ use std::sync::Arc;
 /// toe anchored, flood on the upstream face) meshed by gmsh at degree `order`: the scene,
 /// its problem, discretisation, contact tags and stress scale S.
 fn scene_a(order: usize) -> (Problem, Discretisation, ContactJoint, f64) {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("geo/scene_a.toml");
+    scene("scene_a.toml", order, 1.0)
+}
+
+/// The scene geo/`file` meshed by gmsh at degree `order` with its sizes times `size_factor`:
+/// its problem, discretisation, joint and stress scale S.
+fn scene(file: &str, order: usize, size_factor: f64) -> (Problem, Discretisation, ContactJoint, f64) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("geo").join(file);
     let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
     let m = &scene.mesh;
     let options = MeshOptions {
         order,
-        size_factor: m.size_factor,
+        size_factor: m.size_factor * size_factor,
         size_min: m.size_min,
         size_max: m.size_max,
         algorithm: m.algorithm,
     };
-    let mesh = mesh_geo(&scene.geometry, &options, false, false).expect("gmsh meshes scene A");
+    let mesh = mesh_geo(&scene.geometry, &options, false, false).expect("gmsh meshes the scene");
     let (problem, joint) = scene.problem(mesh).unwrap_or_else(|e| panic!("{e}"));
     let disc = problem.discretise();
     let scale = problem.stress_scale(&disc.topology);
@@ -450,4 +456,54 @@ fn a_body_held_only_by_its_contact_is_solved_by_lu() {
     let solution = contact.solution(x, stages, Vec::new());
     println!("contact force {:.12}, {steps} Newton steps", solution.normal_force());
     assert!((solution.normal_force() - 1.0).abs() <= 1e-8);
+}
+
+/// The full step of a damped one, offered to the stopping rule. Source: src/solve/newton.rs
+/// (`Iterate::probe`) and docs/method.md §5.3: x_k + Δ solves the Newton equation linearised
+/// at x_k, F(x_k) + J(x_k) Δ = 0, whatever the line search makes of it, so a rule that
+/// estimates it may stop there. Problem: Scene A at P1 as above, δ = 10⁻⁴ S, Newton from u = 0,
+/// where no step is cut, and the lift joint of geo/dam_lift_joint.toml (P1, sizes × 2:
+/// Mohr–Coulomb, F = 0.84, c = 0.5 MPa, softening), where the first steps are. Checks: with a rule that takes the
+/// first probe, Newton returns it: its last step is full, the iterate differs from the damped
+/// one it was offered beside, and ‖F(x_prev) + J(x_prev)(x − x_prev)‖ ≤ 10⁻¹⁰ ‖b‖ (the
+/// damped iterate leaves (1 − t) ‖F(x_prev)‖); with a rule that takes no probe, Newton runs on
+/// and converges, offered at least that probe on the way.
+#[test]
+fn the_full_step_of_a_damped_one_is_offered_to_the_stopping_rule() {
+    let options = NewtonOptions { max_iter: 100, ..Default::default() };
+    let probes = |file: &str, order: usize, size_factor: f64| {
+        let (problem, disc, joint, scale) = scene(file, order, size_factor);
+        let contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 1e-4 * scale });
+        let mut probes = 0;
+        let converged = newton_until(&contact, vec![0.0; disc.dofs.n_free], &options, |it| {
+            probes += it.probe as usize;
+            false
+        })
+        .unwrap_or_else(|e| panic!("{file}: {e}"));
+        assert!(converged.residual <= options.rtol * converged.scale, "{file}: converged");
+        probes
+    };
+    assert_eq!(probes("scene_a.toml", 1, 1.0), 0, "no step cut on Scene A, no probe");
+    assert!(probes("dam_lift_joint.toml", 1, 2.0) > 0, "the lift joint's cut steps are offered");
+    let (problem, disc, joint, scale) = scene("dam_lift_joint.toml", 1, 2.0);
+    let contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 1e-4 * scale });
+    let taken =
+        newton_until(&contact, vec![0.0; disc.dofs.n_free], &options, |it| it.probe).expect("the probe is taken");
+    assert!(taken.iterations.last().is_some_and(|it| it.full()), "the probe is a full step");
+    let n = disc.dofs.n_free;
+    let (mut f, mut j, mut jd) = (vec![0.0; n], vec![0.0; contact.pattern().nnz()], vec![0.0; n]);
+    contact.evaluate(&taken.x_prev, &mut f, Some(&mut j));
+    let step: Vec<f64> = taken.x.iter().zip(&taken.x_prev).map(|(x, p)| x - p).collect();
+    contact.pattern().multiply(&j, &step, &mut jd);
+    let linearised: Vec<f64> = f.iter().zip(&jd).map(|(f, jd)| f + jd).collect();
+    let b = contact.scale();
+    println!(
+        "probe after {} steps: ‖F_lin‖/‖b‖ = {:.2e}, ‖F(x_prev)‖/‖b‖ = {:.2e}, ‖F(x)‖/‖b‖ = {:.2e}",
+        taken.iterations.len(),
+        norm(&linearised) / b,
+        norm(&f) / b,
+        taken.residual / b
+    );
+    assert!(norm(&linearised) <= 1e-10 * b, "the probe solves the linearised equation");
+    assert!(taken.residual > norm(&f), "the line search had cut this step: the full step raised ‖F‖");
 }
