@@ -592,8 +592,8 @@ mod tests {
         eta_tot.iter().enumerate().map(step).collect()
     }
 
-    // Source: the adaptive run of geo/dam_lift_joint.toml (docs/results.md), whose η_tot falls
-    // over six meshes and rises on the last two, the last mesh 19 times looser than the sixth.
+    // Source: an adaptive run of geo/dam_lift_joint.toml (docs/results.md), whose η_tot fell
+    // over six meshes and rose on the last two, the last mesh 19 times looser than the sixth.
     // Goal: the step of smallest η_tot is named only when the last step's η_tot is larger: not
     // on a falling run, a single step, or a last step that ties the smallest; the first of equal
     // minima; summary.json's `best_step` holds that step's η_tot, unknowns and file, and is

@@ -645,8 +645,8 @@ mod tests {
         }
     }
 
-    // Source: the adaptive run of geo/dam_lift_joint.toml (docs/results.md), whose last mesh
-    // has an η_tot 19 times that of the sixth. Goal: report.md names the step of smallest η_tot
+    // Source: an adaptive run of geo/dam_lift_joint.toml (docs/results.md), whose last mesh
+    // had an η_tot 19 times that of the sixth. Goal: report.md names the step of smallest η_tot
     // under the adaptive run, with its η_tot and unknowns against the last mesh's and its VTU
     // file, and the report of load combinations names each combination that has one; neither
     // says anything without one. Parameters: hand-built reports of two steps, the first with
