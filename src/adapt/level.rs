@@ -194,7 +194,9 @@ const MAX_RETRIES: usize = 4;
 /// this level (at δ_s/ρ_δ, then at the middle), the level ends at δ_s with (S_reg) unmet.
 /// With [`Stopping::Residual`] (a mesh known to be the last), Newton runs to the residual
 /// tolerance at every δ: the only estimates are the one (S_reg) needs after each run, the last
-/// of them the final one, and the level's [`Finish`] is [`Finish::FROM_START`].
+/// of them the final one, and the level's [`Finish`] is [`Finish::FROM_START`]; a run that
+/// stalls before the tolerance goes on under (S_lin) at its δ, and the level, flagged
+/// [`Level::stalled_before_tolerance`], has no [`Finish`].
 pub fn contact_level<'a>(
     problem: &'a Problem,
     disc: &'a Discretisation,
