@@ -495,12 +495,12 @@ impl Scene {
         if !(self.mesh.order == 1 || self.mesh.order == 2) {
             return Err(self.invalid(format!("mesh.order = {} must be 1 or 2", self.mesh.order)));
         }
-        if self.mesh.size_factor.is_nan() || self.mesh.size_factor <= 0.0 {
-            return Err(self.invalid(format!("mesh.size_factor = {} must be positive", self.mesh.size_factor)));
+        if !(self.mesh.size_factor > 0.0 && self.mesh.size_factor.is_finite()) {
+            return Err(self.invalid(format!("mesh.size_factor = {} must be positive and finite", self.mesh.size_factor)));
         }
         let c = &self.contact;
-        if c.gamma0.is_nan() || c.gamma0 <= 0.0 {
-            return Err(self.invalid(format!("contact.gamma0 = {} must be positive", c.gamma0)));
+        if !(c.gamma0 > 0.0 && c.gamma0.is_finite()) {
+            return Err(self.invalid(format!("contact.gamma0 = {} must be positive and finite", c.gamma0)));
         }
         if ![1.0, 0.0, -1.0].contains(&c.theta) {
             return Err(self.invalid(format!("contact.theta = {} must be 1, 0 or -1", c.theta)));
@@ -519,9 +519,11 @@ impl Scene {
         if let Some(up) = &self.uplift {
             self.check_uplift("uplift", up)?;
         }
-        if c.delta.is_some_and(|d| d.is_nan() || d < 0.0) {
-            return Err(self.invalid(format!("contact.delta = {} must be non-negative", c.delta.unwrap_or(0.0))));
+        if c.delta.is_some_and(|d| !(d >= 0.0 && d.is_finite())) {
+            return Err(self.invalid(format!("contact.delta = {} must be non-negative and finite", c.delta.unwrap_or(0.0))));
         }
+        self.check_newton()?;
+        self.check_loads()?;
         self.check_sizes()?;
         self.check_joints()?;
         self.check_safety()?;

@@ -76,7 +76,7 @@ impl Input {
             scene.mesh.order = order;
         }
         if let Some(factor) = self.size_factor {
-            anyhow::ensure!(factor > 0.0, "--size-factor {factor}: must be positive");
+            anyhow::ensure!(factor > 0.0 && factor.is_finite(), "--size-factor {factor}: must be positive and finite");
             scene.mesh.size_factor = factor;
         }
         Ok(scene)

@@ -59,8 +59,8 @@ impl JointSection {
 
     /// The first key out of range, as "joints.<name>.key = value must …".
     fn check(&self, name: &str) -> Result<(), String> {
-        if self.gamma0.is_nan() || self.gamma0 <= 0.0 {
-            return Err(format!("joints.{name}.gamma0 = {} must be positive", self.gamma0));
+        if !(self.gamma0 > 0.0 && self.gamma0.is_finite()) {
+            return Err(format!("joints.{name}.gamma0 = {} must be positive and finite", self.gamma0));
         }
         if ![1.0, 0.0, -1.0].contains(&self.theta) {
             return Err(format!("joints.{name}.theta = {} must be 1, 0 or -1", self.theta));
