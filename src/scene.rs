@@ -496,7 +496,9 @@ impl Scene {
             return Err(self.invalid(format!("mesh.order = {} must be 1 or 2", self.mesh.order)));
         }
         if !(self.mesh.size_factor > 0.0 && self.mesh.size_factor.is_finite()) {
-            return Err(self.invalid(format!("mesh.size_factor = {} must be positive and finite", self.mesh.size_factor)));
+            return Err(
+                self.invalid(format!("mesh.size_factor = {} must be positive and finite", self.mesh.size_factor))
+            );
         }
         let c = &self.contact;
         if !(c.gamma0 > 0.0 && c.gamma0.is_finite()) {
@@ -520,7 +522,9 @@ impl Scene {
             self.check_uplift("uplift", up)?;
         }
         if c.delta.is_some_and(|d| !(d >= 0.0 && d.is_finite())) {
-            return Err(self.invalid(format!("contact.delta = {} must be non-negative and finite", c.delta.unwrap_or(0.0))));
+            return Err(
+                self.invalid(format!("contact.delta = {} must be non-negative and finite", c.delta.unwrap_or(0.0)))
+            );
         }
         self.check_newton()?;
         self.check_loads()?;

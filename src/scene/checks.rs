@@ -129,6 +129,7 @@ impl Scene {
     /// Refuses contact on a curve between two meshed surfaces, and a curve segment in two
     /// physical groups with different roles.
     pub(super) fn check_boundaries(&self, mesh: &Mesh) -> Result<(), SceneError> {
+        self.check_one_table_per_group(mesh)?;
         let roles = self.roles(mesh)?;
         let role_of: BTreeMap<i32, (&str, Role)> = roles.iter().map(|(t, n, b)| (*t, (n.as_str(), b.role))).collect();
         let topology = Topology::new(mesh);
@@ -149,6 +150,42 @@ impl Scene {
                     )))
                 }
                 _ => {}
+            }
+        }
+        Ok(())
+    }
+
+    /// Names are matched to physical groups ignoring case: two groups of the geometry whose
+    /// names differ only in case, or two tables (`[materials]`, or `[boundary]` and `[joints]`)
+    /// that name one group, are refused.
+    fn check_one_table_per_group(&self, mesh: &Mesh) -> Result<(), SceneError> {
+        for (i, a) in mesh.groups.iter().enumerate() {
+            if let Some(b) =
+                mesh.groups[i + 1..].iter().find(|b| b.dim == a.dim && b.name.eq_ignore_ascii_case(&a.name))
+            {
+                return Err(self.invalid(format!(
+                    "the geometry {} has two physical groups '{}' and '{}' whose names differ only in case, which \
+                     scene names cannot tell apart; rename one",
+                    self.geometry.display(),
+                    a.name,
+                    b.name
+                )));
+            }
+        }
+        let curves = (self.boundary.keys().map(|n| ("boundary", n))).chain(self.joints.keys().map(|n| ("joints", n)));
+        let surfaces = self.materials.keys().map(|n| ("materials", n));
+        for (dim, tables) in [(1, curves.collect::<Vec<_>>()), (2, surfaces.collect())] {
+            let mut seen: BTreeMap<i32, (&str, &String)> = BTreeMap::new();
+            for (table, name) in tables {
+                let Some(group) = mesh.group(dim, name) else { continue };
+                if let Some((other_table, other)) = seen.insert(group.tag, (table, name)) {
+                    return Err(self.invalid(format!(
+                        "[{other_table}.{other}] and [{table}.{name}] name the same physical {} '{}' (names are \
+                         matched ignoring case); keep one table",
+                        if dim == 1 { "curve" } else { "surface" },
+                        group.name
+                    )));
+                }
             }
         }
         Ok(())

@@ -26,12 +26,30 @@ fn values_the_physics_forbids_are_refused() {
             &[],
             &["boundary.upstream.hydrostatic.density = -1000", "positive"],
         ),
-        ("scene_a", "role = \"contact\"", "role = \"contact\"\nvalue = [0.1, 0.0]", &[], &["'base'", "value", "dirichlet"]),
+        (
+            "scene_a",
+            "role = \"contact\"",
+            "role = \"contact\"\nvalue = [0.1, 0.0]",
+            &[],
+            &["'base'", "value", "dirichlet"],
+        ),
         ("scene_a", hydrostatic, &format!("{hydrostatic}\nfix = \"x\""), &[], &["'upstream'", "fix", "dirichlet"]),
         ("scene_a", "theta = 0.0", "theta = 0.0\nrtol = 1.0", &[], &["contact.rtol = 1", "[0, 1)"]),
         ("scene_a", "theta = 0.0", "theta = 0.0\nmax_iter = 0", &[], &["contact.max_iter = 0", "at least 1"]),
-        ("scene_a", "theta = 0.0", "theta = 0.0\ndelta_start = -1.0", &[], &["contact.delta_start = -1", "non-negative"]),
-        ("scene_a", "theta = 0.0", "theta = 0.0\ndelta = 10.0", &["--semismooth"], &["contact.delta = 10", "semismooth"]),
+        (
+            "scene_a",
+            "theta = 0.0",
+            "theta = 0.0\ndelta_start = -1.0",
+            &[],
+            &["contact.delta_start = -1", "non-negative"],
+        ),
+        (
+            "scene_a",
+            "theta = 0.0",
+            "theta = 0.0\ndelta = 10.0",
+            &["--semismooth"],
+            &["contact.delta = 10", "semismooth"],
+        ),
         ("scene_a", "theta = 0.0", "theta = 0.0", &["--gamma0", "inf"], &["--gamma0 = inf", "command line"]),
         ("scene_a", "theta = 0.0", "theta = 0.0", &["--delta", "inf"], &["--delta = inf", "command line"]),
         ("scene_a", "rho = 2400.0\n", "", &[], &["materials.concrete", "rho"]),
@@ -63,4 +81,34 @@ fn a_loose_newton_tolerance_is_said() {
     let loose = edited_scene(&tmp, "scene_a", |s| s.replace("theta = 0.0", "theta = 0.0\nrtol = 0.01"));
     let warnings = check_warnings(&loose, &["--order", "1"]);
     assert!(warnings.len() == 1 && warnings[0].contains("contact.rtol = 0.01"), "{warnings:?}");
+}
+
+// Source: geo/scene_a.toml and geo/dam_lifts_on_rock.toml with a second table for one
+// physical group, its name spelt with another case (names are matched ignoring case). Goal:
+// the two tables are refused, naming both and the group, where damfem used to apply both
+// water loads to the upstream face (twice the thrust) or keep one material or one role of the
+// two with exit code 0. Parameters: P1.
+#[test]
+fn two_tables_for_one_physical_group_are_refused() {
+    let tmp = TempDir::new("two-tables");
+    let water = "[boundary.Upstream]\nrole = \"neumann\"\nhydrostatic = { level = 70.0 }\n";
+    let twice = edited_scene(&tmp, "scene_a", |s| s + water);
+    assert_refused(
+        "two-tables-water",
+        "solve",
+        &twice,
+        &["--order", "1"],
+        &["[boundary.Upstream]", "[boundary.upstream]", "'upstream'"],
+    );
+    let roles = edited_scene(&tmp, "scene_a", |s| s + "[boundary.Crest]\nrole = \"dirichlet\"\n");
+    assert_refused("two-tables-roles", "check", &roles, &["--order", "1"], &["[boundary.Crest]", "[boundary.crest]"]);
+    let material = "[materials.Upper_block]\nE = 1.0e9\nnu = 0.2\nrho = 2400.0\n";
+    let materials = edited_scene(&tmp, "dam_lifts_on_rock", |s| s + material);
+    assert_refused(
+        "two-tables-materials",
+        "check",
+        &materials,
+        &["--order", "1", "--size-factor", "3"],
+        &["[materials.Upper_block]", "[materials.upper_block]", "'upper_block'"],
+    );
 }
