@@ -182,6 +182,64 @@ pub fn remove_created_dirs() {
     }
 }
 
+/// Whether `file` is a name that damfem writes for the scene `name`: its ParaView files and
+/// collections, the step files `<name>_NN*.vtu` of `adapt`, its figures, its mesh, and the
+/// summaries, histories and reports of every command.
+fn is_output_of(file: &str, name: &str) -> bool {
+    const SHARED: [&str; 8] = [
+        "summary.json",
+        "history.json",
+        "history.csv",
+        "safety.json",
+        "report.md",
+        "joint.csv",
+        "base_stresses.png",
+        "base_stresses.svg",
+    ];
+    const KINDS: [&str; 14] = [
+        ".vtu",
+        "_boundary.vtu",
+        "_dg.vtu",
+        "_mesh.vtu",
+        ".msh",
+        ".pvd",
+        "_boundary.pvd",
+        "_dg.pvd",
+        "_eta.svg",
+        "_eta.png",
+        "_time.svg",
+        "_time.png",
+        "_adaptive_uniform.svg",
+        "_adaptive_uniform.png",
+    ];
+    // `_NN` and a kind of step file
+    let step =
+        |rest: &str| rest.starts_with('_') && rest.get(1..3).is_some_and(|n| n.bytes().all(|b| b.is_ascii_digit()));
+    SHARED.contains(&file)
+        || file.strip_prefix(name).is_some_and(|rest| KINDS.contains(&rest) || (step(rest) && rest.ends_with(".vtu")))
+}
+
+/// Removes the files that an earlier run of the scene `name` left in `dir` and in
+/// `dir/uniform` (which goes too once empty), except `keep`, so that the directory shows one
+/// run only; other files are left alone. Returns how many were removed.
+pub fn remove_earlier_outputs(dir: &Path, name: &str, keep: &[PathBuf]) -> Result<usize> {
+    let mut removed = 0;
+    for dir in [dir.to_path_buf(), dir.join("uniform")] {
+        let Ok(entries) = std::fs::read_dir(&dir) else { continue };
+        for entry in entries {
+            let path = entry?.path();
+            let ours = path.file_name().and_then(|f| f.to_str()).is_some_and(|f| is_output_of(f, name));
+            if ours && path.is_file() && !keep.contains(&path) {
+                std::fs::remove_file(&path).with_context(|| format!("cannot remove {}", path.display()))?;
+                removed += 1;
+            }
+        }
+    }
+    // only an empty directory is removed; one that holds other files stays
+    let _ = std::fs::remove_dir(dir.join("uniform"));
+    Ok(removed)
+}
+
 /// A Newton iterate's progress line: its number k and ‖F(x_k)‖ / scale.
 fn newton_step_line(step: usize, relative_residual: f64) {
     eprintln!("newton     step {step:>3}, relative residual {relative_residual:.3e}");

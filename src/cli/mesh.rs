@@ -1,6 +1,6 @@
 //! `damfem mesh`: mesh a scene's geometry and write the .msh and a .vtu of the mesh.
 
-use super::common::{stem, Input, Output};
+use super::common::{remove_earlier_outputs, stem, Input, Output};
 use crate::io::gmsh;
 use crate::io::vtu::{write_boundary_vtu, write_mesh_vtu};
 use anyhow::Result;
@@ -33,8 +33,10 @@ pub fn run(args: Args) -> Result<()> {
         },
         |m| format!("{} nodes, {} cells, P{}", m.n_points(), m.n_cells(), m.order),
     )?;
-    write_mesh_vtu(&dir.join(format!("{name}_mesh.vtu")), &mesh, &[], &[])?;
-    write_boundary_vtu(&dir.join(format!("{name}_boundary.vtu")), &mesh, &[], &[])?;
+    let vtu = [dir.join(format!("{name}_mesh.vtu")), dir.join(format!("{name}_boundary.vtu"))];
+    write_mesh_vtu(&vtu[0], &mesh, &[], &[])?;
+    write_boundary_vtu(&vtu[1], &mesh, &[], &[])?;
+    remove_earlier_outputs(&dir, &name, &[msh.clone(), vtu[0].clone(), vtu[1].clone()])?;
     progress.result(&msh.display().to_string());
     Ok(())
 }

@@ -1,7 +1,7 @@
 //! `damfem solve`: mesh, assemble, solve (with Nitsche contact when the scene has Γ_C),
 //! write ParaView files, `summary.json` and `history.json`.
 
-use super::common::{blame_overrides, stem, validate_overrides, Input, Output};
+use super::common::{blame_overrides, remove_earlier_outputs, stem, validate_overrides, Input, Output};
 use super::output::{write_results, EstimateSummary, Results, Summary, Units, UNITS};
 use crate::contact::{
     reduce_strength, ContactError, ContactJoint, Continuation, Solution, Stage, StrengthReduction, STRENGTH_TOLERANCE,
@@ -198,6 +198,7 @@ pub fn run(args: Args) -> Result<()> {
     seconds.output = t;
     let line = scene.joint_line(&problem);
     let solve = SolveSummary { strength_reduction: strength.map(|(s, _)| s), effectivity, seconds };
+    let mut written = [files.clone(), vec![dir.join("summary.json")]].concat();
     let summary = Summary::new(&scene, &disc, &results, line, files, solve);
     write_output(&dir.join("summary.json"), serde_json::to_string_pretty(&summary)?.as_bytes())?;
     if solution.contact().is_some() || summary.estimate.is_some() {
@@ -207,7 +208,9 @@ pub fn run(args: Args) -> Result<()> {
             estimate: summary.estimate.as_ref(),
         };
         write_output(&dir.join("history.json"), serde_json::to_string_pretty(&history)?.as_bytes())?;
+        written.push(dir.join("history.json"));
     }
+    remove_earlier_outputs(&dir, &name, &written)?;
     progress.say(&format!("results in {}", dir.display()));
     for line in summary.headline() {
         progress.result(&line);
@@ -257,9 +260,11 @@ fn newton_failure(scene: &Scene, continuation: &Continuation, error: &NewtonErro
         delta_target: continuation.delta,
         relative_residuals: residuals,
     };
+    let path = dir.join("history.json");
     let kept = serde_json::to_string_pretty(&history).map_err(anyhow::Error::from).and_then(|text| {
-        write_output(&dir.join("history.json"), text.as_bytes())?;
-        Ok(format!("\nthe residuals are in {}", dir.join("history.json").display()))
+        write_output(&path, text.as_bytes())?;
+        remove_earlier_outputs(dir, &stem(&scene.source), std::slice::from_ref(&path))?;
+        Ok(format!("\nthe residuals are in {}", path.display()))
     });
     anyhow::anyhow!(
         "{}: {error}\nlikely causes: {} (with {used}){}",

@@ -67,7 +67,7 @@ impl Scene {
                 c.rtol
             )));
         }
-        if let Some(start) = c.delta_start.filter(|s| !(*s >= 0.0)) {
+        if let Some(start) = c.delta_start.filter(|s| *s < 0.0) {
             return Err(self.invalid(format!("contact.delta_start = {start} must be non-negative")));
         }
         match c.delta {
@@ -90,7 +90,7 @@ impl Scene {
         }
         let uplift = self.uplift.is_some() || self.joints.values().any(|j| j.uplift.is_some());
         for (name, b) in &self.boundary {
-            if let Some(h) = b.hydrostatic.filter(|h| !(h.density > 0.0)) {
+            if let Some(h) = b.hydrostatic.filter(|h| h.density <= 0.0) {
                 return Err(self.invalid(format!(
                     "boundary.{name}.hydrostatic.density = {} must be positive (without water, remove the load)",
                     h.density

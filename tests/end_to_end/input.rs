@@ -3,7 +3,13 @@
 //! group, and output directories that hold an earlier run's files. Each is refused with one
 //! sentence naming the key, flag or group, exit code 1 and no output file.
 
-use super::cli::{assert_refused, check_warnings, edited_scene, TempDir};
+use super::cli::{assert_error, assert_ok, assert_refused, check_warnings, damfem, edited_scene, repo, TempDir};
+use std::ffi::OsStr;
+use std::path::Path;
+
+/// A scene of geo/, a line of it, the line that replaces it, extra flags and the words of the
+/// error.
+type Case<'a> = (&'a str, &'a str, &'a str, &'a [&'a str], &'a [&'a str]);
 
 // Source: the scenes of geo/, each edited by one key. Goal: a value that the physics or the
 // method forbids, which damfem used to accept with exit code 0 (a weight pointing up, a
@@ -16,7 +22,7 @@ use super::cli::{assert_refused, check_warnings, edited_scene, TempDir};
 fn values_the_physics_forbids_are_refused() {
     let tmp = TempDir::new("forbidden-values");
     let hydrostatic = "hydrostatic = { density = 1000.0, level = 70.0 }";
-    let cases: [(&str, &str, &str, &[&str], &[&str]); 13] = [
+    let cases: [Case; 13] = [
         ("unit_square", "gravity = 1.0", "gravity = -1.0", &[], &["loads.gravity = -1", "non-negative"]),
         ("scene_a", "gravity = 9.81", "gravity = 0.0", &[], &["boundary.upstream.hydrostatic", "loads.gravity"]),
         (
@@ -111,4 +117,75 @@ fn two_tables_for_one_physical_group_are_refused() {
         &["--order", "1", "--size-factor", "3"],
         &["[materials.Upper_block]", "[materials.upper_block]", "'upper_block'"],
     );
+}
+
+/// The names of the files in `dir`, sorted.
+fn listing(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> =
+        std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    names.sort();
+    names
+}
+
+/// `damfem <args> -q -o <dir>`, asserted to succeed.
+fn run_into(dir: &Path, args: &[&str]) {
+    let mut all: Vec<&OsStr> = args.iter().map(OsStr::new).collect();
+    all.extend([OsStr::new("-q"), OsStr::new("-o"), dir.as_os_str()]);
+    assert_ok(&damfem(&all));
+}
+
+// Source: geo/scene_a.toml run by `adapt`, `solve --estimate`, `solve` and `mesh` one after
+// the other into one directory, beside a file of the user's. Goal: after each run the
+// directory holds that run's files only (for `solve`, those summary.json lists, itself and
+// history.json), where the step files, collections, history.csv and figures of `adapt`, or
+// the `_dg.vtu` of an earlier estimate, used to stay beside a summary that does not list them;
+// the user's file stays. Parameters: P1, sizes × 3, two adaptive steps.
+#[test]
+fn a_rerun_leaves_no_file_of_an_earlier_run() {
+    let tmp = TempDir::new("rerun-outputs");
+    let dir = tmp.join("out");
+    let scene = repo("geo/scene_a.toml");
+    let scene = scene.to_str().unwrap();
+    let p1 = ["--order", "1", "--size-factor", "3"];
+    run_into(&dir, &[&["adapt", scene, "--steps", "2"][..], &p1].concat());
+    std::fs::write(dir.join("notes.txt"), "the user's").unwrap();
+    for estimate in [&["--estimate"][..], &[]] {
+        run_into(&dir, &[&["solve", scene][..], &p1, estimate].concat());
+        let summary: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+        let files = summary["files"].as_array().unwrap().iter();
+        let mut expected: Vec<String> =
+            files.map(|f| Path::new(f.as_str().unwrap()).file_name().unwrap().to_string_lossy().into_owned()).collect();
+        expected.extend(["history.json", "notes.txt", "summary.json"].map(String::from));
+        expected.sort();
+        assert_eq!(listing(&dir), expected, "solve {estimate:?}");
+    }
+    run_into(&dir, &[&["mesh", scene][..], &p1].concat());
+    assert_eq!(listing(&dir), ["notes.txt", "scene_a.msh", "scene_a_boundary.vtu", "scene_a_mesh.vtu"]);
+}
+
+// Source: geo/scene_a.toml with a boundary table for a curve its geometry lacks, run by
+// `adapt` into a directory that holds an earlier run. Goal: the scene is refused as `solve`
+// refuses it, in one sentence without "adaptive step 0", and the directory is left as it was
+// (no history.json of a run that never started, the earlier run's files kept), where adapt
+// used to write history.json and history.csv and remove the earlier steps. Parameters: P1,
+// sizes × 3.
+#[test]
+fn adapt_refuses_a_scene_that_does_not_fit_its_mesh_writing_nothing() {
+    let tmp = TempDir::new("adapt-bad-scene");
+    let dir = tmp.join("out");
+    let p1 = ["--order", "1", "--size-factor", "3"];
+    let scene = repo("geo/scene_a.toml");
+    run_into(&dir, &[&["adapt", scene.to_str().unwrap(), "--steps", "1"][..], &p1].concat());
+    let before = listing(&dir);
+    let bad = edited_scene(&tmp, "scene_a", |s| s + "[boundary.heel]\nrole = \"free\"\n");
+    let args: Vec<&OsStr> = ["adapt", "-q"].iter().map(OsStr::new).chain([bad.as_os_str()]).collect();
+    let out = damfem(&[&args[..], &["-o", dir.to_str().unwrap()].map(OsStr::new), &p1.map(OsStr::new)].concat());
+    let message = assert_error(&out, &["scene_a.toml", "'heel'"]);
+    assert!(!message.contains("step 0"), "{message}");
+    assert_eq!(listing(&dir), before);
+    let empty = tmp.join("empty");
+    let out = damfem(&[&args[..], &["-o", empty.to_str().unwrap()].map(OsStr::new), &p1.map(OsStr::new)].concat());
+    assert_error(&out, &["'heel'"]);
+    assert!(!empty.exists(), "{} was left behind", empty.display());
 }
