@@ -756,12 +756,8 @@ impl Scene {
                     .into(),
             ));
         }
-        if joint.is_none() && self.contact.law().has_friction() {
-            return Err(self.invalid(format!(
-                "[contact] has a joint law ({:?}) but no curve has role contact and there is no [joints] table, so \
-                 every interface is bonded; give the joint's curve a [joints.<curve>] table with the law",
-                self.contact.law()
-            )));
+        if joint.is_none() {
+            self.check_contact_unused()?;
         }
         let friction = joint.as_ref().is_some_and(ContactJoint::has_friction);
         if problem.dirichlet.is_empty() && !friction {

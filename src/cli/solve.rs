@@ -107,7 +107,11 @@ pub fn run(args: Args) -> Result<()> {
     )?;
     seconds.mesh = t;
     // 2. Problem: the elasticity problem, its contact joint, dofs and pattern
-    let (problem, joint) = scene.problem(mesh)?;
+    let (problem, joint) = match scene.problem(mesh) {
+        Ok(problem) => problem,
+        // an error, blamed on the flag of a key it names
+        Err(e) => return blame_overrides(Err(e), &contact_overrides(&args)),
+    };
     progress.warn(&scene.warnings(&problem.mesh)?);
     let (disc, t) = progress.stage(
         "assemble",
@@ -352,18 +356,23 @@ fn override_contact(args: &Args, scene: &mut Scene) -> Result<()> {
             scene.source.display()
         );
     }
-    let overrides = [
-        ("--gamma0", "contact.gamma0", args.gamma0.is_some()),
-        ("--theta", "contact.theta", args.theta.is_some()),
-        ("--delta", "contact.delta", args.delta.is_some()),
-        ("--friction", "contact.friction", args.friction.is_some()),
-        ("--cohesion", "contact.cohesion", args.cohesion.is_some()),
-        ("--threshold", "contact.threshold", args.threshold.is_some()),
-    ];
+    let overrides = contact_overrides(args);
     validate_overrides(scene, &overrides)?;
     if args.estimate || args.check_equilibration || args.effectivity {
         let estimate = "the error estimate of --estimate, --check-equilibration and --effectivity";
         blame_overrides(scene.check_estimable(estimate), &overrides)?;
     }
     Ok(())
+}
+
+/// The `[contact]` keys that flags override: (flag, key, given).
+fn contact_overrides(args: &Args) -> [(&'static str, &'static str, bool); 6] {
+    [
+        ("--gamma0", "contact.gamma0", args.gamma0.is_some()),
+        ("--theta", "contact.theta", args.theta.is_some()),
+        ("--delta", "contact.delta", args.delta.is_some()),
+        ("--friction", "contact.friction", args.friction.is_some()),
+        ("--cohesion", "contact.cohesion", args.cohesion.is_some()),
+        ("--threshold", "contact.threshold", args.threshold.is_some()),
+    ]
 }

@@ -3,7 +3,7 @@
 //! an interface between two meshed bodies, one curve with two roles; and the warnings of
 //! `damfem check` (defaults assumed, parameters outside their known range).
 
-use super::{Fix, ProjectionKind, Role, Scene, SceneError};
+use super::{ContactSection, Fix, ProjectionKind, Role, Scene, SceneError};
 use crate::mesh::topology::NONE;
 use crate::mesh::{Mesh, Topology};
 use std::collections::BTreeMap;
@@ -76,6 +76,35 @@ impl Scene {
                  which solves at delta = 0; remove one of the two"
             ))),
             _ => Ok(()),
+        }
+    }
+
+    /// Without a contact curve or a joint the `[contact]` keys act on nothing: the first one set
+    /// is refused, rather than ignored.
+    pub(super) fn check_contact_unused(&self) -> Result<(), SceneError> {
+        let (c, d) = (&self.contact, ContactSection::default());
+        let given = |key: &str, set: bool, value: String| set.then(|| format!("{key} = {value}"));
+        let keys = [
+            given("gamma0", c.gamma0 != d.gamma0, c.gamma0.to_string()),
+            given("theta", c.theta != d.theta, c.theta.to_string()),
+            c.delta.map(|v| format!("delta = {v}")),
+            c.delta_start.map(|v| format!("delta_start = {v}")),
+            given("projection", c.projection != d.projection, "\"semismooth\" (--semismooth)".into()),
+            given("gap", c.gap != d.gap, c.gap.to_string()),
+            given("gap_gradient", c.gap_gradient != d.gap_gradient, format!("{:?}", c.gap_gradient)),
+            c.direction.map(|v| format!("direction = {v:?}")),
+            given("friction", c.friction != d.friction, c.friction.to_string()),
+            given("cohesion", c.cohesion != d.cohesion, c.cohesion.to_string()),
+            c.threshold.map(|v| format!("threshold = {v}")),
+            given("max_iter", c.max_iter != d.max_iter, c.max_iter.to_string()),
+            given("rtol", c.rtol != d.rtol, c.rtol.to_string()),
+        ];
+        match keys.into_iter().flatten().next() {
+            Some(key) => Err(self.invalid(format!(
+                "contact.{key} is set, but no curve has role contact and there is no [joints] table: it acts on \
+                 nothing; give a curve role = \"contact\" or a [joints.<curve>] table, or remove the key"
+            ))),
+            None => Ok(()),
         }
     }
 

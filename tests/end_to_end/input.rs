@@ -189,3 +189,27 @@ fn adapt_refuses_a_scene_that_does_not_fit_its_mesh_writing_nothing() {
     assert_error(&out, &["'heel'"]);
     assert!(!empty.exists(), "{} was left behind", empty.display());
 }
+
+// Source: geo/unit_square.toml (clamped, no contact curve, no joint) with a [contact] key or a
+// contact flag of `solve`. Goal: a key or flag that has nothing to act on is refused, naming
+// it, where damfem used to solve the bonded problem with exit code 0 as if it had been
+// applied. Parameters: P1.
+#[test]
+fn contact_keys_without_contact_are_refused() {
+    let tmp = TempDir::new("contact-unused");
+    let square = repo("geo/unit_square.toml");
+    for (flag, value) in [("--gamma0", "5"), ("--theta", "1"), ("--delta", "10"), ("--friction", "0.5")] {
+        assert_refused(
+            &format!("contact-unused{flag}"),
+            "solve",
+            &square,
+            &["--order", "1", flag, value],
+            &[&format!("{flag} = {value}"), "no curve has role contact", "command line"],
+        );
+    }
+    for line in ["gap = 0.1", "max_iter = 20", "direction = [0.0, -1.0]"] {
+        let scene = edited_scene(&tmp, "unit_square", |s| format!("{s}\n[contact]\n{line}\n"));
+        let key = format!("contact.{}", line.split(" = ").next().unwrap());
+        assert_refused("contact-unused-key", "check", &scene, &["--order", "1"], &[&key, "no curve has role contact"]);
+    }
+}
