@@ -16,6 +16,12 @@ pub struct Args {
 pub fn run(args: Args) -> Result<()> {
     let input = &args.input;
     let progress = input.progress();
+    if let Some(name) = &input.combination {
+        anyhow::bail!(
+            "--combination {name}: a load combination changes loads, not the mesh, so `damfem mesh` has no use for it; \
+             leave the flag out"
+        );
+    }
     let scene = input.scene()?;
     let dir = args.output.dir(&scene)?;
     let name = stem(&scene.source);

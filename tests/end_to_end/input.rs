@@ -213,3 +213,19 @@ fn contact_keys_without_contact_are_refused() {
         assert_refused("contact-unused-key", "check", &scene, &["--order", "1"], &[&key, "no curve has role contact"]);
     }
 }
+
+// Source: geo/scene_a_combinations.toml meshed by `damfem mesh --combination flood`. Goal: a
+// flag the command accepts but cannot use (a load combination changes loads, never the mesh)
+// is refused, naming it, where `mesh` used to write the same files as without it, with exit
+// code 0. Parameters: P1.
+#[test]
+fn mesh_refuses_a_load_combination() {
+    let scene = repo("geo/scene_a_combinations.toml");
+    assert_refused(
+        "mesh-combination",
+        "mesh",
+        &scene,
+        &["--order", "1", "--combination", "flood"],
+        &["--combination flood", "damfem mesh"],
+    );
+}
