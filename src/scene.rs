@@ -26,6 +26,11 @@ mod joints;
 pub use joints::JointSection;
 mod nested;
 
+/// The largest distance of an uplift table's `heel` from the end of its joint, as a fraction of
+/// the joint's length: the heel is an end of the joint, given to the precision of its
+/// coordinates.
+const HEEL_TOLERANCE: f64 = 1e-3;
+
 /// A scene that cannot be read or does not fit its mesh.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
@@ -950,6 +955,13 @@ impl Scene {
             })
         })?;
         let (heel, toe, length) = (line.heel, line.point(line.length), line.length);
+        if let Some(given) = up.heel.filter(|&h| distance(h, heel) > HEEL_TOLERANCE * length) {
+            return Err(self.invalid(format!(
+                "{table}.heel = {given:?} is not an end of the joint, which runs from ({}, {}) to ({}, {}); give \
+                 its upstream end",
+                heel[0], heel[1], toe[0], toe[1]
+            )));
+        }
         let g = self.loads.gravity;
         let head = |level: f64, y: f64| up.density * g * (level - y).max(0.0);
         let drains = up.drains.map(|d| Drains { distance: d.x, efficiency: d.efficiency });

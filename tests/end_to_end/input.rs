@@ -229,3 +229,29 @@ fn mesh_refuses_a_load_combination() {
         &["--combination flood", "damfem mesh"],
     );
 }
+
+// Source: geo/scene_a_uplift.toml (its joint from (0, 0) to (40, 0)) with [uplift] heel at the
+// joint's middle, then at its upstream end. Goal: a heel that is not an end of the joint is
+// refused, naming the key and the joint's ends, where damfem used to take the nearer end (or
+// either, at the middle) as the heel and lay the uplift diagram from it with exit code 0;
+// the upstream end itself is accepted. Parameters: P1, sizes × 3.
+#[test]
+fn a_heel_off_the_joint_ends_is_refused() {
+    let tmp = TempDir::new("heel-off");
+    let at = |heel: &str| {
+        edited_scene(&tmp, "scene_a_uplift", |s| {
+            s.replace("crack = \"full\"", &format!("crack = \"full\"\nheel = {heel}"))
+        })
+    };
+    let p1 = ["--order", "1", "--size-factor", "3"];
+    assert_refused(
+        "heel-off-middle",
+        "check",
+        &at("[20.0, 0.0]"),
+        &p1,
+        &["uplift.heel = [20.0, 0.0]", "(0, 0)", "(40, 0)"],
+    );
+    let upstream = at("[0.0, 0.0]");
+    let args: Vec<&OsStr> = ["check", "-q"].iter().chain(&p1).map(OsStr::new).chain([upstream.as_os_str()]).collect();
+    assert_ok(&damfem(&args));
+}
