@@ -495,8 +495,25 @@ impl Scene {
         }
     }
 
+    /// The `[mesh]` keys of the scene file.
+    fn given_mesh_keys(&self) -> Vec<&str> {
+        let keys = self.table.get("mesh").and_then(toml::Value::as_table);
+        keys.map_or_else(Vec::new, |t| t.keys().map(String::as_str).collect())
+    }
+
+    /// `mesh.order`, if the scene file gives it (a `.msh` keeps its own degree otherwise).
+    pub fn given_order(&self) -> Option<usize> {
+        self.given_mesh_keys().contains(&"order").then_some(self.mesh.order)
+    }
+
     /// Checks the values that need no mesh (done by [`Scene::load`]; again after changes).
     pub fn validate(&self) -> Result<(), SceneError> {
+        if let Some(key) = self.given_mesh_keys().into_iter().find(|&k| k != "order" && self.is_msh()) {
+            return Err(self.invalid(format!(
+                "mesh.{key} applies to a .geo geometry, which gmsh meshes; {} is a mesh file with its own sizes",
+                self.geometry.display()
+            )));
+        }
         if !(self.mesh.order == 1 || self.mesh.order == 2) {
             return Err(self.invalid(format!("mesh.order = {} must be 1 or 2", self.mesh.order)));
         }

@@ -91,7 +91,13 @@ impl Input {
     pub fn mesh(&self, scene: &Scene) -> Result<Mesh> {
         let geometry = &scene.geometry;
         let mesh = if geometry.extension().is_some_and(|e| e == "msh") {
-            at_order(gmsh::read_msh(geometry, self.verbose)?, self.order, geometry)?
+            let order = match self.order {
+                Some(order) => Some((order, format!("--order {order}"))),
+                None => scene
+                    .given_order()
+                    .map(|order| (order, format!("{}: mesh.order = {order}", scene.source.display()))),
+            };
+            at_order(gmsh::read_msh(geometry, self.verbose)?, order, geometry)?
         } else {
             gmsh::mesh_geo(geometry, &scene.mesh_options(), self.verbose, self.allow_system_calls)?
         };
@@ -104,16 +110,17 @@ impl Input {
     }
 }
 
-/// The mesh of the file `path` at degree `order` (the file's if `None`): a degree-1 mesh is
-/// raised to degree 2 as gmsh raises it (a node at the middle of every straight edge, see
-/// [`elevate_to_p2`]); lowering, which would drop the file's midpoint nodes, is refused.
-fn at_order(mesh: Mesh, order: Option<usize>, path: &Path) -> Result<Mesh> {
+/// The mesh of the file `path` at degree `order` (the file's if `None`), given by `by` (the flag
+/// or the key): a degree-1 mesh is raised to degree 2 as gmsh raises it (a node at the middle
+/// of every straight edge, see [`elevate_to_p2`]); lowering, which would drop the file's
+/// midpoint nodes, is refused.
+fn at_order(mesh: Mesh, order: Option<(usize, String)>, path: &Path) -> Result<Mesh> {
     match order {
         None => Ok(mesh),
-        Some(order) if order == mesh.order => Ok(mesh),
-        Some(2) => Ok(elevate_to_p2(&mesh)),
-        Some(order) => anyhow::bail!(
-            "--order {order}: {} holds degree-{} triangles; a mesh file can be raised to degree 2, not lowered",
+        Some((order, _)) if order == mesh.order => Ok(mesh),
+        Some((2, _)) => Ok(elevate_to_p2(&mesh)),
+        Some((_, by)) => anyhow::bail!(
+            "{by}: {} holds degree-{} triangles; a mesh file can be raised to degree 2, not lowered",
             path.display(),
             mesh.order
         ),

@@ -255,3 +255,28 @@ fn a_heel_off_the_joint_ends_is_refused() {
     let args: Vec<&OsStr> = ["check", "-q"].iter().chain(&p1).map(OsStr::new).chain([upstream.as_os_str()]).collect();
     assert_ok(&damfem(&args));
 }
+
+// Source: geo/scene_a.toml with its geometry replaced by the degree-1 .msh that `damfem mesh
+// --order 1` makes of it. Goal: the scene's `[mesh] order = 2` raises the mesh to degree 2
+// as `--order 2` does, where it used to be ignored (a P1 solve with exit code 0), and a
+// `[mesh]` key that only gmsh's meshing of a .geo reads (size_factor) is refused, naming it.
+// Parameters: sizes × 3.
+#[test]
+fn a_msh_scene_reads_its_order_and_refuses_the_keys_of_gmsh() {
+    let tmp = TempDir::new("msh-scene");
+    let mesh_dir = tmp.join("mesh");
+    run_into(&mesh_dir, &["mesh", repo("geo/scene_a.toml").to_str().unwrap(), "--order", "1", "--size-factor", "3"]);
+    let msh = format!("geometry = {:?}", mesh_dir.join("scene_a.msh").display().to_string());
+    let with_msh = |s: String| {
+        let line = s.lines().find(|l| l.starts_with("geometry = ")).unwrap().to_string();
+        s.replace(&line, &msh)
+    };
+    let p2 = edited_scene(&tmp, "scene_a", with_msh);
+    let out_dir = tmp.join("out");
+    run_into(&out_dir, &["solve", p2.to_str().unwrap()]);
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out_dir.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["order"], 2, "{summary}");
+    let sized = edited_scene(&tmp, "scene_a", |s| with_msh(s).replace("order = 2", "order = 2\nsize_factor = 5.0"));
+    assert_refused("msh-scene-size", "solve", &sized, &[], &["mesh.size_factor", "scene_a.msh"]);
+}
