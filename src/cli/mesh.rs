@@ -39,10 +39,13 @@ pub fn run(args: Args) -> Result<()> {
         },
         |m| format!("{} nodes, {} cells, P{}", m.n_points(), m.n_cells(), m.order),
     )?;
-    let vtu = [dir.join(format!("{name}_mesh.vtu")), dir.join(format!("{name}_boundary.vtu"))];
-    write_mesh_vtu(&vtu[0], &mesh, &[], &[])?;
-    write_boundary_vtu(&vtu[1], &mesh, &[], &[])?;
-    remove_earlier_outputs(&dir, &name, &[msh.clone(), vtu[0].clone(), vtu[1].clone()])?;
+    let mut written = vec![msh.clone(), dir.join(format!("{name}_mesh.vtu"))];
+    write_mesh_vtu(&written[1], &mesh, &[], &[])?;
+    if scene.output.boundary {
+        written.push(dir.join(format!("{name}_boundary.vtu")));
+        write_boundary_vtu(&written[2], &mesh, &[], &[])?;
+    }
+    remove_earlier_outputs(&dir, &name, &written)?;
     progress.result(&msh.display().to_string());
     Ok(())
 }

@@ -280,3 +280,15 @@ fn a_msh_scene_reads_its_order_and_refuses_the_keys_of_gmsh() {
     let sized = edited_scene(&tmp, "scene_a", |s| with_msh(s).replace("order = 2", "order = 2\nsize_factor = 5.0"));
     assert_refused("msh-scene-size", "solve", &sized, &[], &["mesh.size_factor", "scene_a.msh"]);
 }
+
+// Source: geo/scene_a.toml with [output] boundary = false, meshed by `damfem mesh`. Goal: the
+// key is honoured as by `solve` and `adapt` (no `<scene>_boundary.vtu`), where `mesh` used to
+// write the file anyway. Parameters: P1, sizes × 3.
+#[test]
+fn mesh_honours_output_boundary() {
+    let tmp = TempDir::new("mesh-boundary");
+    let scene = edited_scene(&tmp, "scene_a", |s| s.replace("directory = \"out/scene_a\"", "boundary = false"));
+    let dir = tmp.join("out");
+    run_into(&dir, &["mesh", scene.to_str().unwrap(), "--order", "1", "--size-factor", "3"]);
+    assert_eq!(listing(&dir), ["scene_a.msh", "scene_a_mesh.vtu"]);
+}
