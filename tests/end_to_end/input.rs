@@ -292,3 +292,16 @@ fn mesh_honours_output_boundary() {
     run_into(&dir, &["mesh", scene.to_str().unwrap(), "--order", "1", "--size-factor", "3"]);
     assert_eq!(listing(&dir), ["scene_a.msh", "scene_a_mesh.vtu"]);
 }
+
+// Source: an empty .geo file, solved and meshed. Goal: refused in one sentence naming the file,
+// where the error was gmsh's "gmshModelGetBoundingBox failed: Empty bounding box", naming
+// neither the file nor what is wrong with it.
+#[test]
+fn an_empty_geometry_is_named() {
+    let tmp = TempDir::new("empty-geo");
+    let geo = tmp.join("empty.geo");
+    std::fs::write(&geo, "").unwrap();
+    for command in ["solve", "mesh"] {
+        assert_refused(&format!("empty-geo-{command}"), command, &geo, &[], &["empty.geo", "is empty"]);
+    }
+}
