@@ -109,7 +109,8 @@ impl Scene {
     }
 
     /// The loads: g ≥ 0; a water pressure ρ_w g (H_w − y)₊ needs ρ_w > 0 and g > 0; `fix` and
-    /// `value` prescribe a displacement, on Dirichlet curves only.
+    /// `value` prescribe a displacement, on Dirichlet curves only, and no value on a component
+    /// that `fix` leaves free.
     pub(super) fn check_loads(&self) -> Result<(), SceneError> {
         let g = self.loads.gravity;
         if g < 0.0 {
@@ -128,6 +129,18 @@ impl Scene {
             if b.hydrostatic.is_some() && g == 0.0 {
                 return Err(self.invalid(format!(
                     "boundary.{name}.hydrostatic needs loads.gravity > 0: its pressure rho_w g (level - y) vanishes at g = 0"
+                )));
+            }
+            let free = match b.fix {
+                Fix::Both => None,
+                Fix::X => Some(("x", 1)),
+                Fix::Y => Some(("y", 0)),
+            };
+            if let Some((fixed, k)) = free.filter(|&(_, k)| b.value[k] != 0.0) {
+                return Err(self.invalid(format!(
+                    "boundary '{name}': fix = \"{fixed}\" leaves the other component free, so value[{k}] = {} has no \
+                     effect; set it to 0 or fix both",
+                    b.value[k]
                 )));
             }
             if b.role != Role::Dirichlet && (b.fix != Fix::Both || b.value != [0.0; 2]) {

@@ -12,17 +12,24 @@ use std::path::Path;
 type Case<'a> = (&'a str, &'a str, &'a str, &'a [&'a str], &'a [&'a str]);
 
 // Source: the scenes of geo/, each edited by one key. Goal: a value that the physics or the
-// method forbids, which damfem used to accept with exit code 0 (a weight pointing up, a
-// water pressure pulling, a Newton tolerance that accepts u = 0, a
-// displacement prescribed on a loaded curve, the third component of a heel), or that it
-// accepted and failed on later leaving history.json (max_iter = 0, an infinite γ₀ or δ on the
-// command line), is refused before meshing, naming the key or the flag. Parameters: scene_a,
-// unit_square and scene_a_uplift at P1.
+// method forbids, which damfem used to accept with exit code 0 (a weight pointing up, a water
+// pressure pulling, a Newton tolerance that accepts u = 0, a displacement prescribed on a
+// loaded curve or on a component left free, the third component of a heel, a material
+// without density), or that it accepted and failed on later leaving history.json
+// (max_iter = 0, an infinite γ₀ or δ on the command line), is refused before meshing, naming
+// the key or the flag. Parameters: scene_a, unit_square and scene_a_uplift at P1.
 #[test]
 fn values_the_physics_forbids_are_refused() {
     let tmp = TempDir::new("forbidden-values");
     let hydrostatic = "hydrostatic = { density = 1000.0, level = 70.0 }";
-    let cases: [Case; 13] = [
+    let cases: [Case; 14] = [
+        (
+            "scene_a",
+            "[boundary.toe]\nrole = \"dirichlet\"",
+            "[boundary.toe]\nrole = \"dirichlet\"\nfix = \"x\"\nvalue = [0.0, 0.01]",
+            &[],
+            &["'toe'", "value[1] = 0.01", "no effect"],
+        ),
         ("unit_square", "gravity = 1.0", "gravity = -1.0", &[], &["loads.gravity = -1", "non-negative"]),
         ("scene_a", "gravity = 9.81", "gravity = 0.0", &[], &["boundary.upstream.hydrostatic", "loads.gravity"]),
         (
