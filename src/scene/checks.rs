@@ -101,8 +101,9 @@ impl Scene {
         ];
         match keys.into_iter().flatten().next() {
             Some(key) => Err(self.invalid(format!(
-                "contact.{key} is set, but no curve has role contact and there is no [joints] table: it acts on \
-                 nothing; give a curve role = \"contact\" or a [joints.<curve>] table, or remove the key"
+                "contact.{key} is set, but no curve has role contact and there is no [joints] table: every \
+                 interface is bonded, so it acts on nothing; give a curve role = \"contact\" or a [joints.<curve>] \
+                 table, or remove the key"
             ))),
             None => Ok(()),
         }

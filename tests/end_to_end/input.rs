@@ -312,3 +312,17 @@ fn an_empty_geometry_is_named() {
         assert_refused(&format!("empty-geo-{command}"), command, &geo, &[], &["empty.geo", "is empty"]);
     }
 }
+
+// Source: geo/dam_lifts_on_rock.toml with a [joints.nothing] table, a curve its geometry lacks
+// (after the scene's own joints, base and lift, in the order of the tables). Goal: the error
+// lists the physical curves of the geometry only, where it also listed 'base:rock' and
+// 'lift:lower_block', the sides damfem makes of the joints it has split, which no scene can
+// name. Parameters: P1, sizes × 3.
+#[test]
+fn an_unknown_joint_lists_the_curves_of_the_geometry() {
+    let tmp = TempDir::new("unknown-joint");
+    let scene = edited_scene(&tmp, "dam_lifts_on_rock", |s| s + "\n[joints.nothing]\nfriction = 0.5\n");
+    let p1 = ["--order", "1", "--size-factor", "3"];
+    let message = assert_refused("unknown-joint-out", "check", &scene, &p1, &["'nothing'", "base, lift"]);
+    assert!(!message.contains("base:rock") && !message.contains("lift:lower_block"), "{message}");
+}
