@@ -26,6 +26,11 @@ mod joints;
 pub use joints::JointSection;
 mod nested;
 
+/// The largest distance of an uplift table's `heel` from the end of its joint, as a fraction of
+/// the joint's length: the heel is an end of the joint, given to the precision of its
+/// coordinates.
+const HEEL_TOLERANCE: f64 = 1e-3;
+
 /// A scene that cannot be read or does not fit its mesh.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
@@ -490,17 +495,36 @@ impl Scene {
         }
     }
 
+    /// The `[mesh]` keys of the scene file.
+    fn given_mesh_keys(&self) -> Vec<&str> {
+        let keys = self.table.get("mesh").and_then(toml::Value::as_table);
+        keys.map_or_else(Vec::new, |t| t.keys().map(String::as_str).collect())
+    }
+
+    /// `mesh.order`, if the scene file gives it (a `.msh` keeps its own degree otherwise).
+    pub fn given_order(&self) -> Option<usize> {
+        self.given_mesh_keys().contains(&"order").then_some(self.mesh.order)
+    }
+
     /// Checks the values that need no mesh (done by [`Scene::load`]; again after changes).
     pub fn validate(&self) -> Result<(), SceneError> {
+        if let Some(key) = self.given_mesh_keys().into_iter().find(|&k| k != "order" && self.is_msh()) {
+            return Err(self.invalid(format!(
+                "mesh.{key} applies to a .geo geometry, which gmsh meshes; {} is a mesh file with its own sizes",
+                self.geometry.display()
+            )));
+        }
         if !(self.mesh.order == 1 || self.mesh.order == 2) {
             return Err(self.invalid(format!("mesh.order = {} must be 1 or 2", self.mesh.order)));
         }
-        if self.mesh.size_factor.is_nan() || self.mesh.size_factor <= 0.0 {
-            return Err(self.invalid(format!("mesh.size_factor = {} must be positive", self.mesh.size_factor)));
+        if !(self.mesh.size_factor > 0.0 && self.mesh.size_factor.is_finite()) {
+            return Err(
+                self.invalid(format!("mesh.size_factor = {} must be positive and finite", self.mesh.size_factor))
+            );
         }
         let c = &self.contact;
-        if c.gamma0.is_nan() || c.gamma0 <= 0.0 {
-            return Err(self.invalid(format!("contact.gamma0 = {} must be positive", c.gamma0)));
+        if !(c.gamma0 > 0.0 && c.gamma0.is_finite()) {
+            return Err(self.invalid(format!("contact.gamma0 = {} must be positive and finite", c.gamma0)));
         }
         if ![1.0, 0.0, -1.0].contains(&c.theta) {
             return Err(self.invalid(format!("contact.theta = {} must be 1, 0 or -1", c.theta)));
@@ -519,9 +543,13 @@ impl Scene {
         if let Some(up) = &self.uplift {
             self.check_uplift("uplift", up)?;
         }
-        if c.delta.is_some_and(|d| d.is_nan() || d < 0.0) {
-            return Err(self.invalid(format!("contact.delta = {} must be non-negative", c.delta.unwrap_or(0.0))));
+        if c.delta.is_some_and(|d| !(d >= 0.0 && d.is_finite())) {
+            return Err(
+                self.invalid(format!("contact.delta = {} must be non-negative and finite", c.delta.unwrap_or(0.0)))
+            );
         }
+        self.check_newton()?;
+        self.check_loads()?;
         self.check_sizes()?;
         self.check_joints()?;
         self.check_safety()?;
@@ -750,12 +778,8 @@ impl Scene {
                     .into(),
             ));
         }
-        if joint.is_none() && self.contact.law().has_friction() {
-            return Err(self.invalid(format!(
-                "[contact] has a joint law ({:?}) but no curve has role contact and there is no [joints] table, so \
-                 every interface is bonded; give the joint's curve a [joints.<curve>] table with the law",
-                self.contact.law()
-            )));
+        if joint.is_none() {
+            self.check_contact_unused()?;
         }
         let friction = joint.as_ref().is_some_and(ContactJoint::has_friction);
         if problem.dirichlet.is_empty() && !friction {
@@ -948,6 +972,13 @@ impl Scene {
             })
         })?;
         let (heel, toe, length) = (line.heel, line.point(line.length), line.length);
+        if let Some(given) = up.heel.filter(|&h| distance(h, heel) > HEEL_TOLERANCE * length) {
+            return Err(self.invalid(format!(
+                "{table}.heel = {given:?} is not an end of the joint, which runs from ({}, {}) to ({}, {}); give \
+                 its upstream end",
+                heel[0], heel[1], toe[0], toe[1]
+            )));
+        }
         let g = self.loads.gravity;
         let head = |level: f64, y: f64| up.density * g * (level - y).max(0.0);
         let drains = up.drains.map(|d| Drains { distance: d.x, efficiency: d.efficiency });

@@ -1,7 +1,7 @@
 //! `damfem adapt`: the adaptive loop on a scene, with ParaView files of every step, the
 //! history (JSON and CSV) and its figures.
 
-use super::common::{output_dir, stem, validate_overrides, Input, Output};
+use super::common::{output_dir, remove_earlier_outputs, stem, validate_overrides, Input, Output};
 use super::interrupt;
 use super::output::{write_results, Results, Summary, Units, UNITS};
 use crate::adapt::geo::GeoMesher;
@@ -207,11 +207,7 @@ pub fn run_sequence(
     effectivity: bool,
 ) -> Result<Sequence> {
     let progress = input.progress();
-    let removed = remove_earlier_steps(dir, name)?;
     interrupt::record_in(&dir.join("history.json"));
-    if removed > 0 {
-        progress.say(&format!("{prefix}removed {removed} step files of an earlier run from {}", dir.display()));
-    }
     let mut mesher = GeoMesher {
         verbose: input.verbose,
         allow_system_calls: input.allow_system_calls,
@@ -230,11 +226,21 @@ pub fn run_sequence(
     let model = Traced { scene, trace: input.newton_trace() };
     let result = adapt::run(&scene.adapt, &mut mesher, &model, |step| {
         let output = |source: anyhow::Error| AdaptError::Output { step: step.record.step, source: source.into() };
+        if writer.history.is_empty() {
+            let removed = remove_earlier_outputs(dir, name, &[]).map_err(output)?;
+            if removed > 0 {
+                progress.say(&format!("{prefix}removed {removed} files of an earlier run from {}", dir.display()));
+            }
+        }
         writer.write(step).map_err(output)?;
         also(step).map_err(output)?;
         progress.say(&format!("{prefix}{}", step_line(writer.history.last().expect("just written"))));
         Ok(())
     });
+    // a scene or geometry that does not fit its first mesh is bad input: nothing is written
+    if let Err(e @ (AdaptError::Mesh(_) | AdaptError::Problem(_))) = &result {
+        anyhow::ensure!(!writer.history.is_empty(), "{e}");
+    }
     let error = result.as_ref().err().map(|e| format!("{e}"));
     writer.finish(error.clone())?;
     if let Some((last, stall)) = writer.history.last().and_then(|r| Some((r.step, r.stall?))) {
@@ -409,26 +415,6 @@ impl StepWriter<'_> {
         }
         Ok(())
     }
-}
-
-/// Removes the step files `<name>_NN*.vtu` an earlier run left in `dir`, so that a rerun with
-/// fewer steps shows none of them; returns how many there were.
-fn remove_earlier_steps(dir: &Path, name: &str) -> Result<usize> {
-    let prefix = format!("{name}_");
-    let is_step = |file: &str| {
-        file.strip_prefix(&prefix).is_some_and(|rest| {
-            rest.len() > 2 && rest.as_bytes()[..2].iter().all(u8::is_ascii_digit) && rest.ends_with(".vtu")
-        })
-    };
-    let mut removed = 0;
-    for entry in std::fs::read_dir(dir).with_context(|| format!("cannot list {}", dir.display()))? {
-        let path = entry?.path();
-        if path.file_name().and_then(|f| f.to_str()).is_some_and(is_step) {
-            std::fs::remove_file(&path).with_context(|| format!("cannot remove {}", path.display()))?;
-            removed += 1;
-        }
-    }
-    Ok(removed)
 }
 
 /// `<name><kind>.pvd` for the step file `<name>_NN<kind>.vtu`.

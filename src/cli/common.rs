@@ -76,7 +76,7 @@ impl Input {
             scene.mesh.order = order;
         }
         if let Some(factor) = self.size_factor {
-            anyhow::ensure!(factor > 0.0, "--size-factor {factor}: must be positive");
+            anyhow::ensure!(factor > 0.0 && factor.is_finite(), "--size-factor {factor}: must be positive and finite");
             scene.mesh.size_factor = factor;
         }
         Ok(scene)
@@ -91,7 +91,13 @@ impl Input {
     pub fn mesh(&self, scene: &Scene) -> Result<Mesh> {
         let geometry = &scene.geometry;
         let mesh = if geometry.extension().is_some_and(|e| e == "msh") {
-            at_order(gmsh::read_msh(geometry, self.verbose)?, self.order, geometry)?
+            let order = match self.order {
+                Some(order) => Some((order, format!("--order {order}"))),
+                None => scene
+                    .given_order()
+                    .map(|order| (order, format!("{}: mesh.order = {order}", scene.source.display()))),
+            };
+            at_order(gmsh::read_msh(geometry, self.verbose)?, order, geometry)?
         } else {
             gmsh::mesh_geo(geometry, &scene.mesh_options(), self.verbose, self.allow_system_calls)?
         };
@@ -104,16 +110,17 @@ impl Input {
     }
 }
 
-/// The mesh of the file `path` at degree `order` (the file's if `None`): a degree-1 mesh is
-/// raised to degree 2 as gmsh raises it (a node at the middle of every straight edge, see
-/// [`elevate_to_p2`]); lowering, which would drop the file's midpoint nodes, is refused.
-fn at_order(mesh: Mesh, order: Option<usize>, path: &Path) -> Result<Mesh> {
+/// The mesh of the file `path` at degree `order` (the file's if `None`), given by `by` (the flag
+/// or the key): a degree-1 mesh is raised to degree 2 as gmsh raises it (a node at the middle
+/// of every straight edge, see [`elevate_to_p2`]); lowering, which would drop the file's
+/// midpoint nodes, is refused.
+fn at_order(mesh: Mesh, order: Option<(usize, String)>, path: &Path) -> Result<Mesh> {
     match order {
         None => Ok(mesh),
-        Some(order) if order == mesh.order => Ok(mesh),
-        Some(2) => Ok(elevate_to_p2(&mesh)),
-        Some(order) => anyhow::bail!(
-            "--order {order}: {} holds degree-{} triangles; a mesh file can be raised to degree 2, not lowered",
+        Some((order, _)) if order == mesh.order => Ok(mesh),
+        Some((2, _)) => Ok(elevate_to_p2(&mesh)),
+        Some((_, by)) => anyhow::bail!(
+            "{by}: {} holds degree-{} triangles; a mesh file can be raised to degree 2, not lowered",
             path.display(),
             mesh.order
         ),
@@ -180,6 +187,64 @@ pub fn remove_created_dirs() {
         // only empty directories are removed; a failure leaves the directory as it is
         let _ = std::fs::remove_dir(dir);
     }
+}
+
+/// Whether `file` is a name that damfem writes for the scene `name`: its ParaView files and
+/// collections, the step files `<name>_NN*.vtu` of `adapt`, its figures, its mesh, and the
+/// summaries, histories and reports of every command.
+fn is_output_of(file: &str, name: &str) -> bool {
+    const SHARED: [&str; 8] = [
+        "summary.json",
+        "history.json",
+        "history.csv",
+        "safety.json",
+        "report.md",
+        "joint.csv",
+        "base_stresses.png",
+        "base_stresses.svg",
+    ];
+    const KINDS: [&str; 14] = [
+        ".vtu",
+        "_boundary.vtu",
+        "_dg.vtu",
+        "_mesh.vtu",
+        ".msh",
+        ".pvd",
+        "_boundary.pvd",
+        "_dg.pvd",
+        "_eta.svg",
+        "_eta.png",
+        "_time.svg",
+        "_time.png",
+        "_adaptive_uniform.svg",
+        "_adaptive_uniform.png",
+    ];
+    // `_NN` and a kind of step file
+    let step =
+        |rest: &str| rest.starts_with('_') && rest.get(1..3).is_some_and(|n| n.bytes().all(|b| b.is_ascii_digit()));
+    SHARED.contains(&file)
+        || file.strip_prefix(name).is_some_and(|rest| KINDS.contains(&rest) || (step(rest) && rest.ends_with(".vtu")))
+}
+
+/// Removes the files that an earlier run of the scene `name` left in `dir` and in
+/// `dir/uniform` (which goes too once empty), except `keep`, so that the directory shows one
+/// run only; other files are left alone. Returns how many were removed.
+pub fn remove_earlier_outputs(dir: &Path, name: &str, keep: &[PathBuf]) -> Result<usize> {
+    let mut removed = 0;
+    for dir in [dir.to_path_buf(), dir.join("uniform")] {
+        let Ok(entries) = std::fs::read_dir(&dir) else { continue };
+        for entry in entries {
+            let path = entry?.path();
+            let ours = path.file_name().and_then(|f| f.to_str()).is_some_and(|f| is_output_of(f, name));
+            if ours && path.is_file() && !keep.contains(&path) {
+                std::fs::remove_file(&path).with_context(|| format!("cannot remove {}", path.display()))?;
+                removed += 1;
+            }
+        }
+    }
+    // only an empty directory is removed; one that holds other files stays
+    let _ = std::fs::remove_dir(dir.join("uniform"));
+    Ok(removed)
 }
 
 /// A Newton iterate's progress line: its number k and ‖F(x_k)‖ / scale.

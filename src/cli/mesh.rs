@@ -1,6 +1,6 @@
 //! `damfem mesh`: mesh a scene's geometry and write the .msh and a .vtu of the mesh.
 
-use super::common::{stem, Input, Output};
+use super::common::{remove_earlier_outputs, stem, Input, Output};
 use crate::io::gmsh;
 use crate::io::vtu::{write_boundary_vtu, write_mesh_vtu};
 use anyhow::Result;
@@ -16,6 +16,12 @@ pub struct Args {
 pub fn run(args: Args) -> Result<()> {
     let input = &args.input;
     let progress = input.progress();
+    if let Some(name) = &input.combination {
+        anyhow::bail!(
+            "--combination {name}: a load combination changes loads, not the mesh, so `damfem mesh` has no use for it; \
+             leave the flag out"
+        );
+    }
     let scene = input.scene()?;
     let dir = args.output.dir(&scene)?;
     let name = stem(&scene.source);
@@ -33,8 +39,13 @@ pub fn run(args: Args) -> Result<()> {
         },
         |m| format!("{} nodes, {} cells, P{}", m.n_points(), m.n_cells(), m.order),
     )?;
-    write_mesh_vtu(&dir.join(format!("{name}_mesh.vtu")), &mesh, &[], &[])?;
-    write_boundary_vtu(&dir.join(format!("{name}_boundary.vtu")), &mesh, &[], &[])?;
+    let mut written = vec![msh.clone(), dir.join(format!("{name}_mesh.vtu"))];
+    write_mesh_vtu(&written[1], &mesh, &[], &[])?;
+    if scene.output.boundary {
+        written.push(dir.join(format!("{name}_boundary.vtu")));
+        write_boundary_vtu(&written[2], &mesh, &[], &[])?;
+    }
+    remove_earlier_outputs(&dir, &name, &written)?;
     progress.result(&msh.display().to_string());
     Ok(())
 }

@@ -4,7 +4,7 @@
 //! check, the heel and toe normal stresses averaged over a stated length, FS_LE and FS_SR.
 
 use super::adapt::{run_sequence, BestStep};
-use super::common::{output_dir, stem, validate_overrides, Input, Output, Progress};
+use super::common::{output_dir, remove_earlier_outputs, stem, validate_overrides, Input, Output, Progress};
 use super::output::{Units, UNITS};
 use crate::adapt::Step;
 use crate::contact::{
@@ -123,6 +123,7 @@ pub fn run(args: Args) -> Result<()> {
         progress.say(&format!("results in {} (safety.json, report.md, joint.csv, base_stresses.png)", dir.display()));
         return Ok(());
     }
+    remove_earlier_outputs(&dir, &stem(&scene.source), &[])?;
     let mut reports = Vec::new();
     for ((name, case), line) in cases.iter().zip(lines) {
         let name = name.expect("a combination");

@@ -1,7 +1,7 @@
 //! `damfem solve`: mesh, assemble, solve (with Nitsche contact when the scene has Γ_C),
 //! write ParaView files, `summary.json` and `history.json`.
 
-use super::common::{blame_overrides, stem, validate_overrides, Input, Output};
+use super::common::{blame_overrides, remove_earlier_outputs, stem, validate_overrides, Input, Output};
 use super::output::{write_results, EstimateSummary, Results, Summary, Units, UNITS};
 use crate::contact::{
     reduce_strength, ContactError, ContactJoint, Continuation, Solution, Stage, StrengthReduction, STRENGTH_TOLERANCE,
@@ -107,7 +107,11 @@ pub fn run(args: Args) -> Result<()> {
     )?;
     seconds.mesh = t;
     // 2. Problem: the elasticity problem, its contact joint, dofs and pattern
-    let (problem, joint) = scene.problem(mesh)?;
+    let (problem, joint) = match scene.problem(mesh) {
+        Ok(problem) => problem,
+        // an error, blamed on the flag of a key it names
+        Err(e) => return blame_overrides(Err(e), &contact_overrides(&args)),
+    };
     progress.warn(&scene.warnings(&problem.mesh)?);
     let (disc, t) = progress.stage(
         "assemble",
@@ -198,6 +202,7 @@ pub fn run(args: Args) -> Result<()> {
     seconds.output = t;
     let line = scene.joint_line(&problem);
     let solve = SolveSummary { strength_reduction: strength.map(|(s, _)| s), effectivity, seconds };
+    let mut written = [files.clone(), vec![dir.join("summary.json")]].concat();
     let summary = Summary::new(&scene, &disc, &results, line, files, solve);
     write_output(&dir.join("summary.json"), serde_json::to_string_pretty(&summary)?.as_bytes())?;
     if solution.contact().is_some() || summary.estimate.is_some() {
@@ -207,7 +212,9 @@ pub fn run(args: Args) -> Result<()> {
             estimate: summary.estimate.as_ref(),
         };
         write_output(&dir.join("history.json"), serde_json::to_string_pretty(&history)?.as_bytes())?;
+        written.push(dir.join("history.json"));
     }
+    remove_earlier_outputs(&dir, &name, &written)?;
     progress.say(&format!("results in {}", dir.display()));
     for line in summary.headline() {
         progress.result(&line);
@@ -257,9 +264,11 @@ fn newton_failure(scene: &Scene, continuation: &Continuation, error: &NewtonErro
         delta_target: continuation.delta,
         relative_residuals: residuals,
     };
+    let path = dir.join("history.json");
     let kept = serde_json::to_string_pretty(&history).map_err(anyhow::Error::from).and_then(|text| {
-        write_output(&dir.join("history.json"), text.as_bytes())?;
-        Ok(format!("\nthe residuals are in {}", dir.join("history.json").display()))
+        write_output(&path, text.as_bytes())?;
+        remove_earlier_outputs(dir, &stem(&scene.source), std::slice::from_ref(&path))?;
+        Ok(format!("\nthe residuals are in {}", path.display()))
     });
     anyhow::anyhow!(
         "{}: {error}\nlikely causes: {} (with {used}){}",
@@ -347,18 +356,23 @@ fn override_contact(args: &Args, scene: &mut Scene) -> Result<()> {
             scene.source.display()
         );
     }
-    let overrides = [
-        ("--gamma0", "contact.gamma0", args.gamma0.is_some()),
-        ("--theta", "contact.theta", args.theta.is_some()),
-        ("--delta", "contact.delta", args.delta.is_some()),
-        ("--friction", "contact.friction", args.friction.is_some()),
-        ("--cohesion", "contact.cohesion", args.cohesion.is_some()),
-        ("--threshold", "contact.threshold", args.threshold.is_some()),
-    ];
+    let overrides = contact_overrides(args);
     validate_overrides(scene, &overrides)?;
     if args.estimate || args.check_equilibration || args.effectivity {
         let estimate = "the error estimate of --estimate, --check-equilibration and --effectivity";
         blame_overrides(scene.check_estimable(estimate), &overrides)?;
     }
     Ok(())
+}
+
+/// The `[contact]` keys that flags override: (flag, key, given).
+fn contact_overrides(args: &Args) -> [(&'static str, &'static str, bool); 6] {
+    [
+        ("--gamma0", "contact.gamma0", args.gamma0.is_some()),
+        ("--theta", "contact.theta", args.theta.is_some()),
+        ("--delta", "contact.delta", args.delta.is_some()),
+        ("--friction", "contact.friction", args.friction.is_some()),
+        ("--cohesion", "contact.cohesion", args.cohesion.is_some()),
+        ("--threshold", "contact.threshold", args.threshold.is_some()),
+    ]
 }

@@ -10,7 +10,7 @@ pub struct Material {
     pub young: f64,
     #[serde(rename = "nu")]
     pub poisson: f64,
-    #[serde(rename = "rho", default)]
+    #[serde(rename = "rho")]
     pub density: f64,
 }
 

@@ -3,19 +3,23 @@
 //! an interface between two meshed bodies, one curve with two roles; and the warnings of
 //! `damfem check` (defaults assumed, parameters outside their known range).
 
-use super::{Role, Scene, SceneError};
+use super::{ContactSection, Fix, ProjectionKind, Role, Scene, SceneError};
 use crate::mesh::topology::NONE;
 use crate::mesh::{Mesh, Topology};
 use std::collections::BTreeMap;
 use std::path::Path;
 
 /// Scene keys that hold a plane vector [x, y].
-const VECTOR_KEYS: [&str; 5] = ["traction", "value", "gap_gradient", "direction", "acceleration"];
+const VECTOR_KEYS: [&str; 6] = ["traction", "value", "gap_gradient", "direction", "acceleration", "heel"];
 
 /// Smallest γ₀ at which the θ = 1 and θ = 0 variants are known to converge on Scene A
 /// (docs/results.md, "Numerical stability": θ = 1 with γ₀ = 1 loses coercivity); θ = −1 is stable
 /// for every γ₀ > 0.
 const GAMMA0_STABLE: f64 = 10.0;
+
+/// Newton's relative tolerance above which `damfem check` and `solve` warn: the joint forces and
+/// displacements then carry an error of about that relative size (the default is 10⁻¹⁰).
+const LOOSE_RTOL: f64 = 1e-6;
 
 /// Poisson's ratio above which P1 triangles lock (docs/results.md, "Numerical stability").
 const P1_LOCKING_POISSON: f64 = 0.45;
@@ -49,6 +53,112 @@ fn check_vector(value: &toml::Value, name: &str, key: &str) -> Result<(), String
 }
 
 impl Scene {
+    /// Newton's keys: at least one step, a relative tolerance in [0, 1) (Newton stops at
+    /// ‖F‖ ≤ rtol ‖b‖), a continuation that starts at δ ≥ 0, and no δ beside the semismooth
+    /// projection, which solves at δ = 0.
+    pub(super) fn check_newton(&self) -> Result<(), SceneError> {
+        let c = &self.contact;
+        if c.max_iter == 0 {
+            return Err(self.invalid("contact.max_iter = 0 must be at least 1 (Newton steps per delta)".into()));
+        }
+        if !(0.0..1.0).contains(&c.rtol) {
+            return Err(self.invalid(format!(
+                "contact.rtol = {} must lie in [0, 1): Newton stops at a residual of rtol times the loads",
+                c.rtol
+            )));
+        }
+        if let Some(start) = c.delta_start.filter(|s| *s < 0.0) {
+            return Err(self.invalid(format!("contact.delta_start = {start} must be non-negative")));
+        }
+        match c.delta {
+            Some(delta) if c.projection == ProjectionKind::Semismooth => Err(self.invalid(format!(
+                "contact.delta = {delta} has no effect with contact.projection = \"semismooth\" (--semismooth), \
+                 which solves at delta = 0; remove one of the two"
+            ))),
+            _ => Ok(()),
+        }
+    }
+
+    /// Without a contact curve or a joint the `[contact]` keys act on nothing: the first one set
+    /// is refused, rather than ignored.
+    pub(super) fn check_contact_unused(&self) -> Result<(), SceneError> {
+        let (c, d) = (&self.contact, ContactSection::default());
+        let given = |key: &str, set: bool, value: String| set.then(|| format!("{key} = {value}"));
+        let keys = [
+            given("gamma0", c.gamma0 != d.gamma0, c.gamma0.to_string()),
+            given("theta", c.theta != d.theta, c.theta.to_string()),
+            c.delta.map(|v| format!("delta = {v}")),
+            c.delta_start.map(|v| format!("delta_start = {v}")),
+            given("projection", c.projection != d.projection, "\"semismooth\" (--semismooth)".into()),
+            given("gap", c.gap != d.gap, c.gap.to_string()),
+            given("gap_gradient", c.gap_gradient != d.gap_gradient, format!("{:?}", c.gap_gradient)),
+            c.direction.map(|v| format!("direction = {v:?}")),
+            given("friction", c.friction != d.friction, c.friction.to_string()),
+            given("cohesion", c.cohesion != d.cohesion, c.cohesion.to_string()),
+            c.threshold.map(|v| format!("threshold = {v}")),
+            given("max_iter", c.max_iter != d.max_iter, c.max_iter.to_string()),
+            given("rtol", c.rtol != d.rtol, c.rtol.to_string()),
+        ];
+        match keys.into_iter().flatten().next() {
+            Some(key) => Err(self.invalid(format!(
+                "contact.{key} is set, but no curve has role contact and there is no [joints] table: every \
+                 interface is bonded, so it acts on nothing; give a curve role = \"contact\" or a [joints.<curve>] \
+                 table, or remove the key"
+            ))),
+            None => Ok(()),
+        }
+    }
+
+    /// The loads: g ≥ 0; a water pressure ρ_w g (H_w − y)₊ needs ρ_w > 0 and g > 0; `fix` and
+    /// `value` prescribe a displacement, on Dirichlet curves only, and no value on a component
+    /// that `fix` leaves free.
+    pub(super) fn check_loads(&self) -> Result<(), SceneError> {
+        let g = self.loads.gravity;
+        if g < 0.0 {
+            return Err(self.invalid(format!(
+                "loads.gravity = {g} must be non-negative: the weight is (0, -rho g) and the water pressure rho_w g (level - y)"
+            )));
+        }
+        let uplift = self.uplift.is_some() || self.joints.values().any(|j| j.uplift.is_some());
+        for (name, b) in &self.boundary {
+            if let Some(h) = b.hydrostatic.filter(|h| h.density <= 0.0) {
+                return Err(self.invalid(format!(
+                    "boundary.{name}.hydrostatic.density = {} must be positive (without water, remove the load)",
+                    h.density
+                )));
+            }
+            if b.hydrostatic.is_some() && g == 0.0 {
+                return Err(self.invalid(format!(
+                    "boundary.{name}.hydrostatic needs loads.gravity > 0: its pressure rho_w g (level - y) vanishes at g = 0"
+                )));
+            }
+            let free = match b.fix {
+                Fix::Both => None,
+                Fix::X => Some(("x", 1)),
+                Fix::Y => Some(("y", 0)),
+            };
+            if let Some((fixed, k)) = free.filter(|&(_, k)| b.value[k] != 0.0) {
+                return Err(self.invalid(format!(
+                    "boundary '{name}': fix = \"{fixed}\" leaves the other component free, so value[{k}] = {} has no \
+                     effect; set it to 0 or fix both",
+                    b.value[k]
+                )));
+            }
+            if b.role != Role::Dirichlet && (b.fix != Fix::Both || b.value != [0.0; 2]) {
+                return Err(self.invalid(format!(
+                    "boundary '{name}': fix and value prescribe a displacement and need role = \"dirichlet\", not {}",
+                    role_name(b.role)
+                )));
+            }
+        }
+        if uplift && g == 0.0 {
+            return Err(self.invalid(
+                "the uplift pressure rho_w g (headwater - y) needs loads.gravity > 0: it vanishes at g = 0".into(),
+            ));
+        }
+        Ok(())
+    }
+
     /// Mesh sizes: `size_min ≤ size_max`.
     pub(super) fn check_sizes(&self) -> Result<(), SceneError> {
         match (self.mesh.size_min, self.mesh.size_max) {
@@ -62,6 +172,7 @@ impl Scene {
     /// Refuses contact on a curve between two meshed surfaces, and a curve segment in two
     /// physical groups with different roles.
     pub(super) fn check_boundaries(&self, mesh: &Mesh) -> Result<(), SceneError> {
+        self.check_one_table_per_group(mesh)?;
         let roles = self.roles(mesh)?;
         let role_of: BTreeMap<i32, (&str, Role)> = roles.iter().map(|(t, n, b)| (*t, (n.as_str(), b.role))).collect();
         let topology = Topology::new(mesh);
@@ -87,6 +198,42 @@ impl Scene {
         Ok(())
     }
 
+    /// Names are matched to physical groups ignoring case: two groups of the geometry whose
+    /// names differ only in case, or two tables (`[materials]`, or `[boundary]` and `[joints]`)
+    /// that name one group, are refused.
+    fn check_one_table_per_group(&self, mesh: &Mesh) -> Result<(), SceneError> {
+        for (i, a) in mesh.groups.iter().enumerate() {
+            if let Some(b) =
+                mesh.groups[i + 1..].iter().find(|b| b.dim == a.dim && b.name.eq_ignore_ascii_case(&a.name))
+            {
+                return Err(self.invalid(format!(
+                    "the geometry {} has two physical groups '{}' and '{}' whose names differ only in case, which \
+                     scene names cannot tell apart; rename one",
+                    self.geometry.display(),
+                    a.name,
+                    b.name
+                )));
+            }
+        }
+        let curves = (self.boundary.keys().map(|n| ("boundary", n))).chain(self.joints.keys().map(|n| ("joints", n)));
+        let surfaces = self.materials.keys().map(|n| ("materials", n));
+        for (dim, tables) in [(1, curves.collect::<Vec<_>>()), (2, surfaces.collect())] {
+            let mut seen: BTreeMap<i32, (&str, &String)> = BTreeMap::new();
+            for (table, name) in tables {
+                let Some(group) = mesh.group(dim, name) else { continue };
+                if let Some((other_table, other)) = seen.insert(group.tag, (table, name)) {
+                    return Err(self.invalid(format!(
+                        "[{other_table}.{other}] and [{table}.{name}] name the same physical {} '{}' (names are \
+                         matched ignoring case); keep one table",
+                        if dim == 1 { "curve" } else { "surface" },
+                        group.name
+                    )));
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// The error of contact on the interface of `cells`: role contact is a rigid foundation.
     fn interior_contact(&self, mesh: &Mesh, name: &str, cells: [usize; 2]) -> SceneError {
         let [a, b] = cells.map(|c| surface_name(mesh, mesh.cell_tags[c]));
@@ -98,8 +245,8 @@ impl Scene {
     }
 
     /// What `damfem check` warns about: boundary curves without a role, surfaces without a
-    /// material (with the defaults they get), γ₀ below the known stable range for θ, and P1
-    /// with ν > 0.45.
+    /// material (with the defaults they get), γ₀ below the known stable range for θ, a Newton
+    /// tolerance above 10⁻⁶, and P1 with ν > 0.45.
     pub fn warnings(&self, mesh: &Mesh) -> Result<Vec<String>, SceneError> {
         let topology = Topology::new(mesh);
         let mut warnings = self.unassigned_curves(mesh, &topology)?;
@@ -110,6 +257,13 @@ impl Scene {
                 "contact.gamma0 = {} is below {GAMMA0_STABLE}, where Nitsche's method with theta = {} is known to \
                  be stable; use gamma0 >= {GAMMA0_STABLE} or theta = -1",
                 c.gamma0, c.theta
+            ));
+        }
+        if c.rtol > LOOSE_RTOL {
+            warnings.push(format!(
+                "contact.rtol = {} is above {LOOSE_RTOL:e}: Newton stops at a residual of that fraction of the loads, \
+                 and the results carry an error of about that relative size",
+                c.rtol
             ));
         }
         if mesh.order == 1 {

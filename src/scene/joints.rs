@@ -59,8 +59,8 @@ impl JointSection {
 
     /// The first key out of range, as "joints.<name>.key = value must …".
     fn check(&self, name: &str) -> Result<(), String> {
-        if self.gamma0.is_nan() || self.gamma0 <= 0.0 {
-            return Err(format!("joints.{name}.gamma0 = {} must be positive", self.gamma0));
+        if !(self.gamma0 > 0.0 && self.gamma0.is_finite()) {
+            return Err(format!("joints.{name}.gamma0 = {} must be positive and finite", self.gamma0));
         }
         if ![1.0, 0.0, -1.0].contains(&self.theta) {
             return Err(format!("joints.{name}.theta = {} must be 1, 0 or -1", self.theta));
@@ -132,8 +132,9 @@ impl Scene {
     /// Splits the nodes of every joint curve of `mesh` between its two sides; the interfaces.
     pub(super) fn split_joints(&self, mesh: &mut Mesh) -> Result<Vec<Interface>, SceneError> {
         let mut interfaces = Vec::new();
-        for (name, joint) in &self.joints {
-            let curve = self.group_tag(mesh, 1, name, "joint")?;
+        // every joint curve found before the first split adds the groups of its sides
+        let curves = self.joint_tags(mesh)?;
+        for ((name, joint), curve) in self.joints.iter().zip(curves) {
             let sides = interface::sides(mesh, &Topology::new(mesh), curve).map_err(|m| self.invalid(m))?;
             let slave = match &joint.slave {
                 None => sides[0],

@@ -147,7 +147,7 @@ impl Scene {
     }
 
     /// Whether the geometry is a mesh file.
-    fn is_msh(&self) -> bool {
+    pub(super) fn is_msh(&self) -> bool {
         self.geometry.extension().is_some_and(|e| e == "msh")
     }
 }

@@ -832,7 +832,7 @@ fn endless_geo_stops_at_the_time_limit() {
 }
 
 /// `damfem check <scene> [extra]`: asserts success and returns the "warning:" lines of stderr.
-fn check_warnings(scene: &Path, extra: &[&str]) -> Vec<String> {
+pub(crate) fn check_warnings(scene: &Path, extra: &[&str]) -> Vec<String> {
     let mut args = vec![OsStr::new("check"), scene.as_os_str()];
     args.extend(extra.iter().map(OsStr::new));
     let out = damfem(&args);
@@ -841,11 +841,13 @@ fn check_warnings(scene: &Path, extra: &[&str]) -> Vec<String> {
 }
 
 /// A copy of geo/<name>.toml in `tmp` with its geometry path made absolute and `edit` applied.
-fn edited_scene(tmp: &TempDir, name: &str, edit: impl Fn(String) -> String) -> PathBuf {
+pub(crate) fn edited_scene(tmp: &TempDir, name: &str, edit: impl Fn(String) -> String) -> PathBuf {
     let body = std::fs::read_to_string(repo(&format!("geo/{name}.toml"))).unwrap();
-    let geometry = format!("geometry = {:?}", repo(&format!("geo/{name}.geo")).display().to_string());
+    let line = body.lines().find(|l| l.starts_with("geometry = ")).expect("a geometry line");
+    let file = line.trim_start_matches("geometry = ").trim_matches('"');
+    let geometry = format!("geometry = {:?}", repo(&format!("geo/{file}")).display().to_string());
     let path = tmp.join(&format!("{name}.toml"));
-    std::fs::write(&path, edit(body.replace(&format!("geometry = \"{name}.geo\""), &geometry))).unwrap();
+    std::fs::write(&path, edit(body.replace(line, &geometry))).unwrap();
     path
 }
 

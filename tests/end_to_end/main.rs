@@ -4,6 +4,7 @@
 mod adapt;
 mod bound;
 mod cli;
+mod input;
 mod joint;
 mod tutorial;
 mod two_body;

@@ -79,11 +79,14 @@ impl Drop for Deadline {
     }
 }
 
-/// Checks the coordinates of the opened model: finite, within ±[`MAX_COORDINATE`], and
+/// Checks the opened model: not empty, its coordinates finite, within ±[`MAX_COORDINATE`], and
 /// with z = 0 everywhere (no volume, no tilted plane).
 pub(super) fn check_plane(path: &Path) -> Result<(), GmshError> {
-    let b = api::bounding_box()?;
     let fail = |reason: String| Err(GmshError::Limit { path: path.into(), reason });
+    if (0..=3).map(api::entities).collect::<Result<Vec<_>, _>>()?.iter().all(Vec::is_empty) {
+        return fail("it is empty: it defines no point, curve or surface".into());
+    }
+    let b = api::bounding_box()?;
     if !api::entities(3)?.is_empty() {
         return fail("it is 3-D (it has volumes), but damfem meshes plane (2-D) surfaces".into());
     }

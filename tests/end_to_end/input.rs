@@ -1,0 +1,328 @@
+//! Bad or unusual user input through the `damfem` binary: scene values that the physics
+//! forbids, keys and flags that would be accepted without effect, two tables for one physical
+//! group, and output directories that hold an earlier run's files. Each is refused with one
+//! sentence naming the key, flag or group, exit code 1 and no output file.
+
+use super::cli::{assert_error, assert_ok, assert_refused, check_warnings, damfem, edited_scene, repo, TempDir};
+use std::ffi::OsStr;
+use std::path::Path;
+
+/// A scene of geo/, a line of it, the line that replaces it, extra flags and the words of the
+/// error.
+type Case<'a> = (&'a str, &'a str, &'a str, &'a [&'a str], &'a [&'a str]);
+
+// Source: the scenes of geo/, each edited by one key. Goal: a value that the physics or the
+// method forbids, which damfem used to accept with exit code 0 (a weight pointing up, a water
+// pressure pulling, a Newton tolerance that accepts u = 0, a displacement prescribed on a
+// loaded curve or on a component left free, the third component of a heel, a material
+// without density), or that it accepted and failed on later leaving history.json
+// (max_iter = 0, an infinite γ₀ or δ on the command line), is refused before meshing, naming
+// the key or the flag. Parameters: scene_a, unit_square and scene_a_uplift at P1.
+#[test]
+fn values_the_physics_forbids_are_refused() {
+    let tmp = TempDir::new("forbidden-values");
+    let hydrostatic = "hydrostatic = { density = 1000.0, level = 70.0 }";
+    let cases: [Case; 14] = [
+        (
+            "scene_a",
+            "[boundary.toe]\nrole = \"dirichlet\"",
+            "[boundary.toe]\nrole = \"dirichlet\"\nfix = \"x\"\nvalue = [0.0, 0.01]",
+            &[],
+            &["'toe'", "value[1] = 0.01", "no effect"],
+        ),
+        ("unit_square", "gravity = 1.0", "gravity = -1.0", &[], &["loads.gravity = -1", "non-negative"]),
+        ("scene_a", "gravity = 9.81", "gravity = 0.0", &[], &["boundary.upstream.hydrostatic", "loads.gravity"]),
+        (
+            "scene_a",
+            hydrostatic,
+            "hydrostatic = { density = -1000.0, level = 70.0 }",
+            &[],
+            &["boundary.upstream.hydrostatic.density = -1000", "positive"],
+        ),
+        (
+            "scene_a",
+            "role = \"contact\"",
+            "role = \"contact\"\nvalue = [0.1, 0.0]",
+            &[],
+            &["'base'", "value", "dirichlet"],
+        ),
+        ("scene_a", hydrostatic, &format!("{hydrostatic}\nfix = \"x\""), &[], &["'upstream'", "fix", "dirichlet"]),
+        ("scene_a", "theta = 0.0", "theta = 0.0\nrtol = 1.0", &[], &["contact.rtol = 1", "[0, 1)"]),
+        ("scene_a", "theta = 0.0", "theta = 0.0\nmax_iter = 0", &[], &["contact.max_iter = 0", "at least 1"]),
+        (
+            "scene_a",
+            "theta = 0.0",
+            "theta = 0.0\ndelta_start = -1.0",
+            &[],
+            &["contact.delta_start = -1", "non-negative"],
+        ),
+        (
+            "scene_a",
+            "theta = 0.0",
+            "theta = 0.0\ndelta = 10.0",
+            &["--semismooth"],
+            &["contact.delta = 10", "semismooth"],
+        ),
+        ("scene_a", "theta = 0.0", "theta = 0.0", &["--gamma0", "inf"], &["--gamma0 = inf", "command line"]),
+        ("scene_a", "theta = 0.0", "theta = 0.0", &["--delta", "inf"], &["--delta = inf", "command line"]),
+        ("scene_a", "rho = 2400.0\n", "", &[], &["materials.concrete", "rho"]),
+        (
+            "scene_a_uplift",
+            "crack = \"full\"",
+            "crack = \"full\"\nheel = [0.0, 0.0, 0.0]",
+            &[],
+            &["uplift.heel", "3 components"],
+        ),
+    ];
+    for (k, (name, from, to, extra, keywords)) in cases.into_iter().enumerate() {
+        let scene = edited_scene(&tmp, name, |s| {
+            assert!(s.contains(from), "{name}: {from}");
+            s.replacen(from, to, 1)
+        });
+        let args: Vec<&str> = ["--order", "1"].iter().chain(extra).copied().collect();
+        assert_refused(&format!("forbidden-{k}"), "solve", &scene, &args, keywords);
+    }
+}
+
+// Source: geo/scene_a.toml with [contact] rtol = 0.01. Goal: a Newton tolerance that the
+// method allows but that leaves an error of about 1 % in the results is said by `check`,
+// naming the key (the scene's own tolerance, 10⁻¹⁰, is not: cli.rs,
+// check_warns_about_defaults_and_strict_refuses). Parameters: P1.
+#[test]
+fn a_loose_newton_tolerance_is_said() {
+    let tmp = TempDir::new("loose-rtol");
+    let loose = edited_scene(&tmp, "scene_a", |s| s.replace("theta = 0.0", "theta = 0.0\nrtol = 0.01"));
+    let warnings = check_warnings(&loose, &["--order", "1"]);
+    assert!(warnings.len() == 1 && warnings[0].contains("contact.rtol = 0.01"), "{warnings:?}");
+}
+
+// Source: geo/scene_a.toml and geo/dam_lifts_on_rock.toml with a second table for one
+// physical group, its name spelt with another case (names are matched ignoring case). Goal:
+// the two tables are refused, naming both and the group, where damfem used to apply both
+// water loads to the upstream face (twice the thrust) or keep one material or one role of the
+// two with exit code 0. Parameters: P1.
+#[test]
+fn two_tables_for_one_physical_group_are_refused() {
+    let tmp = TempDir::new("two-tables");
+    let water = "[boundary.Upstream]\nrole = \"neumann\"\nhydrostatic = { level = 70.0 }\n";
+    let twice = edited_scene(&tmp, "scene_a", |s| s + water);
+    assert_refused(
+        "two-tables-water",
+        "solve",
+        &twice,
+        &["--order", "1"],
+        &["[boundary.Upstream]", "[boundary.upstream]", "'upstream'"],
+    );
+    let roles = edited_scene(&tmp, "scene_a", |s| s + "[boundary.Crest]\nrole = \"dirichlet\"\n");
+    assert_refused("two-tables-roles", "check", &roles, &["--order", "1"], &["[boundary.Crest]", "[boundary.crest]"]);
+    let material = "[materials.Upper_block]\nE = 1.0e9\nnu = 0.2\nrho = 2400.0\n";
+    let materials = edited_scene(&tmp, "dam_lifts_on_rock", |s| s + material);
+    assert_refused(
+        "two-tables-materials",
+        "check",
+        &materials,
+        &["--order", "1", "--size-factor", "3"],
+        &["[materials.Upper_block]", "[materials.upper_block]", "'upper_block'"],
+    );
+}
+
+/// The names of the files in `dir`, sorted.
+fn listing(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> =
+        std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    names.sort();
+    names
+}
+
+/// `damfem <args> -q -o <dir>`, asserted to succeed.
+fn run_into(dir: &Path, args: &[&str]) {
+    let mut all: Vec<&OsStr> = args.iter().map(OsStr::new).collect();
+    all.extend([OsStr::new("-q"), OsStr::new("-o"), dir.as_os_str()]);
+    assert_ok(&damfem(&all));
+}
+
+// Source: geo/scene_a.toml run by `adapt`, `solve --estimate`, `solve` and `mesh` one after
+// the other into one directory, beside a file of the user's. Goal: after each run the
+// directory holds that run's files only (for `solve`, those summary.json lists, itself and
+// history.json), where the step files, collections, history.csv and figures of `adapt`, or
+// the `_dg.vtu` of an earlier estimate, used to stay beside a summary that does not list them;
+// the user's file stays. Parameters: P1, sizes × 3, two adaptive steps.
+#[test]
+fn a_rerun_leaves_no_file_of_an_earlier_run() {
+    let tmp = TempDir::new("rerun-outputs");
+    let dir = tmp.join("out");
+    let scene = repo("geo/scene_a.toml");
+    let scene = scene.to_str().unwrap();
+    let p1 = ["--order", "1", "--size-factor", "3"];
+    run_into(&dir, &[&["adapt", scene, "--steps", "2"][..], &p1].concat());
+    std::fs::write(dir.join("notes.txt"), "the user's").unwrap();
+    for estimate in [&["--estimate"][..], &[]] {
+        run_into(&dir, &[&["solve", scene][..], &p1, estimate].concat());
+        let summary: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+        let files = summary["files"].as_array().unwrap().iter();
+        let mut expected: Vec<String> =
+            files.map(|f| Path::new(f.as_str().unwrap()).file_name().unwrap().to_string_lossy().into_owned()).collect();
+        expected.extend(["history.json", "notes.txt", "summary.json"].map(String::from));
+        expected.sort();
+        assert_eq!(listing(&dir), expected, "solve {estimate:?}");
+    }
+    run_into(&dir, &[&["mesh", scene][..], &p1].concat());
+    assert_eq!(listing(&dir), ["notes.txt", "scene_a.msh", "scene_a_boundary.vtu", "scene_a_mesh.vtu"]);
+}
+
+// Source: geo/scene_a.toml with a boundary table for a curve its geometry lacks, run by
+// `adapt` into a directory that holds an earlier run. Goal: the scene is refused as `solve`
+// refuses it, in one sentence without "adaptive step 0", and the directory is left as it was
+// (no history.json of a run that never started, the earlier run's files kept), where adapt
+// used to write history.json and history.csv and remove the earlier steps. Parameters: P1,
+// sizes × 3.
+#[test]
+fn adapt_refuses_a_scene_that_does_not_fit_its_mesh_writing_nothing() {
+    let tmp = TempDir::new("adapt-bad-scene");
+    let dir = tmp.join("out");
+    let p1 = ["--order", "1", "--size-factor", "3"];
+    let scene = repo("geo/scene_a.toml");
+    run_into(&dir, &[&["adapt", scene.to_str().unwrap(), "--steps", "1"][..], &p1].concat());
+    let before = listing(&dir);
+    let bad = edited_scene(&tmp, "scene_a", |s| s + "[boundary.heel]\nrole = \"free\"\n");
+    let args: Vec<&OsStr> = ["adapt", "-q"].iter().map(OsStr::new).chain([bad.as_os_str()]).collect();
+    let out = damfem(&[&args[..], &["-o", dir.to_str().unwrap()].map(OsStr::new), &p1.map(OsStr::new)].concat());
+    let message = assert_error(&out, &["scene_a.toml", "'heel'"]);
+    assert!(!message.contains("step 0"), "{message}");
+    assert_eq!(listing(&dir), before);
+    let empty = tmp.join("empty");
+    let out = damfem(&[&args[..], &["-o", empty.to_str().unwrap()].map(OsStr::new), &p1.map(OsStr::new)].concat());
+    assert_error(&out, &["'heel'"]);
+    assert!(!empty.exists(), "{} was left behind", empty.display());
+}
+
+// Source: geo/unit_square.toml (clamped, no contact curve, no joint) with a [contact] key or a
+// contact flag of `solve`. Goal: a key or flag that has nothing to act on is refused, naming
+// it, where damfem used to solve the bonded problem with exit code 0 as if it had been
+// applied. Parameters: P1.
+#[test]
+fn contact_keys_without_contact_are_refused() {
+    let tmp = TempDir::new("contact-unused");
+    let square = repo("geo/unit_square.toml");
+    for (flag, value) in [("--gamma0", "5"), ("--theta", "1"), ("--delta", "10"), ("--friction", "0.5")] {
+        assert_refused(
+            &format!("contact-unused{flag}"),
+            "solve",
+            &square,
+            &["--order", "1", flag, value],
+            &[&format!("{flag} = {value}"), "no curve has role contact", "command line"],
+        );
+    }
+    for line in ["gap = 0.1", "max_iter = 20", "direction = [0.0, -1.0]"] {
+        let scene = edited_scene(&tmp, "unit_square", |s| format!("{s}\n[contact]\n{line}\n"));
+        let key = format!("contact.{}", line.split(" = ").next().unwrap());
+        assert_refused("contact-unused-key", "check", &scene, &["--order", "1"], &[&key, "no curve has role contact"]);
+    }
+}
+
+// Source: geo/scene_a_combinations.toml meshed by `damfem mesh --combination flood`. Goal: a
+// flag the command accepts but cannot use (a load combination changes loads, never the mesh)
+// is refused, naming it, where `mesh` used to write the same files as without it, with exit
+// code 0. Parameters: P1.
+#[test]
+fn mesh_refuses_a_load_combination() {
+    let scene = repo("geo/scene_a_combinations.toml");
+    assert_refused(
+        "mesh-combination",
+        "mesh",
+        &scene,
+        &["--order", "1", "--combination", "flood"],
+        &["--combination flood", "damfem mesh"],
+    );
+}
+
+// Source: geo/scene_a_uplift.toml (its joint from (0, 0) to (40, 0)) with [uplift] heel at the
+// joint's middle, then at its upstream end. Goal: a heel that is not an end of the joint is
+// refused, naming the key and the joint's ends, where damfem used to take the nearer end (or
+// either, at the middle) as the heel and lay the uplift diagram from it with exit code 0;
+// the upstream end itself is accepted. Parameters: P1, sizes × 3.
+#[test]
+fn a_heel_off_the_joint_ends_is_refused() {
+    let tmp = TempDir::new("heel-off");
+    let at = |heel: &str| {
+        edited_scene(&tmp, "scene_a_uplift", |s| {
+            s.replace("crack = \"full\"", &format!("crack = \"full\"\nheel = {heel}"))
+        })
+    };
+    let p1 = ["--order", "1", "--size-factor", "3"];
+    assert_refused(
+        "heel-off-middle",
+        "check",
+        &at("[20.0, 0.0]"),
+        &p1,
+        &["uplift.heel = [20.0, 0.0]", "(0, 0)", "(40, 0)"],
+    );
+    let upstream = at("[0.0, 0.0]");
+    let args: Vec<&OsStr> = ["check", "-q"].iter().chain(&p1).map(OsStr::new).chain([upstream.as_os_str()]).collect();
+    assert_ok(&damfem(&args));
+}
+
+// Source: geo/scene_a.toml with its geometry replaced by the degree-1 .msh that `damfem mesh
+// --order 1` makes of it. Goal: the scene's `[mesh] order = 2` raises the mesh to degree 2
+// as `--order 2` does, where it used to be ignored (a P1 solve with exit code 0), and a
+// `[mesh]` key that only gmsh's meshing of a .geo reads (size_factor) is refused, naming it.
+// Parameters: sizes × 3.
+#[test]
+fn a_msh_scene_reads_its_order_and_refuses_the_keys_of_gmsh() {
+    let tmp = TempDir::new("msh-scene");
+    let mesh_dir = tmp.join("mesh");
+    run_into(&mesh_dir, &["mesh", repo("geo/scene_a.toml").to_str().unwrap(), "--order", "1", "--size-factor", "3"]);
+    let msh = format!("geometry = {:?}", mesh_dir.join("scene_a.msh").display().to_string());
+    let with_msh = |s: String| {
+        let line = s.lines().find(|l| l.starts_with("geometry = ")).unwrap().to_string();
+        s.replace(&line, &msh)
+    };
+    let p2 = edited_scene(&tmp, "scene_a", with_msh);
+    let out_dir = tmp.join("out");
+    run_into(&out_dir, &["solve", p2.to_str().unwrap()]);
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out_dir.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["order"], 2, "{summary}");
+    let sized = edited_scene(&tmp, "scene_a", |s| with_msh(s).replace("order = 2", "order = 2\nsize_factor = 5.0"));
+    assert_refused("msh-scene-size", "solve", &sized, &[], &["mesh.size_factor", "scene_a.msh"]);
+}
+
+// Source: geo/scene_a.toml with [output] boundary = false, meshed by `damfem mesh`. Goal: the
+// key is honoured as by `solve` and `adapt` (no `<scene>_boundary.vtu`), where `mesh` used to
+// write the file anyway. Parameters: P1, sizes × 3.
+#[test]
+fn mesh_honours_output_boundary() {
+    let tmp = TempDir::new("mesh-boundary");
+    let scene = edited_scene(&tmp, "scene_a", |s| s.replace("directory = \"out/scene_a\"", "boundary = false"));
+    let dir = tmp.join("out");
+    run_into(&dir, &["mesh", scene.to_str().unwrap(), "--order", "1", "--size-factor", "3"]);
+    assert_eq!(listing(&dir), ["scene_a.msh", "scene_a_mesh.vtu"]);
+}
+
+// Source: an empty .geo file, solved and meshed. Goal: refused in one sentence naming the file,
+// where the error was gmsh's "gmshModelGetBoundingBox failed: Empty bounding box", naming
+// neither the file nor what is wrong with it.
+#[test]
+fn an_empty_geometry_is_named() {
+    let tmp = TempDir::new("empty-geo");
+    let geo = tmp.join("empty.geo");
+    std::fs::write(&geo, "").unwrap();
+    for command in ["solve", "mesh"] {
+        assert_refused(&format!("empty-geo-{command}"), command, &geo, &[], &["empty.geo", "is empty"]);
+    }
+}
+
+// Source: geo/dam_lifts_on_rock.toml with a [joints.nothing] table, a curve its geometry lacks
+// (after the scene's own joints, base and lift, in the order of the tables). Goal: the error
+// lists the physical curves of the geometry only, where it also listed 'base:rock' and
+// 'lift:lower_block', the sides damfem makes of the joints it has split, which no scene can
+// name. Parameters: P1, sizes × 3.
+#[test]
+fn an_unknown_joint_lists_the_curves_of_the_geometry() {
+    let tmp = TempDir::new("unknown-joint");
+    let scene = edited_scene(&tmp, "dam_lifts_on_rock", |s| s + "\n[joints.nothing]\nfriction = 0.5\n");
+    let p1 = ["--order", "1", "--size-factor", "3"];
+    let message = assert_refused("unknown-joint-out", "check", &scene, &p1, &["'nothing'", "base, lift"]);
+    assert!(!message.contains("base:rock") && !message.contains("lift:lower_block"), "{message}");
+}
