@@ -355,8 +355,8 @@ pub fn newton_until(
         };
         seconds.line_search += clock.elapsed().as_secs_f64();
         // the full step solves the linearised problem at x even where the line search cuts it:
-        // the stopping rule may take it
-        let offered = t < 1.0 && !frozen_step && step + 1 >= options.min_steps;
+        // the stopping rule may take it (the factors of an exact step only: a frozen step has none)
+        let offered = t < 1.0 && step + 1 >= options.min_steps;
         if let (Some(r_full), Some(factors), true) = (r_full, &factors_of_last_step, offered) {
             let full: Vec<f64> = x.iter().zip(&delta).map(|(x, d)| x + d).collect();
             let last = Iteration { residual: r, increment: norm(&delta), step: 1.0, frozen: false };
