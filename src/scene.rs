@@ -10,6 +10,7 @@ use crate::adapt::geo::GeoMesher;
 use crate::adapt::{AdaptError, AdaptSettings, Model, Refinement};
 use crate::contact::nitsche::{Gap, NitscheParameters};
 use crate::contact::uplift::{Drains, Uplift};
+use crate::contact::LoadPath;
 use crate::contact::{ContactJoint, Continuation, CurveUplift, JointLaw, JointLine};
 use crate::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};
 use crate::io::gmsh::MeshOptions;
@@ -44,6 +45,10 @@ pub enum SceneError {
     Material { path: PathBuf, name: String, message: String },
     #[error("{path}: {message}")]
     Invalid { path: PathBuf, message: String },
+    /// The loads need more than the joint alone can carry: the dam does not hold (a verdict,
+    /// not bad input).
+    #[error("{path}: {message}")]
+    NoEquilibrium { path: PathBuf, message: String },
 }
 
 /// Options handed to the mesher.
@@ -216,6 +221,9 @@ pub struct ContactSection {
     pub max_iter: usize,
     /// Relative residual tolerance of Newton.
     pub rtol: f64,
+    /// Whether a solve from rest follows the load path (docs/method.md §1.11) where it
+    /// matters, on a frictional joint or with uplift; false: every load at once.
+    pub load_path: bool,
 }
 
 impl ContactSection {
@@ -271,6 +279,7 @@ impl Default for ContactSection {
             threshold: None,
             max_iter: 50,
             rtol: 1e-10,
+            load_path: true,
         }
     }
 }
@@ -679,7 +688,16 @@ impl Scene {
             delta,
             delta_start: delta.max(c.delta_start.unwrap_or(if self.has_friction() { 0.1 } else { 0.0 }) * scale),
             newton: self.newton_options(),
+            path: self.load_path(),
         }
+    }
+
+    /// The load path of a frictional joint or one with uplift, unless `contact.load_path =
+    /// false` or without self-weight: its weight (0, −g) first, then the rest.
+    pub fn load_path(&self) -> Option<LoadPath> {
+        let uplift = self.uplift.is_some() || self.joints.values().any(|j| j.uplift.is_some());
+        let g = self.loads.gravity;
+        (self.contact.load_path && g > 0.0 && (uplift || self.has_friction())).then_some(LoadPath { weight: [0.0, -g], trace: None })
     }
 
     /// The `[contact]` keys that only `damfem solve` reads: the adaptive loop chooses δ itself
@@ -830,6 +848,10 @@ impl Model for Scene {
 
     fn joint_line(&self, problem: &Problem) -> Option<JointLine> {
         Scene::joint_line(self, problem)
+    }
+
+    fn load_path(&self) -> Option<LoadPath> {
+        Scene::load_path(self)
     }
 }
 
@@ -1023,14 +1045,14 @@ impl Scene {
         let friction = laws().map(|(_, c)| c.law.capacity(normal.max(0.0), 0.0)).fold(0.0, f64::max);
         let capacity = friction + laws().map(|(&tag, c)| c.law.capacity(0.0, length(tag))).sum::<f64>();
         if normal <= 0.0 || shear.abs() > capacity {
-            return Err(self.invalid(format!(
+            return Err(SceneError::NoEquilibrium { path: self.source.clone(), message: format!(
                 "no equilibrium: nothing but the joint holds the body, and the loads push along it with \
                  |T| = {:.4e} N/m against a normal force N = {normal:.4e} N/m, more than the joint law {} \
                  can carry ({capacity:.4e} N/m); raise contact.friction, contact.cohesion or \
                  contact.threshold, or support the body with a Dirichlet curve",
                 shear.abs(),
                 joint.laws.iter().map(|c| format!("{:?}", c.law)).collect::<Vec<_>>().join(", ")
-            )));
+            )});
         }
         Ok(())
     }

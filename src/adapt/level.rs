@@ -3,7 +3,8 @@
 
 use super::{AdaptError, AdaptSettings};
 use crate::contact::projection::Smoothing;
-use crate::contact::{settle_crack, ContactJoint, ContactProblem, Crack, Cracks, Linearisation, Solution, Stage};
+use crate::contact::path::follow;
+use crate::contact::{settle_crack, ContactJoint, LoadPath, ContactProblem, Crack, Cracks, Linearisation, Solution, Stage};
 use crate::elasticity::{Discretisation, Problem, Refined};
 use crate::estimate::estimators::GlobalEstimators;
 use crate::estimate::{estimate_displacement, Estimate};
@@ -143,8 +144,10 @@ impl Trend {
 pub enum StartDelta {
     /// The δ the previous mesh ended with, and its linearisation trend.
     Kept(f64, Option<Trend>),
-    /// The first mesh: δ₀ from the first Newton iterate, given the stress scale S of the loads.
-    FirstIterate { load_scale: f64 },
+    /// The first mesh: δ₀ from the first Newton iterate, given the stress scale S of the loads,
+    /// that iterate from the end of the load `path` if there is one (followed at δ = 10⁻⁴ S
+    /// from delta0 · S, as `damfem solve` does).
+    FirstIterate { load_scale: f64, path: Option<LoadPath> },
 }
 
 impl StartDelta {
@@ -152,7 +155,7 @@ impl StartDelta {
     fn first_step(&self, delta0: f64) -> f64 {
         match *self {
             StartDelta::Kept(delta, _) => delta,
-            StartDelta::FirstIterate { load_scale } => delta0 * load_scale,
+            StartDelta::FirstIterate { load_scale, .. } => delta0 * load_scale,
         }
     }
 }
@@ -176,6 +179,10 @@ fn first_iterate(
     let scale = if p_max > 0.0 { p_max } else { load_scale };
     Ok((Stage { delta, report }, delta0 * scale))
 }
+
+/// δ of the load path on the first mesh, as a multiple of the stress scale S (that of `damfem
+/// solve`).
+const PATH_DELTA: f64 = 1e-4;
 
 /// How many Newton runs in a row a level starts again at ρ_δ δ after a run that did not
 /// converge, while no δ has been solved on it.
@@ -207,12 +214,23 @@ pub fn contact_level<'a>(
     stopping: Stopping,
 ) -> Result<Level<'a>, AdaptError> {
     let delta = start.first_step(settings.delta0);
-    let contact = ContactProblem::new(problem, disc, joint, Smoothing { delta });
+    let mut contact = ContactProblem::new(problem, disc, joint, Smoothing { delta });
     let clock = Instant::now();
     let mut stages = Vec::new();
     let (x, delta, trend) = match start {
         StartDelta::Kept(_, trend) => (x0, delta, trend),
-        StartDelta::FirstIterate { load_scale } => {
+        StartDelta::FirstIterate { load_scale, path } => {
+            let x0 = match path {
+                Some(path) => {
+                    contact.stage_loads(path.weight);
+                    let deltas = (PATH_DELTA * load_scale, delta);
+                    let followed = follow(&mut contact, deltas, x0, newton, path.trace)?;
+                    stages.extend(followed.stages);
+                    contact.set_delta(delta);
+                    followed.x
+                }
+                None => x0,
+            };
             let (stage, delta0) = first_iterate(&contact, x0, newton, settings.delta0, load_scale)?;
             let x1 = stage.report.x.clone();
             stages.push(stage);

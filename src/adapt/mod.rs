@@ -28,7 +28,7 @@ pub mod history;
 pub mod level;
 pub mod marking;
 
-use crate::contact::{ContactError, ContactJoint, ContactSolution, JointLine, Resultant};
+use crate::contact::{ContactError, ContactJoint, ContactSolution, JointLine, LoadPath, Resultant};
 use crate::elasticity::{Discretisation, Problem};
 use crate::estimate::estimators::{stress_norm, GlobalEstimators};
 use crate::estimate::Estimate;
@@ -194,6 +194,10 @@ pub trait Model {
     fn joint_line(&self, _problem: &Problem) -> Option<JointLine> {
         None
     }
+    /// The load path that the first mesh follows from rest (None: every load at once).
+    fn load_path(&self) -> Option<LoadPath> {
+        None
+    }
 }
 
 /// Wall time of each phase of a step \[s\]. `mesh` is gmsh's (the initial mesh at step 0, a
@@ -354,7 +358,7 @@ pub fn run(
             None => level::linear_level(&problem, &disc)?,
             Some(joint) => {
                 let start = kept.map_or_else(
-                    || StartDelta::FirstIterate { load_scale: problem.stress_scale(&disc.topology) },
+                    || StartDelta::FirstIterate { load_scale: problem.stress_scale(&disc.topology), path: model.load_path() },
                     |(delta, trend)| StartDelta::Kept(delta, trend),
                 );
                 let stopping = if last { Stopping::Residual } else { Stopping::Linearisation };

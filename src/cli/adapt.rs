@@ -8,7 +8,7 @@ use crate::adapt::geo::GeoMesher;
 use crate::adapt::history::{to_csv, write_adaptive_uniform, write_plots};
 use crate::adapt::marking::Marking;
 use crate::adapt::{self, AdaptError, AdaptSettings, Model, PhaseTimes, Refinement, Step, StepRecord};
-use crate::contact::{ContactJoint, JointLine, Resultant};
+use crate::contact::{ContactJoint, JointLine, LoadPath, PathPoint, Resultant};
 use crate::elasticity::stress::cell_mean_stress;
 use crate::elasticity::Problem;
 use crate::io::atomic::write_output;
@@ -154,6 +154,7 @@ pub struct Sequence {
 struct Traced<'a> {
     scene: &'a Scene,
     trace: Option<fn(usize, f64)>,
+    path_trace: Option<fn(&PathPoint)>,
 }
 
 impl Model for Traced<'_> {
@@ -167,6 +168,10 @@ impl Model for Traced<'_> {
 
     fn joint_line(&self, problem: &Problem) -> Option<JointLine> {
         self.scene.joint_line(problem)
+    }
+
+    fn load_path(&self) -> Option<LoadPath> {
+        self.scene.load_path().map(|path| LoadPath { trace: self.path_trace, ..path })
     }
 }
 
@@ -223,7 +228,7 @@ pub fn run_sequence(
         headline: Vec::new(),
         best: None,
     };
-    let model = Traced { scene, trace: input.newton_trace() };
+    let model = Traced { scene, trace: input.newton_trace(), path_trace: input.path_trace() };
     let result = adapt::run(&scene.adapt, &mut mesher, &model, |step| {
         let output = |source: anyhow::Error| AdaptError::Output { step: step.record.step, source: source.into() };
         if writer.history.is_empty() {

@@ -1,5 +1,6 @@
 //! Options and steps shared by the subcommands.
 
+use crate::contact::PathPoint;
 use crate::io::gmsh;
 use crate::mesh::midpoints::elevate_to_p2;
 use crate::mesh::Mesh;
@@ -80,6 +81,11 @@ impl Input {
             scene.mesh.size_factor = factor;
         }
         Ok(scene)
+    }
+
+    /// With `-v`, what the load path calls at every converged state: one line on stderr.
+    pub fn path_trace(&self) -> Option<fn(&PathPoint)> {
+        self.verbose.then_some(path_point_line as fn(&PathPoint))
     }
 
     /// With `-v`, what Newton calls at every iterate: one line on stderr.
@@ -248,6 +254,15 @@ pub fn remove_earlier_outputs(dir: &Path, name: &str, keep: &[PathBuf]) -> Resul
 }
 
 /// A Newton iterate's progress line: its number k and ‖F(x_k)‖ / scale.
+fn path_point_line(p: &PathPoint) {
+    let crack = p.crack.map_or(String::new(), |c| format!(", crack {c:.3} m"));
+    let fs = p.sliding_safety_factor.map_or(String::new(), |f| format!(", FS_LE {f:.3}"));
+    eprintln!(
+        "load       lambda {:.4}: N = {:.4e} N/m, T = {:.4e} N/m, contact {:.3} m{crack}{fs}, {} Newton steps",
+        p.load_factor, p.normal_force, p.tangential_force, p.contact_length, p.newton_steps
+    );
+}
+
 fn newton_step_line(step: usize, relative_residual: f64) {
     eprintln!("newton     step {step:>3}, relative residual {relative_residual:.3e}");
 }
@@ -256,6 +271,11 @@ fn newton_step_line(step: usize, relative_residual: f64) {
 pub fn stem(path: &Path) -> String {
     path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "damfem".into())
 }
+
+/// A solver that stopped without an answer, with what was tried (exit code 4).
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct SolverFailed(pub String);
 
 /// What a command prints: one line per stage on stderr (name, what was done, and the wall
 /// time), other progress on stderr, results on stdout; with -q, none of it.

@@ -1,8 +1,11 @@
 //! Command-line interface: `damfem mesh`, `damfem check`, `damfem solve`, `damfem adapt`,
 //! `damfem safety`.
 //!
-//! Library errors become one plain sentence on stderr and exit code 1; progress goes to
-//! stderr (one line per stage with its time), results to stdout and the output directory.
+//! Library errors become one plain sentence on stderr; progress goes to stderr (one line per
+//! stage with its time), results to stdout and the output directory. The exit code tells the
+//! outcomes apart: 0 a result, 1 bad input (or a file that cannot be read or written), 3 the
+//! dam does not hold (no equilibrium beyond a load factor λ* < 1: a result of its own), 4 the
+//! solver failed (Newton, the crack's fixed point or the load path stopped without a verdict).
 
 mod adapt;
 mod check;
@@ -13,6 +16,9 @@ mod output;
 mod safety;
 mod solve;
 
+use crate::adapt::AdaptError;
+use crate::contact::ContactError;
+use crate::scene::SceneError;
 use clap::{Parser, Subcommand};
 
 /// Plane-strain finite elements for concrete dams, from gmsh geometry to ParaView files.
@@ -62,23 +68,44 @@ where
         Ok(()) => 0,
         Err(e) => {
             common::remove_created_dirs();
-            eprintln!("error: {}", message(&format!("{e:#}")));
-            1
+            let code = exit_code(&e);
+            let label = if code == DOES_NOT_HOLD { "verdict" } else { "error" };
+            eprintln!("{label}: {}", message(&format!("{e:#}")));
+            code
         }
     }
 }
 
-/// Longest line of an error message, in characters.
-const MAX_LINE: usize = 300;
+/// The exit code of a dam that does not hold.
+pub const DOES_NOT_HOLD: i32 = 3;
+/// The exit code of a solver that failed.
+pub const SOLVER_FAILED: i32 = 4;
 
-/// An error message as printed: each line capped at [`MAX_LINE`] characters, the lines after
-/// the first indented.
+/// The exit code of the error `e`: [`DOES_NOT_HOLD`], [`SOLVER_FAILED`], or 1.
+fn exit_code(e: &anyhow::Error) -> i32 {
+    let of_contact = |c: &ContactError| if matches!(c, ContactError::NoEquilibrium(_)) { DOES_NOT_HOLD } else { SOLVER_FAILED };
+    let code = e.chain().find_map(|link| {
+        if let Some(c) = link.downcast_ref::<ContactError>() {
+            return Some(of_contact(c));
+        }
+        if let Some(SceneError::NoEquilibrium { .. }) = link.downcast_ref::<SceneError>() {
+            return Some(DOES_NOT_HOLD);
+        }
+        if link.is::<common::SolverFailed>() {
+            return Some(SOLVER_FAILED);
+        }
+        match link.downcast_ref::<AdaptError>()? {
+            AdaptError::Contact(c) => Some(of_contact(c)),
+            AdaptError::Newton { .. } | AdaptError::Finish(_) | AdaptError::Regularisation { .. } => Some(SOLVER_FAILED),
+            _ => None,
+        }
+    });
+    code.unwrap_or(1)
+}
+
+/// An error message as printed: the lines after the first indented, none cut.
 fn message(text: &str) -> String {
-    let cap = |line: &str| match line.char_indices().nth(MAX_LINE) {
-        Some((end, _)) => format!("{}… ({} more characters)", &line[..end], line[end..].chars().count()),
-        None => line.to_string(),
-    };
-    text.trim_end().lines().map(cap).collect::<Vec<_>>().join("\n  ")
+    text.trim_end().lines().collect::<Vec<_>>().join("\n  ")
 }
 
 #[cfg(test)]
@@ -87,13 +114,11 @@ mod tests {
     use clap::CommandFactory;
 
     #[test]
-    fn error_lines_are_capped_and_indented() {
+    fn error_lines_are_kept_whole_and_indented() {
         let long = "x".repeat(1000);
         let text = super::message(&format!("first\n{long}\nlast\n"));
         let lines: Vec<&str> = text.lines().collect();
-        assert_eq!(lines[0], "first");
-        assert_eq!(lines[1], format!("  {}… (700 more characters)", "x".repeat(300)));
-        assert_eq!(lines[2], "  last");
+        assert_eq!(lines, ["first".to_string(), format!("  {long}"), "  last".to_string()]);
     }
 
     #[test]

@@ -1,7 +1,7 @@
 //! `damfem solve`: mesh, assemble, solve (with Nitsche contact when the scene has Γ_C),
 //! write ParaView files, `summary.json` and `history.json`.
 
-use super::common::{blame_overrides, remove_earlier_outputs, stem, validate_overrides, Input, Output};
+use super::common::{SolverFailed, blame_overrides, remove_earlier_outputs, stem, validate_overrides, Input, Output};
 use super::output::{write_results, EstimateSummary, Results, Summary, Units, UNITS};
 use crate::contact::{
     reduce_strength, ContactError, ContactJoint, Continuation, Solution, Stage, StrengthReduction, STRENGTH_TOLERANCE,
@@ -122,6 +122,9 @@ pub fn run(args: Args) -> Result<()> {
     // 3. Solve: one Cholesky solve, or Newton along the δ path with contact
     let mut continuation = scene.continuation(&problem, &disc.topology);
     continuation.newton.trace = input.newton_trace();
+    if let Some(path) = continuation.path.as_mut() {
+        path.trace = input.path_trace();
+    }
     let (solution, t) = progress
         .stage("solve", || solve(&scene, input, &problem, &disc, joint.as_ref(), &continuation), describe_solution)
         .map_err(|e| match e.downcast_ref::<ContactError>() {
@@ -242,8 +245,9 @@ fn newton_failure(scene: &Scene, continuation: &Continuation, error: &NewtonErro
         _ => Vec::new(),
     };
     let mut causes = Vec::new();
-    if residuals.len() >= c.max_iter {
-        causes.push(format!("contact.max_iter = {} may be too small", c.max_iter));
+    let falling = residuals.len() >= 4 && residuals[residuals.len() - 1] < 0.5 * residuals[residuals.len() / 2];
+    if residuals.len() >= c.max_iter && falling {
+        causes.push(format!("contact.max_iter = {} may be too small (the residual still falls)", c.max_iter));
     }
     if c.theta != -1.0 && c.gamma0 < 10.0 {
         causes.push(format!(
@@ -270,12 +274,12 @@ fn newton_failure(scene: &Scene, continuation: &Continuation, error: &NewtonErro
         remove_earlier_outputs(dir, &stem(&scene.source), std::slice::from_ref(&path))?;
         Ok(format!("\nthe residuals are in {}", path.display()))
     });
-    anyhow::anyhow!(
+    anyhow::Error::new(SolverFailed(format!(
         "{}: {error}\nlikely causes: {} (with {used}){}",
         scene.source.display(),
         causes.join("; "),
         kept.unwrap_or_default()
-    )
+    )))
 }
 
 /// One Cholesky solve without a joint; with one, Newton to the δ of `continuation`

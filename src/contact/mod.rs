@@ -16,16 +16,18 @@
 
 pub mod law;
 pub mod nitsche;
+pub mod path;
 pub mod projection;
 pub mod resultant;
 pub mod uplift;
 
-use crate::elasticity::{Discretisation, Displacement, Problem, Refined};
+use crate::elasticity::{BodyForce, Discretisation, Displacement, Problem, Refined};
 use crate::fem::dofs::FIXED;
 use crate::fem::sparse::{LinearSystem, SparsePattern};
 use crate::mesh::Mesh;
 use crate::solve::{newton, newton_until, LayerSchur, NewtonError, NewtonOptions, NewtonReport, NonlinearSystem};
 pub use law::JointLaw;
+pub use path::{LoadPath, NoEquilibrium, PathPoint};
 use nitsche::{ContactFace, FaceDisplacement, Nitsche, NitscheParameters};
 use projection::{negative_part, Smoothing};
 pub use resultant::{JointLine, Resultant};
@@ -131,11 +133,25 @@ pub struct ContactProblem<'a> {
     pub smoothing: Smoothing,
     /// The pattern of K with the couplings of two-body faces (None: the discretisation's).
     coupled: Option<SparsePattern>,
-    /// K over the free dofs and b = f + g_N − K_fc g_D.
+    /// K over the free dofs and b = f + g_N − K_fc g_D, at the load factor λ of the load path
+    /// (docs/method.md §1.11): b(λ) = b_w + λ (b − b_w).
     bulk: LinearSystem,
+    /// On a load path: λ, b and b_w of the self-weight alone, and (H_u, H_d) of each uplift
+    /// diagram at λ = 1 (None: the loads at λ = 1 only).
+    staged: Option<Staged>,
     /// K factorised once with the dofs of the cells along Γ_C last, those of `layer_rows`
     /// after the others, made at the first Newton solve (None: Newton factors J by sparse LU).
     schur: OnceLock<Option<LayerSchur>>,
+}
+
+/// The loads of a load path ([`ContactProblem::stage_loads`]).
+struct Staged {
+    load_factor: f64,
+    /// b and b_w over the free dofs.
+    full: Vec<f64>,
+    weight: Vec<f64>,
+    /// (H_u, H_d) of each uplift diagram \[Pa\].
+    uplift: Vec<[f64; 2]>,
 }
 
 /// Contact quantities of one face, for output.
@@ -228,7 +244,43 @@ impl<'a> ContactProblem<'a> {
             SparsePattern::with_couplings(mesh, &disc.dofs, &pairs)
         });
         let bulk = problem.assemble_on(disc, coupled.as_ref().unwrap_or(&disc.pattern));
-        ContactProblem { problem, disc, nitsche, smoothing, coupled, bulk, schur: OnceLock::new() }
+        ContactProblem { problem, disc, nitsche, smoothing, coupled, bulk, staged: None, schur: OnceLock::new() }
+    }
+
+    /// Makes the loads those of the load path at λ = 1, b_w assembled from the self-weight
+    /// `weight` per unit mass alone (with the Dirichlet data).
+    pub fn stage_loads(&mut self, weight: [f64; 2]) {
+        let alone = Problem { neumann: Vec::new(), body_force: BodyForce::Acceleration(weight), ..self.problem.clone() };
+        let weight = alone.assemble_on(self.disc, self.pattern()).rhs;
+        let uplift = self.nitsche.uplift.iter().map(|up| [up.diagram.upstream, up.diagram.downstream]).collect();
+        self.staged = Some(Staged { load_factor: 1.0, full: self.bulk.rhs.clone(), weight, uplift });
+    }
+
+    /// Sets the load factor λ of the load path: b(λ) = b_w + λ (b − b_w) and p_u(λ) = λ p_u
+    /// (b and p_u themselves at λ = 1).
+    pub fn set_load_factor(&mut self, lambda: f64) {
+        let Some(staged) = self.staged.as_mut() else { return };
+        staged.load_factor = lambda;
+        for ((b, full), weight) in self.bulk.rhs.iter_mut().zip(&staged.full).zip(&staged.weight) {
+            *b = if lambda == 1.0 { *full } else { weight + lambda * (full - weight) };
+        }
+        for (up, [upstream, downstream]) in self.nitsche.uplift.iter_mut().zip(&staged.uplift) {
+            up.diagram.upstream = lambda * upstream;
+            up.diagram.downstream = lambda * downstream;
+        }
+    }
+
+    /// The crack of each uplift diagram set to that of `cracks` (in order; None or missing:
+    /// kept).
+    pub fn set_cracks(&mut self, cracks: &Cracks) {
+        for (up, crack) in self.nitsche.uplift.iter_mut().zip(cracks) {
+            up.diagram.crack = crack.map_or(up.diagram.crack, |c| c.length);
+        }
+    }
+
+    /// Whether the loads are those of λ = 1 (the problem's own).
+    fn at_full_load(&self) -> bool {
+        self.staged.as_ref().is_none_or(|s| s.load_factor == 1.0)
     }
 
     /// Sets the regularisation δ of the projection.
@@ -361,7 +413,8 @@ impl<'a> ContactProblem<'a> {
         let x_prev = stages.last().map_or_else(|| x.clone(), |s| s.report.x_prev.clone());
         let lo = stages.last().filter(|s| s.report.x == x).and_then(|s| s.report.lo.clone());
         let (smoothing, nitsche) = (self.smoothing, self.nitsche.clone());
-        ContactSolution { x, lo, x_prev, smoothing, stages, faces, nitsche, cracks, coarse: Vec::new() }
+        let path = Vec::new();
+        ContactSolution { x, lo, x_prev, smoothing, stages, faces, nitsche, cracks, coarse: Vec::new(), path }
     }
 
     /// The length open at the heel of each uplift diagram for `x`, over the faces of its curves
@@ -484,7 +537,11 @@ impl NonlinearSystem for ContactProblem<'_> {
     /// The bulk K(x + lo) − b in difference form ([`Problem::residual`]) and each face's
     /// [`Nitsche::linearised_face_terms`]: P_γ(u_prev) and the increment u − u_prev, with
     /// u_h·ν − g from the compensated jump (docs/method.md §5.2).
+    /// None below λ = 1 on a load path: the problem's loads are those of λ = 1.
     fn linearised_residual(&self, x: &[f64], lo: &[f64], x_prev: &[f64]) -> Option<Vec<f64>> {
+        if !self.at_full_load() {
+            return None;
+        }
         let (problem, disc) = (self.problem, self.disc);
         let u = Refined { x: x.to_vec(), lo: lo.to_vec() }.displacement(problem, disc);
         let lo_nodes = u.lo.as_ref().expect("a refined displacement has lo");
@@ -571,6 +628,8 @@ pub struct Continuation {
     /// First δ of the path (≤ delta: a single Newton solve at delta).
     pub delta_start: f64,
     pub newton: NewtonOptions,
+    /// From rest, the load path ([`path::follow`]) rather than every load at once (None).
+    pub path: Option<LoadPath>,
 }
 
 /// A contact iterate and what it was computed with.
@@ -597,6 +656,8 @@ pub struct ContactSolution {
     /// The solves on coarser meshes whose solution started Newton ([`nested_start`]), coarsest
     /// first; empty for a start from u = 0.
     pub coarse: Vec<CoarseSolve>,
+    /// The converged states of the load path that led to it (empty: none followed).
+    pub path: Vec<PathPoint>,
 }
 
 /// A solve of nested iteration on a coarser level: its element degree, unknowns, Newton steps
@@ -886,6 +947,18 @@ pub enum ContactError {
          table"
     )]
     CrackJump { length: f64, change: f64, face: f64 },
+    #[error(transparent)]
+    NoEquilibrium(#[from] NoEquilibrium),
+    #[error(
+        "the load path stopped at λ = {load_factor:.4} of the loads that follow the self-weight, where the joint \
+         neither slides, lifts off nor cracks through (crack {crack}, contact length {contact:.3} m, FS_LE {fs}): no \
+         converged state beyond it with load steps down to {min_step:.1e}; the last step's solve: {source}",
+        crack = state.crack.map_or("none".to_string(), |c| format!("{c:.3} m")),
+        contact = state.contact_length,
+        fs = state.sliding_safety_factor.map_or("none".to_string(), |f| format!("{f:.3}")),
+        min_step = path::MIN_STEP,
+    )]
+    PathStalled { load_factor: f64, state: PathPoint, source: Box<ContactError> },
 }
 
 /// Solves the elasticity problem with contact on `joint` from a zero initial guess, along
@@ -920,6 +993,13 @@ pub fn solve_system_from(
     settings: &Continuation,
     x0: Vec<f64>,
 ) -> Result<ContactSolution, ContactError> {
+    if let Some(path) = settings.path.filter(|_| x0.iter().all(|&v| v == 0.0)) {
+        contact.stage_loads(path.weight);
+        let deltas = (settings.delta, settings.delta_start);
+        let followed = path::follow(&mut contact, deltas, x0, &settings.newton, path.trace)?;
+        let solution = contact.solution(followed.x, followed.stages, followed.cracks);
+        return Ok(ContactSolution { path: followed.path, ..solution });
+    }
     let (x, mut stages) = continuation(&mut contact, settings.delta, settings.delta_start, x0, &settings.newton)?;
     if !joint.uplift.iter().any(|up| up.diagram.crack_filled) {
         return Ok(contact.solution(x, stages, Vec::new()));
@@ -942,9 +1022,9 @@ pub fn nested_start(
     disc: &Discretisation,
     coarse: impl IntoIterator<Item = Option<CoarseLevel>>,
     settings: &Continuation,
-) -> Result<Option<NestedStart>, NewtonError> {
+) -> Result<Option<NestedStart>, ContactError> {
     let mut previous: Option<(Problem, Vec<[f64; 2]>)> = None;
-    let mut solves = Vec::new();
+    let (mut solves, mut cracks) = (Vec::new(), Vec::new());
     for level in coarse {
         let Some(CoarseLevel { problem: level, joint, seconds: mesh }) = level else { return Ok(None) };
         let clock = Instant::now();
@@ -958,7 +1038,19 @@ pub fn nested_start(
         };
         let start = clock.elapsed().as_secs_f64();
         let clock = Instant::now();
-        let (x, stages) = continuation(&mut contact, settings.delta, delta_start, x0, &settings.newton)?;
+        let (x, stages) = match (settings.path, &previous) {
+            (Some(path), None) => {
+                contact.stage_loads(path.weight);
+                let deltas = (settings.delta, delta_start);
+                let followed = path::follow(&mut contact, deltas, x0, &settings.newton, path.trace)?;
+                cracks = followed.cracks;
+                (followed.x, followed.stages)
+            }
+            _ => {
+                contact.set_cracks(&cracks);
+                continuation(&mut contact, settings.delta, delta_start, x0, &settings.newton)?
+            }
+        };
         let newton = clock.elapsed().as_secs_f64();
         let newton_steps = stages.iter().map(|s| s.report.iterations.len()).sum();
         let seconds = CoarseTimings { mesh, assemble, start, newton };
@@ -967,13 +1059,15 @@ pub fn nested_start(
         drop(contact);
         previous = Some((level, u));
     }
-    Ok(previous.map(|(below, u)| NestedStart { x0: problem.interpolated(disc, &below.mesh, &u), solves }))
+    Ok(previous.map(|(below, u)| NestedStart { x0: problem.interpolated(disc, &below.mesh, &u), solves, cracks }))
 }
 
-/// The start that nested iteration gives a mesh, and the coarse solves that led to it.
+/// The start that nested iteration gives a mesh, the coarse solves that led to it, and the
+/// cracks that the load path settled on the coarsest level (empty: none followed).
 pub struct NestedStart {
     pub x0: Vec<f64>,
     pub solves: Vec<CoarseSolve>,
+    pub cracks: Cracks,
 }
 
 /// The crack–uplift fixed point at the δ of `contact` (docs/method.md §1.8), from the solution
@@ -990,11 +1084,21 @@ pub struct NestedStart {
 /// them), and the crack of each diagram (None where it is not filled).
 pub fn settle_crack(
     contact: &mut ContactProblem,
-    mut x: Vec<f64>,
+    x: Vec<f64>,
     options: &NewtonOptions,
 ) -> Result<(Vec<f64>, Vec<Stage>, Cracks), ContactError> {
+    settle_crack_to(contact, x, options, Crack::TOLERANCE)
+}
+
+/// [`settle_crack`] to |g| ≤ `tolerance` L.
+pub fn settle_crack_to(
+    contact: &mut ContactProblem,
+    mut x: Vec<f64>,
+    options: &NewtonOptions,
+    tolerance: f64,
+) -> Result<(Vec<f64>, Vec<Stage>, Cracks), ContactError> {
     let mut stages: Vec<Stage> = Vec::new();
-    let mut searches = vec![CrackSearch::default(); contact.nitsche.uplift.len()];
+    let mut searches = vec![CrackSearch { tolerance, ..Default::default() }; contact.nitsche.uplift.len()];
     for iterations in 1..=Crack::MAX_ITERATIONS {
         let open = contact.crack_lengths(&x);
         let mut cracks = vec![None; searches.len()];
@@ -1042,7 +1146,7 @@ pub fn settle_crack(
     unreachable!("the loop returns by its last iteration")
 }
 
-/// The search of one diagram's crack in [`settle_crack`].
+/// The search of one diagram's crack in [`settle_crack_to`].
 #[derive(Debug, Clone, Copy, Default)]
 struct CrackSearch {
     /// The last crack with g > 0 and the last with g < 0.
@@ -1050,13 +1154,15 @@ struct CrackSearch {
     above: Option<f64>,
     /// The last crack updated and its g.
     previous: Option<(f64, f64)>,
+    /// The search stops at |g| ≤ tolerance L.
+    tolerance: f64,
 }
 
 impl CrackSearch {
     /// Records g = open − s_c for the crack s_c of a joint of length `length`. Ok(the bracket)
     /// once settled; Err(the next crack) otherwise.
     fn record(&mut self, crack: f64, open: f64, length: f64) -> Result<Option<[f64; 2]>, f64> {
-        let (g, tolerance) = (open - crack, Crack::TOLERANCE * length);
+        let (g, tolerance) = (open - crack, self.tolerance * length);
         *(if g > 0.0 { &mut self.below } else { &mut self.above }) = Some(crack);
         let bracket = self.below.zip(self.above).map(|(a, b)| [a.min(b), a.max(b)]);
         if g.abs() <= tolerance || bracket.is_some_and(|[a, b]| b - a <= tolerance) {
@@ -1187,7 +1293,7 @@ mod tests {
     // Parameters: a joint of 40 m.
     #[test]
     fn a_crack_that_feeds_itself_grows() {
-        let mut search = CrackSearch::default();
+        let mut search = CrackSearch { tolerance: super::Crack::TOLERANCE, ..Default::default() };
         assert_eq!(search.record(0.0, 5.67, 40.0), Err(5.67));
         let next = search.record(5.67, 17.53, 40.0).unwrap_err();
         assert_eq!(next, 17.53, "the secant's root lies behind both cracks");

@@ -98,6 +98,7 @@ impl Scene {
             c.threshold.map(|v| format!("threshold = {v}")),
             given("max_iter", c.max_iter != d.max_iter, c.max_iter.to_string()),
             given("rtol", c.rtol != d.rtol, c.rtol.to_string()),
+            given("load_path", c.load_path != d.load_path, c.load_path.to_string()),
         ];
         match keys.into_iter().flatten().next() {
             Some(key) => Err(self.invalid(format!(

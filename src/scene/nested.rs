@@ -86,8 +86,10 @@ impl Scene {
             });
             nested_start(problem, disc, levels, &coarse)
         });
-        if let Ok(Some(NestedStart { x0, solves })) = nested {
+        if let Ok(Some(NestedStart { x0, solves, cracks })) = nested {
             let at_delta = Continuation { delta_start: settings.delta, ..*settings };
+            let mut contact = contact;
+            contact.set_cracks(&cracks);
             if let Ok(solution) = solve_system_from(contact, joint, &at_delta, x0) {
                 return Ok(ContactSolution { coarse: solves, ..solution });
             }

@@ -342,7 +342,7 @@ fn a_mesh_that_meets_the_tolerance_is_finished_where_s_lin_stopped() {
     let (problem, joint) = scene.problem(mesh).expect("problem");
     let joint = joint.expect("Scene A has a contact curve");
     let disc = problem.discretise();
-    let start = StartDelta::FirstIterate { load_scale: problem.stress_scale(&disc.topology) };
+    let start = StartDelta::FirstIterate { load_scale: problem.stress_scale(&disc.topology), path: scene.load_path() };
     let settings = steps(3);
     let start = (vec![0.0; disc.dofs.n_free], start);
     let level = contact_level(&problem, &disc, &joint, &newton, &settings, start, Stopping::Linearisation);

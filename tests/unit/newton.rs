@@ -69,7 +69,7 @@ fn distance(a: &[f64], b: &[f64]) -> f64 {
 fn newton_converges_quadratically_once_the_active_set_settles() {
     for order in [1, 2] {
         let (problem, disc, joint, scale) = scene_a(order);
-        let settings = Continuation { delta: 1e-4 * scale, delta_start: 0.0, newton: NewtonOptions::default() };
+        let settings = Continuation { delta: 1e-4 * scale, delta_start: 0.0, newton: NewtonOptions::default(), path: None };
         let solution = solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("{e}"));
         assert_eq!(solution.stages.len(), 1);
         let report = &solution.stages[0].report;
@@ -123,7 +123,7 @@ fn regularised_solution_tends_to_the_semismooth_one() {
     for (order, last_k) in [(1, 7), (2, 6)] {
         let (problem, disc, joint, scale) = scene_a(order);
         let options = NewtonOptions { rtol: 1e-12, ..Default::default() };
-        let settings = Continuation { delta: 0.0, delta_start: 0.1 * scale, newton: options };
+        let settings = Continuation { delta: 0.0, delta_start: 0.1 * scale, newton: options, path: None };
         let exact = solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("{e}"));
         let mut contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 0.0 });
         let mut x = vec![0.0; disc.dofs.n_free];
@@ -234,6 +234,7 @@ fn newton_failure_is_a_clear_error() {
         delta: 1e-4 * scale,
         delta_start: 0.0,
         newton: NewtonOptions { max_iter: 1, ..Default::default() },
+        path: None,
     };
     let result = solve_by_continuation(&problem, &disc, &joint, &settings).map(|s| s.x);
     expect_not_converged(
@@ -290,7 +291,7 @@ fn scene_a_joint(theta: f64, law: JointLaw) -> (Problem, Discretisation, Contact
 #[test]
 fn schur_complement_on_the_layer_solves_the_newton_equation() {
     let (problem, disc, joint, scale) = scene_a_joint(0.0, JointLaw::Frictionless);
-    let settings = Continuation { delta: 1e-4 * scale, delta_start: 0.0, newton: NewtonOptions::default() };
+    let settings = Continuation { delta: 1e-4 * scale, delta_start: 0.0, newton: NewtonOptions::default(), path: None };
     let x = solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("{e}")).x;
     let n = disc.dofs.n_free;
     let laws = [(1.0, JointLaw::Frictionless), (0.0, JointLaw::Frictionless), (-1.0, JointLaw::Frictionless)];

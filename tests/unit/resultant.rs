@@ -31,7 +31,7 @@ fn the_resultant_of_a_linear_pressure_is_exact() {
         };
         let disc = problem.discretise();
         let joint = ContactJoint::frictionless(vec![BOTTOM], NitscheParameters::default());
-        let settings = Continuation { delta: 0.0, delta_start: 1e-3, newton: NewtonOptions::default() };
+        let settings = Continuation { delta: 0.0, delta_start: 1e-3, newton: NewtonOptions::default(), path: None };
         let solution = solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("{e}"));
         let n = p0 + k / 2.0;
         let x_r = (p0 / 2.0 + k / 3.0) / n;

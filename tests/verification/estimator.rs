@@ -67,7 +67,7 @@ fn v1_equilibration_and_guaranteed_bound() {
 /// displacement and the contact solution.
 fn solve_with_contact(problem: &Problem, joint: &ContactJoint, delta: f64) -> (Vec<[f64; 2]>, ContactSolution) {
     let disc = problem.discretise();
-    let settings = Continuation { delta, delta_start: 0.1, newton: NewtonOptions::default() };
+    let settings = Continuation { delta, delta_start: 0.1, newton: NewtonOptions::default(), path: None };
     let solution = solve_by_continuation(problem, &disc, joint, &settings).unwrap();
     (problem.displacement(&disc, &solution.x), solution)
 }

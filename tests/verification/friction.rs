@@ -75,7 +75,7 @@ fn stick_and_slip_are_exact() {
                         let disc = problem.discretise();
                         let parameters = NitscheParameters { theta, ..Default::default() };
                         let joint = ContactJoint::uniform(vec![BOTTOM], Vec::new(), law, parameters);
-                        let settings = Continuation { delta, delta_start: 1e-2, newton: NewtonOptions::default() };
+                        let settings = Continuation { delta, delta_start: 1e-2, newton: NewtonOptions::default(), path: None };
                         let solution = solve_by_continuation(&problem, &disc, &joint, &settings)
                             .unwrap_or_else(|e| panic!("{law:?} {case} P{order} θ = {theta} δ = {delta}: {e}"));
                         let u = problem.displacement(&disc, &solution.x);
@@ -137,7 +137,7 @@ fn block_on_an_incline_sticks_below_the_friction_angle_and_slides_above() {
             let disc = problem.discretise();
             let joint = incline_joint(friction);
             let delta_start = 0.1 * problem.stress_scale(&disc.topology);
-            let settings = Continuation { delta: 0.0, delta_start, newton: NewtonOptions::default() };
+            let settings = Continuation { delta: 0.0, delta_start, newton: NewtonOptions::default(), path: None };
             let result = solve_by_continuation(&problem, &disc, &joint, &settings);
             match (sticks, result) {
                 (true, Ok(solution)) => {
@@ -263,7 +263,7 @@ fn the_estimator_vanishes_at_the_exact_stick_and_slip_solutions() {
                 let problem = problem(4, order, a, b, shear);
                 let disc = problem.discretise();
                 let joint = ContactJoint::uniform(vec![BOTTOM], Vec::new(), law, NitscheParameters::default());
-                let settings = Continuation { delta: 0.0, delta_start: 1e-2, newton: NewtonOptions::default() };
+                let settings = Continuation { delta: 0.0, delta_start: 1e-2, newton: NewtonOptions::default(), path: None };
                 let solution = solve_by_continuation(&problem, &disc, &joint, &settings).expect("Newton converges");
                 let state = solution.linearisation(&problem, &disc);
                 let (e, _) = estimate_and_reference(&problem, &disc, &joint, &solution.x, &state, false);
@@ -353,6 +353,7 @@ fn a_tampered_tangential_traction_fails_the_checks() {
         delta: 0.0,
         delta_start: 0.1 * problem.stress_scale(&disc.topology),
         newton: NewtonOptions::default(),
+        path: None,
     };
     let solution = solve_by_continuation(&problem, &disc, &joint, &settings).expect("Newton converges");
     let u = problem.displacement(&disc, &solution.x).into();
@@ -479,7 +480,7 @@ fn solve_manufactured(n: usize, order: usize) -> (f64, f64, f64, f64) {
     let disc = problem.discretise();
     let joint =
         ContactJoint::uniform(vec![BOTTOM], Vec::new(), JointLaw::Coulomb { friction: m::F }, Default::default());
-    let settings = Continuation { delta: 0.0, delta_start: 0.1, newton: NewtonOptions::default() };
+    let settings = Continuation { delta: 0.0, delta_start: 0.1, newton: NewtonOptions::default(), path: None };
     let solution =
         solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("n = {n} P{order}: {e}"));
     let u = problem.displacement(&disc, &solution.x);

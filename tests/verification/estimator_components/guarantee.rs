@@ -113,7 +113,7 @@ fn damped_and_perturbed_contact_iterates_are_refused_or_bounded() {
         let problem = v3::problem(unit_square(8, order));
         let disc = problem.discretise();
         let joint = ContactJoint::frictionless(vec![BOTTOM], NitscheParameters::default());
-        let warm = Continuation { delta: 1e-2, delta_start: 0.1, newton: NewtonOptions::default() };
+        let warm = Continuation { delta: 1e-2, delta_start: 0.1, newton: NewtonOptions::default(), path: None };
         let x0 = solve_by_continuation(&problem, &disc, &joint, &warm).unwrap().x;
         let contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: DELTA });
         let (xs, _) = full_newton(&contact, x0.clone(), 1);

@@ -27,7 +27,7 @@ fn v3_newton_rows(order: usize, delta: f64, warm_delta: Option<f64>, max_steps: 
     let x0 = match warm_delta {
         None => vec![0.0; disc.dofs.n_free],
         Some(d) => {
-            let settings = Continuation { delta: d, delta_start: 0.1, newton: NewtonOptions::default() };
+            let settings = Continuation { delta: d, delta_start: 0.1, newton: NewtonOptions::default(), path: None };
             solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("{e}")).x
         }
     };

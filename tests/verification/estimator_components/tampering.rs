@@ -71,7 +71,7 @@ fn tampered_reconstruction_fails_the_checks() {
     let problem = v3::problem(unit_square(4, 2));
     let disc = problem.discretise();
     let joint = ContactJoint::frictionless(vec![BOTTOM], NitscheParameters::default());
-    let settings = Continuation { delta: 1e-3, delta_start: 0.1, newton: NewtonOptions::default() };
+    let settings = Continuation { delta: 1e-3, delta_start: 0.1, newton: NewtonOptions::default(), path: None };
     let run = solve_with_contact(&problem, &disc, &joint, &settings);
     let state =
         Linearisation { nitsche: &run.nitsche, smoothing: Smoothing { delta: run.delta }, u_prev: run.u_prev.clone() };

@@ -1,0 +1,239 @@
+//! The load path (docs/method.md §1.11): the dam is built, its weight on the closed joint, and
+//! then the other loads come on with a load factor λ from 0 to 1,
+//!
+//!   b(λ) = b_w + λ (b − b_w),   p_u(λ) = λ p_u,
+//!
+//! b_w the load vector of the self-weight alone (with the Dirichlet data) and b that of every
+//! load. λ = 0 is solved from rest along the δ path, then λ grows by Δλ, each state from the
+//! last converged one at the target δ, the crack that the reservoir fills settled at every λ
+//! (it grows with the loads). Δλ doubles after a step of few Newton steps and halves after a
+//! failed one, down to [`MIN_STEP`]: a path that cannot pass λ* < 1 with that step ends there,
+//! and the state at λ* says why ([`Limit`]): the joint slides, opens over its length, or the
+//! crack runs on. A limit with none of these is a numerical failure, not a verdict.
+
+use super::{continuation, settle_crack_to, ContactError, ContactProblem, Crack, Cracks, Stage};
+use crate::solve::NewtonOptions;
+use serde::Serialize;
+
+/// The first load step Δλ.
+pub const FIRST_STEP: f64 = 0.25;
+/// The smallest load step: a path that cannot pass λ* with it ends at λ*.
+pub const MIN_STEP: f64 = 1.0 / 512.0;
+/// Below λ = 1 the crack settles to this share of the joint's length (at λ = 1, to
+/// [`Crack::TOLERANCE`]): it only carries the path to the next load step.
+const CRACK_TOLERANCE: f64 = 1e-3;
+/// A step whose first Newton solve takes at most this many steps doubles Δλ.
+const EASY_STEPS: usize = 8;
+/// Newton steps per solve on the path: a step that needs more is halved.
+const STEP_ITERATIONS: usize = 60;
+/// At the limit, FS_LE of the joint below 1 + this means that it slides.
+const SLIDING_MARGIN: f64 = 0.02;
+/// At the limit, a contact length below this share of the joint means that it has lifted off.
+const LIFT_OFF: f64 = 0.02;
+
+/// How the loads come on: the self-weight alone, then the rest by λ ([`follow`]).
+#[derive(Debug, Clone, Copy)]
+pub struct LoadPath {
+    /// The body force per unit mass of the self-weight, (0, −g) \[m/s²\].
+    pub weight: [f64; 2],
+    /// Called with every converged state (progress).
+    pub trace: Option<fn(&PathPoint)>,
+}
+
+/// A converged state of the load path.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct PathPoint {
+    pub load_factor: f64,
+    /// The crack of the first uplift diagram whose crack is filled \[m\] (None: none).
+    pub crack: Option<f64>,
+    /// N = ∫ p_c, T = ∫ t^t over the joint \[N/m\], and its contact length \[m\].
+    pub normal_force: f64,
+    pub tangential_force: f64,
+    pub contact_length: f64,
+    /// FS_LE of the whole joint (None without friction or shear).
+    pub sliding_safety_factor: Option<f64>,
+    /// Newton steps of this load step, its crack solves included.
+    pub newton_steps: usize,
+}
+
+/// Why the path ended at λ* < 1: what the state at λ* shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Limit {
+    /// FS_LE ≤ 1 + [`SLIDING_MARGIN`]: the joint's strength is used up.
+    Sliding,
+    /// The contact length is below [`LIFT_OFF`] of the joint: it overturns or floats.
+    LiftOff,
+    /// The crack that the reservoir fills did not settle at λ* + Δλ: it runs on.
+    CrackRuns,
+}
+
+/// The load path could not pass λ* < 1, and the state there shows that the joint does not
+/// hold: a result, not a failure of the solver.
+#[derive(Debug, Clone, thiserror::Error)]
+#[error("{}", describe(self))]
+pub struct NoEquilibrium {
+    pub load_factor: f64,
+    pub limit: Limit,
+    /// The joint's length \[m\] and, at λ*, its state.
+    pub joint_length: f64,
+    pub at_limit: PathPoint,
+    pub path: Vec<PathPoint>,
+}
+
+fn describe(v: &NoEquilibrium) -> String {
+    let at = &v.at_limit;
+    let why = match v.limit {
+        Limit::Sliding => format!(
+            "the joint slides: FS_LE = {:.3} at λ* with N = {:.4e} N/m, T = {:.4e} N/m",
+            at.sliding_safety_factor.unwrap_or(f64::NAN),
+            at.normal_force,
+            at.tangential_force
+        ),
+        Limit::LiftOff => format!(
+            "the joint lifts off: {:.3} m of {:.3} m remain in contact at λ*",
+            at.contact_length, v.joint_length
+        ),
+        Limit::CrackRuns => format!(
+            "the crack at the heel reaches {:.3} m of {:.3} m at λ* and, filled with the reservoir's pressure, \
+             runs on beyond it",
+            at.crack.unwrap_or(0.0),
+            v.joint_length
+        ),
+    };
+    format!("no equilibrium beyond λ* = {:.3} of the loads that follow the self-weight: {why}", v.load_factor)
+}
+
+/// The states of a path and the solve that ends it.
+pub struct Followed {
+    pub x: Vec<f64>,
+    pub stages: Vec<Stage>,
+    pub cracks: Cracks,
+    pub path: Vec<PathPoint>,
+}
+
+/// The load path on `contact` from `x0` (usually rest) along the δ path from `delta_start` to
+/// `delta` at λ = 0, then at δ, each converged state shown to `trace`. Ends at λ = 1 with the state there, or with [`ContactError::NoEquilibrium`] or
+/// [`ContactError::PathStalled`] at λ*.
+pub fn follow(
+    contact: &mut ContactProblem,
+    (delta, delta_start): (f64, f64),
+    x0: Vec<f64>,
+    options: &NewtonOptions,
+    trace: Option<fn(&PathPoint)>,
+) -> Result<Followed, ContactError> {
+    let joint_length = contact.nitsche.faces.iter().map(|f| f.length).sum();
+    contact.set_load_factor(0.0);
+    let (mut x, mut stages) = continuation(contact, delta, delta_start, x0, options)?;
+    let steps = stages.iter().map(|s| s.report.iterations.len()).sum();
+    let mut path = Vec::new();
+    reached(&mut path, point(contact, &x, 0.0, steps), trace);
+    let on_path = NewtonOptions { max_iter: options.max_iter.min(STEP_ITERATIONS), ..*options };
+    let (mut lambda, mut step, mut cracks) = (0.0, FIRST_STEP, Vec::new());
+    while lambda < 1.0 {
+        let trial = (lambda + step).min(1.0);
+        let kept: Vec<f64> = contact.nitsche.uplift.iter().map(|up| up.diagram.crack).collect();
+        contact.set_load_factor(trial);
+        let tolerance = if trial == 1.0 { Crack::TOLERANCE } else { CRACK_TOLERANCE };
+        let attempt = solve_at(contact, x.clone(), &on_path, tolerance);
+        match attempt {
+            Ok((y, more, found)) => {
+                let steps = more.iter().map(|s| s.report.iterations.len()).sum();
+                let first = more[0].report.iterations.len();
+                (x, lambda, cracks) = (y, trial, found);
+                stages.extend(more);
+                reached(&mut path, point(contact, &x, lambda, steps), trace);
+                if first <= EASY_STEPS {
+                    step = (2.0 * step).min(FIRST_STEP);
+                }
+            }
+            Err(failure) => {
+                for (up, crack) in contact.nitsche.uplift.iter_mut().zip(kept) {
+                    up.diagram.crack = crack;
+                }
+                step *= 0.5;
+                if step < MIN_STEP {
+                    contact.set_load_factor(lambda);
+                    return Err(limit(path, failure, joint_length));
+                }
+            }
+        }
+    }
+    Ok(Followed { x, stages, cracks, path })
+}
+
+/// The state `point` reported to `trace`, and kept.
+fn reached(path: &mut Vec<PathPoint>, point: PathPoint, trace: Option<fn(&PathPoint)>) {
+    if let Some(trace) = trace {
+        trace(&point);
+    }
+    path.push(point);
+}
+
+/// Newton at the current λ from `x`, and the crack settled there to `tolerance` L.
+fn solve_at(
+    contact: &mut ContactProblem,
+    x: Vec<f64>,
+    options: &NewtonOptions,
+    tolerance: f64,
+) -> Result<(Vec<f64>, Vec<Stage>, Cracks), ContactError> {
+    let report = crate::solve::newton(contact, x, options)?;
+    let mut stages = vec![Stage { delta: contact.smoothing.delta, report }];
+    let x = stages[0].report.x.clone();
+    if !contact.nitsche.uplift.iter().any(|up| up.diagram.crack_filled) {
+        return Ok((x, stages, Vec::new()));
+    }
+    let (x, more, cracks) = settle_crack_to(contact, x, options, tolerance)?;
+    stages.extend(more);
+    Ok((x, stages, cracks))
+}
+
+/// The state at λ of the free unknowns `x`.
+fn point(contact: &ContactProblem, x: &[f64], load_factor: f64, newton_steps: usize) -> PathPoint {
+    let solution = contact.solution(x.to_vec(), Vec::new(), Vec::new());
+    let forces = solution.forces(|_| true);
+    let filled = contact.nitsche.uplift.iter().find(|up| up.diagram.crack_filled);
+    PathPoint {
+        load_factor,
+        crack: filled.map(|up| solution.crack_from_heel(&up.diagram.line)),
+        normal_force: forces.normal_force,
+        tangential_force: forces.tangential_force,
+        contact_length: forces.contact_length,
+        sliding_safety_factor: forces.sliding_safety_factor,
+        newton_steps,
+    }
+}
+
+/// The end of a path that could not pass λ* (the last point of `path`), judged by its state
+/// there and by the `failure` of the step beyond it.
+fn limit(path: Vec<PathPoint>, failure: ContactError, joint_length: f64) -> ContactError {
+    let at = *path.last().expect("the path has its state at λ = 0");
+    let limit = if at.contact_length < LIFT_OFF * joint_length {
+        Some(Limit::LiftOff)
+    } else if at.sliding_safety_factor.is_some_and(|f| f <= 1.0 + SLIDING_MARGIN) {
+        Some(Limit::Sliding)
+    } else if matches!(failure, ContactError::Crack { .. } | ContactError::CrackJump { .. }) || crack_runs(&path) {
+        Some(Limit::CrackRuns)
+    } else {
+        None
+    };
+    match limit {
+        Some(limit) => ContactError::NoEquilibrium(NoEquilibrium {
+            load_factor: at.load_factor,
+            limit,
+            joint_length,
+            at_limit: at,
+            path,
+        }),
+        None => ContactError::PathStalled { load_factor: at.load_factor, state: at, source: Box::new(failure) },
+    }
+}
+
+/// Whether the crack grew over the last steps of the path faster than the loads: its last
+/// increment, per unit of λ, more than ten times its mean rate from λ = 0.
+fn crack_runs(path: &[PathPoint]) -> bool {
+    let [.., a, b] = path else { return false };
+    let (Some(ca), Some(cb)) = (a.crack, b.crack) else { return false };
+    let rate = (cb - ca) / (b.load_factor - a.load_factor);
+    rate > 0.0 && rate > 10.0 * cb / b.load_factor
+}
