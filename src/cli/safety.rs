@@ -6,8 +6,9 @@
 use super::adapt::{run_sequence, BestStep};
 use super::common::{output_dir, remove_earlier_outputs, stem, validate_overrides, Input, Output, Progress};
 use super::output::{Units, UNITS};
-use crate::adapt::Step;
+use crate::adapt::{AdaptError, Step};
 use crate::contact::{
+    ContactError,
     reduce_strength, ContactJoint, ContactSolution, JointLine, Resultant, StrengthReduction, STRENGTH_TOLERANCE,
 };
 use crate::elasticity::{Discretisation, Problem};
@@ -124,18 +125,55 @@ pub fn run(args: Args) -> Result<()> {
         return Ok(());
     }
     remove_earlier_outputs(&dir, &stem(&scene.source), &[])?;
-    let mut reports = Vec::new();
+    // each combination on its own: one that does not hold or whose solve fails gets its row,
+    // and the report is written again after every combination
+    let (mut reports, mut worst): (Vec<Combination>, Option<anyhow::Error>) = (Vec::new(), None);
     for ((name, case), line) in cases.iter().zip(lines) {
         let name = name.expect("a combination");
         progress.say(&format!("combination {name}"));
         let sub = output_dir(dir.join(name))?;
-        let (report, table) = analyse(case, &args, line, &sub).with_context(|| format!("combination {name}"))?;
-        write_files(&sub, &report, &table)?;
-        reports.push(Combination { name: name.to_string(), report });
+        let outcome = match analyse(case, &args, line, &sub) {
+            Ok((report, table)) => {
+                write_files(&sub, &report, &table)?;
+                Outcome::Solved(Box::new(report))
+            }
+            Err(e) => {
+                let e = e.context(format!("combination {name}"));
+                let outcome = match super::exit_code(&e) {
+                    super::DOES_NOT_HOLD => Outcome::DoesNotHold { load_factor: limit(&e), verdict: format!("{e:#}") },
+                    super::SOLVER_FAILED => Outcome::SolverFailed { error: format!("{e:#}") },
+                    _ => return Err(e),
+                };
+                progress.say(&format!("{}: {e:#}", outcome.label()));
+                worst = match worst {
+                    Some(w) if super::exit_code(&w) <= super::exit_code(&e) => Some(w),
+                    _ => Some(e),
+                };
+                outcome
+            }
+        };
+        reports.push(Combination { name: name.to_string(), outcome });
+        write_combinations(&dir, &scene, &reports)?;
     }
-    write_combinations(&dir, &scene, &reports, args.input.quiet)?;
+    if !args.input.quiet {
+        println!("{}", text_columns(&combination_rows(&reports)));
+    }
     progress.say(&format!("results in {} (safety.json, report.md; one directory per combination)", dir.display()));
-    Ok(())
+    match worst {
+        Some(e) => Err(e.context("not every combination has a result (report.md lists them)")),
+        None => Ok(()),
+    }
+}
+
+/// λ* of a combination that does not hold, where the load path ended.
+fn limit(e: &anyhow::Error) -> Option<f64> {
+    e.chain().find_map(|link| match link.downcast_ref::<ContactError>() {
+        Some(ContactError::NoEquilibrium(v)) => Some(v.load_factor),
+        _ => match link.downcast_ref::<AdaptError>() {
+            Some(AdaptError::Contact(ContactError::NoEquilibrium(v))) => Some(v.load_factor),
+            _ => None,
+        },
+    })
 }
 
 /// The scene with the flags' tolerance and steps for the adaptive run, checked.
@@ -159,25 +197,52 @@ fn scene(args: &Args) -> Result<Scene> {
     Ok(scene)
 }
 
-/// `safety.json` and `report.md` of the combinations in `dir`, and their table on stdout
-/// unless `quiet`.
-fn write_combinations(dir: &Path, scene: &Scene, reports: &[Combination], quiet: bool) -> Result<()> {
+/// `safety.json` and `report.md` of the combinations in `dir` finished so far.
+fn write_combinations(dir: &Path, scene: &Scene, reports: &[Combination]) -> Result<()> {
     let rows = combination_rows(reports);
     let json = serde_json::to_string_pretty(&Combinations { units: UNITS, combinations: reports })?;
     write_output(&dir.join("safety.json"), json.as_bytes())?;
     write_output(&dir.join("report.md"), combinations_markdown(&scene.source, &rows, reports).as_bytes())?;
-    if !quiet {
-        println!("{}", text_columns(&rows));
-    }
     Ok(())
 }
 
-/// One combination's report, as the combined `safety.json` lists it.
+/// One combination's outcome, as the combined `safety.json` lists it.
 #[derive(Serialize)]
 struct Combination {
     name: String,
     #[serde(flatten)]
-    report: Report,
+    outcome: Outcome,
+}
+
+/// What a combination gave: its report, the verdict that the dam does not hold under it (the
+/// load path ended at λ* < 1, or the loads need more than the joint alone can carry: λ*
+/// None), or the failure of its solve.
+#[derive(Serialize)]
+#[serde(tag = "outcome", rename_all = "snake_case")]
+enum Outcome {
+    Solved(Box<Report>),
+    DoesNotHold { load_factor: Option<f64>, verdict: String },
+    SolverFailed { error: String },
+}
+
+impl Outcome {
+    /// The outcome in a word or two.
+    fn label(&self) -> String {
+        match self {
+            Outcome::Solved(_) => "holds".to_string(),
+            Outcome::DoesNotHold { load_factor: Some(l), .. } => format!("does not hold beyond λ* = {l:.3}"),
+            Outcome::DoesNotHold { load_factor: None, .. } => "does not hold".to_string(),
+            Outcome::SolverFailed { .. } => "solver failed".to_string(),
+        }
+    }
+
+    /// The report of a combination that has one.
+    fn report(&self) -> Option<&Report> {
+        match self {
+            Outcome::Solved(r) => Some(r),
+            _ => None,
+        }
+    }
 }
 
 /// What `safety.json` records of a scene with load combinations.
@@ -403,6 +468,7 @@ fn write_files(dir: &Path, report: &Report, table: &[[String; 3]]) -> Result<()>
 fn combination_rows(reports: &[Combination]) -> Vec<Vec<String>> {
     let header = [
         "combination",
+        "outcome",
         "crack [m]",
         "N [N/m]",
         "T [N/m]",
@@ -418,10 +484,17 @@ fn combination_rows(reports: &[Combination]) -> Vec<Vec<String>> {
     ];
     let mut rows = vec![header.map(String::from).to_vec()];
     let optional = |v: Option<f64>, format: fn(f64) -> String| v.map_or("-".to_string(), format);
-    for Combination { name, report: r } in reports {
+    for Combination { name, outcome } in reports {
+        let Some(r) = outcome.report() else {
+            let mut row = vec![name.clone(), outcome.label()];
+            row.resize(header.len(), "-".to_string());
+            rows.push(row);
+            continue;
+        };
         let f = r.resultant;
         rows.push(vec![
             name.clone(),
+            outcome.label(),
             format!("{:.4}", r.crack_length),
             optional(f.map(|f| f.normal_force), |v| format!("{v:.4e}")),
             optional(f.map(|f| f.tangential_force), |v| format!("{v:.4e}")),
@@ -461,11 +534,20 @@ fn combinations_markdown(scene: &Path, rows: &[Vec<String>], reports: &[Combinat
            its own directory.\n\n";
     let cells = |row: &[String]| row.iter().map(|c| c.replace('|', "\\|")).collect::<Vec<_>>().join(" | ");
     md += &format!("| {} |\n|{}\n", cells(&rows[0]), "---|".repeat(rows[0].len()));
-    for row in &rows[1..] {
-        md += &format!("| [{}]({}/report.md) | {} |\n", row[0], row[0], cells(&row[1..]));
+    for (row, c) in rows[1..].iter().zip(reports) {
+        let name = match c.outcome {
+            Outcome::Solved(_) => format!("[{}]({}/report.md)", row[0], row[0]),
+            _ => row[0].clone(),
+        };
+        md += &format!("| {name} | {} |\n", cells(&row[1..]));
     }
-    for Combination { name, report: r } in reports {
-        if let Some(b) = &r.best_step {
+    for Combination { name, outcome } in reports {
+        match outcome {
+            Outcome::DoesNotHold { verdict, .. } => md += &format!("\n{name}: the dam does not hold. {verdict}.\n"),
+            Outcome::SolverFailed { error } => md += &format!("\n{name}: no result, the solver failed. {error}.\n"),
+            Outcome::Solved(_) => {}
+        }
+        if let Some((b, r)) = outcome.report().and_then(|r| r.best_step.as_ref().map(|b| (b, r))) {
             md += &format!(
                 "\n{name}: step {} has a smaller η_tot than the last mesh, {:.3e} against {:.3e} Pa m (its report).\n",
                 b.step, b.eta_tot, r.eta_tot
@@ -606,7 +688,8 @@ fn markdown(r: &Report, table: &[[String; 3]]) -> String {
 #[cfg(test)]
 mod tests {
     use super::{
-        combination_rows, combinations_markdown, markdown, table, BaseStresses, BestStep, Combination, Report, StepRow,
+        combination_rows, combinations_markdown, markdown, table, BaseStresses, BestStep, Combination, Outcome, Report,
+        StepRow,
         UNITS,
     };
     use crate::contact::JointLine;
@@ -671,8 +754,10 @@ mod tests {
         assert!(adaptive.contains(sentence) && adaptive.contains("`dam_00.vtu`"), "{md}");
         let without = report(None);
         assert!(!markdown(&without, &table(&without)).contains("smallest η_tot"));
-        let reports =
-            [Combination { name: "flood".into(), report: with }, Combination { name: "usual".into(), report: without }];
+        let reports = [
+            Combination { name: "flood".into(), outcome: Outcome::Solved(Box::new(with)) },
+            Combination { name: "usual".into(), outcome: Outcome::Solved(Box::new(without)) },
+        ];
         let md = combinations_markdown(Path::new("dam.toml"), &combination_rows(&reports), &reports);
         assert!(
             md.contains("\nflood: step 0 has a smaller η_tot than the last mesh, 1.000e0 against 2.000e0 Pa m"),
