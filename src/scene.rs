@@ -697,7 +697,8 @@ impl Scene {
     pub fn load_path(&self) -> Option<LoadPath> {
         let uplift = self.uplift.is_some() || self.joints.values().any(|j| j.uplift.is_some());
         let g = self.loads.gravity;
-        (self.contact.load_path && g > 0.0 && (uplift || self.has_friction())).then_some(LoadPath { weight: [0.0, -g], trace: None })
+        (self.contact.load_path && g > 0.0 && (uplift || self.has_friction()))
+            .then_some(LoadPath { weight: [0.0, -g], trace: None })
     }
 
     /// The `[contact]` keys that only `damfem solve` reads: the adaptive loop chooses δ itself
@@ -1045,14 +1046,17 @@ impl Scene {
         let friction = laws().map(|(_, c)| c.law.capacity(normal.max(0.0), 0.0)).fold(0.0, f64::max);
         let capacity = friction + laws().map(|(&tag, c)| c.law.capacity(0.0, length(tag))).sum::<f64>();
         if normal <= 0.0 || shear.abs() > capacity {
-            return Err(SceneError::NoEquilibrium { path: self.source.clone(), message: format!(
-                "no equilibrium: nothing but the joint holds the body, and the loads push along it with \
+            return Err(SceneError::NoEquilibrium {
+                path: self.source.clone(),
+                message: format!(
+                    "no equilibrium: nothing but the joint holds the body, and the loads push along it with \
                  |T| = {:.4e} N/m against a normal force N = {normal:.4e} N/m, more than the joint law {} \
                  can carry ({capacity:.4e} N/m); raise contact.friction, contact.cohesion or \
                  contact.threshold, or support the body with a Dirichlet curve",
-                shear.abs(),
-                joint.laws.iter().map(|c| format!("{:?}", c.law)).collect::<Vec<_>>().join(", ")
-            )});
+                    shear.abs(),
+                    joint.laws.iter().map(|c| format!("{:?}", c.law)).collect::<Vec<_>>().join(", ")
+                ),
+            });
         }
         Ok(())
     }

@@ -2,9 +2,11 @@
 //! inside a loop on the regularisation δ stopped by (S_reg).
 
 use super::{AdaptError, AdaptSettings};
-use crate::contact::projection::Smoothing;
 use crate::contact::path::follow;
-use crate::contact::{settle_crack, ContactJoint, LoadPath, ContactProblem, Crack, Cracks, Linearisation, Solution, Stage};
+use crate::contact::projection::Smoothing;
+use crate::contact::{
+    settle_crack, ContactJoint, ContactProblem, Crack, Cracks, Linearisation, LoadPath, Solution, Stage,
+};
 use crate::elasticity::{Discretisation, Problem, Refined};
 use crate::estimate::estimators::GlobalEstimators;
 use crate::estimate::{estimate_displacement, Estimate};
@@ -144,9 +146,10 @@ impl Trend {
 pub enum StartDelta {
     /// The δ the previous mesh ended with, and its linearisation trend.
     Kept(f64, Option<Trend>),
-    /// The first mesh: δ₀ from the first Newton iterate, given the stress scale S of the loads,
-    /// that iterate from the end of the load `path` if there is one (followed at δ = 10⁻⁴ S
-    /// from delta0 · S, as `damfem solve` does).
+    /// The first mesh: δ₀ from the first Newton iterate, given the stress scale S of the loads;
+    /// with a load `path`, its end instead, followed from delta0 · S to δ₀ = 10⁻⁴ S at λ = 0
+    /// and at δ₀ beyond, as `damfem solve` does (max |P_γ| over an open crack is γ times its
+    /// opening, no stress scale).
     FirstIterate { load_scale: f64, path: Option<LoadPath> },
 }
 
@@ -219,18 +222,15 @@ pub fn contact_level<'a>(
     let mut stages = Vec::new();
     let (x, delta, trend) = match start {
         StartDelta::Kept(_, trend) => (x0, delta, trend),
-        StartDelta::FirstIterate { load_scale, path } => {
-            let x0 = match path {
-                Some(path) => {
-                    contact.stage_loads(path.weight);
-                    let deltas = (PATH_DELTA * load_scale, delta);
-                    let followed = follow(&mut contact, deltas, x0, newton, path.trace)?;
-                    stages.extend(followed.stages);
-                    contact.set_delta(delta);
-                    followed.x
-                }
-                None => x0,
-            };
+        // the end of the load path at its δ, which the level goes on from
+        StartDelta::FirstIterate { load_scale, path: Some(path) } => {
+            contact.stage_loads(path.weight);
+            let deltas = (PATH_DELTA * load_scale, delta);
+            let followed = follow(&mut contact, deltas, x0, newton, path.trace)?;
+            stages.extend(followed.stages);
+            (followed.x, PATH_DELTA * load_scale, None)
+        }
+        StartDelta::FirstIterate { load_scale, path: None } => {
             let (stage, delta0) = first_iterate(&contact, x0, newton, settings.delta0, load_scale)?;
             let x1 = stage.report.x.clone();
             stages.push(stage);

@@ -358,7 +358,10 @@ pub fn run(
             None => level::linear_level(&problem, &disc)?,
             Some(joint) => {
                 let start = kept.map_or_else(
-                    || StartDelta::FirstIterate { load_scale: problem.stress_scale(&disc.topology), path: model.load_path() },
+                    || StartDelta::FirstIterate {
+                        load_scale: problem.stress_scale(&disc.topology),
+                        path: model.load_path(),
+                    },
                     |(delta, trend)| StartDelta::Kept(delta, trend),
                 );
                 let stopping = if last { Stopping::Residual } else { Stopping::Linearisation };

@@ -260,6 +260,13 @@ pub fn run_sequence(
             Refinement::Uniform => "uniform",
         };
         let hint = result.as_ref().err().and_then(|e| remesh_hint(e, writer.history.len(), scene.adapt.refinement));
+        if let (None, Err(source)) = (&hint, result) {
+            // the error kept as the source: its outcome (no equilibrium, a failed solve) sets the exit code
+            let at = format!("{}: {kind} step {}", scene.source.display(), writer.history.len());
+            return Err(
+                anyhow::Error::new(source).context(format!("{at} (the steps before it are in {})", dir.display()))
+            );
+        }
         anyhow::bail!(
             "{}: {kind} step {}: {e}; the steps before it are in {}{}",
             scene.source.display(),

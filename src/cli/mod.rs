@@ -83,7 +83,8 @@ pub const SOLVER_FAILED: i32 = 4;
 
 /// The exit code of the error `e`: [`DOES_NOT_HOLD`], [`SOLVER_FAILED`], or 1.
 fn exit_code(e: &anyhow::Error) -> i32 {
-    let of_contact = |c: &ContactError| if matches!(c, ContactError::NoEquilibrium(_)) { DOES_NOT_HOLD } else { SOLVER_FAILED };
+    let of_contact =
+        |c: &ContactError| if matches!(c, ContactError::NoEquilibrium(_)) { DOES_NOT_HOLD } else { SOLVER_FAILED };
     let code = e.chain().find_map(|link| {
         if let Some(c) = link.downcast_ref::<ContactError>() {
             return Some(of_contact(c));
@@ -96,7 +97,9 @@ fn exit_code(e: &anyhow::Error) -> i32 {
         }
         match link.downcast_ref::<AdaptError>()? {
             AdaptError::Contact(c) => Some(of_contact(c)),
-            AdaptError::Newton { .. } | AdaptError::Finish(_) | AdaptError::Regularisation { .. } => Some(SOLVER_FAILED),
+            AdaptError::Newton { .. } | AdaptError::Finish(_) | AdaptError::Regularisation { .. } => {
+                Some(SOLVER_FAILED)
+            }
             _ => None,
         }
     });

@@ -1,6 +1,8 @@
 //! ParaView files and summaries of one solution, shared by `solve` and `adapt`.
 
-use crate::contact::{CoarseSolve, ContactSolution, Crack, FaceState, JointForces, JointLaw, JointLine, Resultant};
+use crate::contact::{
+    CoarseSolve, ContactSolution, Crack, FaceState, JointForces, JointLaw, JointLine, PathPoint, Resultant,
+};
 use crate::elasticity::kernels::{principal, von_mises};
 use crate::elasticity::{Discretisation, Problem};
 use crate::estimate::estimators::{GlobalEstimators, NAMES};
@@ -226,6 +228,9 @@ pub struct ContactSummary {
     /// Nested iteration: the unknowns and Newton steps of each coarser mesh whose solution
     /// started Newton, coarsest first (empty: from u = 0).
     coarse: Vec<CoarseSolve>,
+    /// The converged states of the load path from rest (docs/method.md §1.11): λ, the crack,
+    /// N, T, the contact length, FS_LE and the Newton steps of each (empty: every load at once).
+    load_path: Vec<PathPoint>,
     max_pressure: f64,
     max_regularisation_error: f64,
     /// Each curve of Γ_C: its law, Nitsche parameters and forces.
@@ -368,6 +373,7 @@ impl ContactSummary {
             newton_steps: c.newton_steps(),
             stages: c.stages.iter().map(|st| (st.delta, st.report.iterations.len())).collect(),
             coarse: c.coarse.clone(),
+            load_path: c.path.clone(),
             max_pressure: c.faces.iter().map(|f| f.pressure).fold(0.0, f64::max),
             max_regularisation_error: c.faces.iter().map(|f| f.regularisation_error).fold(0.0, f64::max),
             curves: CurveSummary::of_each(mesh, c),

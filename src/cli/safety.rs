@@ -8,8 +8,8 @@ use super::common::{output_dir, remove_earlier_outputs, stem, validate_overrides
 use super::output::{Units, UNITS};
 use crate::adapt::{AdaptError, Step};
 use crate::contact::{
-    ContactError,
-    reduce_strength, ContactJoint, ContactSolution, JointLine, Resultant, StrengthReduction, STRENGTH_TOLERANCE,
+    reduce_strength, ContactError, ContactJoint, ContactSolution, JointLine, Resultant, StrengthReduction,
+    STRENGTH_TOLERANCE,
 };
 use crate::elasticity::{Discretisation, Problem};
 use crate::io::atomic::write_output;
@@ -108,15 +108,20 @@ pub fn run(args: Args) -> Result<()> {
     } else {
         names.iter().map(|n| Ok((Some(n.as_str()), scene.combination(n)?))).collect::<Result<_>>()?
     };
-    // every case is checked before anything is written
+    // every case is checked before anything is written; one whose loads need more than the
+    // joint alone can carry already has its verdict
     let mut lines = Vec::new();
     for (_, case) in &cases {
-        let line = joint_line(case, &args.input)?;
-        lines.push((line, average_length(args.average_length, &line)?));
+        let line = match joint_line(case, &args.input) {
+            Err(e) if !names.is_empty() && super::exit_code(&e) == super::DOES_NOT_HOLD => Err(e),
+            line => Ok(line?),
+        };
+        lines.push(line.and_then(|line| Ok((line, average_length(args.average_length, &line)?))));
     }
     let dir = args.output.dir(&scene)?;
     if names.is_empty() {
-        let (report, table) = analyse(&cases[0].1, &args, lines[0], &dir)?;
+        let line = lines.remove(0)?;
+        let (report, table) = analyse(&cases[0].1, &args, line, &dir)?;
         write_files(&dir, &report, &table)?;
         if !args.input.quiet {
             println!("{}", text_table(&table));
@@ -132,7 +137,7 @@ pub fn run(args: Args) -> Result<()> {
         let name = name.expect("a combination");
         progress.say(&format!("combination {name}"));
         let sub = output_dir(dir.join(name))?;
-        let outcome = match analyse(case, &args, line, &sub) {
+        let outcome = match line.and_then(|line| analyse(case, &args, line, &sub)) {
             Ok((report, table)) => {
                 write_files(&sub, &report, &table)?;
                 Outcome::Solved(Box::new(report))
@@ -689,8 +694,7 @@ fn markdown(r: &Report, table: &[[String; 3]]) -> String {
 mod tests {
     use super::{
         combination_rows, combinations_markdown, markdown, table, BaseStresses, BestStep, Combination, Outcome, Report,
-        StepRow,
-        UNITS,
+        StepRow, UNITS,
     };
     use crate::contact::JointLine;
     use std::path::Path;

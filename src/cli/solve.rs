@@ -1,7 +1,7 @@
 //! `damfem solve`: mesh, assemble, solve (with Nitsche contact when the scene has Γ_C),
 //! write ParaView files, `summary.json` and `history.json`.
 
-use super::common::{SolverFailed, blame_overrides, remove_earlier_outputs, stem, validate_overrides, Input, Output};
+use super::common::{blame_overrides, remove_earlier_outputs, stem, validate_overrides, Input, Output, SolverFailed};
 use super::output::{write_results, EstimateSummary, Results, Summary, Units, UNITS};
 use crate::contact::{
     reduce_strength, ContactError, ContactJoint, Continuation, Solution, Stage, StrengthReduction, STRENGTH_TOLERANCE,

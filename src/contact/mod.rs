@@ -27,8 +27,8 @@ use crate::fem::sparse::{LinearSystem, SparsePattern};
 use crate::mesh::Mesh;
 use crate::solve::{newton, newton_until, LayerSchur, NewtonError, NewtonOptions, NewtonReport, NonlinearSystem};
 pub use law::JointLaw;
-pub use path::{LoadPath, NoEquilibrium, PathPoint};
 use nitsche::{ContactFace, FaceDisplacement, Nitsche, NitscheParameters};
+pub use path::{LoadPath, NoEquilibrium, PathPoint};
 use projection::{negative_part, Smoothing};
 pub use resultant::{JointLine, Resultant};
 use std::sync::OnceLock;
@@ -250,7 +250,8 @@ impl<'a> ContactProblem<'a> {
     /// Makes the loads those of the load path at λ = 1, b_w assembled from the self-weight
     /// `weight` per unit mass alone (with the Dirichlet data).
     pub fn stage_loads(&mut self, weight: [f64; 2]) {
-        let alone = Problem { neumann: Vec::new(), body_force: BodyForce::Acceleration(weight), ..self.problem.clone() };
+        let alone =
+            Problem { neumann: Vec::new(), body_force: BodyForce::Acceleration(weight), ..self.problem.clone() };
         let weight = alone.assemble_on(self.disc, self.pattern()).rhs;
         let uplift = self.nitsche.uplift.iter().map(|up| [up.diagram.upstream, up.diagram.downstream]).collect();
         self.staged = Some(Staged { load_factor: 1.0, full: self.bulk.rhs.clone(), weight, uplift });

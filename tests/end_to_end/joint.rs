@@ -54,12 +54,65 @@ fn friction_keys_out_of_range() {
     assert_nothing_written(&out_dir);
 }
 
-// A joint that cannot hold the loads is refused before Newton, with the forces that say why.
+/// Asserts a run whose stderr is one "verdict:" line with every keyword and whose exit code
+/// is 3: the dam does not hold.
+fn assert_verdict(out: &Output, keywords: &[&str]) {
+    let text = stderr(out);
+    assert_eq!(out.status.code(), Some(3), "{text}");
+    let verdict: Vec<&str> = text.lines().filter(|l| l.starts_with("verdict:")).collect();
+    assert_eq!(verdict.len(), 1, "{text}");
+    for k in keywords {
+        assert!(text.contains(k), "{k:?} not in: {text}");
+    }
+}
+
+// A joint that cannot hold the loads is judged before Newton, with the forces that say why:
+// a verdict (exit 3), not bad input, and nothing written.
 #[test]
 fn a_joint_too_weak_for_the_loads_has_no_equilibrium() {
     let tmp = TempDir::new("friction-weak");
     let scene = frictional_scene(&tmp, |t| t.replace("friction = 0.8391", "friction = 0.5"));
-    assert_solve_fails("friction-weak-solve", &scene, &["no equilibrium", "N/m", "contact.friction"]);
+    let out_dir = tmp.join("out");
+    let out = damfem(&["solve".as_ref(), "-q".as_ref(), scene.as_os_str(), "-o".as_ref(), out_dir.as_os_str()]);
+    assert_verdict(&out, &["no equilibrium", "N/m", "contact.friction"]);
+    assert_nothing_written(&out_dir);
+}
+
+// The load path against every load at once. Source: docs/method.md §1.11 (without friction the
+// solution does not depend on the path). Goal: Scene A (frictionless base, anchored toe) with
+// an uplift diagram, which the load path follows by default, gives the forces and the largest
+// displacement of `contact.load_path = false` to 10⁻⁶, and its summary lists the path's states
+// from λ = 0 to 1 (the direct solve none). Parameters: P1, mesh sizes × 2, reservoir at 70 m,
+// crack = "ignore".
+#[test]
+fn the_load_path_and_the_direct_solve_agree_on_a_frictionless_joint() {
+    let tmp = TempDir::new("load-path-frictionless");
+    let uplift = "\n[uplift]\nheadwater = 70.0\ncrack = \"ignore\"\n";
+    let summary = |load_path: bool| {
+        let scene = edited_scene(&tmp, "scene_a", |t| {
+            let t = t + uplift;
+            if load_path {
+                t
+            } else {
+                t.replace("[contact]", "[contact]\nload_path = false")
+            }
+        });
+        let dir = tmp.join(&format!("out-{load_path}"));
+        let args = ["solve", "-q", "--order", "1", "--size-factor", "2", "-o"].map(OsStr::new);
+        assert_ok(&damfem(&[&args[..], &[dir.as_os_str(), scene.as_os_str()]].concat()));
+        check_summary(&dir)
+    };
+    let (path, direct) = (summary(true), summary(false));
+    for key in ["normal_force", "tangential_force", "uplift_force"] {
+        let (a, b) = (path["contact"][key].as_f64().unwrap(), direct["contact"][key].as_f64().unwrap());
+        assert!((a - b).abs() <= 1e-6 * b.abs().max(1.0), "{key}: {a} against {b}");
+    }
+    let (a, b) = (path["max_displacement"].as_f64().unwrap(), direct["max_displacement"].as_f64().unwrap());
+    assert!((a - b).abs() <= 1e-6 * b, "max |u| {a} against {b}");
+    let states = path["contact"]["load_path"].as_array().unwrap();
+    assert_eq!(states.first().unwrap()["load_factor"], 0.0, "{states:?}");
+    assert_eq!(states.last().unwrap()["load_factor"], 1.0, "{states:?}");
+    assert!(direct["contact"]["load_path"].as_array().unwrap().is_empty());
 }
 
 // The estimator covers friction: `--estimate` on the frictional dam writes the η values and
@@ -541,6 +594,38 @@ fn safety_runs_every_load_combination() {
     let fs = |c: &serde_json::Value| c["sliding_safety_factor"].as_f64().unwrap();
     assert!(fs(&blocked) < fs(&usual), "FS_LE {} against {}", fs(&blocked), fs(&usual));
     assert!(std::fs::read_to_string(tmp.join("out/report.md")).unwrap().contains("[earthquake](earthquake/report.md)"));
+}
+
+// A combination under which the dam does not hold is a row of the report, and the others go
+// on. Source: geo/scene_a_uplift.toml with [combinations.usual] (no change) and
+// [combinations.overtopped] (the reservoir at 150 m on the face and in the joint: its thrust
+// exceeds what F N can carry, judged before meshing). Goal: exit 3 with one "verdict:" line;
+// report.md links the usual combination's report and says that the dam does not hold under
+// the other, whose safety.json entry has outcome does_not_hold; the usual one is solved.
+// Parameters: P1, mesh sizes × 2, one mesh per combination.
+#[test]
+fn safety_reports_a_combination_that_does_not_hold() {
+    let tmp = TempDir::new("safety-does-not-hold");
+    let combinations = "\n[combinations.usual]\n\
+        [combinations.overtopped.boundary.upstream]\nhydrostatic = { level = 150.0 }\n\
+        [combinations.overtopped.uplift]\nheadwater = 150.0\n";
+    let text = std::fs::read_to_string(repo("geo/scene_a_uplift.toml")).unwrap();
+    let geometry = format!("geometry = {:?}", repo("geo/scene_a_friction.geo").display().to_string());
+    let scene = tmp.join("dam.toml");
+    std::fs::write(&scene, text.replace("geometry = \"scene_a_friction.geo\"", &geometry) + combinations).unwrap();
+    let dir = tmp.join("out");
+    let out = safety_coarse(&scene, &dir, &["--order", "1", "--max-steps", "1"]);
+    assert_verdict(&out, &["overtopped", "no equilibrium"]);
+    let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    assert!(md.contains("[usual](usual/report.md)") && md.contains("overtopped: the dam does not hold"), "{md}");
+    assert!(dir.join("usual/report.md").is_file());
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("safety.json")).unwrap()).unwrap();
+    let outcome = |name: &str| {
+        let cases = report["combinations"].as_array().unwrap();
+        cases.iter().find(|c| c["name"] == name).unwrap()["outcome"].clone()
+    };
+    assert_eq!((outcome("usual"), outcome("overtopped")), ("solved".into(), "does_not_hold".into()), "{report}");
 }
 
 // `damfem safety` on the dam standing on its rock block with a frictional joint and uplift
