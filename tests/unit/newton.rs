@@ -69,7 +69,8 @@ fn distance(a: &[f64], b: &[f64]) -> f64 {
 fn newton_converges_quadratically_once_the_active_set_settles() {
     for order in [1, 2] {
         let (problem, disc, joint, scale) = scene_a(order);
-        let settings = Continuation { delta: 1e-4 * scale, delta_start: 0.0, newton: NewtonOptions::default(), path: None };
+        let settings =
+            Continuation { delta: 1e-4 * scale, delta_start: 0.0, newton: NewtonOptions::default(), path: None };
         let solution = solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("{e}"));
         assert_eq!(solution.stages.len(), 1);
         let report = &solution.stages[0].report;

@@ -75,7 +75,8 @@ fn stick_and_slip_are_exact() {
                         let disc = problem.discretise();
                         let parameters = NitscheParameters { theta, ..Default::default() };
                         let joint = ContactJoint::uniform(vec![BOTTOM], Vec::new(), law, parameters);
-                        let settings = Continuation { delta, delta_start: 1e-2, newton: NewtonOptions::default(), path: None };
+                        let settings =
+                            Continuation { delta, delta_start: 1e-2, newton: NewtonOptions::default(), path: None };
                         let solution = solve_by_continuation(&problem, &disc, &joint, &settings)
                             .unwrap_or_else(|e| panic!("{law:?} {case} P{order} θ = {theta} δ = {delta}: {e}"));
                         let u = problem.displacement(&disc, &solution.x);
@@ -263,7 +264,8 @@ fn the_estimator_vanishes_at_the_exact_stick_and_slip_solutions() {
                 let problem = problem(4, order, a, b, shear);
                 let disc = problem.discretise();
                 let joint = ContactJoint::uniform(vec![BOTTOM], Vec::new(), law, NitscheParameters::default());
-                let settings = Continuation { delta: 0.0, delta_start: 1e-2, newton: NewtonOptions::default(), path: None };
+                let settings =
+                    Continuation { delta: 0.0, delta_start: 1e-2, newton: NewtonOptions::default(), path: None };
                 let solution = solve_by_continuation(&problem, &disc, &joint, &settings).expect("Newton converges");
                 let state = solution.linearisation(&problem, &disc);
                 let (e, _) = estimate_and_reference(&problem, &disc, &joint, &solution.x, &state, false);

@@ -147,7 +147,8 @@ fn solve_hertz(size_factor: f64, direction: Option<[f64; 2]>) -> HertzRun {
     let scale = problem.stress_scale(&disc.topology);
     let parameters =
         NitscheParameters { gamma0: 100.0, theta: 0.0, gap: Gap { constant: R, gradient: [0.0, 1.0] }, direction };
-    let settings = Continuation { delta: 1e-6 * scale, delta_start: 1e-2 * scale, newton: NewtonOptions::default(), path: None };
+    let settings =
+        Continuation { delta: 1e-6 * scale, delta_start: 1e-2 * scale, newton: NewtonOptions::default(), path: None };
     let joint = ContactJoint::frictionless(vec![gamma_c], parameters);
     let solution = solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("{e}"));
     let nitsche = &solution.nitsche;

@@ -80,7 +80,8 @@ fn solved_disk_on_block() -> (Problem, Discretisation, ContactJoint, ContactSolu
     let (problem, joint) = disk_on_block();
     let disc = problem.discretise();
     let scale = problem.stress_scale(&disc.topology);
-    let settings = Continuation { delta: 1e-6 * scale, delta_start: 1e-2 * scale, newton: NewtonOptions::default(), path: None };
+    let settings =
+        Continuation { delta: 1e-6 * scale, delta_start: 1e-2 * scale, newton: NewtonOptions::default(), path: None };
     let solution = solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("{e}"));
     (problem, disc, joint, solution)
 }

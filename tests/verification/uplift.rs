@@ -52,7 +52,8 @@ fn uniform_uplift_lowers_the_contact_pressure_by_exactly_p_u() {
                 let parameters = NitscheParameters { theta, ..Default::default() };
                 let joint =
                     ContactJoint::uniform(vec![BOTTOM], Vec::new(), law, parameters).with_uplift(uplift.clone());
-                let settings = Continuation { delta: 0.0, delta_start: 1e-2, newton: NewtonOptions::default(), path: None };
+                let settings =
+                    Continuation { delta: 0.0, delta_start: 1e-2, newton: NewtonOptions::default(), path: None };
                 let solution =
                     solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("{e}"));
                 let u = problem.displacement(&disc, &solution.x);
