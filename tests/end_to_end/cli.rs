@@ -938,10 +938,10 @@ fn include_recursion_is_named() {
     );
 }
 
-// A TOML error keeps its excerpt lines (indented under the error line); every line of an error
-// is capped at a few hundred characters.
+// A TOML error keeps its excerpt lines (indented under the error line); no line of an error is
+// cut, however long.
 #[test]
-fn toml_errors_keep_their_lines_and_long_lines_are_capped() {
+fn toml_errors_keep_their_lines_and_long_lines_whole() {
     let tmp = TempDir::new("toml-lines");
     let scene = tmp.join("unclosed.toml");
     std::fs::write(&scene, "[mesh]\norder = 1\nsize_factor = [\n1,\n").unwrap();
@@ -950,8 +950,8 @@ fn toml_errors_keep_their_lines_and_long_lines_are_capped() {
     assert!(message.lines().any(|l| l.trim_start().starts_with("4 | 1,")), "{message}");
     let scene = tmp.join("long.toml");
     std::fs::write(&scene, format!("[mesh]\norder = \"{}\"\n", "x".repeat(5000))).unwrap();
-    let message = assert_refused("toml-long-out", "check", &scene, &[], &["long.toml", "more characters"]);
-    assert!(message.lines().all(|l| l.chars().count() < 400), "{message}");
+    let message = assert_refused("toml-long-out", "check", &scene, &[], &["long.toml"]);
+    assert!(message.contains(&"x".repeat(5000)), "{message}");
 }
 
 // A rerun into the same directory removes the step files of the earlier run (here a step 07
