@@ -3,6 +3,7 @@
 //! docs/method.md §7; `dual_norm` the reference of the estimator, the dual norm of the residual
 //! on a finer space, with the mesh refinement it needs in `refine`.
 
+pub mod battery;
 pub mod cases;
 pub mod dual_norm;
 pub mod meshes;

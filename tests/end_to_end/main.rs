@@ -2,6 +2,7 @@
 //! remeshing, and the tutorial example.
 
 mod adapt;
+mod battery;
 mod bound;
 mod cli;
 mod input;

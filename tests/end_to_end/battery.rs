@@ -1,0 +1,38 @@
+//! The battery of random gravity-dam sections (`damfem::verify::battery`) through the
+//! `damfem` binary, against the exact limit equilibrium of each section.
+
+use super::cli::TempDir;
+use damfem::verify::battery::{cases, header, row, run, summary, Record};
+use std::path::Path;
+
+/// The seed of the battery, that of `cargo run --release --example dam_battery`.
+const SEED: u64 = 1;
+
+// Source: the first 20 cases of the battery of seed 1 (`damfem::verify::battery`: heights
+// 20–120 m, rigid foundations and rock blocks, inclined bases, galleries, tailwater, drains,
+// both crack rules, pseudo-static accelerations up to 0.2 g), each against the section's
+// statics, FS = (c L_c + F N)/|T| with N = R·ν − U, T = −R·τ (the module's doc).
+// Goal: every case gives a result or the verdict that the dam does not hold; a verdict only
+// where FS < 1 and a result only where FS ≥ 1 (within 2 % of FS = 1 either); on the results
+// with c = 0, |FS_LE − FS| ≤ 10⁻⁴ FS: the joint's forces balance the loads.
+// Parameters: P1 and P2 as drawn, gmsh's sizes H/12 in the dam and H/48 at the heel and the
+// toe, times 0.5 at P1 (a few thousand unknowns each).
+#[test]
+fn the_battery_matches_limit_equilibrium() {
+    let tmp = TempDir::new("battery");
+    let damfem = Path::new(env!("CARGO_BIN_EXE_damfem"));
+    let records: Vec<Record> = cases(SEED, 20)
+        .into_iter()
+        .map(|case| {
+            let outcome = run(damfem, &case, &tmp.0.join(format!("seed_{}", case.seed))).unwrap();
+            Record::new(case, outcome)
+        })
+        .collect();
+    let rows: Vec<String> = records.iter().map(row).collect();
+    println!("{}\n{}\n\n{}", header(), rows.join("\n"), summary(&records));
+    let wrong: Vec<&Record> = records.iter().filter(|r| !r.agrees()).collect();
+    assert!(wrong.is_empty(), "{}", summary(&records));
+    let inexact: Vec<String> =
+        records.iter().filter(|r| r.case.cohesion == 0.0 && r.error().is_some_and(|e| e > 1e-4)).map(row).collect();
+    assert!(inexact.is_empty(), "FS_LE off the exact FS:\n{}\n{}", header(), inexact.join("\n"));
+}
