@@ -27,9 +27,9 @@ const EASY_STEPS: usize = 8;
 /// Newton steps per solve on the path: a step that needs more is halved.
 const STEP_ITERATIONS: usize = 60;
 /// At the limit, FS_LE of the joint below 1 + this means that it slides.
-const SLIDING_MARGIN: f64 = 0.02;
+pub const SLIDING_MARGIN: f64 = 0.02;
 /// At the limit, a contact length below this share of the joint means that it has lifted off.
-const LIFT_OFF: f64 = 0.02;
+pub const LIFT_OFF: f64 = 0.02;
 
 /// How the loads come on: the self-weight alone, then the rest by λ ([`follow`]).
 #[derive(Debug, Clone, Copy)]
@@ -148,11 +148,24 @@ pub fn follow(
                 }
             }
             Err(failure) => {
-                for (up, crack) in contact.nitsche.uplift.iter_mut().zip(kept) {
-                    up.diagram.crack = crack;
-                }
+                let restore = |contact: &mut ContactProblem| {
+                    for (up, &crack) in contact.nitsche.uplift.iter_mut().zip(&kept) {
+                        up.diagram.crack = crack;
+                    }
+                };
+                restore(contact);
                 step *= 0.5;
                 if step < MIN_STEP {
+                    // the crack may jump past a drain line at a fixed λ, which no step resolves:
+                    // the loads of λ = 1 at once from the last converged state, before a verdict
+                    contact.set_load_factor(1.0);
+                    if let Ok((y, more, found)) = solve_at(contact, x.clone(), options, Crack::TOLERANCE) {
+                        let steps = more.iter().map(|s| s.report.iterations.len()).sum();
+                        stages.extend(more);
+                        reached(&mut path, point(contact, &y, 1.0, steps), trace);
+                        return Ok(Followed { x: y, stages, cracks: found, path });
+                    }
+                    restore(contact);
                     contact.set_load_factor(lambda);
                     return Err(limit(path, failure, joint_length));
                 }
