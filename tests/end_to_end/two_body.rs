@@ -777,6 +777,9 @@ fn two_cracks_scene(tmp: &TempDir) -> PathBuf {
             )
             .replace("drains = { x = 5.0,", "drains = { x = 10.0,")
             .replace("friction = 0.8391\nslave = \"lower_block\"", "friction = 2.0\nslave = \"lower_block\"")
+            // every load at once: along the load path (docs/method.md §1.11) the lift joint
+            // also opens 0.17 m past its crack tip, a state this test does not describe
+            .replace("[contact]\nmax_iter = 100", "[contact]\nmax_iter = 100\nload_path = false")
     })
 }
 
