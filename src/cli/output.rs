@@ -296,6 +296,19 @@ impl CurveSummary {
     }
 }
 
+/// What is said of a crack of `curve` that stopped at the drain line ([`Crack::at_drains`]).
+pub fn drain_note(curve: &str, c: &Crack) -> Option<String> {
+    c.at_drains.then(|| {
+        format!(
+            "the crack of {curve} stops at the drain line, {:.4} m from the heel: with the drains counted the joint \
+             opens past them, without them it closes {:.4} m from the heel, so the drains are taken as reached (the \
+             larger uplift)",
+            c.length,
+            c.length - c.change
+        )
+    })
+}
+
 /// What `summary.json` says of `max_von_mises`.
 const SINGULAR_MAXIMUM: &str = "mesh-dependent where it sits at a singular point (a re-entrant corner, the end of a \
      contact zone or of a support): a cell mean that grows with every refinement there";
@@ -347,6 +360,7 @@ impl<T> Summary<T> {
         if let Some(c) = &self.contact {
             lines.push(c.forces_line());
             lines.extend(c.resultant_line());
+            lines.extend(c.drain_lines());
         }
         lines
     }
@@ -397,6 +411,14 @@ impl ContactSummary {
             "contact length {:.4} m, joint forces N = {:.4e} N/m, T = {:.4e} N/m{uplift}",
             self.contact_length, self.normal_force, self.tangential_force
         )
+    }
+
+    /// One note per curve whose crack stopped at the drain line ([`drain_note`]).
+    fn drain_lines(&self) -> Vec<String> {
+        (self.curves.iter())
+            .filter_map(|curve| curve.crack.and_then(|c| drain_note(&curve.curve, &c)))
+            .map(|note| format!("note: {note}"))
+            .collect()
     }
 
     /// "crack … m from the heel, resultant at … m from the heel (e = … m, …)", on a straight

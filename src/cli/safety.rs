@@ -5,7 +5,7 @@
 
 use super::adapt::{run_sequence, BestStep};
 use super::common::{output_dir, remove_earlier_outputs, stem, validate_overrides, Input, Output, Progress};
-use super::output::{Units, UNITS};
+use super::output::{drain_note, Units, UNITS};
 use crate::adapt::{AdaptError, Step};
 use crate::contact::{
     reduce_strength, ContactError, ContactJoint, ContactSolution, JointLine, Resultant, StrengthReduction,
@@ -97,6 +97,8 @@ struct Report {
     sliding_safety_factor: Option<f64>,
     strength_reduction: Option<StrengthReduction>,
     safety_factor_note: Option<String>,
+    /// Where the crack of the sliding plane stopped at the drain line, what of it.
+    crack_note: Option<String>,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -329,6 +331,7 @@ fn analyse(
         sliding_safety_factor: solution.forces_on(&line).sliding_safety_factor,
         strength_reduction: strength,
         safety_factor_note: note,
+        crack_note: plane_crack_note(&solution, &plane),
     };
     warn(&report, &progress);
     let table = table(&report);
@@ -359,10 +362,22 @@ fn warn(r: &Report, progress: &Progress) {
     if r.newton_stalled {
         progress.say(&format!("warning: {STALLED}"));
     }
+    if let Some(note) = &r.crack_note {
+        progress.say(&format!("note: {note}"));
+    }
+}
+
+/// The note on the crack of a diagram on the `plane`'s curves that stopped at the drain line.
+fn plane_crack_note(solution: &ContactSolution, plane: &[bool]) -> Option<String> {
+    let on_plane = |d: &usize| solution.nitsche.uplift[*d].curves.iter().any(|&c| plane[c]);
+    (0..solution.cracks.len())
+        .filter(on_plane)
+        .find_map(|d| solution.cracks[d].and_then(|c| drain_note("the sliding plane", &c)))
 }
 
 /// What the report says of a last mesh whose Newton run stalled before the residual tolerance.
-const STALLED: &str = "on the last mesh Newton stalled before the residual tolerance: its numbers are those of      the iterate where eta_lin met its share (S_lin), whose eta_tot still bounds the error";
+const STALLED: &str = "on the last mesh Newton stalled before the residual tolerance: its numbers are those of \
+     the iterate where eta_lin met its share (S_lin), whose eta_tot still bounds the error";
 
 /// What `safety.json` says without friction.
 const FRICTIONLESS: &str = "the joint is frictionless (no [contact] friction, cohesion or threshold, or none \
@@ -671,6 +686,9 @@ fn markdown(r: &Report, table: &[[String; 3]]) -> String {
     if r.newton_stalled {
         md += &format!("\nO{}.\n", &STALLED[1..]);
     }
+    if let Some(note) = &r.crack_note {
+        md += &format!("\nT{}.\n", &note[1..]);
+    }
     md += "\n## Adaptive run\n\n| step | unknowns | η_tot / ‖σ_h‖ | crack [m] | s_R [m] | FS_LE |\n|---|---|---|---|---|---|\n";
     let optional = |v: Option<f64>| v.map_or("–".to_string(), |v| format!("{v:.4}"));
     for s in &r.steps {
@@ -730,6 +748,7 @@ mod tests {
             sliding_safety_factor: None,
             strength_reduction: None,
             safety_factor_note: None,
+            crack_note: None,
         }
     }
 

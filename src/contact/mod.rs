@@ -921,6 +921,11 @@ pub struct Crack {
     /// The last cracks below and above the fixed point (the open length was larger, and
     /// smaller, than the crack solved with), once both were seen \[m\].
     pub bracket: Option<[f64; 2]>,
+    /// Whether the crack stops at the drain line, where the diagram jumps: with the drains
+    /// counted the joint opens past them, without them it closes short of them, so no crack
+    /// is a fixed point. The drains are then taken as reached (EM 1110-2-2100's T ≥ X: s_c =
+    /// X, the larger uplift), and `change` is X − the open length without them.
+    pub at_drains: bool,
 }
 
 /// The crack of each uplift diagram of a joint, in order (None where the crack is not filled).
@@ -1099,7 +1104,9 @@ pub fn settle_crack_to(
     tolerance: f64,
 ) -> Result<(Vec<f64>, Vec<Stage>, Cracks), ContactError> {
     let mut stages: Vec<Stage> = Vec::new();
-    let mut searches = vec![CrackSearch { tolerance, ..Default::default() }; contact.nitsche.uplift.len()];
+    let mut searches: Vec<CrackSearch> = (contact.nitsche.uplift.iter())
+        .map(|up| CrackSearch { tolerance, drains: up.diagram.drains.map(|d| d.distance), ..Default::default() })
+        .collect();
     for iterations in 1..=Crack::MAX_ITERATIONS {
         let open = contact.crack_lengths(&x);
         let mut cracks = vec![None; searches.len()];
@@ -1112,11 +1119,12 @@ pub fn settle_crack_to(
             match search.record(up.crack, open[d], up.line.length) {
                 Ok(bracket) => {
                     let (length, change) = (up.crack, (open[d] - up.crack).abs());
+                    let at_drains = search.closes_on_drains() == Some(up.crack);
                     let face = contact.face_length_at(d, length);
-                    if change > face {
+                    if change > face && !at_drains {
                         return Err(ContactError::CrackJump { length, change, face });
                     }
-                    cracks[d] = Some(Crack { length, iterations, change, bracket });
+                    cracks[d] = Some(Crack { length, iterations, change, bracket, at_drains });
                 }
                 Err(_) if iterations == Crack::MAX_ITERATIONS => {
                     return Err(ContactError::Crack { iterations, length: open[d], change: (open[d] - up.crack).abs() })
@@ -1157,17 +1165,29 @@ struct CrackSearch {
     previous: Option<(f64, f64)>,
     /// The search stops at |g| ≤ tolerance L.
     tolerance: f64,
+    /// The drain line s_d, where the diagram jumps as the crack reaches it.
+    drains: Option<f64>,
 }
 
 impl CrackSearch {
     /// Records g = open − s_c for the crack s_c of a joint of length `length`. Ok(the bracket)
-    /// once settled; Err(the next crack) otherwise.
+    /// once settled; Err(the next crack) otherwise. A bracket around the drain line is first
+    /// cut there; one that closes on it from below is settled at s_c = s_d ([`Crack::at_drains`]).
     fn record(&mut self, crack: f64, open: f64, length: f64) -> Result<Option<[f64; 2]>, f64> {
         let (g, tolerance) = (open - crack, self.tolerance * length);
         *(if g > 0.0 { &mut self.below } else { &mut self.above }) = Some(crack);
         let bracket = self.below.zip(self.above).map(|(a, b)| [a.min(b), a.max(b)]);
-        if g.abs() <= tolerance || bracket.is_some_and(|[a, b]| b - a <= tolerance) {
+        if g.abs() <= tolerance {
             return Ok(bracket);
+        }
+        if bracket.is_some_and(|[a, b]| b - a <= tolerance) {
+            return match self.closes_on_drains() {
+                Some(s_d) if crack != s_d => Err(s_d),
+                _ => Ok(bracket),
+            };
+        }
+        if let Some(s_d) = self.drains.filter(|&s_d| bracket.is_some_and(|[a, b]| a < s_d && s_d < b)) {
+            return Err(s_d);
         }
         // the secant step only where it moves s_c the way g points: where |g| grows with the
         // crack (the crack feeds itself) it points back, to cracks whose g has the same sign
@@ -1181,6 +1201,11 @@ impl CrackSearch {
             Some([a, b]) => 0.5 * (a + b),
             None => secant.unwrap_or(open).clamp(0.0, length),
         })
+    }
+
+    /// The drain line s_d if the bracket closes on it from below: g > 0 short of it, g < 0 at it.
+    fn closes_on_drains(&self) -> Option<f64> {
+        self.drains.filter(|&s_d| self.above == Some(s_d) && self.below.is_some_and(|b| b < s_d))
     }
 }
 
@@ -1302,5 +1327,29 @@ mod tests {
         let next = search.record(17.53, 19.53, 40.0).unwrap_err();
         let secant = 17.53 - 2.0 * (17.53 - 5.67) / (2.0 - 11.86);
         assert!((next - secant).abs() < 1e-12 && next > 19.53, "{next} against {secant}");
+    }
+
+    // A crack that jumps at the drain line. Source: battery case of seed 63
+    // (`damfem::verify::battery`, drains 2.87 m from the heel), whose open length was 3.05 m
+    // for every crack short of the drains and 2.26 m for every crack past them. Goal: no crack
+    // has g = 0; the search must settle at s_c = s_d (the drains reached, the larger uplift)
+    // whichever side its bisection ends on, not on the side of its last solve.
+    // Parameters: a joint of 41.75 m.
+    #[test]
+    fn a_crack_that_jumps_at_the_drains_stops_there() {
+        let s_d = 2.87;
+        let open = |s: f64| if s < s_d { 3.05 } else { 2.26 };
+        let mut search = CrackSearch { tolerance: super::Crack::TOLERANCE, drains: Some(s_d), ..Default::default() };
+        let mut crack = 0.0;
+        for _ in 0..super::Crack::MAX_ITERATIONS {
+            match search.record(crack, open(crack), 41.75) {
+                Ok(_) => {
+                    assert_eq!((crack, search.closes_on_drains()), (s_d, Some(s_d)));
+                    return;
+                }
+                Err(next) => crack = next,
+            }
+        }
+        panic!("the search did not settle: last crack {crack}");
     }
 }

@@ -608,8 +608,10 @@ pub struct Run {
     pub uplift: Option<f64>,
     pub contact_length: Option<f64>,
     pub crack_length: Option<f64>,
-    /// The crack s_c of the uplift diagram (`crack = "full"`).
+    /// The crack s_c of the uplift diagram (`crack = "full"`), and whether it stopped at the
+    /// drain line (`contact::Crack::at_drains`).
     pub diagram_crack: Option<f64>,
+    pub at_drains: bool,
     pub position: Option<f64>,
     pub seconds: f64,
 }
@@ -671,6 +673,7 @@ pub fn run(damfem: &Path, case: &DamCase, dir: &Path) -> std::io::Result<Run> {
         contact_length: curve["contact_length"].as_f64(),
         crack_length: c["crack_length"].as_f64(),
         diagram_crack: curve["crack"]["length"].as_f64(),
+        at_drains: curve["crack"]["at_drains"].as_bool() == Some(true),
         position: c["resultant"]["position"].as_f64(),
         seconds,
     })
@@ -756,11 +759,15 @@ impl Record {
     }
 
     /// Whether a result with the crack filled has its open length more than 10⁻³ L from the
-    /// crack s_c of its diagram: the crack's fixed point did not settle.
+    /// crack s_c of its diagram: the crack's fixed point did not settle. A crack that stopped at
+    /// the drain line settled if s_c = s_d and the joint closes short of it there.
     pub fn unsettled(&self) -> bool {
         let (open, crack) = (self.run.crack_length, self.run.diagram_crack);
-        self.case.crack == Crack::Full
-            && open.zip(crack).is_some_and(|(o, c)| (o - c).abs() > 1e-3 * self.statics.length)
+        let Some((open, crack)) = open.zip(crack).filter(|_| self.case.crack == Crack::Full) else { return false };
+        if self.run.at_drains {
+            return self.case.drains.is_none_or(|d| d.distance != crack || open > crack);
+        }
+        (open - crack).abs() > 1e-3 * self.statics.length
     }
 }
 
@@ -812,6 +819,11 @@ fn largest(records: &[Record], f: impl Fn(&Record) -> Option<f64>) -> f64 {
     records.iter().filter_map(f).fold(0.0, f64::max)
 }
 
+/// The seeds of the `records` that `pick`, comma-separated.
+fn seeds(records: &[Record], pick: impl Fn(&Record) -> bool) -> String {
+    records.iter().filter(|r| pick(r)).map(|r| r.case.seed.to_string()).collect::<Vec<_>>().join(", ")
+}
+
 /// The closing summary: the share of cases with a result or a correct verdict, the largest
 /// FS error of the c = 0 results, the median and largest Newton steps, the largest errors of
 /// N, T, U and s_R, the seeds of the results whose crack did not settle, and each case that
@@ -821,14 +833,15 @@ pub fn summary(records: &[Record]) -> String {
     let mut steps: Vec<u64> = records.iter().filter_map(|r| r.run.newton_steps).collect();
     steps.sort_unstable();
     let count = |n: Option<&u64>| n.map_or("–".to_string(), |n| n.to_string());
-    let unsettled: Vec<String> = records.iter().filter(|r| r.unsettled()).map(|r| r.case.seed.to_string()).collect();
+    let unsettled = seeds(records, Record::unsettled);
     let mut text = format!(
         "{agreeing} of {} cases ({:.1} %) with a result where they hold or a verdict where they do not\n\
          largest |FS_LE − FS|/FS of the c = 0 results: {:.2e}\n\
          Newton steps of the results: median {}, largest {}\n\
          largest |N_h − N|/N, |T_h − T|/|T|, |U_h − U(s_c)|/U, |s_R − s_N(s_c)|/L of the results: \
          {:.2e}, {:.2e}, {:.2e}, {:.2e}\n\
-         results whose crack did not settle (open length ≠ s_c by more than 10⁻³ L): seeds [{}]\n",
+         results whose crack did not settle (open length ≠ s_c by more than 10⁻³ L): seeds [{}]\n\
+         results whose crack stopped at the drain line: seeds [{}]\n",
         records.len(),
         100.0 * agreeing as f64 / records.len().max(1) as f64,
         largest(records, |r| r.error().filter(|_| r.case.cohesion == 0.0)),
@@ -838,7 +851,8 @@ pub fn summary(records: &[Record]) -> String {
         largest(records, |r| r.force_errors().map(|e| e.1)),
         largest(records, Record::uplift_error),
         largest(records, Record::position_error),
-        unsettled.join(", "),
+        unsettled,
+        seeds(records, |r| r.run.at_drains),
     );
     for r in records.iter().filter(|r| !r.agrees()) {
         writeln!(
