@@ -17,7 +17,7 @@ mod safety;
 mod solve;
 
 use crate::adapt::AdaptError;
-use crate::contact::ContactError;
+use crate::contact::{ContactError, StrengthError};
 use crate::scene::SceneError;
 use clap::{Parser, Subcommand};
 
@@ -92,7 +92,7 @@ fn exit_code(e: &anyhow::Error) -> i32 {
         if let Some(SceneError::NoEquilibrium { .. }) = link.downcast_ref::<SceneError>() {
             return Some(DOES_NOT_HOLD);
         }
-        if link.is::<common::SolverFailed>() {
+        if link.is::<common::SolverFailed>() || link.is::<StrengthError>() {
             return Some(SOLVER_FAILED);
         }
         match link.downcast_ref::<AdaptError>()? {

@@ -302,7 +302,7 @@ fn analyse(
             let sr = progress
                 .stage(
                     "strength",
-                    || Ok(reduce_strength(&problem, &disc, &joint, &plane, &solution, &newton, STRENGTH_TOLERANCE)),
+                    || Ok(reduce_strength(&problem, &disc, &joint, &plane, &solution, &newton, STRENGTH_TOLERANCE)?),
                     describe_strength,
                 )?
                 .0;

@@ -145,7 +145,7 @@ pub fn run(args: Args) -> Result<()> {
                     start,
                     &continuation.newton,
                     STRENGTH_TOLERANCE,
-                ))
+                )?)
             },
             |s: &StrengthReduction| format!("FS_SR in [{:.4}, {:.4}] after {} solves", s.held, s.failed, s.solves),
         )?),

@@ -19,6 +19,7 @@ pub mod nitsche;
 pub mod path;
 pub mod projection;
 pub mod resultant;
+pub mod strength;
 pub mod uplift;
 
 use crate::elasticity::{BodyForce, Discretisation, Displacement, Problem, Refined};
@@ -33,6 +34,7 @@ use projection::{negative_part, Smoothing};
 pub use resultant::{JointLine, Resultant};
 use std::sync::OnceLock;
 use std::time::Instant;
+pub use strength::{reduce_strength, strength_reduction, StrengthError, StrengthReduction, STRENGTH_TOLERANCE};
 pub use uplift::Uplift;
 
 /// The joint law and the Nitsche parameters of one curve of Γ_C.
@@ -1207,69 +1209,6 @@ impl CrackSearch {
     fn closes_on_drains(&self) -> Option<f64> {
         self.drains.filter(|&s_d| self.above == Some(s_d) && self.below.is_some_and(|b| b < s_d))
     }
-}
-
-/// The relative width of the FS_SR bracket at which `damfem solve --strength-reduction` and
-/// `damfem safety` stop.
-pub const STRENGTH_TOLERANCE: f64 = 2e-3;
-
-/// The sliding safety factor by strength reduction: the largest k for which the joint with
-/// its strength divided by k (F/k, c/k, s/k) still holds the body.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
-pub struct StrengthReduction {
-    /// The largest k that held, and the smallest that did not: FS_SR lies between.
-    pub held: f64,
-    pub failed: f64,
-    /// Contact solves made, the first at k = 1 included.
-    pub solves: usize,
-}
-
-/// FS_SR of the whole joint to the relative `tolerance`, from the solution at k = 1 reached
-/// along the δ path of `settings` ([`reduce_strength`]).
-pub fn strength_reduction(
-    problem: &Problem,
-    disc: &Discretisation,
-    joint: &ContactJoint,
-    settings: &Continuation,
-    tolerance: f64,
-) -> Result<StrengthReduction, ContactError> {
-    let start = solve_by_continuation(problem, disc, joint, settings)?;
-    Ok(reduce_strength(problem, disc, joint, &joint.every_curve(), &start, &settings.newton, tolerance))
-}
-
-/// FS_SR of the sliding plane made of the curves i with `plane[i]` (the other curves keep
-/// their strength) to the relative `tolerance` from `start`, the solution at k = 1: k grows by a quarter
-/// while the joint holds, then the bracket is bisected; every solve starts from the last
-/// solution that held, at the δ of `start`. Loss of equilibrium is a Newton failure (near the
-/// limit the tangential stiffness of the slipping joint vanishes); so a solve that fails only
-/// for want of steps counts as a loss, and `held` is a lower bound. The crack that uplift
-/// fills is kept at its length in `start` (use `crack = "ignore"` for the exact comparison).
-pub fn reduce_strength(
-    problem: &Problem,
-    disc: &Discretisation,
-    joint: &ContactJoint,
-    plane: &[bool],
-    start: &ContactSolution,
-    newton_options: &NewtonOptions,
-    tolerance: f64,
-) -> StrengthReduction {
-    let (mut held, mut x, mut solves) = (1.0, start.x.clone(), 1);
-    let mut failed = f64::INFINITY;
-    // one contact problem for every k: the same faces, stiffness and factorisation
-    let mut contact = ContactProblem::new(problem, disc, &joint.as_solved(start), start.smoothing);
-    while failed - held > tolerance * held {
-        let k = if failed.is_finite() { 0.5 * (held + failed) } else { 1.25 * held };
-        contact.nitsche.laws = joint.reduced(k, plane).laws;
-        solves += 1;
-        match newton(&contact, x.clone(), newton_options) {
-            Ok(report) => (held, x) = (k, report.x),
-            Err(_) => failed = k,
-        }
-        if held > 1e3 {
-            break;
-        }
-    }
-    StrengthReduction { held, failed, solves }
 }
 
 /// The free unknowns of a solve, with the contact state when the problem has Γ_C.

@@ -613,12 +613,19 @@ pub struct Run {
     pub diagram_crack: Option<f64>,
     pub at_drains: bool,
     pub position: Option<f64>,
+    /// FS_SR's bracket \[held, failed\] (`--strength-reduction`).
+    pub strength: Option<[f64; 2]>,
     pub seconds: f64,
 }
 
 /// `damfem solve <scene> -o <dir>/out --size-factor f` by the binary `damfem`, the case
 /// written into `dir`.
 pub fn run(damfem: &Path, case: &DamCase, dir: &Path) -> std::io::Result<Run> {
+    run_with(damfem, case, dir, &[])
+}
+
+/// [`run`] with the flags `extra` too.
+pub fn run_with(damfem: &Path, case: &DamCase, dir: &Path, extra: &[&str]) -> std::io::Result<Run> {
     let scene = case.write(dir)?;
     let out = dir.join("out");
     let start = Instant::now();
@@ -629,6 +636,7 @@ pub fn run(damfem: &Path, case: &DamCase, dir: &Path) -> std::io::Result<Run> {
         .arg(&out)
         .arg("--size-factor")
         .arg(case.size_factor().to_string())
+        .args(extra)
         .output()?;
     let seconds = start.elapsed().as_secs_f64();
     let stderr = String::from_utf8_lossy(&output.stderr);
@@ -675,6 +683,11 @@ pub fn run(damfem: &Path, case: &DamCase, dir: &Path) -> std::io::Result<Run> {
         diagram_crack: curve["crack"]["length"].as_f64(),
         at_drains: curve["crack"]["at_drains"].as_bool() == Some(true),
         position: c["resultant"]["position"].as_f64(),
+        strength: ["held", "failed"]
+            .map(|k| json["strength_reduction"][k].as_f64())
+            .into_iter()
+            .collect::<Option<Vec<_>>>()
+            .map(|v| [v[0], v[1]]),
         seconds,
     })
 }

@@ -2,7 +2,7 @@
 //! `damfem` binary, against the exact limit equilibrium of each section.
 
 use super::cli::TempDir;
-use damfem::verify::battery::{cases, header, row, run, summary, Record};
+use damfem::verify::battery::{cases, header, row, run, run_with, summary, DamCase, Record};
 use std::path::Path;
 
 /// The seed of the battery, that of `cargo run --release --example dam_battery`.
@@ -38,4 +38,28 @@ fn the_battery_matches_limit_equilibrium() {
     assert!(inexact.is_empty(), "FS_LE off the exact FS:\n{}\n{}", header(), inexact.join("\n"));
     let unsettled: Vec<String> = records.iter().filter(|r| r.unsettled()).map(row).collect();
     assert!(unsettled.is_empty(), "cracks off their fixed point:\n{}\n{}", header(), unsettled.join("\n"));
+}
+
+// Source: cases 9 and 12 of the battery (P1 dams on rock blocks of E_rock/E_concrete 0.90 and
+// 0.16, friction alone, 0.14 g and 0.13 g, the first with its crack filled), where Newton fails
+// at several k short of the limit; before, each failure counted as a loss of equilibrium, and
+// two such dams had FS_SR 17 % and 6.5 % below FS_LE. Goal: N and T of the dam's statics do not
+// depend on k, so FS_SR's bracket must hold the exact FS = F N/|T| within 0.5 %
+// (docs/method.md §1.9). Parameters: the battery's meshes.
+#[test]
+fn the_strength_reduction_finds_the_limit_equilibrium_of_dams_on_rock() {
+    let tmp = TempDir::new("battery-strength");
+    let damfem = Path::new(env!("CARGO_BIN_EXE_damfem"));
+    for seed in [9, 12] {
+        let case = DamCase::new(seed);
+        let outcome = run_with(damfem, &case, &tmp.0.join(format!("seed_{seed}")), &["--strength-reduction"]).unwrap();
+        let record = Record::new(case, outcome);
+        let [held, failed] = record.run.strength.unwrap_or_else(|| panic!("seed {seed}: {}", record.run.message));
+        let fs = record.exact;
+        let gap = [held, failed].map(|k| (k - fs).abs() / fs).into_iter().fold(f64::INFINITY, f64::min);
+        assert!(
+            (held <= fs && fs <= failed) || gap <= 5e-3,
+            "seed {seed}: FS_SR in [{held}, {failed}] against FS = {fs}"
+        );
+    }
 }

@@ -1,0 +1,141 @@
+//! The strength reduction (docs/method.md §1.9): FS_SR, the largest k for which the sliding
+//! plane with its strength divided by k (F/k, c/k, s/k) still holds the body.
+//!
+//! k is followed from the solution at k = 1: it grows by a quarter while the joint holds, then
+//! the bracket [held, failed] is bisected, every solve from the last state that held at the δ
+//! of the start. Near the limit Newton also fails where the joint holds (the tangential
+//! stiffness of a slipping joint vanishes), so a failed solve at k counts as a loss of
+//! equilibrium only where the last state that held, judged by limit equilibrium with the
+//! strength of k, slides: FS_LE(held state; k) ≤ 1 + [`STRENGTH_TOLERANCE`]. Any other failure
+//! is Newton's: the step from the last k that held halves, and a step below the tolerance is
+//! an error ([`StrengthError::Stalled`]). On a straight joint whose plane has friction alone
+//! (Coulomb, no cohesion), N and T are the statics of the body above it whatever k, so FS_SR
+//! must equal FS_LE: a gap of more than [`AGREEMENT`] is an error ([`StrengthError::Disagrees`]).
+
+use super::{newton, solve_by_continuation, ContactError, ContactJoint, ContactProblem, ContactSolution, Continuation};
+use super::{JointLaw, NewtonOptions};
+use crate::elasticity::{Discretisation, Problem};
+
+/// The relative width of the FS_SR bracket at which `damfem solve --strength-reduction` and
+/// `damfem safety` stop.
+pub const STRENGTH_TOLERANCE: f64 = 2e-3;
+
+/// The largest relative gap between FS_SR and FS_LE on a straight joint without cohesion.
+pub const AGREEMENT: f64 = 5e-3;
+
+/// k at which the search gives up as unbounded: the joint holds with almost no strength.
+const UNBOUNDED: f64 = 1e3;
+
+/// The sliding safety factor by strength reduction.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct StrengthReduction {
+    /// The largest k that held, and the smallest that did not: FS_SR lies between.
+    pub held: f64,
+    pub failed: f64,
+    /// Contact solves made, the first at k = 1 included; those that failed without a loss of
+    /// equilibrium.
+    pub solves: usize,
+    pub retried: usize,
+}
+
+/// Why a strength reduction has no factor to give.
+#[derive(Debug, thiserror::Error)]
+pub enum StrengthError {
+    #[error(
+        "the strength reduction stalled at k = {held:.4}: Newton failed at k = {k:.4}, {step:.1e} above it, where the \
+         last state that held still has FS_LE = {fs:.4} with the strength divided by k, so the failure is not a loss \
+         of equilibrium; FS_SR is not known"
+    )]
+    Stalled { held: f64, k: f64, step: f64, fs: f64 },
+    #[error(
+        "FS_SR in [{held:.4}, {failed:.4}] and FS_LE = {fs_le:.4} differ by {gap:.2} % on a straight joint with \
+         friction alone, where both are F N / |T| of the same forces: the strength reduction is not to be trusted"
+    )]
+    Disagrees { held: f64, failed: f64, fs_le: f64, gap: f64 },
+}
+
+/// FS_SR of the whole joint to the relative `tolerance`, from the solution at k = 1 reached
+/// along the δ path of `settings` ([`reduce_strength`]).
+pub fn strength_reduction(
+    problem: &Problem,
+    disc: &Discretisation,
+    joint: &ContactJoint,
+    settings: &Continuation,
+    tolerance: f64,
+) -> Result<Result<StrengthReduction, StrengthError>, ContactError> {
+    let start = solve_by_continuation(problem, disc, joint, settings)?;
+    Ok(reduce_strength(problem, disc, joint, &joint.every_curve(), &start, &settings.newton, tolerance))
+}
+
+/// FS_SR of the sliding plane made of the curves i with `plane[i]` (the other curves keep
+/// their strength) to the relative `tolerance` from `start`, the solution at k = 1 (the
+/// module's doc). The crack that uplift fills is kept at its length in `start`.
+pub fn reduce_strength(
+    problem: &Problem,
+    disc: &Discretisation,
+    joint: &ContactJoint,
+    plane: &[bool],
+    start: &ContactSolution,
+    newton_options: &NewtonOptions,
+    tolerance: f64,
+) -> Result<StrengthReduction, StrengthError> {
+    let (mut held, mut x) = (1.0, start.x.clone());
+    let mut sr = StrengthReduction { held, failed: f64::INFINITY, solves: 1, retried: 0 };
+    // FS_LE of the plane at the last state that held, with its strength
+    let mut held_fs = start.forces(|k| plane[start.nitsche.faces[k].curve]).sliding_safety_factor;
+    // one contact problem for every k: the same faces, stiffness and factorisation
+    let mut contact = ContactProblem::new(problem, disc, &joint.as_solved(start), start.smoothing);
+    let mut step = 0.25 * held;
+    while sr.failed - held > tolerance * held && held <= UNBOUNDED {
+        let k = if sr.failed.is_finite() { (0.5 * (held + sr.failed)).min(held + step) } else { held + step };
+        contact.nitsche.laws = joint.reduced(k, plane).laws;
+        sr.solves += 1;
+        match newton(&contact, x.clone(), newton_options) {
+            Ok(report) => {
+                let taken = k - held;
+                (held, x) = (k, report.x);
+                held_fs = plane_safety_factor(&contact, &x, plane);
+                step = (2.0 * taken).min(0.25 * held);
+            }
+            // the strength of the plane is k times smaller than that of the state that held
+            Err(_) => match held_fs.map(|fs| fs * held / k) {
+                Some(fs) if fs > 1.0 + tolerance => {
+                    sr.retried += 1;
+                    step = 0.5 * (k - held);
+                    if step < 0.5 * tolerance * held {
+                        return Err(StrengthError::Stalled { held, k, step: k - held, fs });
+                    }
+                }
+                _ => sr.failed = k,
+            },
+        }
+    }
+    sr.held = held;
+    agreement(&sr, start, joint, plane)?;
+    Ok(sr)
+}
+
+/// FS_LE of the `plane` of `contact` at the state `x` solved with its laws.
+fn plane_safety_factor(contact: &ContactProblem, x: &[f64], plane: &[bool]) -> Option<f64> {
+    let state = contact.solution(x.to_vec(), Vec::new(), Vec::new());
+    state.forces(|k| plane[state.nitsche.faces[k].curve]).sliding_safety_factor
+}
+
+/// [`StrengthError::Disagrees`] where FS_SR and FS_LE of `start` must agree and do not: a
+/// straight joint whose `plane` has Coulomb friction alone.
+fn agreement(
+    sr: &StrengthReduction,
+    start: &ContactSolution,
+    joint: &ContactJoint,
+    plane: &[bool],
+) -> Result<(), StrengthError> {
+    let coulomb = (joint.laws.iter().zip(plane)).all(|(c, &on)| !on || matches!(c.law, JointLaw::Coulomb { .. }));
+    let fs_le = start.forces(|k| plane[start.nitsche.faces[k].curve]).sliding_safety_factor;
+    let Some(fs_le) = fs_le.filter(|_| coulomb && start.on_one_line() && sr.failed.is_finite()) else { return Ok(()) };
+    let gap = [sr.held, sr.failed].map(|k| (k - fs_le).abs() / fs_le).into_iter().fold(f64::INFINITY, f64::min);
+    let inside = sr.held <= fs_le && fs_le <= sr.failed;
+    match inside || gap <= AGREEMENT {
+        true => Ok(()),
+        false => Err(StrengthError::Disagrees { held: sr.held, failed: sr.failed, fs_le, gap: 100.0 * gap }),
+    }
+}
