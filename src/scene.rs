@@ -562,6 +562,7 @@ impl Scene {
         self.check_sizes()?;
         self.check_joints()?;
         self.check_safety()?;
+        self.check_combination_names()?;
         self.adapt.validate().map_err(|message| self.invalid(message))?;
         for (name, m) in &self.materials {
             m.validate().map_err(|message| SceneError::Material {

@@ -1,7 +1,8 @@
 //! Checks of a scene that catch inputs which would otherwise give a wrong answer without a
 //! word: non-finite numbers, vectors of the wrong length, inconsistent mesh sizes, contact on
-//! an interface between two meshed bodies, one curve with two roles; and the warnings of
-//! `damfem check` (defaults assumed, parameters outside their known range).
+//! an interface between two meshed bodies, one curve with two roles, a combination name that
+//! is not plain; and the warnings of `damfem check` (defaults assumed, parameters outside
+//! their known range).
 
 use super::{ContactSection, Fix, ProjectionKind, Role, Scene, SceneError};
 use crate::mesh::topology::NONE;
@@ -158,6 +159,20 @@ impl Scene {
             ));
         }
         Ok(())
+    }
+
+    /// A combination's name is that of its directory under the output directory of `damfem
+    /// safety`: it must be plain, ASCII letters, digits, `_` and `-`, and not empty.
+    pub(super) fn check_combination_names(&self) -> Result<(), SceneError> {
+        let plain =
+            |name: &str| !name.is_empty() && name.bytes().all(|b| b.is_ascii_alphanumeric() || b"_-".contains(&b));
+        match self.combinations.keys().find(|name| !plain(name)) {
+            Some(name) => Err(self.invalid(format!(
+                "[combinations.{name:?}] is not a plain name: the name of a combination is that of its output \
+                 directory, so it must be made of ASCII letters, digits, '_' and '-', at least one"
+            ))),
+            None => Ok(()),
+        }
     }
 
     /// Mesh sizes: `size_min ≤ size_max`.

@@ -326,3 +326,28 @@ fn an_unknown_joint_lists_the_curves_of_the_geometry() {
     let message = assert_refused("unknown-joint-out", "check", &scene, &p1, &["'nothing'", "base, lift"]);
     assert!(!message.contains("base:rock") && !message.contains("lift:lower_block"), "{message}");
 }
+
+// Source: geo/scene_a_combinations.toml with its combinations replaced by one named "..",
+// "../escaped", "a/b" or "" (each combination's results go to the directory of its name under
+// -o). Goal: a name that is not plain is refused when the scene is read, naming the
+// combination and what a name may hold, and no file is written in or outside the output
+// directory, where `damfem safety` used to write its reports one directory above -o (and
+// remove files there), in nested folders, or into -o itself over the combined report, with
+// exit code 0. Parameters: P1, sizes × 3, one adaptive step.
+#[test]
+fn a_combination_name_that_is_not_plain_is_refused() {
+    let tmp = TempDir::new("combination-names");
+    for (k, name) in ["..", "../escaped", "a/b", ""].into_iter().enumerate() {
+        let scene = edited_scene(&tmp, "scene_a_combinations", |s| {
+            format!("{}[combinations.{name:?}]\n", &s[..s.find("[combinations.").unwrap()])
+        });
+        let run = tmp.join(&format!("run-{k}"));
+        let out_dir = run.join("out");
+        let p1 = ["--order", "1", "--size-factor", "3", "--max-steps", "1"];
+        let args: Vec<&OsStr> = ["safety", "-q"].iter().map(OsStr::new).chain([scene.as_os_str()]).collect();
+        let out = damfem(&[&args[..], &["-o".as_ref(), out_dir.as_os_str()], &p1.map(OsStr::new)].concat());
+        assert_error(&out, &["scene_a_combinations.toml", &format!("[combinations.{name:?}]"), "letters, digits"]);
+        assert!(!run.exists(), "{name:?}: {} was written", run.display());
+        assert_eq!(listing(&tmp.0), ["scene_a_combinations.toml"], "{name:?}");
+    }
+}
