@@ -1003,6 +1003,7 @@ impl Scene {
                 heel[0], heel[1], toe[0], toe[1]
             )));
         }
+        self.check_headwater(&problem.mesh, table, up, heel)?;
         let g = self.loads.gravity;
         let head = |level: f64, y: f64| up.density * g * (level - y).max(0.0);
         let drains = up.drains.map(|d| Drains { distance: d.x, efficiency: d.efficiency });

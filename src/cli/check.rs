@@ -22,14 +22,14 @@ pub fn run(args: Args) -> Result<()> {
         || input.mesh(&scene),
         |m| format!("{} nodes, {} cells, P{}", m.n_points(), m.n_cells(), m.order),
     )?;
-    let warnings = scene.warnings(&mesh)?;
+    let (problem, contact) = scene.problem(mesh)?;
+    let mesh = &problem.mesh;
+    let warnings = scene.warnings(mesh, contact.as_ref())?;
     progress.warn(&warnings);
     if args.strict && !warnings.is_empty() {
         anyhow::bail!("{}: --strict: {}", scene.source.display(), warnings.join("; "));
     }
-    let roles = scene.roles(&mesh)?;
-    let (problem, contact) = scene.problem(mesh)?;
-    let mesh = &problem.mesh;
+    let roles = scene.roles(mesh)?;
     for (tag, name, b) in &roles {
         progress.result(&format!("curve    {name:<20} {:?}, length {:.4}", b.role, mesh.boundary_length(*tag)));
     }
