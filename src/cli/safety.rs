@@ -114,16 +114,19 @@ pub fn run(args: Args) -> Result<()> {
     // joint alone can carry already has its verdict
     let mut lines = Vec::new();
     for (name, case) in &cases {
-        let line = match joint_line(case, &args.input) {
-            Err(e) if !names.is_empty() && super::exit_code(&e) == super::DOES_NOT_HOLD => Err(e),
-            line => Ok(line?),
+        let named = |e: anyhow::Error| match name {
+            Some(n) => e.context(format!("combination {n}")),
+            None => e,
         };
-        let line = line.map(|(line, warnings)| {
-            let prefix = name.map_or(String::new(), |n| format!("combination {n}: "));
-            progress.warn(&warnings.iter().map(|w| format!("{prefix}{w}")).collect::<Vec<_>>());
-            line
+        let prefix = name.map_or(String::new(), |n| format!("combination {n}: "));
+        lines.push(match joint_line(case, &args.input) {
+            Err(e) if !names.is_empty() && super::exit_code(&e) == super::DOES_NOT_HOLD => Err(e),
+            checked => {
+                let (line, warnings) = checked.map_err(named)?;
+                progress.warn(&warnings.iter().map(|w| format!("{prefix}{w}")).collect::<Vec<_>>());
+                Ok((line, average_length(args.average_length, &line).map_err(named)?))
+            }
         });
-        lines.push(line.and_then(|line| Ok((line, average_length(args.average_length, &line)?))));
     }
     let dir = args.output.dir(&scene)?;
     if names.is_empty() {

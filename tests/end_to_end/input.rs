@@ -432,3 +432,32 @@ fn a_headwater_that_differs_from_the_reservoir_is_said() {
         "{warnings:?}"
     );
 }
+
+// Source: geo/scene_a_combinations.toml with its flood combination edited: a load on a curve
+// the geometry lacks, the base's role turned to free, or the flood's uplift headwater removed
+// (the reservoir raised to 50 m, the headwater left at the scene's 45 m). Goal: `check`
+// builds every combination's scene and problem as `safety` does, and refuses the first two
+// as `safety` does, each message naming the combination, where `check` used to say ok and
+// `safety` failed without naming it; the third's warning is said once, naming the
+// combination. Parameters: P1, sizes × 3.
+#[test]
+fn check_checks_every_combination() {
+    let tmp = TempDir::new("check-combinations");
+    let p1 = ["--order", "1", "--size-factor", "3"];
+    let cases = [
+        ("[combinations.flood.boundary.nothing]\nrole = \"neumann\"\n", ["combination flood: ", "'nothing'"]),
+        ("[combinations.flood.boundary.base]\nrole = \"free\"\n", ["combination flood: ", "[uplift] needs a joint"]),
+    ];
+    for (k, (extra, keywords)) in cases.iter().enumerate() {
+        let scene = edited_scene(&tmp, "scene_a_combinations", |s| format!("{s}\n{extra}"));
+        for command in ["check", "safety"] {
+            assert_refused(&format!("check-combination-{k}-{command}"), command, &scene, &p1, keywords);
+        }
+    }
+    let raised =
+        edited_scene(&tmp, "scene_a_combinations", |s| s.replace("[combinations.flood.uplift]\nheadwater = 50.0", ""));
+    let warnings = check_warnings(&raised, &p1);
+    let said =
+        "warning: combination flood: uplift.headwater = 45 differs from boundary.upstream.hydrostatic.level = 50";
+    assert!(warnings.len() == 1 && warnings[0].starts_with(said), "{warnings:?}");
+}
