@@ -461,3 +461,22 @@ fn check_checks_every_combination() {
         "warning: combination flood: uplift.headwater = 45 differs from boundary.upstream.hydrostatic.level = 50";
     assert!(warnings.len() == 1 && warnings[0].starts_with(said), "{warnings:?}");
 }
+
+// Source: tests/data/cli/square.msh (physical curve 1 "Gamma_D", surface 2 "block") with a
+// second name, "bottom", for the physical curve 1 in its $PhysicalNames. Goal: the file is
+// refused by every command that reads it, naming the file, the tag and both names, where
+// gmsh kept one name and dropped the other without a word (a scene naming the dropped one
+// failed on an unknown curve, the other ran with exit code 0).
+#[test]
+fn a_msh_tag_with_two_names_is_refused() {
+    let tmp = TempDir::new("msh-two-names");
+    let msh = tmp.join("two_names.msh");
+    let body = std::fs::read_to_string(super::cli::fixture("square.msh")).unwrap();
+    let twice = body.replace("2\n1 1 \"Gamma_D\"\n", "3\n1 1 \"Gamma_D\"\n1 1 \"bottom\"\n");
+    assert_ne!(twice, body);
+    std::fs::write(&msh, twice).unwrap();
+    for command in ["check", "solve"] {
+        let keywords = ["two_names.msh", "physical tag 1", "\"Gamma_D\"", "\"bottom\""];
+        assert_refused(&format!("msh-two-names-{command}"), command, &msh, &[], &keywords);
+    }
+}
