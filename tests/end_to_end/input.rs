@@ -1,7 +1,9 @@
 //! Bad or unusual user input through the `damfem` binary: scene values that the physics
 //! forbids, keys and flags that would be accepted without effect, two tables for one physical
-//! group, and output directories that hold an earlier run's files. Each is refused with one
-//! sentence naming the key, flag or group, exit code 1 and no output file.
+//! group, output directories that hold an earlier run's files, combination names that are not
+//! plain, uplift headwaters that do not fit the reservoir, combinations that only `safety`
+//! used to build, and `.msh` tags with two names. Each is refused with one sentence naming the
+//! key, flag, group or file, exit code 1 and no output file, or said in a warning.
 
 use super::cli::{
     assert_error, assert_ok, assert_refused, check_warnings, damfem, edited_scene, repo, stderr, TempDir,
