@@ -562,6 +562,7 @@ impl Scene {
         self.check_sizes()?;
         self.check_joints()?;
         self.check_safety()?;
+        self.check_combination_names()?;
         self.adapt.validate().map_err(|message| self.invalid(message))?;
         for (name, m) in &self.materials {
             m.validate().map_err(|message| SceneError::Material {
@@ -1002,6 +1003,7 @@ impl Scene {
                 heel[0], heel[1], toe[0], toe[1]
             )));
         }
+        self.check_headwater(&problem.mesh, table, up, heel)?;
         let g = self.loads.gravity;
         let head = |level: f64, y: f64| up.density * g * (level - y).max(0.0);
         let drains = up.drains.map(|d| Drains { distance: d.x, efficiency: d.efficiency });

@@ -1,7 +1,10 @@
-//! `damfem check`: validate a scene against its geometry without solving.
+//! `damfem check`: validate a scene and each of its load combinations against its geometry
+//! without solving.
 
 use super::common::Input;
-use anyhow::Result;
+use crate::mesh::Mesh;
+use crate::scene::Scene;
+use anyhow::{Context, Result};
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -22,14 +25,19 @@ pub fn run(args: Args) -> Result<()> {
         || input.mesh(&scene),
         |m| format!("{} nodes, {} cells, P{}", m.n_points(), m.n_cells(), m.order),
     )?;
-    let warnings = scene.warnings(&mesh)?;
+    let (problem, contact) = scene.problem(mesh.clone())?;
+    let mut warnings = scene.warnings(&problem.mesh, contact.as_ref())?;
+    for name in scene.combinations.keys() {
+        let own = combination_warnings(&scene, name, &mesh).with_context(|| format!("combination {name}"))?;
+        let new = own.into_iter().filter(|w| !warnings.contains(w)).map(|w| format!("combination {name}: {w}"));
+        warnings.extend(new.collect::<Vec<_>>());
+    }
+    let mesh = &problem.mesh;
     progress.warn(&warnings);
     if args.strict && !warnings.is_empty() {
         anyhow::bail!("{}: --strict: {}", scene.source.display(), warnings.join("; "));
     }
-    let roles = scene.roles(&mesh)?;
-    let (problem, contact) = scene.problem(mesh)?;
-    let mesh = &problem.mesh;
+    let roles = scene.roles(mesh)?;
     for (tag, name, b) in &roles {
         progress.result(&format!("curve    {name:<20} {:?}, length {:.4}", b.role, mesh.boundary_length(*tag)));
     }
@@ -56,4 +64,12 @@ pub fn run(args: Args) -> Result<()> {
     }
     progress.result(&format!("{}: ok", scene.source.display()));
     Ok(())
+}
+
+/// The warnings of the load combination `name` of `scene`, whose scene and problem on `mesh`
+/// are built as `damfem safety` builds them.
+fn combination_warnings(scene: &Scene, name: &str, mesh: &Mesh) -> Result<Vec<String>> {
+    let combined = scene.combination(name)?;
+    let (problem, joint) = combined.problem(mesh.clone())?;
+    Ok(combined.warnings(&problem.mesh, joint.as_ref())?)
 }

@@ -113,12 +113,20 @@ pub fn run(args: Args) -> Result<()> {
     // every case is checked before anything is written; one whose loads need more than the
     // joint alone can carry already has its verdict
     let mut lines = Vec::new();
-    for (_, case) in &cases {
-        let line = match joint_line(case, &args.input) {
-            Err(e) if !names.is_empty() && super::exit_code(&e) == super::DOES_NOT_HOLD => Err(e),
-            line => Ok(line?),
+    for (name, case) in &cases {
+        let named = |e: anyhow::Error| match name {
+            Some(n) => e.context(format!("combination {n}")),
+            None => e,
         };
-        lines.push(line.and_then(|line| Ok((line, average_length(args.average_length, &line)?))));
+        let prefix = name.map_or(String::new(), |n| format!("combination {n}: "));
+        lines.push(match joint_line(case, &args.input) {
+            Err(e) if !names.is_empty() && super::exit_code(&e) == super::DOES_NOT_HOLD => Err(e),
+            checked => {
+                let (line, warnings) = checked.map_err(named)?;
+                progress.warn(&warnings.iter().map(|w| format!("{prefix}{w}")).collect::<Vec<_>>());
+                Ok((line, average_length(args.average_length, &line).map_err(named)?))
+            }
+        });
     }
     let dir = args.output.dir(&scene)?;
     if names.is_empty() {
@@ -386,8 +394,9 @@ const FRICTIONLESS: &str = "the joint is frictionless (no [contact] friction, co
 /// What `safety.json` says when the joint holds at every reduction.
 const UNBOUNDED: &str = "the joint still held with its strength divided by";
 
-/// The straight joint of the scene on its first mesh, refused with a reason when there is none.
-fn joint_line(scene: &Scene, input: &Input) -> Result<JointLine> {
+/// The straight joint of the scene on its first mesh, refused with a reason when there is none,
+/// and the warnings of its uplift tables.
+fn joint_line(scene: &Scene, input: &Input) -> Result<(JointLine, Vec<String>)> {
     let (problem, joint) = scene.problem(input.mesh(scene)?)?;
     anyhow::ensure!(
         joint.is_some(),
@@ -395,13 +404,14 @@ fn joint_line(scene: &Scene, input: &Input) -> Result<JointLine> {
          foundation) or a [joints.<curve>] table (a meshed rock block)",
         scene.source.display()
     );
-    scene.joint_line(&problem).with_context(|| {
+    let line = scene.joint_line(&problem).with_context(|| {
         format!(
             "{}: the safety analysis needs a straight joint whose heel is known: the contact curves on one line, \
              and a hydrostatic curve (or the heel of [uplift] or of the joint's uplift table) at its upstream end",
             scene.source.display()
         )
-    })
+    })?;
+    Ok((line, scene.uplift_warnings(&problem.mesh, joint.as_ref())))
 }
 
 /// `--average-length`, or a tenth of the joint; it must lie in (0, L/2].

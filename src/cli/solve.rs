@@ -112,7 +112,7 @@ pub fn run(args: Args) -> Result<()> {
         // an error, blamed on the flag of a key it names
         Err(e) => return blame_overrides(Err(e), &contact_overrides(&args)),
     };
-    progress.warn(&scene.warnings(&problem.mesh)?);
+    progress.warn(&scene.warnings(&problem.mesh, joint.as_ref())?);
     let (disc, t) = progress.stage(
         "assemble",
         || Ok(problem.discretise()),

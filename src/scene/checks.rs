@@ -1,9 +1,12 @@
 //! Checks of a scene that catch inputs which would otherwise give a wrong answer without a
 //! word: non-finite numbers, vectors of the wrong length, inconsistent mesh sizes, contact on
-//! an interface between two meshed bodies, one curve with two roles; and the warnings of
-//! `damfem check` (defaults assumed, parameters outside their known range).
+//! an interface between two meshed bodies, one curve with two roles, a combination name that
+//! is not plain, an uplift headwater below the joint under a reservoir above it; and the
+//! warnings of `damfem check` (defaults assumed, parameters outside their known range, an
+//! uplift headwater that differs from the reservoir).
 
-use super::{ContactSection, Fix, ProjectionKind, Role, Scene, SceneError};
+use super::{ContactSection, Fix, ProjectionKind, Role, Scene, SceneError, UpliftSection};
+use crate::contact::ContactJoint;
 use crate::mesh::topology::NONE;
 use crate::mesh::{Mesh, Topology};
 use std::collections::BTreeMap;
@@ -160,6 +163,78 @@ impl Scene {
         Ok(())
     }
 
+    /// A combination's name is that of its directory under the output directory of `damfem
+    /// safety`: it must be plain, ASCII letters, digits, `_` and `-`, and not empty.
+    pub(super) fn check_combination_names(&self) -> Result<(), SceneError> {
+        let plain =
+            |name: &str| !name.is_empty() && name.bytes().all(|b| b.is_ascii_alphanumeric() || b"_-".contains(&b));
+        match self.combinations.keys().find(|name| !plain(name)) {
+            Some(name) => Err(self.invalid(format!(
+                "[combinations.{name:?}] is not a plain name: the name of a combination is that of its output \
+                 directory, so it must be made of ASCII letters, digits, '_' and '-', at least one"
+            ))),
+            None => Ok(()),
+        }
+    }
+
+    /// The reservoir at the joint's `heel`: the highest level of the hydrostatic loads on the
+    /// curves through it, with its key.
+    fn reservoir_at(&self, mesh: &Mesh, heel: [f64; 2]) -> Option<(String, f64)> {
+        let through = |tag| mesh.facets_tagged(&[tag]).any(|f| mesh.facet(f).iter().any(|&n| mesh.points[n] == heel));
+        (self.boundary.iter())
+            .filter_map(|(name, b)| Some((name, b.hydrostatic?.level, mesh.group(1, name)?.tag)))
+            .filter(|&(_, _, tag)| through(tag))
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(name, level, _)| (format!("boundary.{name}.hydrostatic.level"), level))
+    }
+
+    /// Refuses a headwater of the uplift table `table` (`up`) at or below the joint's `heel`
+    /// while the reservoir there stands above it: the joint would carry no uplift.
+    pub(super) fn check_headwater(
+        &self,
+        mesh: &Mesh,
+        table: &str,
+        up: &UpliftSection,
+        heel: [f64; 2],
+    ) -> Result<(), SceneError> {
+        match self.reservoir_at(mesh, heel) {
+            Some((key, level)) if up.headwater <= heel[1] && level > heel[1] => Err(self.invalid(format!(
+                "{table}.headwater = {} lies at or below the joint's heel at y = {}, while {key} = {level} puts the \
+                 reservoir above it, so the joint would carry no uplift; give the reservoir's level",
+                up.headwater, heel[1]
+            ))),
+            _ => Ok(()),
+        }
+    }
+
+    /// The uplift tables with their keys, in the order of the joint's diagrams: `[uplift]`, or
+    /// each `[joints.<curve>.uplift]`.
+    fn uplift_tables(&self) -> Vec<(String, &UpliftSection)> {
+        match &self.uplift {
+            Some(up) => vec![("uplift".into(), up)],
+            None => (self.joints.iter())
+                .filter_map(|(name, j)| Some((format!("joints.{name}.uplift"), j.uplift.as_ref()?)))
+                .collect(),
+        }
+    }
+
+    /// A warning for each uplift table of `joint` (on `mesh`, its joints split) whose headwater
+    /// differs from the level of the reservoir at its joint's heel.
+    pub fn uplift_warnings(&self, mesh: &Mesh, joint: Option<&ContactJoint>) -> Vec<String> {
+        let diagrams = joint.map_or(&[][..], |j| &j.uplift);
+        (self.uplift_tables().into_iter().zip(diagrams))
+            .filter_map(|((table, up), d)| {
+                let heel = d.diagram.line.heel;
+                let (key, level) = self.reservoir_at(mesh, heel).filter(|&(_, level)| level != up.headwater)?;
+                Some(format!(
+                    "{table}.headwater = {} differs from {key} = {level}, the reservoir at the joint's heel ({}, {}): \
+                     the uplift in the joint is that of the headwater",
+                    up.headwater, heel[0], heel[1]
+                ))
+            })
+            .collect()
+    }
+
     /// Mesh sizes: `size_min ≤ size_max`.
     pub(super) fn check_sizes(&self) -> Result<(), SceneError> {
         match (self.mesh.size_min, self.mesh.size_max) {
@@ -245,13 +320,15 @@ impl Scene {
         ))
     }
 
-    /// What `damfem check` warns about: boundary curves without a role, surfaces without a
-    /// material (with the defaults they get), γ₀ below the known stable range for θ, a Newton
-    /// tolerance above 10⁻⁶, and P1 with ν > 0.45.
-    pub fn warnings(&self, mesh: &Mesh) -> Result<Vec<String>, SceneError> {
+    /// What `damfem check` warns about on the `mesh` of the problem (its joints split) with
+    /// its `joint`: boundary curves without a role, surfaces without a material (with the
+    /// defaults they get), an uplift headwater that differs from the reservoir, γ₀ below the
+    /// known stable range for θ, a Newton tolerance above 10⁻⁶, and P1 with ν > 0.45.
+    pub fn warnings(&self, mesh: &Mesh, joint: Option<&ContactJoint>) -> Result<Vec<String>, SceneError> {
         let topology = Topology::new(mesh);
         let mut warnings = self.unassigned_curves(mesh, &topology)?;
         warnings.extend(self.unassigned_surfaces(mesh));
+        warnings.extend(self.uplift_warnings(mesh, joint));
         let c = &self.contact;
         if !self.contact_tags(mesh)?.is_empty() && c.theta != -1.0 && c.gamma0 < GAMMA0_STABLE {
             warnings.push(format!(

@@ -1,9 +1,13 @@
 //! Bad or unusual user input through the `damfem` binary: scene values that the physics
 //! forbids, keys and flags that would be accepted without effect, two tables for one physical
-//! group, and output directories that hold an earlier run's files. Each is refused with one
-//! sentence naming the key, flag or group, exit code 1 and no output file.
+//! group, output directories that hold an earlier run's files, combination names that are not
+//! plain, uplift headwaters that do not fit the reservoir, combinations that only `safety`
+//! used to build, and `.msh` tags with two names. Each is refused with one sentence naming the
+//! key, flag, group or file, exit code 1 and no output file, or said in a warning.
 
-use super::cli::{assert_error, assert_ok, assert_refused, check_warnings, damfem, edited_scene, repo, TempDir};
+use super::cli::{
+    assert_error, assert_ok, assert_refused, check_warnings, damfem, edited_scene, repo, stderr, TempDir,
+};
 use std::ffi::OsStr;
 use std::path::Path;
 
@@ -325,4 +329,156 @@ fn an_unknown_joint_lists_the_curves_of_the_geometry() {
     let p1 = ["--order", "1", "--size-factor", "3"];
     let message = assert_refused("unknown-joint-out", "check", &scene, &p1, &["'nothing'", "base, lift"]);
     assert!(!message.contains("base:rock") && !message.contains("lift:lower_block"), "{message}");
+}
+
+// Source: geo/scene_a_combinations.toml with its combinations replaced by one named "..",
+// "../escaped", "a/b" or "" (each combination's results go to the directory of its name under
+// -o). Goal: a name that is not plain is refused when the scene is read, naming the
+// combination and what a name may hold, and no file is written in or outside the output
+// directory, where `damfem safety` used to write its reports one directory above -o (and
+// remove files there), in nested folders, or into -o itself over the combined report, with
+// exit code 0. Parameters: P1, sizes × 3, one adaptive step.
+#[test]
+fn a_combination_name_that_is_not_plain_is_refused() {
+    let tmp = TempDir::new("combination-names");
+    for (k, name) in ["..", "../escaped", "a/b", ""].into_iter().enumerate() {
+        let scene = edited_scene(&tmp, "scene_a_combinations", |s| {
+            format!("{}[combinations.{name:?}]\n", &s[..s.find("[combinations.").unwrap()])
+        });
+        let run = tmp.join(&format!("run-{k}"));
+        let out_dir = run.join("out");
+        let p1 = ["--order", "1", "--size-factor", "3", "--max-steps", "1"];
+        let args: Vec<&OsStr> = ["safety", "-q"].iter().map(OsStr::new).chain([scene.as_os_str()]).collect();
+        let out = damfem(&[&args[..], &["-o".as_ref(), out_dir.as_os_str()], &p1.map(OsStr::new)].concat());
+        assert_error(&out, &["scene_a_combinations.toml", &format!("[combinations.{name:?}]"), "letters, digits"]);
+        assert!(!run.exists(), "{name:?}: {} was written", run.display());
+        assert_eq!(listing(&tmp.0), ["scene_a_combinations.toml"], "{name:?}");
+    }
+}
+
+// Source: geo/scene_a_uplift.toml (its joint from (0, 0) to (40, 0), the reservoir at 45 m on
+// the upstream face) with [uplift] headwater = -10, geo/dam_lifts_on_rock_uplift.toml with
+// [joints.lift.uplift] headwater = 15 (its lift joint at y = 20 m, under the same reservoir),
+// and geo/scene_a_combinations.toml with [combinations.flood.uplift] headwater = -10. Goal: a
+// headwater at or below the joint's heel while the reservoir at the heel stands above it is
+// refused, naming both keys, where damfem used to lay no uplift along the joint with exit
+// code 0 (issue 33: FS_SR 2.24 instead of 1.87 under a reservoir at 45 m, on the unsafe
+// side). Parameters: P1, sizes × 3.
+#[test]
+fn a_headwater_below_the_heel_under_a_reservoir_above_it_is_refused() {
+    let tmp = TempDir::new("headwater-below");
+    let p1 = ["--order", "1", "--size-factor", "3"];
+    let reservoir = "boundary.upstream.hydrostatic.level = 45";
+    let uplift = edited_scene(&tmp, "scene_a_uplift", |s| s.replace("headwater = 45.0", "headwater = -10.0"));
+    for command in ["check", "solve"] {
+        let keywords = ["uplift.headwater = -10", "y = 0", reservoir];
+        assert_refused(&format!("headwater-below-{command}"), command, &uplift, &p1, &keywords);
+    }
+    let lift = edited_scene(&tmp, "dam_lifts_on_rock_uplift", |s| {
+        s.replace("[joints.lift.uplift]\nheadwater = 45.0", "[joints.lift.uplift]\nheadwater = 15.0")
+    });
+    assert_refused(
+        "headwater-below-lift",
+        "check",
+        &lift,
+        &p1,
+        &["joints.lift.uplift.headwater = 15", "y = 20", reservoir],
+    );
+    let flood = edited_scene(&tmp, "scene_a_combinations", |s| {
+        s.replace("[combinations.flood.uplift]\nheadwater = 50.0", "[combinations.flood.uplift]\nheadwater = -10.0")
+    });
+    let keywords = ["uplift.headwater = -10", "boundary.upstream.hydrostatic.level = 50"];
+    assert_refused("headwater-below-flood", "safety", &flood, &[&p1[..], &["--max-steps", "1"]].concat(), &keywords);
+}
+
+// Source: geo/scene_a_uplift.toml with [uplift] headwater = 40 (the reservoir at 45 m), and
+// geo/scene_a_combinations.toml whose flood raises the reservoir to 50 m but leaves the
+// uplift headwater at the scene's 45 m. Goal: an uplift headwater that differs from the level
+// of the reservoir at the joint's heel is said, naming both keys, by `check` and `solve`, and
+// by `safety` for that combination alone, naming it, where damfem used to take the two levels
+// without a word; the scene's own combinations (the levels equal) are not. Parameters: P1,
+// sizes × 3, one adaptive step.
+#[test]
+fn a_headwater_that_differs_from_the_reservoir_is_said() {
+    let tmp = TempDir::new("headwater-differs");
+    let p1 = ["--order", "1", "--size-factor", "3"];
+    let lower = edited_scene(&tmp, "scene_a_uplift", |s| s.replace("headwater = 45.0", "headwater = 40.0"));
+    let warnings = check_warnings(&lower, &p1);
+    let said = |w: &String, level: &str, reservoir: &str| {
+        w.contains(&format!("uplift.headwater = {level}"))
+            && w.contains(&format!("boundary.upstream.hydrostatic.level = {reservoir}"))
+    };
+    assert!(warnings.len() == 1 && said(&warnings[0], "40", "45"), "{warnings:?}");
+    let dir = tmp.join("solve");
+    let solve: Vec<&OsStr> = ["solve"].iter().chain(&p1).map(OsStr::new).chain([lower.as_os_str()]).collect();
+    let out = damfem(&[&solve[..], &["-o".as_ref(), dir.as_os_str()]].concat());
+    assert_ok(&out);
+    assert!(stderr(&out).lines().any(|l| l.starts_with("warning: uplift.headwater = 40")), "{}", stderr(&out));
+    assert!(check_warnings(&repo("geo/scene_a_combinations.toml"), &p1).is_empty());
+    let flood =
+        edited_scene(&tmp, "scene_a_combinations", |s| s.replace("[combinations.flood.uplift]\nheadwater = 50.0", ""));
+    let warnings = check_warnings(&flood, &[&p1[..], &["--combination", "flood"]].concat());
+    assert!(warnings.len() == 1 && said(&warnings[0], "45", "50"), "{warnings:?}");
+    let dir = tmp.join("safety");
+    let safety: Vec<&OsStr> =
+        ["safety", "--max-steps", "1"].iter().chain(&p1).map(OsStr::new).chain([flood.as_os_str()]).collect();
+    let out = damfem(&[&safety[..], &["-o".as_ref(), dir.as_os_str()]].concat());
+    assert_ok(&out);
+    let warnings: Vec<String> = stderr(&out)
+        .lines()
+        .filter(|l| l.starts_with("warning:") && l.contains("headwater"))
+        .map(String::from)
+        .collect();
+    assert!(
+        warnings.len() == 1 && warnings[0].starts_with("warning: combination flood: uplift.headwater = 45"),
+        "{warnings:?}"
+    );
+}
+
+// Source: geo/scene_a_combinations.toml with its flood combination edited: a load on a curve
+// the geometry lacks, the base's role turned to free, or the flood's uplift headwater removed
+// (the reservoir raised to 50 m, the headwater left at the scene's 45 m). Goal: `check`
+// builds every combination's scene and problem as `safety` does, and refuses the first two
+// as `safety` does, each message naming the combination, where `check` used to say ok and
+// `safety` failed without naming it; the third's warning is said once, naming the
+// combination. Parameters: P1, sizes × 3.
+#[test]
+fn check_checks_every_combination() {
+    let tmp = TempDir::new("check-combinations");
+    let p1 = ["--order", "1", "--size-factor", "3"];
+    let cases = [
+        ("[combinations.flood.boundary.nothing]\nrole = \"neumann\"\n", ["combination flood: ", "'nothing'"]),
+        ("[combinations.flood.boundary.base]\nrole = \"free\"\n", ["combination flood: ", "[uplift] needs a joint"]),
+    ];
+    for (k, (extra, keywords)) in cases.iter().enumerate() {
+        let scene = edited_scene(&tmp, "scene_a_combinations", |s| format!("{s}\n{extra}"));
+        for command in ["check", "safety"] {
+            assert_refused(&format!("check-combination-{k}-{command}"), command, &scene, &p1, keywords);
+        }
+    }
+    let raised =
+        edited_scene(&tmp, "scene_a_combinations", |s| s.replace("[combinations.flood.uplift]\nheadwater = 50.0", ""));
+    let warnings = check_warnings(&raised, &p1);
+    let said =
+        "warning: combination flood: uplift.headwater = 45 differs from boundary.upstream.hydrostatic.level = 50";
+    assert!(warnings.len() == 1 && warnings[0].starts_with(said), "{warnings:?}");
+}
+
+// Source: tests/data/cli/square.msh (physical curve 1 "Gamma_D", surface 2 "block") with a
+// second name, "bottom", for the physical curve 1 in its $PhysicalNames. Goal: the file is
+// refused by every command that reads it, naming the file, the tag and both names, where
+// gmsh kept one name and dropped the other without a word (a scene naming the dropped one
+// failed on an unknown curve, the other ran with exit code 0).
+#[test]
+fn a_msh_tag_with_two_names_is_refused() {
+    let tmp = TempDir::new("msh-two-names");
+    let msh = tmp.join("two_names.msh");
+    let body = std::fs::read_to_string(super::cli::fixture("square.msh")).unwrap();
+    let twice = body.replace("2\n1 1 \"Gamma_D\"\n", "3\n1 1 \"Gamma_D\"\n1 1 \"bottom\"\n");
+    assert_ne!(twice, body);
+    std::fs::write(&msh, twice).unwrap();
+    for command in ["check", "solve"] {
+        let keywords = ["two_names.msh", "physical tag 1", "\"Gamma_D\"", "\"bottom\""];
+        assert_refused(&format!("msh-two-names-{command}"), command, &msh, &[], &keywords);
+    }
 }

@@ -60,6 +60,9 @@ pub enum GmshError {
     /// gmsh skipped nodes or elements whose tag was already used.
     #[error("cannot open {}: {message}; every node and element needs its own tag", .path.display())]
     DuplicateTag { path: PathBuf, message: String },
+    /// The `$PhysicalNames` of a `.msh` file give one physical group two names.
+    #[error("cannot open {}: physical tag {tag} of dimension {dim} has two names, \"{first}\" and \"{second}\", of which gmsh would keep one; give each physical group one name", .path.display())]
+    TwoNames { path: PathBuf, dim: i32, tag: i32, first: String, second: String },
     /// A physical curve has nodes that no triangle uses.
     #[error("physical curve \"{group}\" of {} does not lie on the triangles of the mesh", .path.display())]
     DetachedCurve { path: PathBuf, group: String },

@@ -35,6 +35,7 @@ mod error;
 mod ffi;
 mod guard;
 mod limits;
+mod names;
 mod read;
 mod session;
 mod size_field;

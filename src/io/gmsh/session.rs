@@ -1,6 +1,6 @@
 //! [`Session`]: exclusive access to gmsh's global state.
 
-use super::{api, guard, limits, read, GmshError, MeshOptions, SizeField};
+use super::{api, guard, limits, names, read, GmshError, MeshOptions, SizeField};
 use crate::mesh::Mesh;
 use std::ffi::CString;
 use std::io::Read;
@@ -92,6 +92,7 @@ impl Session {
             return Err(GmshError::NotMsh { path: path.into() });
         }
         guard::check_options(path)?;
+        names::check_physical_names(path)?;
         let logged = self.log_seen;
         // gmsh reports skipped duplicate tags as warnings, logged from verbosity 2
         let verbosity = api::get_number("General.Verbosity")?;
