@@ -362,8 +362,7 @@ fn a_combination_name_that_is_not_plain_is_refused() {
 // and geo/scene_a_combinations.toml with [combinations.flood.uplift] headwater = -10. Goal: a
 // headwater at or below the joint's heel while the reservoir at the heel stands above it is
 // refused, naming both keys, where damfem used to lay no uplift along the joint with exit
-// code 0 (issue 33: FS_SR 2.24 instead of 1.87 under a reservoir at 45 m, on the unsafe
-// side). Parameters: P1, sizes × 3.
+// code 0, on the unsafe side. Parameters: P1, sizes × 3.
 #[test]
 fn a_headwater_below_the_heel_under_a_reservoir_above_it_is_refused() {
     let tmp = TempDir::new("headwater-below");
