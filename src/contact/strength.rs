@@ -13,7 +13,7 @@
 //! must equal FS_LE: a gap of more than [`AGREEMENT`] is an error ([`StrengthError::Disagrees`]).
 
 use super::{newton, solve_by_continuation, ContactError, ContactJoint, ContactProblem, ContactSolution, Continuation};
-use super::{JointLaw, NewtonOptions};
+use super::{JointLaw, NewtonError, NewtonOptions};
 use crate::elasticity::{Discretisation, Problem};
 
 /// The relative width of the FS_SR bracket at which `damfem solve --strength-reduction` and
@@ -44,9 +44,9 @@ pub enum StrengthError {
     #[error(
         "the strength reduction stalled at k = {held:.4}: Newton failed at k = {k:.4}, {step:.1e} above it, where the \
          last state that held still has FS_LE = {fs:.4} with the strength divided by k, so the failure is not a loss \
-         of equilibrium; FS_SR is not known"
+         of equilibrium; FS_SR is not known. Newton at k: {source}"
     )]
-    Stalled { held: f64, k: f64, step: f64, fs: f64 },
+    Stalled { held: f64, k: f64, step: f64, fs: f64, source: NewtonError },
     #[error(
         "FS_SR in [{held:.4}, {failed:.4}] and FS_LE = {fs_le:.4} differ by {gap:.2} % on a straight joint with \
          friction alone, where both are F N / |T| of the same forces: the strength reduction is not to be trusted"
@@ -98,12 +98,12 @@ pub fn reduce_strength(
                 step = (2.0 * taken).min(0.25 * held);
             }
             // the strength of the plane is k times smaller than that of the state that held
-            Err(_) => match held_fs.map(|fs| fs * held / k) {
+            Err(source) => match held_fs.map(|fs| fs * held / k) {
                 Some(fs) if fs > 1.0 + tolerance => {
                     sr.retried += 1;
                     step = 0.5 * (k - held);
                     if step < 0.5 * tolerance * held {
-                        return Err(StrengthError::Stalled { held, k, step: k - held, fs });
+                        return Err(StrengthError::Stalled { held, k, step: k - held, fs, source });
                     }
                 }
                 _ => sr.failed = k,

@@ -41,9 +41,9 @@ fn the_battery_matches_limit_equilibrium() {
 }
 
 // Source: cases 9 and 12 of the battery (P1 dams on rock blocks of E_rock/E_concrete 0.90 and
-// 0.16, friction alone, 0.14 g and 0.13 g, the first with its crack filled), where Newton fails
-// at several k short of the limit; before, each failure counted as a loss of equilibrium, and
-// two such dams had FS_SR 17 % and 6.5 % below FS_LE. Goal: N and T of the dam's statics do not
+// 0.16, friction alone, 0.14 g and 0.13 g, the first with its crack filled); where every Newton
+// failure counted as a loss of equilibrium, two such dams had FS_SR 17 % and 6.5 % below FS_LE.
+// Goal: N and T of the dam's statics do not
 // depend on k, so FS_SR's bracket must hold the exact FS = F N/|T| within 0.5 %
 // (docs/method.md §1.9). Parameters: the battery's meshes.
 #[test]
@@ -61,5 +61,44 @@ fn the_strength_reduction_finds_the_limit_equilibrium_of_dams_on_rock() {
             (held <= fs && fs <= failed) || gap <= 5e-3,
             "seed {seed}: FS_SR in [{held}, {failed}] against FS = {fs}"
         );
+    }
+}
+
+// Source: case 23 of the battery (a rigid foundation, friction alone, FS = 1.117) with
+// [contact] max_iter = 10, where Newton fails at k far short of the limit; before, each such
+// failure counted as a loss of equilibrium and FS_SR's bracket ended there, with exit 0.
+// Goal: either the bracket holds the exact FS = F N/|T| within 0.5 %, or the run says that the
+// strength reduction stalled (exit 4): never a bracket off the limit with exit 0.
+// Parameters: the battery's mesh.
+#[test]
+fn a_strength_reduction_that_newton_cannot_finish_says_so() {
+    let tmp = TempDir::new("battery-stalled");
+    let damfem = Path::new(env!("CARGO_BIN_EXE_damfem"));
+    let case = DamCase::new(23);
+    let dir = tmp.0.join("seed_23");
+    let scene = case.write(&dir).unwrap();
+    let text = std::fs::read_to_string(&scene).unwrap();
+    assert!(text.contains("max_iter = 100"), "{text}");
+    std::fs::write(&scene, text.replace("max_iter = 100", "max_iter = 10")).unwrap();
+    let out = std::process::Command::new(damfem)
+        .args(["solve", "case.toml", "-o", "out", "--strength-reduction"])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    match out.status.code() {
+        Some(4) => assert!(stderr.contains("the strength reduction stalled"), "{stderr}"),
+        Some(0) => {
+            let summary = std::fs::read_to_string(dir.join("out/summary.json")).unwrap();
+            let json: serde_json::Value = serde_json::from_str(&summary).unwrap();
+            let sr = &json["strength_reduction"];
+            let (held, failed) = (sr["held"].as_f64().unwrap(), sr["failed"].as_f64().unwrap());
+            let fs = json["contact"]["sliding_safety_factor"].as_f64().unwrap();
+            assert!(
+                held <= fs * (1.0 + 5e-3) && failed >= fs * (1.0 - 5e-3),
+                "FS_SR in [{held}, {failed}], FS_LE {fs}"
+            );
+        }
+        code => panic!("exit {code:?}: {stderr}"),
     }
 }
