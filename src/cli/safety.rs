@@ -315,7 +315,8 @@ fn analyse(
                 )?
                 .0;
             let unbounded = (!sr.failed.is_finite()).then(|| format!("{} {:.0}", UNBOUNDED, sr.held));
-            (Some(sr), unbounded)
+            let fs_le = solution.forces_on(&line).sliding_safety_factor;
+            (Some(sr), unbounded.or_else(|| outside_note(fs_le?, &sr)))
         }
     };
     let eta_relative = record.eta.tot / record.stress_norm;
@@ -390,6 +391,20 @@ const STALLED: &str = "on the last mesh Newton stalled before the residual toler
 /// What `safety.json` says without friction.
 const FRICTIONLESS: &str = "the joint is frictionless (no [contact] friction, cohesion or threshold, or none \
      in the [joints] table of the sliding plane): it has no sliding resistance of its own, so FS_LE and FS_SR are not computed";
+
+/// Why FS_LE may lie outside FS_SR's bracket (docs/method.md §1.9), said where it does.
+fn outside_note(fs_le: f64, sr: &StrengthReduction) -> Option<String> {
+    let side = if fs_le > sr.failed { "above" } else { "below" };
+    (fs_le < sr.held || fs_le > sr.failed).then(|| {
+        format!(
+            "FS_LE = {fs_le:.4} lies {side} FS_SR's bracket [{:.4}, {:.4}]: FS_LE counts the cohesion over the joint's \
+             contact length under the loads, while FS_SR follows the joint as its strength is divided by k, and with \
+             the cohesion the contact length may change with k (the joint opens or closes); with friction alone on a \
+             straight joint the two agree within 0.5 %, or the run stops",
+            sr.held, sr.failed
+        )
+    })
+}
 
 /// What `safety.json` says when the joint holds at every reduction.
 const UNBOUNDED: &str = "the joint still held with its strength divided by";
@@ -721,8 +736,8 @@ fn markdown(r: &Report, table: &[[String; 3]]) -> String {
 #[cfg(test)]
 mod tests {
     use super::{
-        combination_rows, combinations_markdown, markdown, table, BaseStresses, BestStep, Combination, Outcome, Report,
-        StepRow, UNITS,
+        combination_rows, combinations_markdown, markdown, outside_note, table, BaseStresses, BestStep, Combination,
+        Outcome, Report, StepRow, StrengthReduction, UNITS,
     };
     use crate::contact::JointLine;
     use std::path::Path;
@@ -797,6 +812,20 @@ mod tests {
             "{md}"
         );
         assert!(!md.contains("usual: step"), "{md}");
+    }
+
+    // Source: the usual and earthquake combinations of a 60 m dam on rock with a Mohr–Coulomb
+    // joint (c = 0.2 MPa), FS_LE 2.1446 above FS_SR in [2.1393, 2.1423] and 1.0972 below
+    // [1.1074, 1.1094]. Goal: FS_LE outside the bracket is said, on either side, with both
+    // numbers; inside it nothing is. Parameters: those brackets.
+    #[test]
+    fn a_safety_factor_outside_the_strength_bracket_is_explained() {
+        let sr = |held, failed| StrengthReduction { held, failed, solves: 9, retried: 0 };
+        let above = outside_note(2.1446, &sr(2.1393, 2.1423)).unwrap();
+        assert!(above.contains("2.1446 lies above FS_SR's bracket [2.1393, 2.1423]"), "{above}");
+        let below = outside_note(1.0972, &sr(1.1074, 1.1094)).unwrap();
+        assert!(below.contains("lies below"), "{below}");
+        assert_eq!(outside_note(2.14, &sr(2.1393, 2.1423)), None);
     }
 
     // Source: docs/method.md §5.3 (a last mesh whose Newton run stalls before the residual
