@@ -178,7 +178,7 @@ pub fn follow(
                         let steps = more.iter().map(|s| s.report.iterations.len()).sum();
                         stages.extend(more);
                         reached(&mut path, point(contact, &y, 1.0, steps), trace);
-                        return standing(Followed { x: y, stages, cracks: found, path }, joint_length);
+                        return Ok(Followed { x: y, stages, cracks: found, path });
                     }
                     restore(contact);
                     contact.set_load_factor(lambda);
@@ -187,19 +187,7 @@ pub fn follow(
             }
         }
     }
-    standing(Followed { x, stages, cracks, path }, joint_length)
-}
-
-/// The path that reached λ = 1, unless its joint there holds on less than [`LIFT_OFF`] of its
-/// `joint_length`: a state that no joint carries (a smoothed law may still converge there)
-/// is the verdict that the dam lifts off.
-fn standing(followed: Followed, joint_length: f64) -> Result<Followed, ContactError> {
-    let at = *followed.path.last().expect("the path has its state at λ = 1");
-    if at.contact_length >= LIFT_OFF * joint_length {
-        return Ok(followed);
-    }
-    let (load_factor, limit, path) = (at.load_factor, Limit::LiftOff, followed.path);
-    Err(ContactError::NoEquilibrium(NoEquilibrium { load_factor, limit, joint_length, at_limit: at, path }))
+    Ok(Followed { x, stages, cracks, path })
 }
 
 /// λ = 0, the self-weight on the joint, from `x0` (rest): Newton at δ from the joint held
