@@ -1006,6 +1006,38 @@ fn adapt_interrupted_keeps_its_steps_and_says_so() {
     assert!(!history["steps"].as_array().unwrap().is_empty());
 }
 
+// SIGINT during the second load combination of `damfem safety`. Source: geo/scene_a_combinations.toml
+// (its combinations in alphabetical order: drains_blocked first). Goal: the run ends with 130,
+// and report.md and safety.json, written again after every combination, keep the first one's
+// row; no hidden temporary file is left. Parameters: P1, mesh sizes × 2.
+#[test]
+fn safety_interrupted_keeps_the_combinations_it_finished() {
+    let tmp = TempDir::new("safety-sigint");
+    let scene = repo("geo/scene_a_combinations.toml");
+    let child = Command::new(env!("CARGO_BIN_EXE_damfem"))
+        .args([OsStr::new("safety"), scene.as_os_str(), OsStr::new("--order"), OsStr::new("1")])
+        .args([OsStr::new("--size-factor"), OsStr::new("2"), OsStr::new("-q"), OsStr::new("-o"), tmp.0.as_os_str()])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    while !tmp.join("report.md").exists() {
+        assert!(start.elapsed().as_secs() < 300, "no report.md after five minutes");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let kill = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
+    assert!(kill.success());
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(130), "{}", stderr(&out));
+    let report = std::fs::read_to_string(tmp.join("report.md")).unwrap();
+    assert!(report.contains("[drains_blocked](drains_blocked/report.md)"), "{report}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(tmp.join("safety.json")).unwrap()).unwrap();
+    let text = json.to_string();
+    assert!(text.contains("drains_blocked") && text.contains("solved"), "{text}");
+    assert!(hidden_files(&tmp.0).is_empty(), "{:?}", hidden_files(&tmp.0));
+}
+
 // The closing lines of `solve`, its results on stdout, headline what converges (displacement,
 // contact length, joint forces, crack at the heel, resultant), not the maximum of the singular
 // stress field.
