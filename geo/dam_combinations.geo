@@ -1,0 +1,31 @@
+// A 60 m gravity dam (crest 6 m, downstream slope 0.8 H : 1 V below y = 52 m) with a 3 m x 3 m
+// gallery near the heel, on a meshed rock block 200 m x 60 m; plane strain, SI units.
+H = 60; C = 6; S = 0.8; Hs = 52; B = C + S*Hs;
+h = 3; hb = 1; hr = 15;
+Point(1) = {0, 0, 0, hb};
+Point(2) = {B, 0, 0, hb};
+Point(3) = {C, Hs, 0, h};
+Point(4) = {C, H, 0, h};
+Point(5) = {0, H, 0, h};
+Point(6) = {-76, 0, 0, hr};
+Point(7) = {-76, -60, 0, hr};
+Point(8) = {B + 76.4, -60, 0, hr};
+Point(9) = {B + 76.4, 0, 0, hr};
+Point(10) = {5, 4, 0, 0.5}; Point(11) = {8, 4, 0, 0.5}; Point(12) = {8, 7, 0, 0.5}; Point(13) = {5, 7, 0, 0.5};
+Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 5}; Line(5) = {5, 1};
+Line(6) = {6, 1}; Line(7) = {7, 6}; Line(8) = {8, 7}; Line(9) = {9, 8}; Line(10) = {2, 9};
+Line(11) = {10, 11}; Line(12) = {11, 12}; Line(13) = {12, 13}; Line(14) = {13, 10};
+Curve Loop(1) = {1, 2, 3, 4, 5}; Curve Loop(3) = {11, 12, 13, 14};
+Plane Surface(1) = {1, 3};
+Curve Loop(2) = {6, 1, 10, 9, 8, 7}; Plane Surface(2) = {-2};
+Physical Curve("base") = {1};
+Physical Curve("downstream") = {2, 3};
+Physical Curve("crest") = {4};
+Physical Curve("upstream") = {5};
+Physical Curve("reservoir_floor") = {6};
+Physical Curve("rock_sides") = {7, 9};
+Physical Curve("rock_bottom") = {8};
+Physical Curve("ground") = {10};
+Physical Curve("gallery") = {11, 12, 13, 14};
+Physical Surface("concrete") = {1};
+Physical Surface("rock") = {2};
