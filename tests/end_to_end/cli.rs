@@ -977,27 +977,33 @@ fn adapt_rerun_removes_earlier_steps_and_writes_the_history_first() {
     assert_eq!(history["steps"].as_array().unwrap().len(), 1, "{history}");
 }
 
-// SIGINT during an adaptive run: the process ends with 130, no hidden temporary file is left,
-// and history.json keeps the completed steps and records "interrupted".
-#[test]
-fn adapt_interrupted_keeps_its_steps_and_says_so() {
-    let tmp = TempDir::new("adapt-sigint");
-    let scene = repo("geo/scene_a.toml");
-    let child = Command::new(env!("CARGO_BIN_EXE_damfem"))
-        .args([OsStr::new("adapt"), scene.as_os_str(), OsStr::new("--order"), OsStr::new("1")])
-        .args([OsStr::new("--steps"), OsStr::new("40"), OsStr::new("-q"), OsStr::new("-o"), tmp.0.as_os_str()])
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
+/// `damfem args` sent SIGINT once `file` exists (within five minutes); it must end with 130.
+fn interrupted(args: &[&OsStr], file: &Path) -> Output {
+    let child =
+        Command::new(env!("CARGO_BIN_EXE_damfem")).args(args).stderr(std::process::Stdio::piped()).spawn().unwrap();
     let start = std::time::Instant::now();
-    while !tmp.join("scene_a_01_dg.vtu").exists() {
-        assert!(start.elapsed().as_secs() < 60, "no step 1 after a minute");
+    while !file.exists() {
+        assert!(start.elapsed().as_secs() < 300, "no {} after five minutes", file.display());
         std::thread::sleep(std::time::Duration::from_millis(20));
     }
     let kill = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
     assert!(kill.success());
     let out = child.wait_with_output().unwrap();
     assert_eq!(out.status.code(), Some(130), "{}", stderr(&out));
+    out
+}
+
+// SIGINT during an adaptive run: the process ends with 130, no hidden temporary file is left,
+// and history.json keeps the completed steps and records "interrupted".
+#[test]
+fn adapt_interrupted_keeps_its_steps_and_says_so() {
+    let tmp = TempDir::new("adapt-sigint");
+    let scene = repo("geo/scene_a.toml");
+    let args = [OsStr::new("adapt"), scene.as_os_str(), OsStr::new("--order"), OsStr::new("1"), OsStr::new("--steps")];
+    let out = interrupted(
+        &[&args[..], &[OsStr::new("40"), OsStr::new("-q"), OsStr::new("-o"), tmp.0.as_os_str()]].concat(),
+        &tmp.join("scene_a_01_dg.vtu"),
+    );
     assert!(stderr(&out).contains("interrupted by SIGINT"), "{}", stderr(&out));
     assert!(hidden_files(&tmp.0).is_empty(), "{:?}", hidden_files(&tmp.0));
     let history: serde_json::Value =
@@ -1014,21 +1020,12 @@ fn adapt_interrupted_keeps_its_steps_and_says_so() {
 fn safety_interrupted_keeps_the_combinations_it_finished() {
     let tmp = TempDir::new("safety-sigint");
     let scene = repo("geo/scene_a_combinations.toml");
-    let child = Command::new(env!("CARGO_BIN_EXE_damfem"))
-        .args([OsStr::new("safety"), scene.as_os_str(), OsStr::new("--order"), OsStr::new("1")])
-        .args([OsStr::new("--size-factor"), OsStr::new("2"), OsStr::new("-q"), OsStr::new("-o"), tmp.0.as_os_str()])
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    let start = std::time::Instant::now();
-    while !tmp.join("report.md").exists() {
-        assert!(start.elapsed().as_secs() < 300, "no report.md after five minutes");
-        std::thread::sleep(std::time::Duration::from_millis(20));
-    }
-    let kill = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
-    assert!(kill.success());
-    let out = child.wait_with_output().unwrap();
-    assert_eq!(out.status.code(), Some(130), "{}", stderr(&out));
+    let args =
+        [OsStr::new("safety"), scene.as_os_str(), OsStr::new("--order"), OsStr::new("1"), OsStr::new("--size-factor")];
+    let out = interrupted(
+        &[&args[..], &[OsStr::new("2"), OsStr::new("-q"), OsStr::new("-o"), tmp.0.as_os_str()]].concat(),
+        &tmp.join("report.md"),
+    );
     let report = std::fs::read_to_string(tmp.join("report.md")).unwrap();
     assert!(report.contains("[drains_blocked](drains_blocked/report.md)"), "{report}");
     let json: serde_json::Value =
