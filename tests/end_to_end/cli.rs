@@ -1022,7 +1022,7 @@ fn safety_interrupted_keeps_the_combinations_it_finished() {
     let scene = repo("geo/scene_a_combinations.toml");
     let args =
         [OsStr::new("safety"), scene.as_os_str(), OsStr::new("--order"), OsStr::new("1"), OsStr::new("--size-factor")];
-    let out = interrupted(
+    interrupted(
         &[&args[..], &[OsStr::new("2"), OsStr::new("-q"), OsStr::new("-o"), tmp.0.as_os_str()]].concat(),
         &tmp.join("report.md"),
     );
