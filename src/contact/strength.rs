@@ -32,9 +32,9 @@ pub struct StrengthReduction {
     /// The largest k that held, and the smallest that did not: FS_SR lies between.
     pub held: f64,
     pub failed: f64,
-    /// Contact solves made, the first at k = 1 included; those that failed without a loss of
-    /// equilibrium.
+    /// Contact solves made, the first at k = 1 included.
     pub solves: usize,
+    /// Solves that failed without a loss of equilibrium, tried again closer to the last k that held.
     pub retried: usize,
 }
 
@@ -52,6 +52,9 @@ pub enum StrengthError {
          friction alone, where both are F N / |T| of the same forces: the strength reduction is not to be trusted"
     )]
     Disagrees { held: f64, failed: f64, fs_le: f64, gap: f64 },
+    /// The solve at k = 1 that the reduction starts from failed.
+    #[error(transparent)]
+    Start(#[from] ContactError),
 }
 
 /// FS_SR of the whole joint to the relative `tolerance`, from the solution at k = 1 reached
@@ -62,9 +65,9 @@ pub fn strength_reduction(
     joint: &ContactJoint,
     settings: &Continuation,
     tolerance: f64,
-) -> Result<Result<StrengthReduction, StrengthError>, ContactError> {
+) -> Result<StrengthReduction, StrengthError> {
     let start = solve_by_continuation(problem, disc, joint, settings)?;
-    Ok(reduce_strength(problem, disc, joint, &joint.every_curve(), &start, &settings.newton, tolerance))
+    reduce_strength(problem, disc, joint, &joint.every_curve(), &start, &settings.newton, tolerance)
 }
 
 /// FS_SR of the sliding plane made of the curves i with `plane[i]` (the other curves keep
@@ -79,23 +82,22 @@ pub fn reduce_strength(
     newton_options: &NewtonOptions,
     tolerance: f64,
 ) -> Result<StrengthReduction, StrengthError> {
-    let (mut held, mut x) = (1.0, start.x.clone());
-    let mut sr = StrengthReduction { held, failed: f64::INFINITY, solves: 1, retried: 0 };
-    // FS_LE of the plane at the last state that held, with its strength
-    let mut held_fs = start.forces(|k| plane[start.nitsche.faces[k].curve]).sliding_safety_factor;
+    let mut sr = StrengthReduction { held: 1.0, failed: f64::INFINITY, solves: 1, retried: 0 };
+    // the last state that held, and FS_LE of its plane with its strength
+    let (mut x, mut held_fs) = (start.x.clone(), plane_safety_factor(start, plane));
     // one contact problem for every k: the same faces, stiffness and factorisation
     let mut contact = ContactProblem::new(problem, disc, &joint.as_solved(start), start.smoothing);
-    let mut step = 0.25 * held;
-    while sr.failed - held > tolerance * held && held <= UNBOUNDED {
+    let mut step = 0.25;
+    while sr.failed - sr.held > tolerance * sr.held && sr.held <= UNBOUNDED {
+        let held = sr.held;
         let k = if sr.failed.is_finite() { (0.5 * (held + sr.failed)).min(held + step) } else { held + step };
         contact.nitsche.laws = joint.reduced(k, plane).laws;
         sr.solves += 1;
         match newton(&contact, x.clone(), newton_options) {
             Ok(report) => {
-                let taken = k - held;
-                (held, x) = (k, report.x);
-                held_fs = plane_safety_factor(&contact, &x, plane);
-                step = (2.0 * taken).min(0.25 * held);
+                (sr.held, x) = (k, report.x);
+                held_fs = plane_safety_factor(&contact.solution(x.clone(), Vec::new(), Vec::new()), plane);
+                step = (2.0 * (k - held)).min(0.25 * k);
             }
             // the strength of the plane is k times smaller than that of the state that held
             Err(source) => match held_fs.map(|fs| fs * held / k) {
@@ -110,15 +112,13 @@ pub fn reduce_strength(
             },
         }
     }
-    sr.held = held;
     agreement(&sr, start, joint, plane)?;
     Ok(sr)
 }
 
-/// FS_LE of the `plane` of `contact` at the state `x` solved with its laws.
-fn plane_safety_factor(contact: &ContactProblem, x: &[f64], plane: &[bool]) -> Option<f64> {
-    let state = contact.solution(x.to_vec(), Vec::new(), Vec::new());
-    state.forces(|k| plane[state.nitsche.faces[k].curve]).sliding_safety_factor
+/// FS_LE of the `plane` of `solution`, with the laws it was solved with.
+fn plane_safety_factor(solution: &ContactSolution, plane: &[bool]) -> Option<f64> {
+    solution.forces(|k| plane[solution.nitsche.faces[k].curve]).sliding_safety_factor
 }
 
 /// [`StrengthError::Disagrees`] where FS_SR and FS_LE of `start` must agree and do not: a
@@ -130,7 +130,7 @@ fn agreement(
     plane: &[bool],
 ) -> Result<(), StrengthError> {
     let coulomb = (joint.laws.iter().zip(plane)).all(|(c, &on)| !on || matches!(c.law, JointLaw::Coulomb { .. }));
-    let fs_le = start.forces(|k| plane[start.nitsche.faces[k].curve]).sliding_safety_factor;
+    let fs_le = plane_safety_factor(start, plane);
     let Some(fs_le) = fs_le.filter(|_| coulomb && start.on_one_line() && sr.failed.is_finite()) else { return Ok(()) };
     let gap = [sr.held, sr.failed].map(|k| (k - fs_le).abs() / fs_le).into_iter().fold(f64::INFINITY, f64::min);
     let inside = sr.held <= fs_le && fs_le <= sr.failed;

@@ -138,9 +138,7 @@ fn strength_reduction_finds_the_exact_sliding_factor() {
                 let uplift = joint.uplift.first().map_or(0.0, |up| up.diagram.force(0.0));
                 let disc = problem.discretise();
                 let settings = scene.continuation(&problem, &disc.topology);
-                let sr = strength_reduction(&problem, &disc, &joint, &settings, 2e-3)
-                    .unwrap_or_else(|e| panic!("{e}"))
-                    .unwrap_or_else(|e| panic!("{e}"));
+                let sr = strength_reduction(&problem, &disc, &joint, &settings, 2e-3).unwrap_or_else(|e| panic!("{e}"));
                 let exact = 0.8391 * (weight - uplift) / thrust;
                 println!(
                     "U = {uplift:.4e}, P{order} size {size_factor}: FS_SR in [{:.4}, {:.4}] after {} solves; F (W − U)/T = {exact:.4}",
