@@ -191,7 +191,8 @@ const PATH_DELTA: f64 = 1e-4;
 /// converge, while no δ has been solved on it.
 const MAX_RETRIES: usize = 4;
 
-/// With contact on `joint`: Newton from `x0` at δ, stopped by (S_lin), and δ ← δ/ρ_δ until
+/// With contact on `joint`: Newton from `x0` (with the friction law on the slip from the state
+/// `slip_origin`, None: from rest) at δ, stopped by (S_lin), and δ ← δ/ρ_δ until
 /// (S_reg); with the reservoir's pressure in the crack at the heel, solved again at that δ
 /// until the crack settles. On the first mesh δ₀ comes from the first Newton iterate, which counts in N_lin.
 /// An estimate follows every full Newton step that at least halved the residual, and the full
@@ -213,11 +214,12 @@ pub fn contact_level<'a>(
     joint: &ContactJoint,
     newton: &NewtonOptions,
     settings: &AdaptSettings,
-    (x0, start): (Vec<f64>, StartDelta),
+    ((x0, slip_origin), start): ((Vec<f64>, Option<Vec<f64>>), StartDelta),
     stopping: Stopping,
 ) -> Result<Level<'a>, AdaptError> {
     let delta = start.first_step(settings.delta0);
     let mut contact = ContactProblem::new(problem, disc, joint, Smoothing { delta });
+    contact.set_slip_origin(slip_origin.as_deref());
     let clock = Instant::now();
     let mut stages = Vec::new();
     let (x, delta, trend) = match start {

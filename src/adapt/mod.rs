@@ -28,8 +28,8 @@ pub mod history;
 pub mod level;
 pub mod marking;
 
-use crate::contact::{ContactError, ContactJoint, ContactSolution, JointLine, LoadPath, Resultant};
-use crate::elasticity::{Discretisation, Problem};
+use crate::contact::{CarriedState, ContactError, ContactJoint, ContactSolution, JointLine, LoadPath, Resultant};
+use crate::elasticity::{nodal, Discretisation, Problem};
 use crate::estimate::estimators::{stress_norm, GlobalEstimators};
 use crate::estimate::Estimate;
 use crate::estimate::EstimateError;
@@ -327,13 +327,14 @@ pub fn run(
 ) -> Result<Vec<StepRecord>, AdaptError> {
     let start = Instant::now();
     let mut history = Vec::new();
-    let mut previous: Option<(Mesh, Vec<[f64; 2]>, Vec<f64>)> = None;
+    // the previous mesh's state and its target sizes
+    let mut previous: Option<(CarriedState, Vec<f64>)> = None;
     let mut kept = None;
     let mut cracks: crate::contact::Cracks = Vec::new();
     for step in 0..settings.steps {
         let mut seconds = PhaseTimes::default();
         let clock = Instant::now();
-        let mesh = mesher.mesh(step, previous.as_ref().map(|(m, _, sizes)| (m, &sizes[..])))?;
+        let mesh = mesher.mesh(step, previous.as_ref().map(|(state, sizes)| (&state.mesh, &sizes[..])))?;
         seconds.mesh = clock.elapsed().as_secs_f64();
         let (problem, mut joint) = model.problem(mesh)?;
         // the cracks filled by the reservoir start where the previous mesh left them
@@ -349,9 +350,9 @@ pub fn run(
         // residual tolerance at once
         let last = step + 1 == settings.steps || settings.max_unknowns.is_some_and(|n| disc.dofs.n_free >= n);
         let clock = Instant::now();
-        let x0 = match &previous {
-            Some((mesh, u, _)) => problem.interpolated(&disc, mesh, u),
-            None => vec![0.0; disc.dofs.n_free],
+        let (x0, slip_origin) = match &previous {
+            Some((state, _)) => state.onto(&problem, &disc),
+            None => (vec![0.0; disc.dofs.n_free], None),
         };
         seconds.transfer = clock.elapsed().as_secs_f64();
         let mut level = match &joint {
@@ -365,8 +366,16 @@ pub fn run(
                     |(delta, trend)| StartDelta::Kept(delta, trend),
                 );
                 let stopping = if last { Stopping::Residual } else { Stopping::Linearisation };
-                level::contact_level(&problem, &disc, joint, &model.newton(), settings, (x0, start), stopping)
-                    .map_err(|e| if last { unfinished(e) } else { e })?
+                level::contact_level(
+                    &problem,
+                    &disc,
+                    joint,
+                    &model.newton(),
+                    settings,
+                    ((x0, slip_origin), start),
+                    stopping,
+                )
+                .map_err(|e| if last { unfinished(e) } else { e })?
             }
         };
         // a mesh that turns out to be the last reports the iterate of Newton finished to its
@@ -389,6 +398,9 @@ pub fn run(
             (eta, stress) = measures(&problem, &level);
         }
         let contact = level.solution.contact();
+        if let Some(c) = contact {
+            crate::contact::lifts_off(&problem, &c.nitsche, &c.faces, 1.0)?;
+        }
         kept = contact.map(|c| (c.smoothing.delta, level.trend));
         cracks = contact.map_or_else(Vec::new, |c| c.cracks.clone());
         let line = model.joint_line(&problem);
@@ -430,8 +442,9 @@ pub fn run(
             break;
         }
         let u = problem.displacement(&disc, level.solution.x());
+        let slip_origin = level.solution.contact().and_then(|c| c.nitsche.slip_origin()).map(nodal);
         drop(level);
-        previous = Some((problem.mesh, u, sizes));
+        previous = Some((CarriedState { mesh: problem.mesh, u, slip_origin }, sizes));
     }
     Ok(history)
 }

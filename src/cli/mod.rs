@@ -83,8 +83,10 @@ pub const SOLVER_FAILED: i32 = 4;
 
 /// The exit code of the error `e`: [`DOES_NOT_HOLD`], [`SOLVER_FAILED`], or 1.
 fn exit_code(e: &anyhow::Error) -> i32 {
-    let of_contact =
-        |c: &ContactError| if matches!(c, ContactError::NoEquilibrium(_)) { DOES_NOT_HOLD } else { SOLVER_FAILED };
+    let of_contact = |c: &ContactError| match c {
+        ContactError::NoEquilibrium(_) | ContactError::LiftOff { .. } => DOES_NOT_HOLD,
+        _ => SOLVER_FAILED,
+    };
     let code = e.chain().find_map(|link| {
         if let Some(c) = link.downcast_ref::<ContactError>() {
             return Some(of_contact(c));

@@ -22,7 +22,7 @@ pub mod resultant;
 pub mod strength;
 pub mod uplift;
 
-use crate::elasticity::{BodyForce, Discretisation, Displacement, Problem, Refined};
+use crate::elasticity::{nodal, BodyForce, Discretisation, Displacement, Problem, Refined};
 use crate::fem::dofs::FIXED;
 use crate::fem::sparse::{LinearSystem, SparsePattern};
 use crate::mesh::Mesh;
@@ -72,6 +72,9 @@ pub struct ContactJoint {
     /// The pore-water pressure diagrams in the joint, each on its curves (a curve on at most
     /// one); empty: no uplift.
     pub uplift: Vec<CurveUplift>,
+    /// The nodal displacements (dof 2i + a) of the state that the friction law measures slip
+    /// from (None: rest); of a joint as solved on a load path, the state before the last.
+    pub slip_origin: Option<Vec<f64>>,
 }
 
 impl ContactJoint {
@@ -79,7 +82,7 @@ impl ContactJoint {
     /// foundation), every curve with `law` and `parameters`.
     pub fn uniform(tags: Vec<i32>, masters: Vec<i32>, law: JointLaw, parameters: NitscheParameters) -> Self {
         let laws = vec![CurveLaw { law, parameters }; tags.len()];
-        ContactJoint { tags, masters, laws, uplift: Vec::new() }
+        ContactJoint { tags, masters, laws, uplift: Vec::new(), slip_origin: None }
     }
 
     /// This joint with the uplift `diagram` along all of its curves.
@@ -123,7 +126,9 @@ impl ContactJoint {
 
     /// This joint with the uplift that `solution` was found with (its crack included).
     pub fn as_solved(&self, solution: &ContactSolution) -> ContactJoint {
-        ContactJoint { uplift: solution.nitsche.uplift.clone(), ..self.clone() }
+        let (uplift, slip_origin) =
+            (solution.nitsche.uplift.clone(), solution.nitsche.slip_origin().map(<[f64]>::to_vec));
+        ContactJoint { uplift, slip_origin, ..self.clone() }
     }
 }
 
@@ -249,6 +254,13 @@ impl<'a> ContactProblem<'a> {
         ContactProblem { problem, disc, nitsche, smoothing, coupled, bulk, staged: None, schur: OnceLock::new() }
     }
 
+    /// Makes the friction law act on the slip from the state of free unknowns `origin` (None:
+    /// from rest), u^t − u^t_0 instead of u^t (docs/method.md §1.11).
+    pub fn set_slip_origin(&mut self, origin: Option<&[f64]>) {
+        let u0 = origin.map(|x| self.disc.dofs.expand(x));
+        self.nitsche.set_slip_origin(&self.problem.mesh, u0);
+    }
+
     /// Makes the loads those of the load path at λ = 1, b_w assembled from the self-weight
     /// `weight` per unit mass alone (with the Dirichlet data).
     pub fn stage_loads(&mut self, weight: [f64; 2]) {
@@ -284,6 +296,11 @@ impl<'a> ContactProblem<'a> {
     /// Whether the loads are those of λ = 1 (the problem's own).
     fn at_full_load(&self) -> bool {
         self.staged.as_ref().is_none_or(|s| s.load_factor == 1.0)
+    }
+
+    /// [`ContactError::LiftOff`] at `load_factor` for the state `x` ([`lifts_off`]).
+    pub fn lift_off(&self, x: &[f64], load_factor: f64) -> Result<(), ContactError> {
+        lifts_off(self.problem, &self.nitsche, &self.face_states(x), load_factor)
     }
 
     /// Sets the regularisation δ of the projection.
@@ -454,6 +471,38 @@ impl<'a> ContactProblem<'a> {
 pub fn open_from_heel(faces: &[FaceState], line: &JointLine) -> f64 {
     let nearest = |[a, b]: [[f64; 2]; 2]| line.distance(a).min(line.distance(b));
     faces.iter().filter_map(|f| f.closed.map(nearest)).fold(line.length, f64::min).max(0.0)
+}
+
+/// [`ContactError::LiftOff`] at `load_factor` if the joint of `nitsche` alone holds a body and
+/// its faces' states `faces` keep less than [`path::LIFT_OFF`] of it in contact: what the
+/// smoothing carries across the open joint is no equilibrium.
+pub fn lifts_off(
+    problem: &Problem,
+    nitsche: &Nitsche,
+    faces: &[FaceState],
+    load_factor: f64,
+) -> Result<(), ContactError> {
+    let joint_length: f64 = nitsche.faces.iter().map(|f| f.length).sum();
+    let contact_length: f64 = faces.iter().map(|f| f.contact_length).sum();
+    match contact_length < path::LIFT_OFF * joint_length && joint_holds_body(problem, nitsche) {
+        true => Err(ContactError::LiftOff { load_factor, contact_length, joint_length }),
+        false => Ok(()),
+    }
+}
+
+/// Whether only the joint holds a body of its faces against a rigid motion: that body's
+/// Dirichlet conditions alone leave one free.
+fn joint_holds_body(problem: &Problem, nitsche: &Nitsche) -> bool {
+    let mesh = &problem.mesh;
+    let body = mesh.bodies();
+    let on_joint: std::collections::BTreeSet<usize> = nitsche.faces.iter().map(|f| body[f.cell]).collect();
+    on_joint.into_iter().any(|b| {
+        let mut nodes = vec![false; mesh.n_points()];
+        for c in (0..mesh.n_cells()).filter(|&c| body[c] == b) {
+            mesh.cell(c).iter().for_each(|&n| nodes[n] = true);
+        }
+        problem.free_rigid_motion_of(&nodes, &[]).is_some()
+    })
 }
 
 /// The dofs of face k ([`Nitsche::face_dofs`]) and the displacement there.
@@ -958,6 +1007,13 @@ pub enum ContactError {
     #[error(transparent)]
     NoEquilibrium(#[from] NoEquilibrium),
     #[error(
+        "no equilibrium at λ = {load_factor:.4} of the loads that follow the self-weight: only the joint holds the \
+         body, and {contact_length:.3} m of its {joint_length:.3} m remain in contact (less than {share} %): the body \
+         lifts off (overturns or floats)",
+        share = 100.0 * path::LIFT_OFF
+    )]
+    LiftOff { load_factor: f64, contact_length: f64, joint_length: f64 },
+    #[error(
         "the load path stopped at λ = {load_factor:.4} of the loads that follow the self-weight, where the joint \
          neither slides, lifts off nor cracks through (crack {crack}, contact length {contact:.3} m, FS_LE {fs}): no \
          converged state beyond it with load steps down to {min_step:.1e}; the last step's solve: {source}",
@@ -981,7 +1037,9 @@ pub fn solve_by_continuation(
 }
 
 /// Solves the elasticity problem with contact on `joint` from the free unknowns `x0`, along
-/// the δ path of `settings`; with uplift in the crack, repeated until the crack settles.
+/// the δ path of `settings`; with uplift in the crack, repeated until the crack settles. A
+/// state that the joint alone would hold with less than [`path::LIFT_OFF`] of it in contact is
+/// [`ContactError::LiftOff`].
 pub fn solve_from(
     problem: &Problem,
     disc: &Discretisation,
@@ -1009,11 +1067,15 @@ pub fn solve_system_from(
         return Ok(ContactSolution { path: followed.path, ..solution });
     }
     let (x, mut stages) = continuation(&mut contact, settings.delta, settings.delta_start, x0, &settings.newton)?;
-    if !joint.uplift.iter().any(|up| up.diagram.crack_filled) {
-        return Ok(contact.solution(x, stages, Vec::new()));
-    }
-    let (x, more, cracks) = settle_crack(&mut contact, x, &settings.newton)?;
-    stages.extend(more);
+    let (x, cracks) = match joint.uplift.iter().any(|up| up.diagram.crack_filled) {
+        true => {
+            let (x, more, cracks) = settle_crack(&mut contact, x, &settings.newton)?;
+            stages.extend(more);
+            (x, cracks)
+        }
+        false => (x, Vec::new()),
+    };
+    contact.lift_off(&x, 1.0)?;
     Ok(contact.solution(x, stages, cracks))
 }
 
@@ -1031,7 +1093,7 @@ pub fn nested_start(
     coarse: impl IntoIterator<Item = Option<CoarseLevel>>,
     settings: &Continuation,
 ) -> Result<Option<NestedStart>, ContactError> {
-    let mut previous: Option<(Problem, Vec<[f64; 2]>)> = None;
+    let mut previous: Option<CarriedState> = None;
     let (mut solves, mut cracks) = (Vec::new(), Vec::new());
     for level in coarse {
         let Some(CoarseLevel { problem: level, joint, seconds: mesh }) = level else { return Ok(None) };
@@ -1042,7 +1104,11 @@ pub fn nested_start(
         let clock = Instant::now();
         let (x0, delta_start) = match &previous {
             None => (vec![0.0; level_disc.dofs.n_free], settings.delta_start),
-            Some((below, u)) => (level.interpolated(&level_disc, &below.mesh, u), settings.delta),
+            Some(below) => {
+                let (x0, origin) = below.onto(&level, &level_disc);
+                contact.set_slip_origin(origin.as_deref());
+                (x0, settings.delta)
+            }
         };
         let start = clock.elapsed().as_secs_f64();
         let clock = Instant::now();
@@ -1064,16 +1130,38 @@ pub fn nested_start(
         let seconds = CoarseTimings { mesh, assemble, start, newton };
         solves.push(CoarseSolve { order: level.mesh.order, unknowns: level_disc.dofs.n_free, newton_steps, seconds });
         let u = level.displacement(&level_disc, &x);
+        let slip_origin = contact.nitsche.slip_origin().map(nodal);
         drop(contact);
-        previous = Some((level, u));
+        previous = Some(CarriedState { mesh: level.mesh, u, slip_origin });
     }
-    Ok(previous.map(|(below, u)| NestedStart { x0: problem.interpolated(disc, &below.mesh, &u), solves, cracks }))
+    Ok(previous.map(|below| {
+        let (x0, slip_origin) = below.onto(problem, disc);
+        NestedStart { x0, slip_origin, solves, cracks }
+    }))
+}
+
+/// A solution's nodal displacements on its mesh and those of the state its friction law
+/// measures slip from (None: rest), as carried to another mesh.
+pub struct CarriedState {
+    pub mesh: Mesh,
+    pub u: Vec<[f64; 2]>,
+    pub slip_origin: Option<Vec<[f64; 2]>>,
+}
+
+impl CarriedState {
+    /// The free unknowns of both interpolated at the nodes of `problem`.
+    pub fn onto(&self, problem: &Problem, disc: &Discretisation) -> (Vec<f64>, Option<Vec<f64>>) {
+        let at = |u: &[[f64; 2]]| problem.interpolated(disc, &self.mesh, u);
+        (at(&self.u), self.slip_origin.as_deref().map(at))
+    }
 }
 
 /// The start that nested iteration gives a mesh, the coarse solves that led to it, and the
 /// cracks that the load path settled on the coarsest level (empty: none followed).
 pub struct NestedStart {
     pub x0: Vec<f64>,
+    /// The slip origin of the friction law at x0 ([`ContactProblem::set_slip_origin`]).
+    pub slip_origin: Option<Vec<f64>>,
     pub solves: Vec<CoarseSolve>,
     pub cracks: Cracks,
 }

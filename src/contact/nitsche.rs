@@ -146,6 +146,12 @@ pub struct Nitsche {
     uplift_of: Vec<Option<usize>>,
     pub faces: Vec<ContactFace>,
     pub order: usize,
+    /// The nodal displacements (dof 2i + a) of the state u_0 that the friction law measures
+    /// slip from (None: rest, the law on the total u^t); on a load path, the last converged
+    /// state ([`Nitsche::set_slip_origin`]).
+    slip_origin: Option<Vec<f64>>,
+    /// u_0 on each face's cells (empty without a slip origin).
+    origin_faces: Vec<FaceDisplacement>,
 }
 
 impl Nitsche {
@@ -173,7 +179,33 @@ impl Nitsche {
         for (d, up) in joint.uplift.iter().enumerate() {
             up.curves.iter().for_each(|&curve| uplift_of[curve] = Some(d));
         }
-        Nitsche { laws: joint.laws.clone(), uplift: joint.uplift.clone(), uplift_of, faces, order: mesh.order }
+        let (laws, uplift, order) = (joint.laws.clone(), joint.uplift.clone(), mesh.order);
+        let mut nitsche =
+            Nitsche { laws, uplift, uplift_of, faces, order, slip_origin: None, origin_faces: Vec::new() };
+        nitsche.set_slip_origin(mesh, joint.slip_origin.clone());
+        nitsche
+    }
+
+    /// Makes the friction law act on the slip from the state of nodal displacements `u0` (dof
+    /// 2i + a; None: from rest): P^t_γ(u) = σ^t(u) − γ (u^t − u^t_0) (docs/method.md §1.11).
+    pub fn set_slip_origin(&mut self, mesh: &Mesh, u0: Option<Vec<f64>>) {
+        let mut dofs = Vec::new();
+        self.origin_faces = match &u0 {
+            None => Vec::new(),
+            Some(u0) => (0..self.faces.len())
+                .map(|k| {
+                    self.face_dofs(mesh, k, &mut dofs);
+                    let values: Vec<f64> = dofs.iter().map(|&g| u0[g]).collect();
+                    self.local(k, &values, None)
+                })
+                .collect(),
+        };
+        self.slip_origin = u0;
+    }
+
+    /// The nodal displacements of the state the friction law measures slip from (None: rest).
+    pub fn slip_origin(&self) -> Option<&[f64]> {
+        self.slip_origin.as_deref()
     }
 
     /// The joint law of face `k`: its curve's.
@@ -361,10 +393,17 @@ impl Nitsche {
         self.diagram(k).map_or(0.0, |up| up.pressure(up.distance(x), up.crack))
     }
 
-    /// P^t_γ(u_h) = σ^t(u_h) − γ u_h^t at a face point, u_h^t = (u¹_0 − u²_0)·τ + Σ_k φ_k (u_k − u_0)·τ
-    /// (of an increment too).
+    /// P^t_γ(u_h) = σ^t(u_h) − γ (u_h^t − u^t_0) at a face point, u_h^t = (u¹_0 − u²_0)·τ +
+    /// Σ_k φ_k (u_k − u_0)·τ and u^t_0 that of the slip origin (0 without one).
     pub fn p_tangential(&self, k: usize, point: &FacePoint, u: &FaceDisplacement) -> f64 {
-        dot(&point.sigma_t, &u.relative) - self.faces[k].gamma * (u.tangential + dot(&point.u_t, &u.relative))
+        let origin = self.origin_faces.get(k).map_or(0.0, |u0| u0.tangential + dot(&point.u_t, &u0.relative));
+        self.t_increment(k, point, u) + self.faces[k].gamma * origin
+    }
+
+    /// P^t_γ(u) − P^t_γ(u_prev) = σ^t(w) − γ w^t at a face point, for the increment w = u − u_prev
+    /// ([`Nitsche::increment`]).
+    pub fn t_increment(&self, k: usize, point: &FacePoint, w: &FaceDisplacement) -> f64 {
+        dot(&point.sigma_t, &w.relative) - self.faces[k].gamma * (w.tangential + dot(&point.u_t, &w.relative))
     }
 
     /// u_h·ν and u_h·τ at a face point (the jump on a joint).
@@ -414,7 +453,7 @@ impl Nitsche {
         let normal = smoothing.value(p_prev) + smoothing.derivative(p_prev) * dp;
         let tangential = if self.law(k).has_friction() {
             let t = self.tangential(k, point, u_prev, smoothing);
-            t.value + t.d_tangential * self.p_tangential(k, point, step) + t.d_normal * dp
+            t.value + t.d_tangential * self.t_increment(k, point, step) + t.d_normal * dp
         } else {
             0.0
         };

@@ -8,11 +8,13 @@
 //! solution, which the weight alone barely leaves; from rest along the δ path where that
 //! fails). Then λ grows by Δλ, from 1 (every load at once), each state from the secant
 //! predictor of the last two (the last one alone after λ = 0), Newton to 10⁻⁶ ‖b‖ below
-//! λ = 1, the crack that the reservoir fills settled at every λ (it grows with the loads).
+//! λ = 1, the crack that the reservoir fills settled at every λ (it grows with the loads), the
+//! friction law acting on the slip from the last converged state.
 //! Δλ doubles after a step of few Newton steps and halves after a failed one, down to
 //! [`MIN_STEP`]: a path that cannot pass λ* < 1 with that step ends there,
 //! and the state at λ* says why ([`Limit`]): the joint slides, opens over its length, or the
-//! crack runs on. A limit with none of these is a numerical failure, not a verdict.
+//! crack runs on. A state that the joint alone holds with less than [`LIFT_OFF`] of it in
+//! contact is no equilibrium ([`ContactProblem::lift_off`]): the step fails. A limit with none of these is a numerical failure, not a verdict.
 
 use super::{continuation, settle_crack_to, ContactError, ContactProblem, Crack, Cracks, Stage};
 use crate::solve::NewtonOptions;
@@ -99,8 +101,11 @@ fn describe(v: &NoEquilibrium) -> String {
             at.tangential_force
         ),
         Limit::LiftOff => format!(
-            "the joint lifts off: {:.3} m of {:.3} m remain in contact at λ*",
-            at.contact_length, v.joint_length
+            "the joint lifts off (the body overturns or floats): {:.3} m of {:.3} m in contact at λ*, less than {} % \
+             beyond it",
+            at.contact_length,
+            v.joint_length,
+            100.0 * LIFT_OFF
         ),
         Limit::CrackRuns => format!(
             "the crack at the heel reaches {:.3} m of {:.3} m at λ* and, filled with the reservoir's pressure, \
@@ -132,6 +137,7 @@ pub fn follow(
 ) -> Result<Followed, ContactError> {
     let joint_length = contact.nitsche.faces.iter().map(|f| f.length).sum();
     contact.set_load_factor(0.0);
+    contact.set_slip_origin(None);
     let (mut x, mut stages) = built(contact, (delta, delta_start), x0, options)?;
     let steps = stages.iter().map(|s| s.report.iterations.len()).sum();
     let mut path = Vec::new();
@@ -145,11 +151,13 @@ pub fn follow(
         let trial = (lambda + step).min(1.0);
         let kept: Vec<f64> = contact.nitsche.uplift.iter().map(|up| up.diagram.crack).collect();
         contact.set_load_factor(trial);
+        contact.set_slip_origin(Some(&x));
         let guess = predicted(&x, previous.as_ref(), lambda, trial);
         let attempt = match trial == 1.0 {
             true => solve_at(contact, guess, &at_end, Crack::TOLERANCE),
             false => solve_at(contact, guess, &on_path, CRACK_TOLERANCE),
         };
+        let attempt = attempt.and_then(|solved| contact.lift_off(&solved.0, trial).map(|_| solved));
         match attempt {
             Ok((y, more, found)) => {
                 let steps = more.iter().map(|s| s.report.iterations.len()).sum();
@@ -174,7 +182,8 @@ pub fn follow(
                     // the crack may jump past a drain line at a fixed λ, which no step resolves:
                     // the loads of λ = 1 at once from the last converged state, before a verdict
                     contact.set_load_factor(1.0);
-                    if let Ok((y, more, found)) = solve_at(contact, x.clone(), options, Crack::TOLERANCE) {
+                    let at_once = solve_at(contact, x.clone(), options, Crack::TOLERANCE);
+                    if let Ok((y, more, found)) = at_once.and_then(|s| contact.lift_off(&s.0, 1.0).map(|_| s)) {
                         let steps = more.iter().map(|s| s.report.iterations.len()).sum();
                         stages.extend(more);
                         reached(&mut path, point(contact, &y, 1.0, steps), trace);
@@ -265,7 +274,7 @@ fn point(contact: &ContactProblem, x: &[f64], load_factor: f64, newton_steps: us
 /// there and by the `failure` of the step beyond it.
 fn limit(path: Vec<PathPoint>, failure: ContactError, joint_length: f64) -> ContactError {
     let at = *path.last().expect("the path has its state at λ = 0");
-    let limit = if at.contact_length < LIFT_OFF * joint_length {
+    let limit = if at.contact_length < LIFT_OFF * joint_length || matches!(failure, ContactError::LiftOff { .. }) {
         Some(Limit::LiftOff)
     } else if at.sliding_safety_factor.is_some_and(|f| f <= 1.0 + SLIDING_MARGIN) {
         Some(Limit::Sliding)

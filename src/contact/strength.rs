@@ -3,8 +3,9 @@
 //!
 //! k is followed from the solution at k = 1: it grows by a quarter while the joint holds, then
 //! the bracket [held, failed] is bisected, every solve from the last state that held at the δ
-//! of the start. Near the limit Newton also fails where the joint holds (the tangential
-//! stiffness of a slipping joint vanishes), so a failed solve at k counts as a loss of
+//! of the start (after a load path, the friction law on the slip from that state). Near the
+//! limit Newton also fails where the joint holds (the tangential stiffness of a slipping joint
+//! vanishes), so a failed solve at k counts as a loss of
 //! equilibrium only where the last state that held, judged by limit equilibrium with the
 //! strength of k, slides: FS_LE(held state; k) ≤ 1 + [`STRENGTH_TOLERANCE`]. Any other failure
 //! is Newton's: the step from the last k that held halves, and a step below the tolerance is
@@ -92,6 +93,9 @@ pub fn reduce_strength(
         let held = sr.held;
         let k = if sr.failed.is_finite() { (0.5 * (held + sr.failed)).min(held + step) } else { held + step };
         contact.nitsche.laws = joint.reduced(k, plane).laws;
+        if start.nitsche.slip_origin().is_some() {
+            contact.set_slip_origin(Some(&x));
+        }
         sr.solves += 1;
         match newton(&contact, x.clone(), newton_options) {
             Ok(report) => {

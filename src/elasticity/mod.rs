@@ -10,4 +10,4 @@ pub mod stress;
 
 pub use displacement::Displacement;
 pub use material::Material;
-pub use problem::{BodyForce, Dirichlet, Discretisation, Neumann, Problem, Refined, Traction, VectorFn};
+pub use problem::{nodal, BodyForce, Dirichlet, Discretisation, Neumann, Problem, Refined, Traction, VectorFn};

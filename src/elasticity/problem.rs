@@ -402,7 +402,7 @@ impl Problem {
 
     /// Nodal displacements from the free unknowns.
     pub fn displacement(&self, disc: &Discretisation, x: &[f64]) -> Vec<[f64; 2]> {
-        disc.dofs.expand(x).chunks_exact(2).map(|u| [u[0], u[1]]).collect()
+        nodal(&disc.dofs.expand(x))
     }
 
     /// The free unknowns of the displacement `u` of `old` interpolated at the nodes of this
@@ -426,4 +426,9 @@ impl Problem {
         }
         x
     }
+}
+
+/// The nodal displacements of the values `u_full` of every dof (2i + a).
+pub fn nodal(u_full: &[f64]) -> Vec<[f64; 2]> {
+    u_full.chunks_exact(2).map(|u| [u[0], u[1]]).collect()
 }

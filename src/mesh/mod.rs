@@ -60,6 +60,34 @@ impl Mesh {
         self.order + 1
     }
 
+    /// The body of each cell: the connected components of the cells through their nodes.
+    pub fn bodies(&self) -> Vec<usize> {
+        // union–find over the nodes, each cell joining its nodes
+        let mut parent: Vec<usize> = (0..self.n_points()).collect();
+        fn root(parent: &mut [usize], mut k: usize) -> usize {
+            while parent[k] != k {
+                parent[k] = parent[parent[k]];
+                k = parent[k];
+            }
+            k
+        }
+        for c in 0..self.n_cells() {
+            let nodes = self.cell(c);
+            for &n in &nodes[1..] {
+                let (a, b) = (root(&mut parent, nodes[0]), root(&mut parent, n));
+                parent[a] = b;
+            }
+        }
+        let mut label = std::collections::HashMap::new();
+        (0..self.n_cells())
+            .map(|c| {
+                let r = root(&mut parent, self.cell(c)[0]);
+                let next = label.len();
+                *label.entry(r).or_insert(next)
+            })
+            .collect()
+    }
+
     pub fn n_cells(&self) -> usize {
         self.cell_tags.len()
     }

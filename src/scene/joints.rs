@@ -177,7 +177,7 @@ impl Scene {
     pub(super) fn check_bodies_held(&self, problem: &Problem, joint: &ContactJoint) -> Result<(), SceneError> {
         let mesh = &problem.mesh;
         let topology = Topology::new(mesh);
-        let body = bodies(mesh);
+        let body = mesh.bodies();
         // the facets of both sides of every joint, with whether its law has friction
         let facets: Vec<(usize, bool)> = (joint.tags.iter().chain(&joint.masters))
             .zip(joint.laws.iter().chain(&joint.laws))
@@ -225,34 +225,7 @@ impl Scene {
             masters: interfaces.iter().map(|i| i.master_curve).collect(),
             laws: self.joints.values().map(JointSection::curve_law).collect(),
             uplift: Vec::new(),
+            slip_origin: None,
         })
     }
-}
-
-/// The body of each cell: the connected components of the cells through their nodes.
-fn bodies(mesh: &Mesh) -> Vec<usize> {
-    // union–find over the nodes, each cell joining its nodes
-    let mut parent: Vec<usize> = (0..mesh.n_points()).collect();
-    fn root(parent: &mut [usize], mut k: usize) -> usize {
-        while parent[k] != k {
-            parent[k] = parent[parent[k]];
-            k = parent[k];
-        }
-        k
-    }
-    for c in 0..mesh.n_cells() {
-        let nodes = mesh.cell(c);
-        for &n in &nodes[1..] {
-            let (a, b) = (root(&mut parent, nodes[0]), root(&mut parent, n));
-            parent[a] = b;
-        }
-    }
-    let mut label = std::collections::HashMap::new();
-    (0..mesh.n_cells())
-        .map(|c| {
-            let r = root(&mut parent, mesh.cell(c)[0]);
-            let next = label.len();
-            *label.entry(r).or_insert(next)
-        })
-        .collect()
 }

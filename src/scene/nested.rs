@@ -86,10 +86,11 @@ impl Scene {
             });
             nested_start(problem, disc, levels, &coarse)
         });
-        if let Ok(Some(NestedStart { x0, solves, cracks })) = nested {
+        if let Ok(Some(NestedStart { x0, slip_origin, solves, cracks })) = nested {
             let at_delta = Continuation { delta_start: settings.delta, ..*settings };
             let mut contact = contact;
             contact.set_cracks(&cracks);
+            contact.set_slip_origin(slip_origin.as_deref());
             if let Ok(solution) = solve_system_from(contact, joint, &at_delta, x0) {
                 return Ok(ContactSolution { coarse: solves, ..solution });
             }

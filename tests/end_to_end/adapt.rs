@@ -344,7 +344,7 @@ fn a_mesh_that_meets_the_tolerance_is_finished_where_s_lin_stopped() {
     let disc = problem.discretise();
     let start = StartDelta::FirstIterate { load_scale: problem.stress_scale(&disc.topology), path: scene.load_path() };
     let settings = steps(3);
-    let start = (vec![0.0; disc.dofs.n_free], start);
+    let start = ((vec![0.0; disc.dofs.n_free], None), start);
     let level = contact_level(&problem, &disc, &joint, &newton, &settings, start, Stopping::Linearisation);
     let unfinished = level.expect("level").estimate.estimators.global();
     let settings = AdaptSettings { tol: Some(unfinished.tot), ..settings };
@@ -651,7 +651,7 @@ fn a_level_whose_newton_fails_below_delta_ends_at_the_delta_it_solved() {
     drop(contact);
     let settings = AdaptSettings { gamma_lin: 1e-12, ..Default::default() };
     let one_step = NewtonOptions { max_iter: 1, ..scene.newton_options() };
-    let start = (converged.x, StartDelta::Kept(delta_s, None));
+    let start = ((converged.x, None), StartDelta::Kept(delta_s, None));
     let level = contact_level(&problem, &disc, &joint, &one_step, &settings, start, Stopping::Linearisation)
         .unwrap_or_else(|e| panic!("the level ends at δ_s: {e}"));
     let solution = level.solution.contact().expect("contact");
@@ -674,7 +674,7 @@ fn a_level_whose_newton_fails_below_delta_ends_at_the_delta_it_solved() {
     assert!(g.reg > settings.gamma_reg * (g.osc + g.flux + g.neu + g.disc + g.lin), "(S_reg) holds at δ_s: {g:?}");
     assert!(equilibration <= 1e-10, "equilibration {equilibration:e}");
     assert!(reference.i_eff >= 1.0, "I_eff {}", reference.i_eff);
-    let start = (solution.x.clone(), StartDelta::Kept(delta_s, None));
+    let start = ((solution.x.clone(), None), StartDelta::Kept(delta_s, None));
     let free =
         contact_level(&problem, &disc, &joint, &scene.newton_options(), &settings, start, Stopping::Linearisation)
             .expect("level");

@@ -99,6 +99,53 @@ fn stick_and_slip_are_exact() {
     }
 }
 
+/// Slip measured from an origin (docs/method.md §1.11). Source: the stick–slip case above with
+/// the friction law on u^t − u^t_0, u_0 = (s₀, 0) everywhere (the jump s₀ along τ = e_x): where
+/// it sticks, the base keeps the slip s₀ it had, u = ((a − s₀) y + s₀, −b y) with σ_xy =
+/// μ (a − s₀); where it slips, the origin does not matter, u as without one. Goal: u_h = u to
+/// round-off for every law, p = 1, 2, θ = 1, 0, −1, δ = 0 and 10⁻⁴, from δ = 10⁻². Parameters:
+/// those of `stick_and_slip_are_exact`, s₀ = 0.004 (μ (a − s₀) = 0.006 in stick, 0.046 in
+/// slip).
+#[test]
+fn the_friction_law_measures_slip_from_its_origin() {
+    let (b, s0) = (0.01, 0.004);
+    for law in LAWS {
+        for (case, a) in [("stick", 0.01), ("slip", 0.05)] {
+            // a shear strain of 1 slips: its shear is the threshold
+            let (_, threshold) = exact(law, 1.0, b);
+            let shear = (MU * (a - s0)).min(threshold);
+            let sticks = shear < threshold;
+            assert_eq!(case == "stick", sticks, "{law:?}: the data make it {case}");
+            let u_exact = move |x: [f64; 2]| match sticks {
+                true => [(a - s0) * x[1] + s0, -b * x[1]],
+                false => [threshold / MU * x[1] + a - threshold / MU, -b * x[1]],
+            };
+            for order in [1, 2] {
+                for theta in [1.0, 0.0, -1.0] {
+                    for delta in [0.0, 1e-4] {
+                        let problem = problem(4, order, a, b, shear);
+                        let disc = problem.discretise();
+                        let parameters = NitscheParameters { theta, ..Default::default() };
+                        let origin = (0..problem.mesh.n_points()).flat_map(|_| [s0, 0.0]).collect();
+                        let joint = ContactJoint {
+                            slip_origin: Some(origin),
+                            ..ContactJoint::uniform(vec![BOTTOM], Vec::new(), law, parameters)
+                        };
+                        let settings =
+                            Continuation { delta, delta_start: 1e-2, newton: NewtonOptions::default(), path: None };
+                        let solution = solve_by_continuation(&problem, &disc, &joint, &settings)
+                            .unwrap_or_else(|e| panic!("{law:?} {case} P{order} θ = {theta} δ = {delta}: {e}"));
+                        let u = problem.displacement(&disc, &solution.x);
+                        let error = common::max_nodal_error(&problem.mesh.points, &u, u_exact);
+                        println!("{law:?} {case} P{order} θ = {theta:2} δ = {delta:.0e}: max nodal error {error:.1e}");
+                        assert!(error <= 1e-12 * a, "{law:?} {case} P{order} θ = {theta} δ = {delta}: error {error}");
+                    }
+                }
+            }
+        }
+    }
+}
+
 /// The weight of the block on the incline [N/m³].
 const WEIGHT: f64 = 1e4;
 
@@ -177,6 +224,32 @@ fn block_on_an_incline_sticks_below_the_friction_angle_and_slides_above() {
             }
         }
     }
+}
+
+/// An open joint that the smoothing alone carries is no equilibrium (docs/method.md §1.11).
+/// Source: the block on a flat base (α = 0) presses with p_c = ρg = 10⁴ Pa; the smoothing
+/// q(P) = −(P − δ)²/(4δ) carries it at P = δ − 2√(δ p_c) > 0 for δ > 4 p_c, the whole joint
+/// open. Goal: at δ = 10⁶ Pa the solve is [`ContactError::LiftOff`] (nothing but the joint
+/// holds the block, none of it in contact); at δ = 10² Pa the block stands on its whole base.
+/// Parameters: those of the incline, P1, 4 × 4 grid, F = tan 30°.
+#[test]
+fn a_joint_that_only_the_smoothing_carries_is_no_equilibrium() {
+    let problem = incline(0.0, 4, 1);
+    let disc = problem.discretise();
+    let joint = incline_joint(30f64.to_radians().tan());
+    let solve = |delta: f64| {
+        let settings = Continuation { delta, delta_start: delta, newton: NewtonOptions::default(), path: None };
+        solve_by_continuation(&problem, &disc, &joint, &settings)
+    };
+    match solve(1e6) {
+        Err(ContactError::LiftOff { contact_length, joint_length, .. }) => {
+            println!("δ = 1e6: {contact_length} m of {joint_length} m in contact");
+            assert!(contact_length < 0.02 * joint_length && (joint_length - 1.0).abs() < 1e-12);
+        }
+        other => panic!("δ = 1e6 must lift off: {:?}", other.map(|s| s.contact_length())),
+    }
+    let standing = solve(1e2).expect("δ = 1e2");
+    assert!((standing.contact_length() - 1.0).abs() < 1e-12, "contact length {}", standing.contact_length());
 }
 
 /// The generalised Jacobian. Source: docs/method.md §1.7 (the derivative of Π_S(P^t) in P^t and,
