@@ -11,7 +11,8 @@
 //! λ = 1, the crack that the reservoir fills settled at every λ (it grows with the loads), the
 //! friction law acting on the slip from the last converged state.
 //! Δλ doubles after a step of few Newton steps and halves after a failed one, down to
-//! [`MIN_STEP`]: a path that cannot pass λ* < 1 with that step ends there,
+//! [`MIN_STEP`]: a path that cannot pass λ* < 1 with that step ends there (at once where
+//! the state at λ* has used up the joint's strength, FS_LE ≤ 1 + [`SLIDING_MARGIN`]),
 //! and the state at λ* says why ([`Limit`]): the joint slides, opens over its length, or the
 //! crack runs on. A state that the joint alone holds with less than [`LIFT_OFF`] of it in
 //! contact is no equilibrium ([`ContactProblem::lift_off`]): the step fails. A limit with none of these is a numerical failure, not a verdict.
@@ -177,7 +178,12 @@ pub fn follow(
                     }
                 };
                 restore(contact);
-                step *= 0.5;
+                // half the step that failed (that to λ = 1 may have been shorter than Δλ)
+                step = 0.5 * (trial - lambda);
+                if slides(&path) {
+                    // its strength used up, the joint cannot take more load: λ* is here
+                    return Err(limit(path, failure, joint_length));
+                }
                 if step < MIN_STEP {
                     // the crack may jump past a drain line at a fixed λ, which no step resolves:
                     // the loads of λ = 1 at once from the last converged state, before a verdict
@@ -276,7 +282,7 @@ fn limit(path: Vec<PathPoint>, failure: ContactError, joint_length: f64) -> Cont
     let at = *path.last().expect("the path has its state at λ = 0");
     let limit = if at.contact_length < LIFT_OFF * joint_length || matches!(failure, ContactError::LiftOff { .. }) {
         Some(Limit::LiftOff)
-    } else if at.sliding_safety_factor.is_some_and(|f| f <= 1.0 + SLIDING_MARGIN) {
+    } else if slides(&path) {
         Some(Limit::Sliding)
     } else if matches!(failure, ContactError::Crack { .. } | ContactError::CrackJump { .. }) || crack_runs(&path) {
         Some(Limit::CrackRuns)
@@ -293,6 +299,12 @@ fn limit(path: Vec<PathPoint>, failure: ContactError, joint_length: f64) -> Cont
         }),
         None => ContactError::PathStalled { load_factor: at.load_factor, state: at, source: Box::new(failure) },
     }
+}
+
+/// Whether the last state of `path` has used up the joint's strength: FS_LE ≤ 1 +
+/// [`SLIDING_MARGIN`].
+fn slides(path: &[PathPoint]) -> bool {
+    path.last().and_then(|at| at.sliding_safety_factor).is_some_and(|f| f <= 1.0 + SLIDING_MARGIN)
 }
 
 /// Whether the crack grew over the last steps of the path faster than the loads: its last

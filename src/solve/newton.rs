@@ -5,16 +5,20 @@
 //! sparse LU (symbolic factorisation reused), then takes
 //! the largest t ∈ {1, ½, ¼, …} with ‖F(x_k + tΔ)‖ ≤ κ ‖F(x_k)‖, κ = `max_growth`. A system
 //! that asks for a monotone residual (Coulomb friction, whose full steps can cycle) gets the
-//! largest t that lowers ‖F‖ instead, and the rule above only where none does (a kink). Each
+//! largest t that lowers ‖F‖, or keeps it within κ, moves x by at most ‖x‖ and passes the
+//! natural monotonicity test ‖J(x_k)⁻¹F(x_k + tΔ)‖ ≤ (1 − t/4) ‖Δ‖, instead (the latter only
+//! while ‖F‖ reached a new low in the last three steps: alone it lets steps cycle), and the
+//! rule above only where none does (a kink). Each
 //! linear solve gets one step of iterative refinement. It stops when ‖F(x_k)‖ ≤ rtol · scale,
 //! where `scale` is the system's load norm, or when it stagnates at round-off: ‖Δ‖ ≤ 10⁻¹⁰ ‖x‖
 //! with no halving of ‖F‖. After three exact steps in a row cut below t = 1/16, a system
 //! with a [`NonlinearSystem::frozen_jacobian`] (a softening law) takes its steps until one is
 //! full. A run that gets there by a damped or frozen step takes one exact full step more,
 //! so that the iterate it returns solves the linearised problem of its last step (what the
-//! estimator's bound assumes). Where the line search cuts an exact step, the full step
-//! x_k + Δ, which solves the linearised problem all the same, is shown to the stopping rule
-//! ([`Iterate::probe`]) before Newton goes on from the damped iterate. Running out of
+//! estimator's bound assumes). A run whose ‖F‖ rises to 10³ times its smallest stops
+//! there, as one that runs out of iterations. Where the line search cuts an exact step, the
+//! full step x_k + Δ, which solves the linearised problem all the same, is shown to the
+//! stopping rule ([`Iterate::probe`]) before Newton goes on from the damped iterate. Running out of
 //! iterations is an error that carries the whole history: never a silent wrong answer.
 //!
 //! A system with a linearised residual in difference form
@@ -148,6 +152,14 @@ impl Iteration {
         self.step == 1.0 && !self.frozen
     }
 }
+
+/// After this many steps without a new smallest ‖F‖, the line search of a monotone system
+/// drops the natural monotonicity test until ‖F‖ falls below its smallest again: the test
+/// alone lets steps cycle.
+const CYCLING_STEPS: usize = 3;
+
+/// A run whose ‖F‖ exceeds this many times its smallest so far has diverged: it stops there.
+const DIVERGED: f64 = 1e3;
 
 /// An exact Newton step cut below this length counts as stalled.
 const STALLED_STEP: f64 = 1.0 / 16.0;
@@ -283,6 +295,8 @@ pub fn newton_until(
     let mut polished = false;
     let mut factors_of_last_step = None;
     let (mut stalled, mut frozen) = (0, false);
+    // the smallest ‖F‖ so far and the iterates since: the natural test may let steps cycle
+    let (mut best, mut since_best) = (f64::INFINITY, 0);
     for step in 0..=options.max_iter {
         let clock = Instant::now();
         system.evaluate(&x, &mut residual, Some(&mut jacobian));
@@ -324,7 +338,7 @@ pub fn newton_until(
             return Ok(NewtonReport { x, x_prev, lo, iterations: history, residual: r, scale, seconds });
         }
         polished |= due && converged;
-        if step == options.max_iter {
+        if step == options.max_iter || r > DIVERGED * best {
             break;
         }
         let clock = Instant::now();
@@ -346,14 +360,16 @@ pub fn newton_until(
         if !delta.iter().all(|v| v.is_finite()) {
             return Err(NewtonError::NonFinite { step });
         }
-        factors_of_last_step = (!frozen_step).then_some(factors);
         let clock = Instant::now();
         let (t, r_full) = if due && converged {
             (1.0, None)
         } else {
-            line_search(system, &x, &delta, r, options, &mut trial, &mut trial_residual)
+            (best, since_best) = if r < best { (r, 0) } else { (best, since_best + 1) };
+            let natural = (since_best < CYCLING_STEPS).then_some(&factors);
+            line_search(system, &x, &delta, r, options, &mut trial, &mut trial_residual, natural)
         };
         seconds.line_search += clock.elapsed().as_secs_f64();
+        factors_of_last_step = (!frozen_step).then_some(factors);
         // the full step solves the linearised problem at x even where the line search cuts it:
         // the stopping rule may take it (the factors of an exact step only: a frozen step has none)
         let offered = t < 1.0 && step + 1 >= options.min_steps;
@@ -423,9 +439,20 @@ fn refinement(system: &impl NonlinearSystem, x: &[f64], x_prev: &[f64], factors:
     Some(x.iter().zip(lo).map(|(&x, d)| two_sum(x, d)).unzip())
 }
 
+/// Deuflhard's natural monotonicity test of the step length t: the simplified Newton step
+/// Δ̄ = −J(x_k)⁻¹ F(x_k + tΔ), with the factors of the step, is shorter than (1 − t/4) ‖Δ‖.
+/// It measures the residual in the metric of J, which the scaling of the rows (the Nitsche
+/// rows weigh γ = γ₀E/h) does not distort.
+fn natural_monotonicity(factors: &Factors, trial_residual: &[f64], step_norm: f64, t: f64) -> bool {
+    let minus: Vec<f64> = trial_residual.iter().map(|v| -v).collect();
+    factors.solve(&minus).is_ok_and(|simplified| norm(&simplified) <= (1.0 - 0.25 * t) * step_norm)
+}
+
 /// The step length: the largest t = 2^−j with ‖F(x + tΔ)‖ ≤ κ‖F(x)‖ (for a monotone system,
-/// the largest with ‖F(x + tΔ)‖ < ‖F(x)‖ first); the last halving if none qualifies. Also
-/// ‖F(x + Δ)‖ of the full step.
+/// the largest with ‖F(x + tΔ)‖ < ‖F(x)‖ or, within κ, t‖Δ‖ ≤ ‖x‖ and with the step's factors
+/// `natural`, [`natural_monotonicity`] first); the last halving
+/// if none qualifies. Also ‖F(x + Δ)‖ of the full step.
+#[allow(clippy::too_many_arguments)]
 fn line_search(
     system: &impl NonlinearSystem,
     x: &[f64],
@@ -434,8 +461,10 @@ fn line_search(
     options: &NewtonOptions,
     trial: &mut [f64],
     trial_residual: &mut [f64],
+    natural: Option<&Factors>,
 ) -> (f64, Option<f64>) {
     let (mut t, mut bounded, mut r_full) = (1.0, None, None);
+    let step_norm = norm(delta);
     for _ in 0..options.max_halvings {
         for ((y, xi), di) in trial.iter_mut().zip(x).zip(delta) {
             *y = xi + t * di;
@@ -445,6 +474,11 @@ fn line_search(
         r_full = r_full.or(Some(r_trial));
         let within = r_trial <= options.max_growth * r;
         if (within && !system.monotone()) || r_trial < r {
+            return (t, r_full);
+        }
+        // a step longer than the iterate (a nearly singular J) proves nothing in J's metric
+        let moderate = within && system.monotone() && t * step_norm <= norm(x);
+        if moderate && natural.is_some_and(|f| natural_monotonicity(f, trial_residual, step_norm, t)) {
             return (t, r_full);
         }
         if within && bounded.is_none() {

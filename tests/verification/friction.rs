@@ -2,7 +2,7 @@
 
 use crate::common;
 use damfem::contact::nitsche::{FaceDisplacement, NitscheParameters};
-use damfem::contact::{solve_by_continuation, ContactError, ContactJoint, Continuation, JointLaw};
+use damfem::contact::{solve_by_continuation, ContactError, ContactJoint, ContactSolution, Continuation, JointLaw};
 use damfem::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};
 use damfem::mesh::structured::{unit_square, BOTTOM, LEFT, RIGHT, TOP};
 use damfem::solve::{NewtonError, NewtonOptions};
@@ -68,35 +68,52 @@ fn stick_and_slip_are_exact() {
         for (case, a) in [("stick", 0.01), ("slip", 0.05)] {
             let (u_exact, shear) = exact(law, a, b);
             assert_eq!(case == "stick", shear == MU * a, "{law:?}: the data make it {case}");
-            for order in [1, 2] {
-                for theta in [1.0, 0.0, -1.0] {
-                    for delta in [0.0, 1e-4] {
-                        let problem = problem(4, order, a, b, shear);
-                        let disc = problem.discretise();
-                        let parameters = NitscheParameters { theta, ..Default::default() };
-                        let joint = ContactJoint::uniform(vec![BOTTOM], Vec::new(), law, parameters);
-                        let settings =
-                            Continuation { delta, delta_start: 1e-2, newton: NewtonOptions::default(), path: None };
-                        let solution = solve_by_continuation(&problem, &disc, &joint, &settings)
-                            .unwrap_or_else(|e| panic!("{law:?} {case} P{order} θ = {theta} δ = {delta}: {e}"));
-                        let u = problem.displacement(&disc, &solution.x);
-                        let error = common::max_nodal_error(&problem.mesh.points, &u, &u_exact);
-                        println!(
-                            "{law:?} {case} P{order} θ = {theta:2} δ = {delta:.0e}: {} Newton steps, max nodal error {error:.1e}",
-                            solution.newton_steps()
-                        );
-                        assert!(error <= 1e-12 * a, "{law:?} {case} P{order} θ = {theta} δ = {delta}: error {error}");
-                        let (stick, slip) = (solution.stick_length(), solution.slip_length());
-                        let expected = if case == "stick" { (1.0, 0.0) } else { (0.0, 1.0) };
-                        assert!(
-                            (stick - expected.0).abs() < 1e-12 && (slip - expected.1).abs() < 1e-12,
-                            "{law:?} {case}: stick {stick}, slip {slip}"
-                        );
-                    }
-                }
+            for (label, problem, solution) in stick_slip_solves(law, (a, b, shear), None) {
+                let u = problem.displacement(&problem.discretise(), &solution.x);
+                let error = common::max_nodal_error(&problem.mesh.points, &u, &u_exact);
+                println!("{case} {label}: {} Newton steps, max nodal error {error:.1e}", solution.newton_steps());
+                assert!(error <= 1e-12 * a, "{case} {label}: error {error}");
+                let (stick, slip) = (solution.stick_length(), solution.slip_length());
+                let expected = if case == "stick" { (1.0, 0.0) } else { (0.0, 1.0) };
+                assert!(
+                    (stick - expected.0).abs() < 1e-12 && (slip - expected.1).abs() < 1e-12,
+                    "{case} {label}: stick {stick}, slip {slip}"
+                );
             }
         }
     }
+}
+
+/// The stick–slip problem of `law` with (a, b, σ_xy) = `data` solved for p = 1, 2, θ = 1, 0, −1
+/// and δ = 0, 10⁻⁴ (by δ-continuation from 10⁻²), its friction law measuring slip from the
+/// uniform jump (s₀, 0) = `slip_origin` (None: from rest): each solution with its problem and
+/// a label.
+fn stick_slip_solves(
+    law: JointLaw,
+    (a, b, shear): (f64, f64, f64),
+    slip_origin: Option<f64>,
+) -> Vec<(String, Problem, ContactSolution)> {
+    let mut solves = Vec::new();
+    for order in [1, 2] {
+        for theta in [1.0, 0.0, -1.0] {
+            for delta in [0.0, 1e-4] {
+                let label = format!("{law:?} P{order} θ = {theta:2} δ = {delta:.0e}");
+                let problem = problem(4, order, a, b, shear);
+                let disc = problem.discretise();
+                let parameters = NitscheParameters { theta, ..Default::default() };
+                let origin = slip_origin.map(|s0| (0..problem.mesh.n_points()).flat_map(|_| [s0, 0.0]).collect());
+                let joint = ContactJoint {
+                    slip_origin: origin,
+                    ..ContactJoint::uniform(vec![BOTTOM], Vec::new(), law, parameters)
+                };
+                let settings = Continuation { delta, delta_start: 1e-2, newton: NewtonOptions::default(), path: None };
+                let solution = solve_by_continuation(&problem, &disc, &joint, &settings)
+                    .unwrap_or_else(|e| panic!("{label}: {e}"));
+                solves.push((label, problem, solution));
+            }
+        }
+    }
+    solves
 }
 
 /// Slip measured from an origin (docs/method.md §1.11). Source: the stick–slip case above with
@@ -120,27 +137,11 @@ fn the_friction_law_measures_slip_from_its_origin() {
                 true => [(a - s0) * x[1] + s0, -b * x[1]],
                 false => [threshold / MU * x[1] + a - threshold / MU, -b * x[1]],
             };
-            for order in [1, 2] {
-                for theta in [1.0, 0.0, -1.0] {
-                    for delta in [0.0, 1e-4] {
-                        let problem = problem(4, order, a, b, shear);
-                        let disc = problem.discretise();
-                        let parameters = NitscheParameters { theta, ..Default::default() };
-                        let origin = (0..problem.mesh.n_points()).flat_map(|_| [s0, 0.0]).collect();
-                        let joint = ContactJoint {
-                            slip_origin: Some(origin),
-                            ..ContactJoint::uniform(vec![BOTTOM], Vec::new(), law, parameters)
-                        };
-                        let settings =
-                            Continuation { delta, delta_start: 1e-2, newton: NewtonOptions::default(), path: None };
-                        let solution = solve_by_continuation(&problem, &disc, &joint, &settings)
-                            .unwrap_or_else(|e| panic!("{law:?} {case} P{order} θ = {theta} δ = {delta}: {e}"));
-                        let u = problem.displacement(&disc, &solution.x);
-                        let error = common::max_nodal_error(&problem.mesh.points, &u, u_exact);
-                        println!("{law:?} {case} P{order} θ = {theta:2} δ = {delta:.0e}: max nodal error {error:.1e}");
-                        assert!(error <= 1e-12 * a, "{law:?} {case} P{order} θ = {theta} δ = {delta}: error {error}");
-                    }
-                }
+            for (label, problem, solution) in stick_slip_solves(law, (a, b, shear), Some(s0)) {
+                let u = problem.displacement(&problem.discretise(), &solution.x);
+                let error = common::max_nodal_error(&problem.mesh.points, &u, u_exact);
+                println!("{case} {label}: max nodal error {error:.1e}");
+                assert!(error <= 1e-12 * a, "{case} {label}: error {error}");
             }
         }
     }
