@@ -251,6 +251,9 @@ pub fn run_sequence(
     if let Some((last, stall)) = writer.history.last().and_then(|r| Some((r.step, r.stall?))) {
         progress.say(&format!("{prefix}stopped after step {last}: {stall}"));
     }
+    if let Some((last, limit)) = writer.history.last().and_then(|r| Some((r.step, r.cell_limit?))) {
+        progress.say(&format!("{prefix}stopped after step {last}: {limit}"));
+    }
     if let Some((best, last)) = writer.best.as_ref().zip(writer.history.last()) {
         progress.say(&format!("{prefix}{}", best.line(last)));
     }
@@ -546,6 +549,7 @@ mod tests {
             crack_length: None,
             resultant: None,
             stall: None,
+            cell_limit: None,
             seconds: PhaseTimes::default(),
             elapsed: 0.0,
         }
