@@ -167,8 +167,8 @@ pub enum AdaptError {
     Contact(#[from] ContactError),
     #[error("on the last mesh, Newton did not reach the residual tolerance contact.rtol: {0}")]
     Finish(Box<AdaptError>),
-    #[error("writing step {step}: {source}")]
-    Output { step: usize, source: Box<dyn std::error::Error + Send + Sync> },
+    #[error("writing step {step}: {error}")]
+    Output { step: usize, error: Box<dyn std::error::Error + Send + Sync> },
 }
 
 /// Where the meshes come from.

@@ -2,6 +2,7 @@
 
 use crate::contact::PathPoint;
 use crate::io::gmsh;
+use crate::io::input::check_regular;
 use crate::mesh::midpoints::elevate_to_p2;
 use crate::mesh::Mesh;
 use crate::scene::{Scene, SceneError};
@@ -48,12 +49,7 @@ impl Input {
     /// The scene: read from .toml, or the default scene of a .geo/.msh file. CLI options win.
     pub fn scene(&self) -> Result<Scene> {
         let path = &self.scene;
-        if !path.exists() {
-            anyhow::bail!("cannot open {}: file not found", path.display());
-        }
-        if path.is_dir() {
-            anyhow::bail!("cannot open {}: it is a directory, not a scene or geometry file", path.display());
-        }
+        check_regular(path).map_err(|e| anyhow::anyhow!("cannot open {}: {e}", path.display()))?;
         gmsh::set_cell_limit(self.max_cells.unwrap_or(gmsh::DEFAULT_CELL_LIMIT));
         anyhow::ensure!(self.mesh_time_limit > 0, "--mesh-time-limit 0: the time limit must be at least 1 s");
         gmsh::set_time_limit(Some(self.mesh_time_limit));
@@ -163,9 +159,11 @@ pub struct Output {
 
 impl Output {
     /// The output directory of `scene`: `-o` if given, else the scene's `[output] directory`.
-    /// Created if missing.
+    /// Created if missing, and locked for this command (see the `lock` module).
     pub fn dir(&self, scene: &Scene) -> Result<PathBuf> {
-        output_dir(self.directory.clone().unwrap_or_else(|| scene.output.directory.clone()))
+        let dir = output_dir(self.directory.clone().unwrap_or_else(|| scene.output.directory.clone()))?;
+        super::lock::lock(&dir)?;
+        Ok(dir)
     }
 }
 

@@ -1,6 +1,7 @@
 //! [`Session`]: exclusive access to gmsh's global state.
 
 use super::{api, guard, limits, names, read, GmshError, MeshOptions, SizeField};
+use crate::io::input::{check_regular, NotAFile};
 use crate::mesh::Mesh;
 use std::ffi::CString;
 use std::io::Read;
@@ -298,14 +299,14 @@ fn restrict(inner: i32, lists: &[(&str, Vec<f64>)]) -> Result<i32, GmshError> {
     Ok(tag)
 }
 
+/// Checks that `path` is a regular file, without opening it.
 fn exists(path: &Path) -> Result<(), GmshError> {
-    if path.is_file() {
-        Ok(())
-    } else if path.is_dir() {
-        Err(GmshError::Directory { path: path.into() })
-    } else {
-        Err(GmshError::NotFound { path: path.into() })
-    }
+    let path = path.to_path_buf();
+    check_regular(&path).map_err(|e| match e {
+        NotAFile::Missing => GmshError::NotFound { path },
+        NotAFile::Directory => GmshError::Directory { path },
+        NotAFile::Other(reason) => GmshError::NotAFile { path, reason },
+    })
 }
 
 /// `path` for gmsh, `None` if it holds a NUL byte.
