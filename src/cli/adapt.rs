@@ -186,7 +186,15 @@ pub fn run(args: Args) -> Result<()> {
     );
     let dir = args.output.dir(&scene)?;
     let name = stem(&scene.source);
-    let run = run_sequence(&scene, &args.input, &dir, &name, "", &mut |_| Ok(()), args.effectivity)?;
+    let run = args.input.in_combination(run_sequence(
+        &scene,
+        &args.input,
+        &dir,
+        &name,
+        "",
+        &mut |_| Ok(()),
+        args.effectivity,
+    ))?;
     progress.say(&format!("results in {} ({name}.pvd, history.csv, {name}_eta.png)", dir.display()));
     progress.result(&table(&run.history));
     for line in run.headline {

@@ -79,6 +79,14 @@ impl Input {
         Ok(scene)
     }
 
+    /// `result`, its error named after the load combination `--combination` if given.
+    pub fn in_combination<T>(&self, result: Result<T>) -> Result<T> {
+        match &self.combination {
+            Some(name) => result.with_context(|| format!("--combination {name}")),
+            None => result,
+        }
+    }
+
     /// With `-v`, what the load path calls at every converged state: one line on stderr.
     pub fn path_trace(&self) -> Option<fn(&PathPoint)> {
         self.verbose.then_some(path_point_line as fn(&PathPoint))
@@ -275,6 +283,9 @@ pub fn stem(path: &Path) -> String {
 #[error("{0}")]
 pub struct SolverFailed(pub String);
 
+/// How many warnings a command prints.
+pub const SHOWN_WARNINGS: usize = 20;
+
 /// What a command prints: one line per stage on stderr (name, what was done, and the wall
 /// time), other progress on stderr, results on stdout; with -q, none of it.
 pub struct Progress {
@@ -298,10 +309,14 @@ impl Progress {
         Ok((value, seconds))
     }
 
-    /// Prints each warning as a "warning:" line unless quiet.
+    /// Prints the first [`SHOWN_WARNINGS`] warnings as "warning:" lines unless quiet, then how
+    /// many more there are.
     pub fn warn(&self, warnings: &[String]) {
-        for w in warnings {
+        for w in warnings.iter().take(SHOWN_WARNINGS) {
             self.say(&format!("warning: {w}"));
+        }
+        if warnings.len() > SHOWN_WARNINGS {
+            self.say(&format!("warning: {} more warnings not shown", warnings.len() - SHOWN_WARNINGS));
         }
     }
 

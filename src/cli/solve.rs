@@ -11,7 +11,7 @@ use crate::elasticity::{Discretisation, Problem};
 use crate::estimate::{estimate_displacement, Estimate};
 use crate::io::atomic::{write_output, Provisional};
 use crate::scene::{ProjectionKind, Scene};
-use crate::solve::NewtonError;
+use crate::solve::{diverged, NewtonError};
 use crate::verify::dual_norm::{effectivity, Effectivity};
 use anyhow::Result;
 use serde::Serialize;
@@ -110,7 +110,7 @@ pub fn run(args: Args) -> Result<()> {
     let (problem, joint) = match scene.problem(mesh) {
         Ok(problem) => problem,
         // an error, blamed on the flag of a key it names
-        Err(e) => return blame_overrides(Err(e), &contact_overrides(&args)),
+        Err(e) => return input.in_combination(blame_overrides(Err(e), &contact_overrides(&args))),
     };
     progress.warn(&scene.warnings(&problem.mesh, joint.as_ref())?);
     let (disc, t) = progress.stage(
@@ -250,8 +250,9 @@ fn newton_failure(scene: &Scene, continuation: &Continuation, error: &NewtonErro
         _ => Vec::new(),
     };
     let mut causes = Vec::new();
+    let grew = matches!(error, NewtonError::NotConverged { history, .. } if diverged(history));
     let falling = residuals.len() >= 4 && residuals[residuals.len() - 1] < 0.5 * residuals[residuals.len() / 2];
-    if residuals.len() >= c.max_iter && falling {
+    if residuals.len() >= c.max_iter && falling && !grew {
         causes.push(format!("contact.max_iter = {} may be too small (the residual still falls)", c.max_iter));
     }
     if c.theta != -1.0 && c.gamma0 < 10.0 {

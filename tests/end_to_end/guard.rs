@@ -213,3 +213,66 @@ fn an_input_that_is_not_a_regular_file_is_refused() {
         }
     }
 }
+
+// Source: geo/scene_a.toml with one value beyond any dam: E = 10³⁰⁸ Pa, rho = 10⁹ kg/m³, a
+// water density of 10⁹ kg/m³, --friction 10³⁰⁸, and --cohesion 10¹² Pa. Goal: each is
+// refused before meshing, in one sentence naming the key or flag and the bound, where Newton
+// failed after 17–51 s blaming contact.max_iter. Parameters: P1.
+#[test]
+fn values_beyond_any_dam_are_refused() {
+    let tmp = TempDir::new("beyond-any-dam");
+    let hydrostatic = "hydrostatic = { density = 1000.0, level = 70.0 }";
+    let cases: [(&str, &str, &[&str], &[&str]); 5] = [
+        ("E = 3.0e10", "E = 1e308", &[], &["material 'concrete'", "E = 1e308 Pa exceeds 1e13 Pa"]),
+        ("rho = 2400.0", "rho = 1e9", &[], &["material 'concrete'", "rho = 1e9", "exceeds 1e5"]),
+        (hydrostatic, "hydrostatic = { density = 1e9, level = 70.0 }", &[], &["hydrostatic.density = 1e9", "1e5"]),
+        ("E = 3.0e10", "E = 3.0e10", &["--friction", "1e308"], &["--friction", "exceeds 100"]),
+        ("E = 3.0e10", "E = 3.0e10", &["--friction", "0.5", "--cohesion", "1e12"], &["--cohesion", "1e10 Pa"]),
+    ];
+    for (k, (from, to, flags, keywords)) in cases.into_iter().enumerate() {
+        let scene = super::cli::edited_scene(&tmp, "scene_a", |s| {
+            assert!(s.contains(from), "{from}");
+            s.replacen(from, to, 1)
+        });
+        let start = std::time::Instant::now();
+        let args: Vec<&str> = ["--order", "1"].iter().chain(flags).copied().collect();
+        super::cli::assert_refused(&format!("beyond-{k}"), "solve", &scene, &args, keywords);
+        assert!(start.elapsed().as_secs() < 5, "{to} {flags:?} took {:?}", start.elapsed());
+    }
+}
+
+// Source: tests/data/cli/bare.geo with 10 000 more physical curve groups on one of its curves,
+// none with a role. Goal: `check` ends in seconds (the groups were read and checked in a time
+// that grew as the square of their count, 14 s on 10 000) and prints its first 20 warnings and
+// how many more there are, where it printed 800 KB of them.
+#[test]
+fn ten_thousand_physical_groups_are_read_in_seconds_with_few_warnings() {
+    let tmp = TempDir::new("many-groups");
+    let body = std::fs::read_to_string(super::cli::fixture("bare.geo")).unwrap();
+    let groups: String = (0..10_000).map(|i| format!("Physical Curve(\"c{i}\", {}) = {{2}};\n", 100 + i)).collect();
+    let geo = tmp.join("many.geo");
+    std::fs::write(&geo, body + &groups).unwrap();
+    let start = std::time::Instant::now();
+    let out = damfem(&[OsStr::new("check"), geo.as_os_str()]);
+    assert!(start.elapsed().as_secs() < 8, "took {:?}", start.elapsed());
+    let text = stderr(&out);
+    assert_ok(&out);
+    let warnings: Vec<&str> = text.lines().filter(|l| l.starts_with("warning:")).collect();
+    assert_eq!(warnings.len(), 21, "{}", &text[..text.len().min(2000)]);
+    assert_eq!(warnings[20], "warning: 9981 more warnings not shown");
+}
+
+// Source: geo/scene_a.toml with a combination "bad" whose boundary table names a curve the
+// geometry lacks, run by `solve --combination bad` and `adapt --combination bad`. Goal: the
+// error of building its problem names the combination, where it named the curve only.
+// Parameters: P1.
+#[test]
+fn a_combination_whose_problem_fails_is_named() {
+    let tmp = TempDir::new("combination-problem");
+    let scene =
+        super::cli::edited_scene(&tmp, "scene_a", |s| s + "\n[combinations.bad.boundary.nowhere]\nrole = \"free\"\n");
+    for command in ["solve", "adapt"] {
+        let args = ["--order", "1", "--combination", "bad"];
+        super::cli::assert_refused(command, command, &scene, &args, &["--combination bad", "'nowhere'"]);
+    }
+}
