@@ -276,3 +276,29 @@ fn a_combination_whose_problem_fails_is_named() {
         super::cli::assert_refused(command, command, &scene, &args, &["--combination bad", "'nowhere'"]);
     }
 }
+
+// Source: geo/scene_a.toml adapted, sent SIGINT as soon as the first file of step 1 (its
+// `_01_dg.vtu`) exists. Goal: the run ends with 130 and leaves no step file that the `.pvd`
+// collections do not list and no hidden temporary, where an interrupt left a `_NN_dg.vtu`
+// that no collection listed. Parameters: P2, sizes × 0.5.
+#[test]
+fn an_interrupted_adaptive_step_leaves_no_unlisted_file() {
+    let tmp = TempDir::new("adapt-sigint-step");
+    let (scene, dir) = (repo("geo/scene_a.toml"), tmp.join("out"));
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_damfem"))
+        .args([OsStr::new("adapt"), OsStr::new("-q"), scene.as_os_str(), OsStr::new("-o"), dir.as_os_str()])
+        .args(["--size-factor", "0.5", "--steps", "40"])
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    while !dir.join("scene_a_01_dg.vtu").exists() {
+        assert!(start.elapsed().as_secs() < 300, "no step 1 after five minutes");
+        std::thread::sleep(std::time::Duration::from_micros(200));
+    }
+    // SAFETY: kill sends a signal to the child process started above
+    assert_eq!(unsafe { libc::kill(child.id() as i32, libc::SIGINT) }, 0);
+    assert_eq!(child.wait().unwrap().code(), Some(130));
+    assert_eq!(unlisted_step_files(&dir), Vec::<String>::new(), "{:?}", listing(&dir));
+    assert!(!listing(&dir).iter().any(|f| f.starts_with('.')), "{:?}", listing(&dir));
+}
