@@ -12,6 +12,7 @@ use crate::contact::nitsche::{Gap, NitscheParameters};
 use crate::contact::uplift::{Drains, Uplift};
 use crate::contact::LoadPath;
 use crate::contact::{ContactJoint, Continuation, CurveUplift, JointLaw, JointLine};
+use crate::elasticity::material::MAX_DENSITY;
 use crate::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};
 use crate::io::gmsh::MeshOptions;
 use crate::mesh::{distance, Mesh, Topology};
@@ -248,11 +249,35 @@ fn law_of(threshold: Option<f64>, friction: f64, cohesion: f64) -> JointLaw {
     }
 }
 
+/// "key = density exceeds …" for a water density above [`MAX_DENSITY`].
+fn too_dense(key: &str, density: f64) -> String {
+    format!("{key} = {density:e} kg/m^3 exceeds {MAX_DENSITY:e} kg/m^3, a hundred times water's (it is in kg/m^3)")
+}
+
+/// Largest friction coefficient accepted: tan 89.4°, beyond any joint.
+const MAX_FRICTION: f64 = 100.0;
+/// Largest cohesion or Tresca threshold accepted \[Pa\]: a thousand times concrete's
+/// compressive strength.
+const MAX_STRENGTH: f64 = 1e10;
+
 /// The first friction key of the table `table` out of range, as "table.key = value must …".
 fn check_law(table: &str, threshold: Option<f64>, friction: f64, cohesion: f64) -> Result<(), String> {
     let keys = [("friction", friction), ("cohesion", cohesion), ("threshold", threshold.unwrap_or(0.0))];
     if let Some((key, value)) = keys.iter().find(|(_, v)| !(v.is_finite() && *v >= 0.0)) {
         return Err(format!("{table}.{key} = {value} must be a non-negative number"));
+    }
+    if friction > MAX_FRICTION {
+        return Err(format!(
+            "{table}.friction = {friction:e} exceeds {MAX_FRICTION}, the coefficient of a friction angle of 89.4 \
+             degrees: no joint holds that much (it is tan phi, not the angle)"
+        ));
+    }
+    let strengths = [("cohesion", cohesion), ("threshold", threshold.unwrap_or(0.0))];
+    if let Some((key, value)) = strengths.iter().find(|(_, v)| *v > MAX_STRENGTH) {
+        return Err(format!(
+            "{table}.{key} = {value:e} Pa exceeds {MAX_STRENGTH:e} Pa, a thousand times concrete's compressive \
+             strength (it is in Pa)"
+        ));
     }
     match threshold {
         Some(_) if friction > 0.0 || cohesion > 0.0 => Err(format!(
@@ -488,6 +513,9 @@ impl Scene {
         }
         if up.density <= 0.0 {
             return Err(self.invalid(format!("{table}.density = {} must be positive", up.density)));
+        }
+        if up.density > MAX_DENSITY {
+            return Err(self.invalid(too_dense(&format!("{table}.density"), up.density)));
         }
         if let Some(t) = up.tailwater.filter(|&t| t > up.headwater) {
             return Err(self.invalid(format!(

@@ -12,8 +12,8 @@
 //! ([`merge_sides`]), so the two sides of a joint no
 //! longer match.
 
-use super::{AdaptError, Mesher, Refinement};
-use crate::io::gmsh::{mesh_geo, remesh_geo, remesh_geo_side, GmshError, MeshOptions, SizeField};
+use super::{AdaptError, CellLimit, Mesher, Refinement};
+use crate::io::gmsh::{cell_limit, mesh_geo, remesh_geo, remesh_geo_side, GmshError, MeshOptions, SizeField};
 use crate::mesh::interface::merge_sides;
 use crate::mesh::{Mesh, Topology};
 use std::collections::BTreeSet;
@@ -35,7 +35,7 @@ impl Mesher for GeoMesher {
         let (path, verbose, allow) = (&self.geometry, self.verbose, self.allow_system_calls);
         match (self.refinement, previous) {
             (Refinement::Adaptive, Some((mesh, sizes))) => {
-                let options = MeshOptions { size_factor: 1.0, ..self.options.clone() };
+                let options = self.remesh_options();
                 let field = SizeField::from_cells(mesh, sizes).map_err(|e| AdaptError::Mesh(e.into()))?;
                 let sides = joint_sides(mesh, &self.joints);
                 if sides.is_empty() {
@@ -68,6 +68,24 @@ impl Mesher for GeoMesher {
 
     fn size_min(&self) -> Option<f64> {
         self.options.size_min
+    }
+
+    /// The cell count of the size field of an adaptive step (gmsh estimates a uniform step's
+    /// from the curves before meshing, and refuses it above the limit).
+    fn over_cell_limit(&self, previous: &Mesh, sizes: &[f64]) -> Option<CellLimit> {
+        if self.refinement == Refinement::Uniform {
+            return None;
+        }
+        let cells = SizeField::from_cells(previous, sizes).ok()?.cells(&self.remesh_options());
+        let limit = cell_limit();
+        (cells > limit as f64).then_some(CellLimit { cells, limit })
+    }
+}
+
+impl GeoMesher {
+    /// The options of an adaptive remesh: the scene's size bounds, the size factor 1 (see above).
+    fn remesh_options(&self) -> MeshOptions {
+        MeshOptions { size_factor: 1.0, ..self.options.clone() }
     }
 }
 

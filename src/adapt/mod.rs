@@ -167,8 +167,8 @@ pub enum AdaptError {
     Contact(#[from] ContactError),
     #[error("on the last mesh, Newton did not reach the residual tolerance contact.rtol: {0}")]
     Finish(Box<AdaptError>),
-    #[error("writing step {step}: {source}")]
-    Output { step: usize, source: Box<dyn std::error::Error + Send + Sync> },
+    #[error("writing step {step}: {error}")]
+    Output { step: usize, error: Box<dyn std::error::Error + Send + Sync> },
 }
 
 /// Where the meshes come from.
@@ -179,6 +179,12 @@ pub trait Mesher {
 
     /// The smallest cell size it makes \[m\], if it has one.
     fn size_min(&self) -> Option<f64> {
+        None
+    }
+
+    /// The next mesh's estimated cell count and the limit, if the count from `previous` and
+    /// its target sizes `sizes` (empty for uniform refinement) exceeds the limit.
+    fn over_cell_limit(&self, _previous: &Mesh, _sizes: &[f64]) -> Option<CellLimit> {
         None
     }
 }
@@ -261,6 +267,8 @@ pub struct StepRecord {
     pub resultant: Option<Resultant>,
     /// Set on the last step if the run stopped because of the smallest size.
     pub stall: Option<Stall>,
+    /// Set on the last step if the run stopped because the next mesh would exceed the cell limit.
+    pub cell_limit: Option<CellLimit>,
     pub seconds: PhaseTimes,
     /// Wall time since the start of the run, at the end of this step.
     pub elapsed: f64,
@@ -290,6 +298,24 @@ impl std::fmt::Display for Stall {
             self.at[1],
             self.size,
             100.0 * self.share
+        )
+    }
+}
+
+/// A next mesh estimated to have more cells than the mesher's limit.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct CellLimit {
+    /// The estimated cell count.
+    pub cells: f64,
+    pub limit: usize,
+}
+
+impl std::fmt::Display for CellLimit {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        write!(
+            f,
+            "the next mesh would have about {:.1e} triangles, above the limit of {} cells (raise it with --max-cells)",
+            self.cells, self.limit
         )
     }
 }
@@ -393,7 +419,8 @@ pub fn run(
         let stall =
             (!sizes.is_empty()).then(|| stalled(settings.bulk, floor, &problem.mesh, eta_cells, &sizes)).flatten();
         seconds.remesh = clock.elapsed().as_secs_f64();
-        if stall.is_some() {
+        let cell_limit = (!done && stall.is_none()).then(|| mesher.over_cell_limit(&problem.mesh, &sizes)).flatten();
+        if stall.is_some() || cell_limit.is_some() {
             (done, level) = (true, level.finish(&model.newton(), settings)?);
             (eta, stress) = measures(&problem, &level);
         }
@@ -425,6 +452,7 @@ pub fn run(
             crack_length: contact.zip(line).map(|(c, line)| c.crack_from_heel(&line)),
             resultant: contact.zip(line).and_then(|(c, line)| c.resultant(&line)),
             stall,
+            cell_limit,
             seconds,
             elapsed: start.elapsed().as_secs_f64(),
         };

@@ -11,7 +11,7 @@ use crate::adapt::{self, AdaptError, AdaptSettings, Model, PhaseTimes, Refinemen
 use crate::contact::{ContactJoint, JointLine, LoadPath, PathPoint, Resultant};
 use crate::elasticity::stress::cell_mean_stress;
 use crate::elasticity::Problem;
-use crate::io::atomic::write_output;
+use crate::io::atomic::{write_output, Provisional};
 use crate::io::pvd::write_pvd;
 use crate::mesh::Mesh;
 use crate::scene::Scene;
@@ -186,7 +186,15 @@ pub fn run(args: Args) -> Result<()> {
     );
     let dir = args.output.dir(&scene)?;
     let name = stem(&scene.source);
-    let run = run_sequence(&scene, &args.input, &dir, &name, "", &mut |_| Ok(()), args.effectivity)?;
+    let run = args.input.in_combination(run_sequence(
+        &scene,
+        &args.input,
+        &dir,
+        &name,
+        "",
+        &mut |_| Ok(()),
+        args.effectivity,
+    ))?;
     progress.say(&format!("results in {} ({name}.pvd, history.csv, {name}_eta.png)", dir.display()));
     progress.result(&table(&run.history));
     for line in run.headline {
@@ -230,7 +238,7 @@ pub fn run_sequence(
     };
     let model = Traced { scene, trace: input.newton_trace(), path_trace: input.path_trace() };
     let result = adapt::run(&scene.adapt, &mut mesher, &model, |step| {
-        let output = |source: anyhow::Error| AdaptError::Output { step: step.record.step, source: source.into() };
+        let output = |error: anyhow::Error| AdaptError::Output { step: step.record.step, error: error.into() };
         if writer.history.is_empty() {
             let removed = remove_earlier_outputs(dir, name, &[]).map_err(output)?;
             if removed > 0 {
@@ -242,14 +250,18 @@ pub fn run_sequence(
         progress.say(&format!("{prefix}{}", step_line(writer.history.last().expect("just written"))));
         Ok(())
     });
-    // a scene or geometry that does not fit its first mesh is bad input: nothing is written
-    if let Err(e @ (AdaptError::Mesh(_) | AdaptError::Problem(_))) = &result {
+    // a scene or geometry that does not fit its first mesh is bad input, and a first step that
+    // cannot be written has nothing to keep: nothing is written
+    if let Err(e @ (AdaptError::Mesh(_) | AdaptError::Problem(_) | AdaptError::Output { .. })) = &result {
         anyhow::ensure!(!writer.history.is_empty(), "{e}");
     }
     let error = result.as_ref().err().map(|e| format!("{e}"));
     writer.finish(error.clone())?;
     if let Some((last, stall)) = writer.history.last().and_then(|r| Some((r.step, r.stall?))) {
         progress.say(&format!("{prefix}stopped after step {last}: {stall}"));
+    }
+    if let Some((last, limit)) = writer.history.last().and_then(|r| Some((r.step, r.cell_limit?))) {
+        progress.say(&format!("{prefix}stopped after step {last}: {limit}"));
     }
     if let Some((best, last)) = writer.best.as_ref().zip(writer.history.last()) {
         progress.say(&format!("{prefix}{}", best.line(last)));
@@ -365,27 +377,36 @@ struct StepWriter<'a> {
 }
 
 impl StepWriter<'_> {
-    /// The ParaView files of `step`, then the collections and the history so far.
+    /// The ParaView files of `step`, then the collections and the history so far, then the
+    /// summary. Until the collections list them, the step's files are removed on a failure
+    /// (and the step left out of the lists).
     fn write(&mut self, step: &Step) -> Result<()> {
         let problem = step.problem;
         let u = problem.displacement(step.disc, step.x);
         let sigma = cell_mean_stress(problem, &u);
         let results = Results { problem, u: &u, sigma: &sigma, contact: step.contact, estimate: Some(step.estimate) };
         let name = format!("{}_{:02}", self.name, step.record.step);
-        let files = write_results(self.dir, &name, self.scene, &results)?;
-        self.vtu.push(files.clone());
+        let mut provisional = Provisional::default();
+        let files = write_results(self.dir, &name, self.scene, &results, &mut provisional)?;
         let reference = self.effectivity.then(|| self.reference(step, &u)).transpose()?;
+        self.vtu.push(files.clone());
         self.history.push(StepRecord {
             i_eff: reference.as_ref().map(|r| r.i_eff),
             i_eff_reference_converged: reference.map(|r| r.converged),
             ..step.record.clone()
         });
         self.best = BestStep::of(&self.history, &self.vtu);
+        if let Err(e) = self.write_lists(None) {
+            self.vtu.pop();
+            self.history.pop();
+            self.best = BestStep::of(&self.history, &self.vtu);
+            return Err(e);
+        }
+        provisional.keep();
         let line = self.scene.joint_line(problem);
         let command =
             AdaptSummary { step: step.record.step, seconds: step.record.seconds, best_step: self.best.clone() };
         let summary = Summary::new(self.scene, step.disc, &results, line, files, command);
-        self.write_lists(None)?;
         write_output(&self.dir.join("summary.json"), serde_json::to_string_pretty(&summary)?.as_bytes())?;
         self.headline = summary.headline();
         Ok(())
@@ -546,6 +567,7 @@ mod tests {
             crack_length: None,
             resultant: None,
             stall: None,
+            cell_limit: None,
             seconds: PhaseTimes::default(),
             elapsed: 0.0,
         }

@@ -2,6 +2,7 @@
 
 use crate::contact::PathPoint;
 use crate::io::gmsh;
+use crate::io::input::check_regular;
 use crate::mesh::midpoints::elevate_to_p2;
 use crate::mesh::Mesh;
 use crate::scene::{Scene, SceneError};
@@ -48,12 +49,7 @@ impl Input {
     /// The scene: read from .toml, or the default scene of a .geo/.msh file. CLI options win.
     pub fn scene(&self) -> Result<Scene> {
         let path = &self.scene;
-        if !path.exists() {
-            anyhow::bail!("cannot open {}: file not found", path.display());
-        }
-        if path.is_dir() {
-            anyhow::bail!("cannot open {}: it is a directory, not a scene or geometry file", path.display());
-        }
+        check_regular(path).map_err(|e| anyhow::anyhow!("cannot open {}: {e}", path.display()))?;
         gmsh::set_cell_limit(self.max_cells.unwrap_or(gmsh::DEFAULT_CELL_LIMIT));
         anyhow::ensure!(self.mesh_time_limit > 0, "--mesh-time-limit 0: the time limit must be at least 1 s");
         gmsh::set_time_limit(Some(self.mesh_time_limit));
@@ -81,6 +77,14 @@ impl Input {
             scene.mesh.size_factor = factor;
         }
         Ok(scene)
+    }
+
+    /// `result`, its error named after the load combination `--combination` if given.
+    pub fn in_combination<T>(&self, result: Result<T>) -> Result<T> {
+        match &self.combination {
+            Some(name) => result.with_context(|| format!("--combination {name}")),
+            None => result,
+        }
     }
 
     /// With `-v`, what the load path calls at every converged state: one line on stderr.
@@ -163,9 +167,11 @@ pub struct Output {
 
 impl Output {
     /// The output directory of `scene`: `-o` if given, else the scene's `[output] directory`.
-    /// Created if missing.
+    /// Created if missing, and locked for this command (see the `lock` module).
     pub fn dir(&self, scene: &Scene) -> Result<PathBuf> {
-        output_dir(self.directory.clone().unwrap_or_else(|| scene.output.directory.clone()))
+        let dir = output_dir(self.directory.clone().unwrap_or_else(|| scene.output.directory.clone()))?;
+        super::lock::lock(&dir)?;
+        Ok(dir)
     }
 }
 
@@ -277,6 +283,9 @@ pub fn stem(path: &Path) -> String {
 #[error("{0}")]
 pub struct SolverFailed(pub String);
 
+/// How many warnings a command prints.
+pub const SHOWN_WARNINGS: usize = 20;
+
 /// What a command prints: one line per stage on stderr (name, what was done, and the wall
 /// time), other progress on stderr, results on stdout; with -q, none of it.
 pub struct Progress {
@@ -300,10 +309,14 @@ impl Progress {
         Ok((value, seconds))
     }
 
-    /// Prints each warning as a "warning:" line unless quiet.
+    /// Prints the first [`SHOWN_WARNINGS`] warnings as "warning:" lines unless quiet, then how
+    /// many more there are.
     pub fn warn(&self, warnings: &[String]) {
-        for w in warnings {
+        for w in warnings.iter().take(SHOWN_WARNINGS) {
             self.say(&format!("warning: {w}"));
+        }
+        if warnings.len() > SHOWN_WARNINGS {
+            self.say(&format!("warning: {} more warnings not shown", warnings.len() - SHOWN_WARNINGS));
         }
     }
 

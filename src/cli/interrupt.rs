@@ -1,9 +1,11 @@
 //! SIGINT and SIGTERM: the files being written are removed, the history of the run in
-//! progress records "interrupted", the output directories created for nothing are removed, and
-//! the process exits with 128 + the signal number. SIGALRM, gmsh's time limit, is cleaned up
+//! progress records "interrupted", the output directory's lock is released, the output
+//! directories created for nothing are removed, and the process exits with 128 + the signal
+//! number. SIGALRM, gmsh's time limit, is cleaned up
 //! the same way, records the error instead, and exits with 1.
 
 use super::common::remove_created_dirs;
+use super::lock;
 use crate::io::atomic::stop_writing;
 use crate::io::gmsh;
 use std::path::{Path, PathBuf};
@@ -53,6 +55,7 @@ fn interrupted(signal: i32) -> ! {
     let history = HISTORY.lock().unwrap_or_else(PoisonError::into_inner).clone();
     let recorded = if signal == libc::SIGALRM { error.as_str() } else { "interrupted" };
     let marked = history.filter(|p| p.exists() && mark(p, recorded));
+    lock::release();
     remove_created_dirs();
     match marked {
         Some(path) => eprintln!("error: {error}; the completed steps are in {}", path.display()),

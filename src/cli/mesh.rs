@@ -1,6 +1,7 @@
 //! `damfem mesh`: mesh a scene's geometry and write the .msh and a .vtu of the mesh.
 
 use super::common::{remove_earlier_outputs, stem, Input, Output};
+use crate::io::atomic::Provisional;
 use crate::io::gmsh;
 use crate::io::vtu::{write_boundary_vtu, write_mesh_vtu};
 use anyhow::Result;
@@ -39,13 +40,19 @@ pub fn run(args: Args) -> Result<()> {
         },
         |m| format!("{} nodes, {} cells, P{}", m.n_points(), m.n_cells(), m.order),
     )?;
+    // the .msh and the .vtu files are removed again if a later one fails
+    let mut provisional = Provisional::default();
+    provisional.add(&msh);
     let mut written = vec![msh.clone(), dir.join(format!("{name}_mesh.vtu"))];
     write_mesh_vtu(&written[1], &mesh, &[], &[])?;
+    provisional.add(&written[1]);
     if scene.output.boundary {
         written.push(dir.join(format!("{name}_boundary.vtu")));
         write_boundary_vtu(&written[2], &mesh, &[], &[])?;
+        provisional.add(&written[2]);
     }
     remove_earlier_outputs(&dir, &name, &written)?;
+    provisional.keep();
     progress.result(&msh.display().to_string());
     Ok(())
 }

@@ -11,6 +11,7 @@ mod adapt;
 mod check;
 mod common;
 pub mod interrupt;
+mod lock;
 mod mesh;
 mod output;
 mod safety;
@@ -64,6 +65,7 @@ where
         Command::Adapt(a) => adapt::run(a),
         Command::Safety(a) => safety::run(a),
     };
+    lock::release();
     match result {
         Ok(()) => 0,
         Err(e) => {

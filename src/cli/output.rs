@@ -7,6 +7,7 @@ use crate::elasticity::kernels::{principal, von_mises};
 use crate::elasticity::{Discretisation, Problem};
 use crate::estimate::estimators::{GlobalEstimators, NAMES};
 use crate::estimate::Estimate;
+use crate::io::atomic::Provisional;
 use crate::io::vtu::{write_boundary_vtu, write_mesh_vtu, Field};
 use crate::mesh::Mesh;
 use crate::scene::{OutputSection, Scene};
@@ -87,9 +88,15 @@ impl TagNames {
 /// What `summary.json` says of the weak-symmetry check on P1 meshes.
 const NOT_APPLICABLE: &str = "not applicable (P1)";
 
-/// Writes `<name>.vtu`, and as the scene asks `<name>_boundary.vtu` and `<name>_dg.vtu`;
-/// returns their paths.
-pub fn write_results(dir: &Path, name: &str, scene: &Scene, results: &Results) -> Result<Vec<PathBuf>> {
+/// Writes `<name>.vtu`, and as the scene asks `<name>_boundary.vtu` and `<name>_dg.vtu`, each
+/// added to `written` once written; returns their paths, `<name>.vtu` first.
+pub fn write_results(
+    dir: &Path,
+    name: &str,
+    scene: &Scene,
+    results: &Results,
+    written: &mut Provisional,
+) -> Result<Vec<PathBuf>> {
     let Results { problem, u, sigma, contact, estimate } = *results;
     let mut files = vec![dir.join(format!("{name}.vtu"))];
     let mut cells = stress_fields(sigma);
@@ -100,14 +107,17 @@ pub fn write_results(dir: &Path, name: &str, scene: &Scene, results: &Results) -
             let fields: Vec<Field> =
                 SIGMA_H.iter().zip(e.reconstruction.vertex_values()).map(|(n, v)| Field::scalar(*n, v)).collect();
             write_mesh_vtu(&dg, &problem.mesh.discontinuous(), &fields, &[])?;
+            written.add(&dg);
             files.push(dg);
         }
     }
     write_mesh_vtu(&files[0], &problem.mesh, &[Field::vector("displacement", u.to_vec())], &cells)?;
+    written.add(&files[0]);
     if scene.output.boundary {
         let boundary = dir.join(format!("{name}_boundary.vtu"));
         let facet_fields = contact.map(|c| contact_fields(problem.mesh.n_facets(), c)).unwrap_or_default();
         write_boundary_vtu(&boundary, &problem.mesh, &[Field::vector("displacement", u.to_vec())], &facet_fields)?;
+        written.add(&boundary);
         files.push(boundary);
     }
     Ok(files)

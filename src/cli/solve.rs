@@ -9,9 +9,9 @@ use crate::contact::{
 use crate::elasticity::stress::cell_mean_stress;
 use crate::elasticity::{Discretisation, Problem};
 use crate::estimate::{estimate_displacement, Estimate};
-use crate::io::atomic::write_output;
+use crate::io::atomic::{write_output, Provisional};
 use crate::scene::{ProjectionKind, Scene};
-use crate::solve::NewtonError;
+use crate::solve::{diverged, NewtonError};
 use crate::verify::dual_norm::{effectivity, Effectivity};
 use anyhow::Result;
 use serde::Serialize;
@@ -110,7 +110,7 @@ pub fn run(args: Args) -> Result<()> {
     let (problem, joint) = match scene.problem(mesh) {
         Ok(problem) => problem,
         // an error, blamed on the flag of a key it names
-        Err(e) => return blame_overrides(Err(e), &contact_overrides(&args)),
+        Err(e) => return input.in_combination(blame_overrides(Err(e), &contact_overrides(&args))),
     };
     progress.warn(&scene.warnings(&problem.mesh, joint.as_ref())?);
     let (disc, t) = progress.stage(
@@ -197,9 +197,11 @@ pub fn run(args: Args) -> Result<()> {
     let results =
         Results { problem: &problem, u: &u, sigma: &sigma, contact: solution.contact(), estimate: estimate.as_ref() };
     let name = stem(&scene.source);
+    // every file of the result is removed again if a later one fails
+    let mut provisional = Provisional::default();
     let (files, t) = progress.stage(
         "output",
-        || write_results(&dir, &name, &scene, &results),
+        || write_results(&dir, &name, &scene, &results, &mut provisional),
         |f| format!("{} files in {}", f.len(), dir.display()),
     )?;
     seconds.output = t;
@@ -208,6 +210,7 @@ pub fn run(args: Args) -> Result<()> {
     let mut written = [files.clone(), vec![dir.join("summary.json")]].concat();
     let summary = Summary::new(&scene, &disc, &results, line, files, solve);
     write_output(&dir.join("summary.json"), serde_json::to_string_pretty(&summary)?.as_bytes())?;
+    provisional.add(&dir.join("summary.json"));
     if solution.contact().is_some() || summary.estimate.is_some() {
         let history = History {
             units: UNITS,
@@ -215,9 +218,11 @@ pub fn run(args: Args) -> Result<()> {
             estimate: summary.estimate.as_ref(),
         };
         write_output(&dir.join("history.json"), serde_json::to_string_pretty(&history)?.as_bytes())?;
+        provisional.add(&dir.join("history.json"));
         written.push(dir.join("history.json"));
     }
     remove_earlier_outputs(&dir, &name, &written)?;
+    provisional.keep();
     progress.say(&format!("results in {}", dir.display()));
     for line in summary.headline() {
         progress.result(&line);
@@ -245,8 +250,9 @@ fn newton_failure(scene: &Scene, continuation: &Continuation, error: &NewtonErro
         _ => Vec::new(),
     };
     let mut causes = Vec::new();
+    let grew = matches!(error, NewtonError::NotConverged { history, .. } if diverged(history));
     let falling = residuals.len() >= 4 && residuals[residuals.len() - 1] < 0.5 * residuals[residuals.len() / 2];
-    if residuals.len() >= c.max_iter && falling {
+    if residuals.len() >= c.max_iter && falling && !grew {
         causes.push(format!("contact.max_iter = {} may be too small (the residual still falls)", c.max_iter));
     }
     if c.theta != -1.0 && c.gamma0 < 10.0 {

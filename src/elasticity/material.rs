@@ -2,6 +2,11 @@
 
 use serde::{Deserialize, Serialize};
 
+/// Largest Young's modulus accepted \[Pa\]: 50 times steel's, beyond any dam or rock.
+pub const MAX_YOUNG: f64 = 1e13;
+/// Largest density accepted [kg/m³]: four times osmium's, the densest element.
+pub const MAX_DENSITY: f64 = 1e5;
+
 /// Young's modulus E \[Pa\], Poisson's ratio ν and density ρ [kg/m³].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -30,10 +35,25 @@ impl Material {
         }
     }
 
-    /// Checks E > 0, −1 < ν < 1/2 and ρ ≥ 0; the message names the offending value.
+    /// Checks 0 < E ≤ [`MAX_YOUNG`], −1 < ν < 1/2 and 0 ≤ ρ ≤ [`MAX_DENSITY`]; the message
+    /// names the offending value.
     pub fn validate(&self) -> Result<(), String> {
         if !(self.young > 0.0 && self.young.is_finite()) {
             return Err(format!("Young's modulus E = {} must be positive", self.young));
+        }
+        if self.young > MAX_YOUNG {
+            return Err(format!(
+                "Young's modulus E = {:e} Pa exceeds {MAX_YOUNG:e} Pa, 50 times steel's: no dam or rock is that \
+                 stiff (E is in Pa)",
+                self.young
+            ));
+        }
+        if self.density > MAX_DENSITY {
+            return Err(format!(
+                "density rho = {:e} kg/m^3 exceeds {MAX_DENSITY:e} kg/m^3, four times that of osmium, the densest \
+                 element",
+                self.density
+            ));
         }
         if !(self.poisson > -1.0 && self.poisson < 0.5) {
             return Err(format!("Poisson's ratio nu = {} must lie in (-1, 0.5)", self.poisson));

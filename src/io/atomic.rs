@@ -3,7 +3,8 @@
 //! A file is first written to a hidden temporary file next to its target
 //! (`.<file>.<pid>.<n>.tmp`), flushed and synced, then renamed over the target. A reader such as
 //! ParaView therefore sees either the previous file or the complete new one, never a half-written
-//! file, and a failed write leaves nothing behind.
+//! file, and a failed write leaves nothing behind. The files of one result are [`Provisional`]
+//! until all of them are written: a failure or an interrupt before removes those written.
 
 use std::ffi::OsString;
 use std::fs::{self, File, OpenOptions};
@@ -60,15 +61,45 @@ pub fn write_atomic(path: &Path, write: impl FnOnce(&mut dyn Write) -> io::Resul
     result
 }
 
-/// Temporary files being written.
+/// Files written that are removed unless [`Provisional::keep`] is called: when dropped, or by
+/// [`stop_writing`] on an interrupt.
+#[derive(Debug, Default)]
+pub struct Provisional(Vec<PathBuf>);
+
+impl Provisional {
+    /// Adds `path`, just written.
+    pub fn add(&mut self, path: &Path) {
+        in_flight().push(path.to_path_buf());
+        self.0.push(path.to_path_buf());
+    }
+
+    /// Keeps the files.
+    pub fn keep(mut self) {
+        let kept = std::mem::take(&mut self.0);
+        in_flight().retain(|p| !kept.contains(p));
+    }
+}
+
+impl Drop for Provisional {
+    fn drop(&mut self) {
+        let mut in_flight = in_flight();
+        for path in &self.0 {
+            // the command fails already; a file that cannot be removed is left as it is
+            let _ = fs::remove_file(path);
+        }
+        in_flight.retain(|p| !self.0.contains(p));
+    }
+}
+
+/// Temporary files being written, and [`Provisional`] files.
 static IN_FLIGHT: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 
 fn in_flight() -> MutexGuard<'static, Vec<PathBuf>> {
     IN_FLIGHT.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
-/// Removes the temporary files being written (on an interrupt); no other write can start or
-/// finish while the returned guard lives.
+/// Removes the temporary files being written and the [`Provisional`] files (on an interrupt);
+/// no other write can start or finish while the returned guard lives.
 pub fn stop_writing() -> MutexGuard<'static, Vec<PathBuf>> {
     let mut in_flight = in_flight();
     for tmp in in_flight.drain(..) {
@@ -147,6 +178,23 @@ mod tests {
         assert!(result.is_err());
         assert_eq!(fs::read(&target).unwrap(), b"old");
         assert_eq!(entries(&dir), [OsString::from("out.txt")]);
+        fs::remove_dir_all(dir).unwrap();
+    }
+
+    #[test]
+    fn provisional_files_stay_only_when_kept() {
+        let dir = scratch("provisional");
+        let (dropped, kept) = (dir.join("dropped.txt"), dir.join("kept.txt"));
+        for (target, keep) in [(&dropped, false), (&kept, true)] {
+            let mut files = Provisional::default();
+            write_output(target, b"data").unwrap();
+            files.add(target);
+            if keep {
+                files.keep();
+            }
+        }
+        assert_eq!(entries(&dir), [OsString::from("kept.txt")]);
+        assert!(!in_flight().iter().any(|p| p.starts_with(&dir)));
         fs::remove_dir_all(dir).unwrap();
     }
 

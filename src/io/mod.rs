@@ -2,6 +2,7 @@
 
 pub mod atomic;
 pub mod gmsh;
+pub mod input;
 pub mod plot;
 pub mod pvd;
 pub mod vtu;

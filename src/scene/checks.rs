@@ -5,11 +5,12 @@
 //! warnings of `damfem check` (defaults assumed, parameters outside their known range, an
 //! uplift headwater that differs from the reservoir).
 
-use super::{ContactSection, Fix, ProjectionKind, Role, Scene, SceneError, UpliftSection};
+use super::{too_dense, ContactSection, Fix, ProjectionKind, Role, Scene, SceneError, UpliftSection};
 use crate::contact::ContactJoint;
+use crate::elasticity::material::MAX_DENSITY;
 use crate::mesh::topology::NONE;
 use crate::mesh::{Mesh, Topology};
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 
 /// Scene keys that hold a plane vector [x, y].
@@ -130,6 +131,9 @@ impl Scene {
                     "boundary.{name}.hydrostatic.density = {} must be positive (without water, remove the load)",
                     h.density
                 )));
+            }
+            if let Some(h) = b.hydrostatic.filter(|h| h.density > MAX_DENSITY) {
+                return Err(self.invalid(too_dense(&format!("boundary.{name}.hydrostatic.density"), h.density)));
             }
             if b.hydrostatic.is_some() && g == 0.0 {
                 return Err(self.invalid(format!(
@@ -278,18 +282,22 @@ impl Scene {
     /// names differ only in case, or two tables (`[materials]`, or `[boundary]` and `[joints]`)
     /// that name one group, are refused.
     fn check_one_table_per_group(&self, mesh: &Mesh) -> Result<(), SceneError> {
-        for (i, a) in mesh.groups.iter().enumerate() {
-            if let Some(b) =
-                mesh.groups[i + 1..].iter().find(|b| b.dim == a.dim && b.name.eq_ignore_ascii_case(&a.name))
-            {
-                return Err(self.invalid(format!(
-                    "the geometry {} has two physical groups '{}' and '{}' whose names differ only in case, which \
-                     scene names cannot tell apart; rename one",
-                    self.geometry.display(),
-                    a.name,
-                    b.name
-                )));
-            }
+        let mut seen: HashMap<(u8, String), &str> = HashMap::new();
+        for g in &mesh.groups {
+            let Some(first) = seen.insert((g.dim, g.name.to_ascii_lowercase()), &g.name) else { continue };
+            let (geometry, kind) = (self.geometry.display(), if g.dim == 1 { "curve" } else { "surface" });
+            return Err(self.invalid(if first == g.name {
+                format!(
+                    "the geometry {geometry} has two physical {kind} groups named '{first}', which scene names \
+                     cannot tell apart; rename one"
+                )
+            } else {
+                format!(
+                    "the geometry {geometry} has two physical groups '{first}' and '{}' whose names differ only in \
+                     case, which scene names cannot tell apart; rename one",
+                    g.name
+                )
+            }));
         }
         let curves = (self.boundary.keys().map(|n| ("boundary", n))).chain(self.joints.keys().map(|n| ("joints", n)));
         let surfaces = self.materials.keys().map(|n| ("materials", n));
@@ -421,4 +429,23 @@ fn surface_name(mesh: &Mesh, tag: i32) -> String {
         .iter()
         .find(|g| g.dim == 2 && g.tag == tag)
         .map_or_else(|| format!("a surface with no physical group (tag {tag})"), |g| format!("'{}'", g.name))
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::mesh::PhysicalGroup;
+    use crate::scene::Scene;
+
+    #[test]
+    fn two_groups_of_one_name_are_named_identical_and_of_two_cases_differing_in_case() {
+        let scene = Scene::for_geometry("dam.geo".as_ref());
+        let mut mesh = crate::mesh::structured::unit_square(2, 1);
+        let group = |tag, name: &str| PhysicalGroup { dim: 1, tag, name: name.into() };
+        mesh.groups.extend([group(90, "twin"), group(91, "twin")]);
+        let message = scene.check_boundaries(&mesh).unwrap_err().to_string();
+        assert!(message.contains("two physical curve groups named 'twin'"), "{message}");
+        mesh.groups.last_mut().unwrap().name = "Twin".into();
+        let message = scene.check_boundaries(&mesh).unwrap_err().to_string();
+        assert!(message.contains("'twin' and 'Twin' whose names differ only in case"), "{message}");
+    }
 }

@@ -10,7 +10,9 @@ pub mod schur;
 
 pub use cholesky::Cholesky;
 pub use lu::SparseLu;
-pub use newton::{newton, newton_until, Iterate, NewtonError, NewtonOptions, NewtonReport, NonlinearSystem, Pair};
+pub use newton::{
+    diverged, newton, newton_until, Iterate, NewtonError, NewtonOptions, NewtonReport, NonlinearSystem, Pair,
+};
 pub use schur::LayerSchur;
 
 /// faer's factorisations run on one thread. On the small supernodes of 2D meshes the task

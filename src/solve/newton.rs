@@ -205,12 +205,22 @@ impl NewtonReport {
 /// Why Newton stopped without an answer.
 #[derive(Debug, thiserror::Error)]
 pub enum NewtonError {
-    #[error("Newton did not converge in {} step(s): relative residuals {}", .history.len(), format_history(.history, *.scale))]
+    #[error(
+        "Newton {} in {} step(s): relative residuals {}",
+        if diverged(.history) { "diverged (its residual grew)" } else { "did not converge" },
+        .history.len(),
+        format_history(.history, *.scale)
+    )]
     NotConverged { history: Vec<Iteration>, scale: f64 },
     #[error("Newton step {step}: the increment is not finite (the Jacobian is numerically singular)")]
     NonFinite { step: usize },
     #[error("Newton step {step}: {source}")]
     Solve { step: usize, source: SolveError },
+}
+
+/// Whether the residual at the end of `history` is larger than at its start.
+pub fn diverged(history: &[Iteration]) -> bool {
+    history.first().zip(history.last()).is_some_and(|(first, last)| last.residual > first.residual)
 }
 
 /// The relative residuals of `history`: all of them up to [`SHOWN_RESIDUALS`], else the first
@@ -487,4 +497,18 @@ fn line_search(
         t *= 0.5;
     }
     (bounded.unwrap_or(2.0 * t), r_full)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_residual_that_grows_is_named_divergence() {
+        let at = |residual| Iteration { residual, increment: 1.0, step: 1.0, frozen: false };
+        let grown = NewtonError::NotConverged { history: vec![at(1.0), at(0.5), at(8.0)], scale: 1.0 };
+        assert!(grown.to_string().starts_with("Newton diverged (its residual grew) in 3 step(s)"), "{grown}");
+        let slow = NewtonError::NotConverged { history: vec![at(1.0), at(4.0), at(0.5)], scale: 1.0 };
+        assert!(slow.to_string().starts_with("Newton did not converge in 3 step(s)"), "{slow}");
+    }
 }

@@ -5,6 +5,7 @@ mod adapt;
 mod battery;
 mod bound;
 mod cli;
+mod guard;
 mod input;
 mod joint;
 mod tutorial;

@@ -11,6 +11,10 @@ pub enum GmshError {
     /// The path given as a file is a directory.
     #[error("cannot open {}: it is a directory, not a file", .path.display())]
     Directory { path: PathBuf },
+    /// The path given as a file is something else than a regular file (a FIFO, a device, a
+    /// loop of symbolic links); `reason` says what.
+    #[error("cannot open {}: {reason}", .path.display())]
+    NotAFile { path: PathBuf, reason: String },
     /// The model breaks one of the limits checked before meshing (see `limits`), e.g. it is
     /// 3-D or its mesh would have too many cells.
     #[error("cannot use {}: {reason}", .path.display())]

@@ -59,6 +59,7 @@ fn check_tree(start: PathBuf) -> Result<(), GmshError> {
 
 /// Checks `path`, read as `how`, then the files it reads, depth first; `chain` holds the files
 /// being read (canonical), which a file must not read again: gmsh would recurse without end.
+/// A path that is not a regular file (a FIFO would block the read) is refused.
 fn check_file(
     path: PathBuf,
     how: How,
@@ -72,6 +73,9 @@ fn check_file(
     };
     if !seen.insert((canonical.clone(), how)) {
         return Ok(());
+    }
+    if let Err(e) = crate::io::input::check_regular(&path) {
+        return Err(GmshError::NotAFile { path, reason: e.to_string() });
     }
     let src = std::fs::read(&path).map_err(|source| GmshError::Io { path: path.clone(), source })?;
     let dir = path.parent().unwrap_or(Path::new(""));

@@ -9,6 +9,8 @@
 //!   times the size factor, the surface mesh is estimated at N ≈ |box| / (√3/4 h̄²) triangles
 //!   and refused when N exceeds the cell limit ([`set_cell_limit`], default
 //!   [`DEFAULT_CELL_LIMIT`]). The curve mesh is then cleared and the model meshed as asked.
+//!   With a size field h (a remesh), N ≈ ∫ 1/(√3/4 h²) over the field's triangles instead
+//!   ([`super::SizeField::cells`]).
 //! - Time: reading and meshing one file may take [`set_time_limit`] seconds (none by
 //!   default). gmsh cannot be stopped from outside its loops, so the limit is an `alarm`:
 //!   SIGALRM reaches the process when the time is up, and the caller's handler reports
@@ -25,12 +27,20 @@ pub const MAX_COORDINATE: f64 = 1e9;
 pub const SIZE_FLOOR: f64 = 1e-5;
 /// Estimated cell count above which meshing is refused unless the limit is raised.
 pub const DEFAULT_CELL_LIMIT: usize = 2_000_000;
+/// Area of the equilateral triangle of unit side, √3/4: a mesh of size h has about
+/// |Ω| / (√3/4 h²) triangles.
+pub(super) const TRIANGLE_AREA: f64 = 0.4330127018922193;
 
 static CELL_LIMIT: AtomicUsize = AtomicUsize::new(DEFAULT_CELL_LIMIT);
 
 /// Sets the estimated cell count above which [`super::Session::generate`] refuses to mesh.
 pub fn set_cell_limit(cells: usize) {
     CELL_LIMIT.store(cells, Ordering::Relaxed);
+}
+
+/// The estimated cell count above which [`super::Session::generate`] refuses to mesh.
+pub fn cell_limit() -> usize {
+    CELL_LIMIT.load(Ordering::Relaxed)
 }
 
 /// Seconds gmsh may take to read and mesh one file; 0: no limit.
@@ -124,13 +134,20 @@ pub(super) fn check_cell_count(path: &Path) -> Result<(), GmshError> {
     api::clear_mesh()?;
     let Some(mean) = mean? else { return Ok(()) };
     let h = factor * mean;
-    let estimate = width * height / (3f64.sqrt() / 4.0 * h * h);
-    let limit = CELL_LIMIT.load(Ordering::Relaxed);
+    check_estimate(path, width * height / (TRIANGLE_AREA * h * h), &format!("mean size {h:.3e} m on the curves"))
+}
+
+/// Refuses `estimate` triangles, estimated from `sizes` (what they were), above the cell limit.
+pub(super) fn check_estimate(path: &Path, estimate: f64, sizes: &str) -> Result<(), GmshError> {
+    let limit = cell_limit();
     if estimate.is_nan() || estimate > limit as f64 {
-        return fail(format!(
-            "its mesh would have about {estimate:.1e} triangles (mean size {h:.3e} m on the curves), above the \
-             limit of {limit}; coarsen the sizes or raise the limit with --max-cells"
-        ));
+        return Err(GmshError::Limit {
+            path: path.into(),
+            reason: format!(
+                "its mesh would have about {estimate:.1e} triangles ({sizes}), above the limit of {limit}; \
+                 coarsen the sizes or raise the limit with --max-cells"
+            ),
+        });
     }
     Ok(())
 }

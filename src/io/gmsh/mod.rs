@@ -41,7 +41,8 @@ mod session;
 mod size_field;
 
 pub use error::GmshError;
-pub use limits::{set_cell_limit, set_time_limit, time_limit_exceeded, DEFAULT_CELL_LIMIT};
+use limits::TRIANGLE_AREA;
+pub use limits::{cell_limit, set_cell_limit, set_time_limit, time_limit_exceeded, DEFAULT_CELL_LIMIT};
 pub use session::Session;
 pub use size_field::SizeField;
 

@@ -95,7 +95,9 @@ fn elements(dim: i32, source: &Path) -> Result<Elements, GmshError> {
 }
 
 /// (entity, physical tag) pairs: every surface with its first group (0 if none), or every
-/// (curve, group) pair of the physical curve groups.
+/// (curve, group) pair of the physical curve groups, by group, each group's curves in model
+/// order (as gmsh lists a group's entities). The groups of each curve are asked for, not the
+/// curves of each group, which gmsh finds by a pass over every group.
 fn tagged_entities(dim: i32) -> Result<Vec<(i32, i32)>, GmshError> {
     let mut pairs = Vec::new();
     if dim == 2 {
@@ -104,9 +106,17 @@ fn tagged_entities(dim: i32) -> Result<Vec<(i32, i32)>, GmshError> {
             pairs.push((surface, groups.as_slice().first().copied().unwrap_or(0)));
         }
     } else {
+        let mut curves: HashMap<i32, Vec<i32>> = HashMap::new();
+        for (_, curve) in api::entities(1)? {
+            for &group in api::entity_groups(1, curve)?.as_slice() {
+                let listed = curves.entry(group).or_default();
+                if listed.last() != Some(&curve) {
+                    listed.push(curve);
+                }
+            }
+        }
         for (_, group) in api::physical_groups(1)? {
-            let curves = api::group_entities(1, group)?;
-            pairs.extend(curves.as_slice().iter().map(|&curve| (curve, group)));
+            pairs.extend(curves.remove(&group).unwrap_or_default().into_iter().map(|curve| (curve, group)));
         }
     }
     Ok(pairs)

@@ -1,6 +1,7 @@
 //! [`Session`]: exclusive access to gmsh's global state.
 
 use super::{api, guard, limits, names, read, GmshError, MeshOptions, SizeField};
+use crate::io::input::{check_regular, NotAFile};
 use crate::mesh::Mesh;
 use std::ffi::CString;
 use std::io::Read;
@@ -37,8 +38,8 @@ pub struct Session {
     source: PathBuf,
     /// Number of logger messages already examined.
     log_seen: usize,
-    /// Whether a size field sets the mesh sizes (then the cell count is not estimated).
-    sized_by_field: bool,
+    /// With a size field setting the mesh sizes: its estimated number of triangles.
+    field_cells: Option<f64>,
     /// Whether gmsh meshed the model in this session (rather than reading a mesh file).
     meshed: bool,
     /// Whether gmsh's messages are copied to stderr.
@@ -69,7 +70,7 @@ impl Session {
         api::clear()?;
         api::restart_logger()?;
         let source = PathBuf::from("the empty model");
-        Ok(Session { _lock: lock, source, log_seen: 0, sized_by_field: false, meshed: false, verbose })
+        Ok(Session { _lock: lock, source, log_seen: 0, field_cells: None, meshed: false, verbose })
     }
 
     /// Opens a `.geo` file. Unless `allow_system_calls`, first refuses it if it, or a file it
@@ -145,7 +146,7 @@ impl Session {
     /// the field belongs; the view lives until the next session clears the model.
     pub fn set_size_field(&mut self, field: &SizeField) -> Result<(), GmshError> {
         let tag = post_view(field)?;
-        self.set_background(tag, field.max_size())
+        self.set_background(tag, field.max_size(), field)
     }
 
     /// Like [`Session::set_size_field`], except on the curves of the physical curve groups
@@ -188,33 +189,36 @@ impl Session {
         let joint = restrict(post_view(own)?, &[("CurvesList", curves.iter().map(|&c| f64::from(c)).collect())])?;
         let min = api::field_add("Min")?;
         api::field_set_numbers(min, "FieldsList", &[f64::from(rest), f64::from(joint)])?;
-        self.set_background(min, field.max_size().max(own.max_size()))
+        self.set_background(min, field.max_size().max(own.max_size()), field)
     }
 
     /// Makes the field `tag` the background field and the only source of mesh sizes, the
-    /// largest at most max(`max_size`, `Mesh.MeshSizeMin`).
-    fn set_background(&mut self, tag: i32, max_size: f64) -> Result<(), GmshError> {
+    /// largest at most max(`max_size`, `Mesh.MeshSizeMin`); the cell count is estimated from
+    /// `field`, which covers the model.
+    fn set_background(&mut self, tag: i32, max_size: f64, field: &SizeField) -> Result<(), GmshError> {
         api::field_set_background(tag)?;
         for name in ["Mesh.MeshSizeFromPoints", "Mesh.MeshSizeFromCurvature", "Mesh.MeshSizeExtendFromBoundary"] {
             api::set_number(name, 0.0)?;
         }
         let size_min = api::get_number("Mesh.MeshSizeMin")?;
         let size_max = api::get_number("Mesh.MeshSizeMax")?.min(max_size.max(size_min));
-        self.sized_by_field = true;
+        let factor = api::get_number("Mesh.MeshSizeFactor")?;
+        self.field_cells = Some(field.cells_within(size_min, size_max, factor));
         api::set_number("Mesh.MeshSizeMax", size_max)
     }
 
     /// Meshes the model in 2D; with `Mesh.ElementOrder` 2, gmsh then raises the mesh to order 2.
-    /// Without a size field, the cell count is first estimated and refused above the limit
-    /// (see the `limits` module).
+    /// The cell count is first estimated, from the curves or from the size field, and refused
+    /// above the limit (see the `limits` module).
     pub fn generate(&mut self) -> Result<(), GmshError> {
         let path = self.source.clone();
-        let estimate = !self.sized_by_field;
+        let field_cells = self.field_cells;
         self.meshed = true;
         self.step(
             || {
-                if estimate {
-                    limits::check_cell_count(&path)?;
+                match field_cells {
+                    None => limits::check_cell_count(&path)?,
+                    Some(cells) => limits::check_estimate(&path, cells, "from the target sizes of the previous mesh")?,
                 }
                 api::generate(2)
             },
@@ -295,14 +299,14 @@ fn restrict(inner: i32, lists: &[(&str, Vec<f64>)]) -> Result<i32, GmshError> {
     Ok(tag)
 }
 
+/// Checks that `path` is a regular file, without opening it.
 fn exists(path: &Path) -> Result<(), GmshError> {
-    if path.is_file() {
-        Ok(())
-    } else if path.is_dir() {
-        Err(GmshError::Directory { path: path.into() })
-    } else {
-        Err(GmshError::NotFound { path: path.into() })
-    }
+    let path = path.to_path_buf();
+    check_regular(&path).map_err(|e| match e {
+        NotAFile::Missing => GmshError::NotFound { path },
+        NotAFile::Directory => GmshError::Directory { path },
+        NotAFile::Other(reason) => GmshError::NotAFile { path, reason },
+    })
 }
 
 /// `path` for gmsh, `None` if it holds a NUL byte.

@@ -1,6 +1,6 @@
 //! [`SizeField`]: target mesh sizes that drive gmsh's mesher through a background field.
 
-use super::GmshError;
+use super::{GmshError, MeshOptions, TRIANGLE_AREA};
 use crate::mesh::Mesh;
 
 /// Target mesh sizes as a piecewise-linear field on the triangles of a previous mesh
@@ -77,6 +77,25 @@ impl SizeField {
         Ok(())
     }
 
+    /// Estimated number of triangles gmsh makes from this field under `options` (a remesh: the
+    /// size factor, and the bounds where given): Σ_T |T| / (√3/4 h²), 1/h² averaged over the
+    /// corners of T.
+    pub fn cells(&self, options: &MeshOptions) -> f64 {
+        let (min, max) = (options.size_min.unwrap_or(0.0), options.size_max.unwrap_or(f64::INFINITY));
+        self.cells_within(min, max, options.size_factor)
+    }
+
+    /// [`SizeField::cells`] with gmsh's sizes: factor × h bounded to [`min`, `max`].
+    pub(super) fn cells_within(&self, min: f64, max: f64, factor: f64) -> f64 {
+        let density = |i: usize| (factor * self.sizes[i].clamp(min, max.max(min))).powi(-2);
+        let cell = |&[a, b, c]: &[usize; 3]| {
+            let ([xa, ya], [xb, yb], [xc, yc]) = (self.points[a], self.points[b], self.points[c]);
+            let area = 0.5 * ((xb - xa) * (yc - ya) - (xc - xa) * (yb - ya)).abs();
+            area * (density(a) + density(b) + density(c)) / 3.0
+        };
+        self.triangles.iter().map(cell).sum::<f64>() / TRIANGLE_AREA
+    }
+
     /// Largest target size, maxᵢ h(xᵢ).
     pub(super) fn max_size(&self) -> f64 {
         self.sizes.iter().copied().fold(0.0, f64::max)
@@ -101,4 +120,22 @@ fn positive(h: f64) -> bool {
 
 fn bad(reason: String) -> GmshError {
     GmshError::BadSizeField { reason }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_cell_count_of_a_field_is_its_integral_of_one_over_the_area_of_a_cell() {
+        let mesh = crate::mesh::structured::unit_square(4, 1);
+        let field = SizeField::from_cells(&mesh, &vec![0.01; mesh.n_cells()]).unwrap();
+        let uniform = 1.0 / (TRIANGLE_AREA * 1e-4);
+        assert!((field.cells(&MeshOptions::default()) - uniform).abs() < 1e-9 * uniform);
+        // the bounds and the factor act as in gmsh: factor × h bounded to [min, max]
+        let bounded = MeshOptions { size_min: Some(0.02), size_factor: 2.0, ..MeshOptions::default() };
+        assert!((field.cells(&bounded) - uniform / 16.0).abs() < 1e-9 * uniform);
+        let half = field.of_cells(|c| c % 2 == 0);
+        assert!((half.cells(&MeshOptions::default()) - uniform / 2.0).abs() < 1e-9 * uniform);
+    }
 }
