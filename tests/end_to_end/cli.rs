@@ -807,7 +807,8 @@ fn absurd_sizes_and_coordinates() {
 
 // A .geo whose reading never ends (a loop of 10⁹ iterations) stops at the gmsh time limit
 // with one error naming the file and --mesh-time-limit, in every command that meshes, and
-// leaves no output directory; a limit of 0 s is refused.
+// leaves no output directory; a limit longer than 5 s is stated once gmsh has worked 5 s; a
+// limit of 0 s is refused.
 #[test]
 fn endless_geo_stops_at_the_time_limit() {
     let tmp = TempDir::new("endless");
@@ -820,6 +821,12 @@ fn endless_geo_stops_at_the_time_limit() {
         assert_refused(&format!("endless-{command}"), command, &geo, &["--mesh-time-limit", "1"], &keywords);
         assert!(start.elapsed().as_secs() < 20, "{command} took {:?}", start.elapsed());
     }
+    // a limit beyond the notice's delay is stated while gmsh works, then the limit ends it
+    let out = damfem(&["check".as_ref(), geo.as_os_str(), "--mesh-time-limit".as_ref(), "7".as_ref()]);
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    let note = "gmsh is still reading and meshing";
+    assert!(err.contains(note) && err.contains("stopped at 7 s") && err.contains("time limit of 7 s"), "{err}");
     let scene = repo("geo/scene_a.toml");
     assert_refused("time-limit-zero", "check", &scene, &["--mesh-time-limit", "0"], &["--mesh-time-limit 0"]);
     assert_ok(&damfem(&[

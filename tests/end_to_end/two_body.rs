@@ -802,8 +802,10 @@ fn two_cracks_weights() -> (f64, f64) {
 // length is L − s_c to within |open − s_c|: the normal traction changes sign at the tip, and
 // only there). `damfem adapt` finds two cracks on its second mesh, each settled, within a face
 // at the joint's end (0.75 m × 2) of those of `solve`, with the same statics; there the sides
-// no longer match, and up to 0.1 m past each tip may open again (0.043 m measured on the
-// base, 0.021 m on the lift joint).
+// no longer match, and up to 0.2 m past each tip may open again (0.043 m measured on the
+// base and 0.021 m on the lift joint with Newton's monotone line search, 0.127 m on the lift
+// joint since its natural monotonicity test, docs/method.md §1.5: another solution of the
+// frictional problem, whose solution need not be unique).
 // Parameters: P2, gmsh's sizes × 2; `adapt` two steps.
 #[test]
 fn two_cracks_open_at_once() {
@@ -846,9 +848,11 @@ fn two_cracks_open_at_once() {
             assert!((u - expected).abs() <= 1e-9 * expected, "{name}: U = {u}, its diagram gives {expected}");
             assert!((n + u - weight).abs() <= 1e-5 * weight, "{name}: N + U = {}, W = {weight}", n + u);
             assert!((t + thrust).abs() <= 1e-6 * thrust, "{name}: T = {t}, the thrust is {thrust}");
-            let closed_beyond = length - s_c;
+            // with the whole joint past the tip closed, contact = L − open = L − s_c + change: the
+            // bound holds with equality, to the rounding of the lengths
+            let (closed_beyond, rounding) = (length - s_c, 1e-12 * length);
             assert!(
-                contact <= closed_beyond + change && contact >= closed_beyond - change - open_beyond,
+                contact <= closed_beyond + change + rounding && contact >= closed_beyond - change - open_beyond,
                 "{name}: contact {contact} m, {closed_beyond} m past the tip"
             );
             cracks.push(s_c);
@@ -869,7 +873,7 @@ fn two_cracks_open_at_once() {
     let adapt_dir = tmp.join("adapt");
     let args = ["--size-factor", "2", "--steps", "2", "-q", "-o", adapt_dir.to_str().unwrap()];
     assert_ok(&damfem(&[&["adapt", scene.to_str().unwrap()], &args[..]].concat()));
-    let adapted = cracks(&adapt_dir, 0.1);
+    let adapted = cracks(&adapt_dir, 0.2);
     for (s, a) in solved.iter().zip(&adapted) {
         assert!((s - a).abs() <= 1.5, "solve's cracks {solved:?}, adapt's {adapted:?}");
     }

@@ -14,7 +14,8 @@
 //! - Time: reading and meshing one file may take [`set_time_limit`] seconds (none by
 //!   default). gmsh cannot be stopped from outside its loops, so the limit is an `alarm`:
 //!   SIGALRM reaches the process when the time is up, and the caller's handler reports
-//!   [`time_limit_exceeded`] and ends the process (the command line's does).
+//!   [`time_limit_exceeded`] and ends the process (the command line's does). Past
+//!   [`NOTICE_AFTER`] seconds the limit is stated once on stderr.
 
 use super::{api, GmshError};
 use std::path::{Path, PathBuf};
@@ -65,18 +66,40 @@ pub fn time_limit_exceeded() -> Option<String> {
     ))
 }
 
-/// The time limit running for one file, from [`Deadline::start`] until dropped.
-pub(super) struct Deadline;
+/// How long gmsh works on one file before the time limit is stated, in seconds.
+pub const NOTICE_AFTER: u32 = 5;
+
+/// The time limit running for one file, from [`Deadline::start`] until dropped; while it runs
+/// longer than [`NOTICE_AFTER`], a thread states the limit once (a `.geo` may loop for long).
+pub(super) struct Deadline {
+    /// Dropped with the deadline, which ends the notice's thread.
+    _running: Option<std::sync::mpsc::Sender<()>>,
+}
 
 impl Deadline {
     /// Starts the clock for gmsh's work on `path`, if a time limit is set.
     pub(super) fn start(path: &Path) -> Deadline {
         let seconds = TIME_LIMIT.load(Ordering::Relaxed);
-        if seconds > 0 {
-            *TIMED_FILE.lock().unwrap_or_else(PoisonError::into_inner) = Some(path.to_path_buf());
-            api::alarm(seconds);
+        if seconds == 0 {
+            return Deadline { _running: None };
         }
-        Deadline
+        *TIMED_FILE.lock().unwrap_or_else(PoisonError::into_inner) = Some(path.to_path_buf());
+        api::alarm(seconds);
+        if seconds <= NOTICE_AFTER {
+            return Deadline { _running: None };
+        }
+        let (running, done) = std::sync::mpsc::channel::<()>();
+        let file = path.display().to_string();
+        std::thread::spawn(move || {
+            let wait = std::time::Duration::from_secs(NOTICE_AFTER.into());
+            if let Err(std::sync::mpsc::RecvTimeoutError::Timeout) = done.recv_timeout(wait) {
+                eprintln!(
+                    "note: gmsh is still reading and meshing {file} after {NOTICE_AFTER} s; it is stopped at {seconds} s \
+                     (--mesh-time-limit)"
+                );
+            }
+        });
+        Deadline { _running: Some(running) }
     }
 }
 
