@@ -984,15 +984,22 @@ fn adapt_rerun_removes_earlier_steps_and_writes_the_history_first() {
     assert_eq!(history["steps"].as_array().unwrap().len(), 1, "{history}");
 }
 
-/// `damfem args` sent SIGINT once `file` exists (within five minutes); it must end with 130.
-fn interrupted(args: &[&OsStr], file: &Path) -> Output {
+/// `damfem args` started, its stderr piped, once `file` exists (looked for every `poll`, for at
+/// most five minutes).
+pub(crate) fn spawned_until(args: &[&OsStr], file: &Path, poll: std::time::Duration) -> std::process::Child {
     let child =
         Command::new(env!("CARGO_BIN_EXE_damfem")).args(args).stderr(std::process::Stdio::piped()).spawn().unwrap();
     let start = std::time::Instant::now();
     while !file.exists() {
         assert!(start.elapsed().as_secs() < 300, "no {} after five minutes", file.display());
-        std::thread::sleep(std::time::Duration::from_millis(20));
+        std::thread::sleep(poll);
     }
+    child
+}
+
+/// `damfem args` sent SIGINT once `file` exists (within five minutes); it must end with 130.
+fn interrupted(args: &[&OsStr], file: &Path) -> Output {
+    let child = spawned_until(args, file, std::time::Duration::from_millis(20));
     let kill = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
     assert!(kill.success());
     let out = child.wait_with_output().unwrap();

@@ -3,7 +3,7 @@
 //! any dam. Each ends with exit code 1 and one sentence naming the flag, key or file and no
 //! file left behind, or with a result and a sentence saying where it stopped.
 
-use super::cli::{assert_error, assert_ok, damfem, repo, stderr, TempDir};
+use super::cli::{assert_error, assert_ok, damfem, repo, spawned_until, stderr, TempDir};
 use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 use std::process::Output;
@@ -146,17 +146,9 @@ fn an_output_directory_in_use_is_refused() {
     lock.unlock().unwrap();
     std::fs::remove_file(dir.join(".damfem.lock")).unwrap();
     // a real solve, and an adapt once the solve holds the directory
-    let solve = std::process::Command::new(env!("CARGO_BIN_EXE_damfem"))
-        .args([OsStr::new("solve"), OsStr::new("-q"), scene.as_os_str(), OsStr::new("-o"), dir.as_os_str()])
-        .args(["--order", "2", "--size-factor", "0.5", "--estimate"])
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    let start = std::time::Instant::now();
-    while !dir.join(".damfem.lock").exists() {
-        assert!(start.elapsed().as_secs() < 60, "no lock file after a minute");
-        std::thread::sleep(std::time::Duration::from_millis(5));
-    }
+    let args = ["solve", "-q", "--order", "2", "--size-factor", "0.5", "--estimate", "-o"].map(OsStr::new);
+    let args = [&args[..], &[dir.as_os_str(), scene.as_os_str()]].concat();
+    let solve = spawned_until(&args, &dir.join(".damfem.lock"), std::time::Duration::from_millis(5));
     let out = run("adapt", &scene, &dir, &p1);
     assert_error(&out, &["is in use"]);
     let solved = solve.wait_with_output().unwrap();
@@ -285,17 +277,9 @@ fn a_combination_whose_problem_fails_is_named() {
 fn an_interrupted_adaptive_step_leaves_no_unlisted_file() {
     let tmp = TempDir::new("adapt-sigint-step");
     let (scene, dir) = (repo("geo/scene_a.toml"), tmp.join("out"));
-    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_damfem"))
-        .args([OsStr::new("adapt"), OsStr::new("-q"), scene.as_os_str(), OsStr::new("-o"), dir.as_os_str()])
-        .args(["--size-factor", "0.5", "--steps", "40"])
-        .stderr(std::process::Stdio::null())
-        .spawn()
-        .unwrap();
-    let start = std::time::Instant::now();
-    while !dir.join("scene_a_01_dg.vtu").exists() {
-        assert!(start.elapsed().as_secs() < 300, "no step 1 after five minutes");
-        std::thread::sleep(std::time::Duration::from_micros(200));
-    }
+    let args = ["adapt", "-q", "--size-factor", "0.5", "--steps", "40", "-o"].map(OsStr::new);
+    let args = [&args[..], &[dir.as_os_str(), scene.as_os_str()]].concat();
+    let mut child = spawned_until(&args, &dir.join("scene_a_01_dg.vtu"), std::time::Duration::from_micros(200));
     // SAFETY: kill sends a signal to the child process started above
     assert_eq!(unsafe { libc::kill(child.id() as i32, libc::SIGINT) }, 0);
     assert_eq!(child.wait().unwrap().code(), Some(130));
