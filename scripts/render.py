@@ -1,6 +1,6 @@
 """Render a damfem result to a PNG, off-screen, with pyvista.
 
-Usage: python scripts/render.py RESULT.vtu|RESULT.pvd OUT.png [--field von_mises] [--warp auto|FACTOR]
+Usage: .venv/bin/python scripts/render.py RESULT.vtu|RESULT.pvd OUT.png [--field von_mises] [--warp auto|FACTOR]
                                 [--edges] [--log] [--box XMIN XMAX YMIN YMAX] [--range LOW HIGH]
 
 For a .pvd collection (the steps of `damfem adapt`) the last step is drawn. The deformed mesh (displacement magnified so that the largest displacement is 5% of the
