@@ -15,7 +15,8 @@
 //! the state at λ* has used up the joint's strength, FS_LE ≤ 1 + [`SLIDING_MARGIN`]),
 //! and the state at λ* says why ([`Limit`]): the joint slides, opens over its length, or the
 //! crack runs on. A state that the joint alone holds with less than [`LIFT_OFF`] of it in
-//! contact is no equilibrium ([`ContactProblem::lift_off`]): the step fails. A limit with none of these is a numerical failure, not a verdict.
+//! contact is no equilibrium ([`ContactProblem::lift_off`]): the step fails. A limit with
+//! none of these is a numerical failure, not a verdict.
 
 use super::{continuation, settle_crack_to, ContactError, ContactProblem, Crack, Cracks, Stage};
 use crate::solve::NewtonOptions;

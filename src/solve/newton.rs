@@ -8,8 +8,8 @@
 //! largest t that lowers ‖F‖, or keeps it within κ, moves x by at most ‖x‖ and passes the
 //! natural monotonicity test ‖J(x_k)⁻¹F(x_k + tΔ)‖ ≤ (1 − t/4) ‖Δ‖, instead (the latter only
 //! while ‖F‖ reached a new low in the last three steps: alone it lets steps cycle), and the
-//! rule above only where none does (a kink). Each
-//! linear solve gets one step of iterative refinement. It stops when ‖F(x_k)‖ ≤ rtol · scale,
+//! rule above only where none does (a kink). Each linear solve gets one step of iterative
+//! refinement. It stops when ‖F(x_k)‖ ≤ rtol · scale,
 //! where `scale` is the system's load norm, or when it stagnates at round-off: ‖Δ‖ ≤ 10⁻¹⁰ ‖x‖
 //! with no halving of ‖F‖. After three exact steps in a row cut below t = 1/16, a system
 //! with a [`NonlinearSystem::frozen_jacobian`] (a softening law) takes its steps until one is
@@ -18,8 +18,8 @@
 //! estimator's bound assumes). A run whose ‖F‖ rises to 10³ times its smallest stops
 //! there, as one that runs out of iterations. Where the line search cuts an exact step, the
 //! full step x_k + Δ, which solves the linearised problem all the same, is shown to the
-//! stopping rule ([`Iterate::probe`]) before Newton goes on from the damped iterate. Running out of
-//! iterations is an error that carries the whole history: never a silent wrong answer.
+//! stopping rule ([`Iterate::probe`]) before Newton goes on from the damped iterate. Running
+//! out of iterations is an error that carries the whole history: never a silent wrong answer.
 //!
 //! A system with a linearised residual in difference form
 //! ([`NonlinearSystem::linearised_residual`]) gets a refinement round on the iterate it
@@ -460,8 +460,8 @@ fn natural_monotonicity(factors: &Factors, trial_residual: &[f64], step_norm: f6
 
 /// The step length: the largest t = 2^−j with ‖F(x + tΔ)‖ ≤ κ‖F(x)‖ (for a monotone system,
 /// the largest with ‖F(x + tΔ)‖ < ‖F(x)‖ or, within κ, t‖Δ‖ ≤ ‖x‖ and with the step's factors
-/// `natural`, [`natural_monotonicity`] first); the last halving
-/// if none qualifies. Also ‖F(x + Δ)‖ of the full step.
+/// `natural`, [`natural_monotonicity`] first); the last halving if none qualifies. Also
+/// ‖F(x + Δ)‖ of the full step.
 #[allow(clippy::too_many_arguments)]
 fn line_search(
     system: &impl NonlinearSystem,
@@ -474,7 +474,7 @@ fn line_search(
     natural: Option<&Factors>,
 ) -> (f64, Option<f64>) {
     let (mut t, mut bounded, mut r_full) = (1.0, None, None);
-    let step_norm = norm(delta);
+    let (step_norm, reach) = (norm(delta), norm(x));
     for _ in 0..options.max_halvings {
         for ((y, xi), di) in trial.iter_mut().zip(x).zip(delta) {
             *y = xi + t * di;
@@ -487,7 +487,7 @@ fn line_search(
             return (t, r_full);
         }
         // a step longer than the iterate (a nearly singular J) proves nothing in J's metric
-        let moderate = within && system.monotone() && t * step_norm <= norm(x);
+        let moderate = within && system.monotone() && t * step_norm <= reach;
         if moderate && natural.is_some_and(|f| natural_monotonicity(f, trial_residual, step_norm, t)) {
             return (t, r_full);
         }
