@@ -1232,7 +1232,7 @@ pub fn settle_crack_to(
             .collect();
         for (d, search) in searches.iter_mut().enumerate() {
             if moved.iter().enumerate().any(|(other, &m)| m && other != d) {
-                (search.below, search.above) = (None, None);
+                (search.below, search.above, search.width) = (None, None, None);
             }
         }
         for (up, s) in contact.nitsche.uplift.iter_mut().zip(next) {
@@ -1248,9 +1248,11 @@ pub fn settle_crack_to(
 /// The search of one diagram's crack in [`settle_crack_to`].
 #[derive(Debug, Clone, Copy, Default)]
 struct CrackSearch {
-    /// The last crack with g > 0 and the last with g < 0.
-    below: Option<f64>,
-    above: Option<f64>,
+    /// The last crack with g > 0 and the last with g < 0, each with its g.
+    below: Option<(f64, f64)>,
+    above: Option<(f64, f64)>,
+    /// The width of the bracket at the last false-position step (None: none yet).
+    width: Option<f64>,
     /// The last crack updated and its g.
     previous: Option<(f64, f64)>,
     /// The search stops at |g| ≤ tolerance L.
@@ -1265,8 +1267,8 @@ impl CrackSearch {
     /// cut there; one that closes on it from below is settled at s_c = s_d ([`Crack::at_drains`]).
     fn record(&mut self, crack: f64, open: f64, length: f64) -> Result<Option<[f64; 2]>, f64> {
         let (g, tolerance) = (open - crack, self.tolerance * length);
-        *(if g > 0.0 { &mut self.below } else { &mut self.above }) = Some(crack);
-        let bracket = self.below.zip(self.above).map(|(a, b)| [a.min(b), a.max(b)]);
+        *(if g > 0.0 { &mut self.below } else { &mut self.above }) = Some((crack, g));
+        let bracket = self.below.zip(self.above).map(|((a, _), (b, _))| [a.min(b), a.max(b)]);
         if g.abs() <= tolerance {
             return Ok(bracket);
         }
@@ -1288,14 +1290,28 @@ impl CrackSearch {
             .filter(|s| s.is_finite() && (s - crack) * g > 0.0);
         self.previous = Some((crack, g));
         Err(match bracket {
-            Some([a, b]) => 0.5 * (a + b),
+            Some([a, b]) => self.within(b - a),
             None => secant.unwrap_or(open).clamp(0.0, length),
         })
     }
 
+    /// The next crack inside the bracket of `width`: false position
+    /// s = a − g_a (b − a)/(g_b − g_a) on its ends a (g_a > 0) and b (g_b < 0) where the bracket
+    /// has at least halved since the last such step, else its midpoint (the open length may jump
+    /// across the fixed point, where false position creeps).
+    fn within(&mut self, width: f64) -> f64 {
+        let ((a, g_a), (b, g_b)) = self.below.zip(self.above).expect("a bracket has both ends");
+        if self.width.is_none_or(|w| width <= 0.5 * w) {
+            self.width = Some(width);
+            return a - g_a * (b - a) / (g_b - g_a);
+        }
+        0.5 * (a + b)
+    }
+
     /// The drain line s_d if the bracket closes on it from below: g > 0 short of it, g < 0 at it.
     fn closes_on_drains(&self) -> Option<f64> {
-        self.drains.filter(|&s_d| self.above == Some(s_d) && self.below.is_some_and(|b| b < s_d))
+        let (below, above) = (self.below.map(|(s, _)| s), self.above.map(|(s, _)| s));
+        self.drains.filter(|&s_d| above == Some(s_d) && below.is_some_and(|b| b < s_d))
     }
 }
 
