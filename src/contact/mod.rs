@@ -1171,9 +1171,10 @@ pub struct NestedStart {
 /// together. With g(s_c) = open − s_c, the open length at the diagram's heel of the solution
 /// less the crack it was solved with: s_c ← open at first, then the secant step
 /// s_c − g (s_c − s_prev)/(g − g_prev) while g keeps its sign (the plain update creeps when
-/// the open length follows the crack closely), and once g has taken both signs, s_c ← the
-/// midpoint of the last crack of each sign (bisection: the open length may jump across the
-/// fixed point). Every diagram not yet settled is updated so, then Newton solves again from the
+/// the open length follows the crack closely), and once g has taken both signs, false
+/// position inside the bracket of the last crack of each sign, or its midpoint where the
+/// bracket has not halved since the last such step (safeguarded bisection: the open length may
+/// jump across the fixed point). Every diagram not yet settled is updated so, then Newton solves again from the
 /// last solution, until each has |g| ≤ [`Crack::TOLERANCE`] L or its bracket that narrow. A
 /// crack that moves clears the brackets of the others: their g changes with it.
 /// Returns the solution, the Newton stages of the new solves (none if `x` already settles
