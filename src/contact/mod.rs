@@ -1174,9 +1174,10 @@ pub struct NestedStart {
 /// the open length follows the crack closely), and once g has taken both signs, false
 /// position inside the bracket of the last crack of each sign, or its midpoint where the
 /// bracket has not halved since the last such step (safeguarded bisection: the open length may
-/// jump across the fixed point). Every diagram not yet settled is updated so, then Newton solves again from the
-/// last solution, until each has |g| ≤ [`Crack::TOLERANCE`] L or its bracket that narrow. A
-/// crack that moves clears the brackets of the others: their g changes with it.
+/// jump across the fixed point). Every diagram not yet settled is updated so, then Newton
+/// solves again from the last solution, until each has |g| ≤ [`Crack::TOLERANCE`] L or its
+/// bracket that narrow. A crack that moves clears the brackets of the others: their g changes
+/// with it.
 /// Returns the solution, the Newton stages of the new solves (none if `x` already settles
 /// them), and the crack of each diagram (None where it is not filled).
 pub fn settle_crack(
@@ -1291,17 +1292,18 @@ impl CrackSearch {
             .filter(|s| s.is_finite() && (s - crack) * g > 0.0);
         self.previous = Some((crack, g));
         Err(match bracket {
-            Some([a, b]) => self.within(b - a),
+            Some(_) => self.within(),
             None => secant.unwrap_or(open).clamp(0.0, length),
         })
     }
 
-    /// The next crack inside the bracket of `width`: false position
+    /// The next crack inside the bracket: false position
     /// s = a − g_a (b − a)/(g_b − g_a) on its ends a (g_a > 0) and b (g_b < 0) where the bracket
     /// has at least halved since the last such step, else its midpoint (the open length may jump
     /// across the fixed point, where false position creeps).
-    fn within(&mut self, width: f64) -> f64 {
+    fn within(&mut self) -> f64 {
         let ((a, g_a), (b, g_b)) = self.below.zip(self.above).expect("a bracket has both ends");
+        let width = (b - a).abs();
         if self.width.is_none_or(|w| width <= 0.5 * w) {
             self.width = Some(width);
             return a - g_a * (b - a) / (g_b - g_a);
