@@ -1,8 +1,10 @@
 //! The strength reduction (docs/method.md §1.9): FS_SR, the largest k for which the sliding
 //! plane with its strength divided by k (F/k, c/k, s/k) still holds the body.
 //!
-//! k is followed from the solution at k = 1: it grows by a quarter while the joint holds, then
-//! the bracket [held, failed] is bisected, every solve from the last state that held at the δ
+//! k is followed from the solution at k = 1: it goes at once to 1 − 2 tol times the k at which
+//! the state at k = 1 slides by limit equilibrium (k = FS_LE), then grows by steps from
+//! 2 tol k that double while the joint holds (by a quarter where a retry or no FS_LE rules
+//! the jump out), then the bracket [held, failed] is bisected, every solve from the last state that held at the δ
 //! of the start (after a load path, the friction law on the slip from that state). Near the
 //! limit Newton also fails where the joint holds (the tangential stiffness of a slipping joint
 //! vanishes), so a failed solve at k counts as a loss of
@@ -91,7 +93,12 @@ pub fn reduce_strength(
     let mut step = 0.25;
     while sr.failed - sr.held > tolerance * sr.held && sr.held <= UNBOUNDED {
         let held = sr.held;
-        let k = if sr.failed.is_finite() { (0.5 * (held + sr.failed)).min(held + step) } else { held + step };
+        let jump = predicted_limit(&sr, held_fs, tolerance).filter(|&k| k > held + step);
+        let k = match (jump, sr.failed.is_finite()) {
+            (Some(k), _) => k,
+            (None, true) => (0.5 * (held + sr.failed)).min(held + step),
+            (None, false) => held + step,
+        };
         contact.nitsche.laws = joint.reduced(k, plane).laws;
         if start.nitsche.slip_origin().is_some() {
             contact.set_slip_origin(Some(&x));
@@ -101,7 +108,10 @@ pub fn reduce_strength(
             Ok(report) => {
                 (sr.held, x) = (k, report.x);
                 held_fs = plane_safety_factor(&contact.solution(x.clone(), Vec::new(), Vec::new()), plane);
-                step = (2.0 * (k - held)).min(0.25 * k);
+                step = match jump {
+                    Some(_) => 2.0 * tolerance * k,
+                    None => (2.0 * (k - held)).min(0.25 * k),
+                };
             }
             // the strength of the plane is k times smaller than that of the state that held
             Err(source) => match held_fs.map(|fs| fs * held / k) {
@@ -118,6 +128,15 @@ pub fn reduce_strength(
     }
     agreement(&sr, start, joint, plane)?;
     Ok(sr)
+}
+
+/// Before a bracket and before any retry, the k at which the last state that held, with
+/// FS_LE = `held_fs` under the strength divided by k_held, slides by limit equilibrium
+/// (k = k_held · FS_LE), less 2 `tolerance`: the search goes there at once, where a failure
+/// is still Newton's (FS_LE(held; k) > 1 + tolerance) and is tried again closer.
+fn predicted_limit(sr: &StrengthReduction, held_fs: Option<f64>, tolerance: f64) -> Option<f64> {
+    let fresh = !sr.failed.is_finite() && sr.retried == 0;
+    held_fs.filter(|fs| fresh && fs.is_finite()).map(|fs| sr.held * fs * (1.0 - 2.0 * tolerance))
 }
 
 /// FS_LE of the `plane` of `solution`, with the laws it was solved with.
