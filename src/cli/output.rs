@@ -198,6 +198,9 @@ const STATUS_UNIT: &str = "code: -1 not on the joint, 0 open, 1 closed (stick), 
 pub struct Summary<T> {
     units: Units,
     scene: PathBuf,
+    /// The load combination solved, if not the scene's own loads.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    combination: Option<String>,
     order: usize,
     nodes: usize,
     cells: usize,
@@ -343,6 +346,7 @@ impl<T> Summary<T> {
         Summary {
             units: UNITS,
             scene: scene.source.clone(),
+            combination: scene.combination_name.clone(),
             order: problem.mesh.order,
             nodes: problem.mesh.n_points(),
             cells: problem.mesh.n_cells(),
