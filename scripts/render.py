@@ -179,12 +179,13 @@ def round_log_ticks(bar, clim):
 
 
 def last_step(path):
-    """The path itself, or the last data set of a .pvd collection, and (step, steps) or None."""
+    """The path itself, or the last data set of a .pvd collection, and (step, steps) or None:
+    the step numbered from 0 as damfem numbers them, and how many the collection has."""
     if path.suffix != ".pvd":
         match = re.search(r"_(\d+)$", path.stem)
         return path, ((int(match.group(1)), None) if match else None)
     datasets = sorted(ET.parse(path).getroot().iter("DataSet"), key=lambda d: float(d.get("timestep")))
-    return path.parent / datasets[-1].get("file"), (len(datasets), len(datasets))
+    return path.parent / datasets[-1].get("file"), (len(datasets) - 1, len(datasets))
 
 
 def title(result, step):
@@ -196,7 +197,7 @@ def title(result, step):
     if summary.get("combination"):
         parts.append(f"combination {summary['combination']}")
     if step:
-        parts.append(f"step {step[0]}" + (f" of {step[1]}" if step[1] else ""))
+        parts.append(f"step {step[0]}" + (f", the last of {step[1]}" if step[1] else ""))
     return ", ".join(parts)
 
 
@@ -259,14 +260,14 @@ def main():
     boundary_path = result.with_name(result.stem + "_boundary.vtu")
     handles = draw_boundary(ax, boundary_path, factor) if boundary_path.exists() else []
     if handles:
-        ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=len(handles), frameon=False)
+        ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=len(handles), frameon=False)
     ax.set_aspect("equal")
     pad = 0.02 * max(box[1] - box[0], box[3] - box[2])
     ax.set_xlim(box[0] - pad, box[1] + pad)
     ax.set_ylim(box[2] - pad, box[3] + pad)
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
-    shape = f"displacement × {factor:.3g}" if factor else "undeformed shape"
+    shape = f"displacement × {float(f'{factor:.3g}'):g}" if factor else "undeformed shape"
     ax.set_title(f"{title(result, step)}\n{field_label(args.field)}, {shape}")
     fig.savefig(args.png, bbox_inches="tight", pad_inches=0.2)
     plt.close(fig)

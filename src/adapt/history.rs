@@ -115,10 +115,10 @@ pub fn comparison_figure(
 }
 
 /// Writes `<name>_eta.{svg,png}` (components against unknowns) and `<name>_time.{svg,png}`
-/// (η_tot against wall time); returns the files.
-pub fn write_plots(dir: &Path, name: &str, history: &[StepRecord]) -> Result<Vec<PathBuf>, OutputError> {
-    let mut files = write_figure(&dir.join(format!("{name}_eta")), &components_figure(name, history))?;
-    let time = comparison_figure(name, "wall time [s]", &[("η_tot", history)], |r| r.elapsed);
+/// (η_tot against wall time), both titled `title`; returns the files.
+pub fn write_plots(dir: &Path, name: &str, title: &str, history: &[StepRecord]) -> Result<Vec<PathBuf>, OutputError> {
+    let mut files = write_figure(&dir.join(format!("{name}_eta")), &components_figure(title, history))?;
+    let time = comparison_figure(title, "wall time [s]", &[("η_tot", history)], |r| r.elapsed);
     files.extend(write_figure(&dir.join(format!("{name}_time")), &time)?);
     Ok(files)
 }

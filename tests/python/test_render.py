@@ -138,15 +138,16 @@ def test_without_the_venv_the_script_says_to_make_deps(tmp_path):
 
 
 def test_title_names_scene_combination_and_step(tmp_path):
-    # the title reads the scene and the combination from summary.json, the step from the .pvd
+    # the title reads the scene and the combination from summary.json, the step (from 0, as
+    # damfem numbers them) from the .pvd or the step file's name
     render = load_render()
     (tmp_path / "summary.json").write_text(json.dumps({"scene": "geo/dam.toml", "combination": "flood"}))
     pvd = tmp_path / "dam.pvd"
     pvd.write_text('<VTKFile type="Collection"><Collection><DataSet timestep="0" file="dam_00.vtu"/>'
                    '<DataSet timestep="1" file="dam_01.vtu"/></Collection></VTKFile>')
     result, step = render.last_step(pvd)
-    assert result == tmp_path / "dam_01.vtu" and step == (2, 2)
-    assert render.title(result, step) == "scene dam, combination flood, step 2 of 2"
+    assert result == tmp_path / "dam_01.vtu" and step == (1, 2)
+    assert render.title(result, step) == "scene dam, combination flood, step 1, the last of 2"
     (tmp_path / "summary.json").unlink()
     assert render.title(tmp_path / "dam_01.vtu", render.last_step(tmp_path / "dam_01.vtu")[1]) == "scene dam, step 1"
 
