@@ -201,15 +201,18 @@ def title(result, step):
     return ", ".join(parts)
 
 
-def draw_boundary(ax, boundary_path, factor):
+def draw_boundary(ax, boundary_path, factor, box):
     """The contact boundary or joint coloured by its status, and the undeformed outline when
-    warped; returns the legend's handles."""
+    warped; returns the legend's handles, of the zones in view of `box`."""
     boundary = pv.read(boundary_path)
     if factor:
         outline = segments(boundary, np.arange(boundary.n_cells), boundary.points[:, :2])
         ax.add_collection(LineCollection(outline, colors="grey", linewidths=0.8, linestyles="dashed", zorder=2))
     handles = []
     for lines, colour, label in contact_lines(boundary, factor):
+        x, y = lines[..., 0], lines[..., 1]
+        if not ((x >= box[0]) & (x <= box[1]) & (y >= box[2]) & (y <= box[3])).any():
+            continue
         ax.add_collection(LineCollection(lines, colors=colour, linewidths=3.5, capstyle="butt", zorder=3))
         handles.append(Line2D([], [], color=colour, linewidth=3.5, label=label))
     if factor:
@@ -258,7 +261,7 @@ def main():
     if args.log:
         round_log_ticks(bar, clim)
     boundary_path = result.with_name(result.stem + "_boundary.vtu")
-    handles = draw_boundary(ax, boundary_path, factor) if boundary_path.exists() else []
+    handles = draw_boundary(ax, boundary_path, factor, box) if boundary_path.exists() else []
     if handles:
         ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=len(handles), frameon=False)
     ax.set_aspect("equal")
