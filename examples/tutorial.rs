@@ -70,11 +70,14 @@ pub fn run(output: &Path) -> Result<Summary> {
     // 6. Write: displacement at the nodes, von Mises stress and η_tot per cell
     let u = problem.displacement(&disc, &solution.x);
     let von_mises = cell_mean_stress(&problem, &u).iter().map(|&s| von_mises(s)).collect();
-    let cells = [Field::scalar("von_mises", von_mises), Field::scalar("eta_tot", estimate.estimators.tot.clone())];
+    let cells = [
+        Field::scalar("von_mises", "Pa", von_mises),
+        Field::scalar("eta_tot", "Pa m", estimate.estimators.tot.clone()),
+    ];
     if let Some(dir) = output.parent() {
         std::fs::create_dir_all(dir)?;
     }
-    write_mesh_vtu(output, &problem.mesh, &[Field::vector("displacement", u)], &cells)?;
+    write_mesh_vtu(output, &problem.mesh, &[Field::vector("displacement", "m", u)], &cells)?;
 
     Ok(Summary {
         unknowns: disc.dofs.n_free,

@@ -384,6 +384,9 @@ pub struct Scene {
     /// The scene's TOML table, without its combinations.
     #[serde(skip)]
     table: toml::Table,
+    /// The load combination this scene was made for ([`Scene::combination`]); None: the scene's own loads.
+    #[serde(skip)]
+    pub combination_name: Option<String>,
 }
 
 impl Scene {
@@ -450,6 +453,7 @@ impl Scene {
             boundary: merged.boundary,
             loads: merged.loads,
             combinations: BTreeMap::new(),
+            combination_name: Some(name.to_string()),
             ..self.clone()
         };
         match scene.validate() {
@@ -497,6 +501,7 @@ impl Scene {
             combinations: BTreeMap::new(),
             source: path.into(),
             table: toml::Table::new(),
+            combination_name: None,
         }
     }
 

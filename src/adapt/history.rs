@@ -2,7 +2,7 @@
 
 use super::StepRecord;
 use crate::io::atomic::OutputError;
-use crate::io::plot::{write_figure, Figure, Series};
+use crate::io::plot::{write_figure, Figure, Panel, Series};
 use std::path::{Path, PathBuf};
 
 /// Columns of [`to_csv`].
@@ -60,28 +60,31 @@ pub fn to_csv(history: &[StepRecord]) -> String {
     csv
 }
 
-/// η_tot and its components against the number of unknowns; a component that is zero
-/// throughout has no curve and no legend entry, but keeps its colour slot.
+/// η_tot and its discretisation components against the number of unknowns, and below, on
+/// their own axis, η_reg and η_lin, which the solver drives down by orders of magnitude more;
+/// a component that is zero throughout has no curve and no legend entry, but keeps its
+/// colour slot.
 pub fn components_figure(title: &str, history: &[StepRecord]) -> Figure {
     let component = |name: &str, value: fn(&StepRecord) -> f64| Series {
         label: name.into(),
         points: history.iter().map(|r| (r.unknowns as f64, value(r))).collect(),
         dashed: name != "η_tot",
     };
-    let all = [
+    let discretisation = [
         component("η_tot", |r| r.eta.tot),
         component("η_osc", |r| r.eta.osc),
         component("η_flux", |r| r.eta.flux),
         component("η_Neu", |r| r.eta.neu),
         component("η_disc", |r| r.eta.disc),
-        component("η_reg", |r| r.eta.reg),
-        component("η_lin", |r| r.eta.lin),
     ];
+    let solver = [component("η_reg", |r| r.eta.reg), component("η_lin", |r| r.eta.lin)];
     Figure {
         title: title.into(),
         x_label: "unknowns".into(),
         y_label: format!("estimator [{ESTIMATOR_UNIT}]"),
-        series: all.into(),
+        series: discretisation.into(),
+        lower: Some(Panel { y_label: format!("η_reg, η_lin [{ESTIMATOR_UNIT}]"), series: solver.into() }),
+        ..Default::default()
     }
 }
 
@@ -107,14 +110,15 @@ pub fn comparison_figure(
                 dashed: false,
             })
             .collect(),
+        ..Default::default()
     }
 }
 
 /// Writes `<name>_eta.{svg,png}` (components against unknowns) and `<name>_time.{svg,png}`
-/// (η_tot against wall time); returns the files.
-pub fn write_plots(dir: &Path, name: &str, history: &[StepRecord]) -> Result<Vec<PathBuf>, OutputError> {
-    let mut files = write_figure(&dir.join(format!("{name}_eta")), &components_figure(name, history))?;
-    let time = comparison_figure(name, "wall time [s]", &[("η_tot", history)], |r| r.elapsed);
+/// (η_tot against wall time), both titled `title`; returns the files.
+pub fn write_plots(dir: &Path, name: &str, title: &str, history: &[StepRecord]) -> Result<Vec<PathBuf>, OutputError> {
+    let mut files = write_figure(&dir.join(format!("{name}_eta")), &components_figure(title, history))?;
+    let time = comparison_figure(title, "wall time [s]", &[("η_tot", history)], |r| r.elapsed);
     files.extend(write_figure(&dir.join(format!("{name}_time")), &time)?);
     Ok(files)
 }

@@ -444,7 +444,11 @@ impl StepWriter<'_> {
     fn finish(&self, error: Option<String>) -> Result<()> {
         self.write_lists(error)?;
         if !self.history.is_empty() {
-            write_plots(self.dir, self.name, &self.history).context("writing the figures")?;
+            let title = match &self.scene.combination_name {
+                Some(c) => format!("{}, combination {c}", self.name),
+                None => self.name.to_string(),
+            };
+            write_plots(self.dir, self.name, &title, &self.history).context("writing the figures")?;
         }
         Ok(())
     }

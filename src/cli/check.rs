@@ -2,8 +2,9 @@
 //! without solving.
 
 use super::common::Input;
+use crate::contact::{ContactJoint, Uplift};
 use crate::mesh::Mesh;
-use crate::scene::Scene;
+use crate::scene::{Scene, UpliftSection};
 use anyhow::{Context, Result};
 
 #[derive(clap::Args, Debug)]
@@ -27,10 +28,12 @@ pub fn run(args: Args) -> Result<()> {
     )?;
     let (problem, contact) = scene.problem(mesh.clone())?;
     let mut warnings = scene.warnings(&problem.mesh, contact.as_ref())?;
+    let mut water = water_lines("scene", &scene, &problem.mesh, contact.as_ref());
     for name in scene.combinations.keys() {
-        let own = combination_warnings(&scene, name, &mesh).with_context(|| format!("combination {name}"))?;
+        let (own, lines) = combination(&scene, name, &mesh).with_context(|| format!("combination {name}"))?;
         let new = own.into_iter().filter(|w| !warnings.contains(w)).map(|w| format!("combination {name}: {w}"));
         warnings.extend(new.collect::<Vec<_>>());
+        water.extend(lines);
     }
     let mesh = &problem.mesh;
     progress.warn(&warnings);
@@ -62,14 +65,61 @@ pub fn run(args: Args) -> Result<()> {
         progress
             .result(&format!("region   {:<20} E = {:.4e}, nu = {}, rho = {}", g.name, m.young, m.poisson, m.density));
     }
+    for line in &water {
+        progress.result(line);
+    }
     progress.result(&format!("{}: ok", scene.source.display()));
     Ok(())
 }
 
-/// The warnings of the load combination `name` of `scene`, whose scene and problem on `mesh`
-/// are built as `damfem safety` builds them.
-fn combination_warnings(scene: &Scene, name: &str, mesh: &Mesh) -> Result<Vec<String>> {
+/// The warnings and the water lines of the load combination `name` of `scene`, whose scene
+/// and problem on `mesh` are built as `damfem safety` builds them.
+fn combination(scene: &Scene, name: &str, mesh: &Mesh) -> Result<(Vec<String>, Vec<String>)> {
     let combined = scene.combination(name)?;
     let (problem, joint) = combined.problem(mesh.clone())?;
-    Ok(combined.warnings(&problem.mesh, joint.as_ref())?)
+    let warnings = combined.warnings(&problem.mesh, joint.as_ref())?;
+    Ok((warnings, water_lines(&format!("combination {name}"), &combined, &problem.mesh, joint.as_ref())))
+}
+
+/// The water of the case `case`: the level of each hydrostatic curve and the acceleration,
+/// then of each uplift diagram its headwater and tailwater, drain line and the pressure at
+/// the heel, the drains and the toe without a crack.
+fn water_lines(case: &str, scene: &Scene, mesh: &Mesh, joint: Option<&ContactJoint>) -> Vec<String> {
+    let levels: Vec<String> = (scene.boundary.iter())
+        .filter_map(|(curve, b)| b.hydrostatic.map(|h| format!("{curve} {:.3} m", h.level)))
+        .collect();
+    let [a_x, a_y] = scene.loads.acceleration;
+    let mut lines = vec![format!(
+        "water    {case:<20} hydrostatic levels: {}; acceleration [{a_x}, {a_y}] g",
+        if levels.is_empty() { "none".to_string() } else { levels.join(", ") }
+    )];
+    for up in joint.map_or(&[][..], |j| &j.uplift[..]) {
+        let tags = &joint.expect("a joint has the diagrams").tags;
+        let curves: Vec<&str> = (up.curves.iter())
+            .filter_map(|&c| mesh.groups.iter().find(|g| g.dim == 1 && g.tag == tags[c]))
+            .map(|g| g.name.as_str())
+            .collect();
+        let table = scene.uplift.as_ref().or_else(|| scene.joints.values().nth(up.curves[0])?.uplift.as_ref());
+        lines.push(format!("uplift   {case:<20} {}: {}", curves.join(", "), uplift_line(table, &up.diagram)));
+    }
+    lines
+}
+
+/// The heads of the uplift `table`, the drain line of its `diagram` and p_u at the heel, the
+/// drains and the toe, with the crack closed.
+fn uplift_line(table: Option<&UpliftSection>, diagram: &Uplift) -> String {
+    let line = &diagram.line;
+    let at = |what: &str, s: f64| {
+        let x = line.point(s);
+        format!("{what} at s = {s:.3} m ({:.3}, {:.3}): p_u {:.4e} Pa", x[0], x[1], diagram.pressure(s, 0.0))
+    };
+    let heads = table.map_or(String::new(), |u| {
+        let tailwater = u.tailwater.map_or("none".into(), |t| format!("{t:.3} m"));
+        let crack = format!("{:?}", u.crack).to_lowercase();
+        format!("headwater {:.3} m, tailwater {tailwater}, crack {crack}; ", u.headwater)
+    });
+    let mut places = vec![at("heel", 0.0)];
+    places.extend(diagram.drains.map(|d| format!("{}, efficiency {}", at("drain line", d.distance), d.efficiency)));
+    places.push(at("toe", line.length));
+    format!("{heads}{}", places.join("; "))
 }

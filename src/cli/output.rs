@@ -105,18 +105,18 @@ pub fn write_results(
         if scene.output.reconstruction {
             let dg = dir.join(format!("{name}_dg.vtu"));
             let fields: Vec<Field> =
-                SIGMA_H.iter().zip(e.reconstruction.vertex_values()).map(|(n, v)| Field::scalar(*n, v)).collect();
+                SIGMA_H.iter().zip(e.reconstruction.vertex_values()).map(|(n, v)| Field::scalar(*n, "Pa", v)).collect();
             write_mesh_vtu(&dg, &problem.mesh.discontinuous(), &fields, &[])?;
             written.add(&dg);
             files.push(dg);
         }
     }
-    write_mesh_vtu(&files[0], &problem.mesh, &[Field::vector("displacement", u.to_vec())], &cells)?;
+    write_mesh_vtu(&files[0], &problem.mesh, &[Field::vector("displacement", "m", u.to_vec())], &cells)?;
     written.add(&files[0]);
     if scene.output.boundary {
         let boundary = dir.join(format!("{name}_boundary.vtu"));
         let facet_fields = contact.map(|c| contact_fields(problem.mesh.n_facets(), c)).unwrap_or_default();
-        write_boundary_vtu(&boundary, &problem.mesh, &[Field::vector("displacement", u.to_vec())], &facet_fields)?;
+        write_boundary_vtu(&boundary, &problem.mesh, &[Field::vector("displacement", "m", u.to_vec())], &facet_fields)?;
         written.add(&boundary);
         files.push(boundary);
     }
@@ -128,13 +128,13 @@ fn stress_fields(sigma: &[[f64; 4]]) -> Vec<Field> {
     let component = |k: usize| sigma.iter().map(|s| s[k]).collect();
     let principal: Vec<[f64; 2]> = sigma.iter().map(|&s| principal(s)).collect();
     vec![
-        Field::scalar("sigma_xx", component(0)),
-        Field::scalar("sigma_yy", component(1)),
-        Field::scalar("sigma_xy", component(2)),
-        Field::scalar("sigma_zz", component(3)),
-        Field::scalar("von_mises", sigma.iter().map(|&s| von_mises(s)).collect()),
-        Field::scalar("sigma_1", principal.iter().map(|p| p[0]).collect()),
-        Field::scalar("sigma_2", principal.iter().map(|p| p[1]).collect()),
+        Field::scalar("sigma_xx", "Pa", component(0)),
+        Field::scalar("sigma_yy", "Pa", component(1)),
+        Field::scalar("sigma_xy", "Pa", component(2)),
+        Field::scalar("sigma_zz", "Pa", component(3)),
+        Field::scalar("von_mises", "Pa", sigma.iter().map(|&s| von_mises(s)).collect()),
+        Field::scalar("sigma_1", "Pa", principal.iter().map(|p| p[0]).collect()),
+        Field::scalar("sigma_2", "Pa", principal.iter().map(|p| p[1]).collect()),
     ]
 }
 
@@ -142,10 +142,10 @@ fn stress_fields(sigma: &[[f64; 4]]) -> Vec<Field> {
 fn estimate_fields(e: &Estimate, output: &OutputSection) -> Vec<Field> {
     let mut fields = Vec::new();
     if output.estimators {
-        fields.extend(NAMES.iter().zip(e.estimators.components()).map(|(n, v)| Field::scalar(*n, v.clone())));
+        fields.extend(NAMES.iter().zip(e.estimators.components()).map(|(n, v)| Field::scalar(*n, "Pa m", v.clone())));
     }
     if output.reconstruction {
-        fields.extend(SIGMA_H.iter().zip(e.reconstruction.cell_means()).map(|(n, v)| Field::scalar(*n, v)));
+        fields.extend(SIGMA_H.iter().zip(e.reconstruction.cell_means()).map(|(n, v)| Field::scalar(*n, "Pa", v)));
     }
     fields
 }
@@ -157,37 +157,40 @@ fn estimate_fields(e: &Estimate, output: &OutputSection) -> Vec<Field> {
 /// friction the mean tangential traction and slip; with uplift the mean pore pressure and the
 /// mean effective normal stress σ'^n = −p_c.
 fn contact_fields(n_facets: usize, contact: &ContactSolution) -> Vec<Field> {
-    type Column = (&'static str, fn(&FaceState) -> f64);
+    type Column = (&'static str, &'static str, fn(&FaceState) -> f64);
     let mut columns: Vec<Column> = vec![
-        ("contact_pressure", |f| f.pressure),
-        ("normal_displacement", |f| f.normal_displacement),
-        ("contact_status", FaceState::status),
-        ("regularisation_error", |f| f.regularisation_error),
+        ("contact_pressure", "Pa", |f| f.pressure),
+        ("normal_displacement", "m", |f| f.normal_displacement),
+        ("contact_status", STATUS_UNIT, FaceState::status),
+        ("regularisation_error", "Pa", |f| f.regularisation_error),
     ];
     if contact.nitsche.has_friction() {
         columns.extend([
-            ("tangential_traction", (|f| f.tangential_traction) as fn(&FaceState) -> f64),
-            ("slip", |f| f.slip),
+            ("tangential_traction", "Pa", (|f| f.tangential_traction) as fn(&FaceState) -> f64),
+            ("slip", "m", |f| f.slip),
         ]);
     }
     if !contact.nitsche.uplift.is_empty() {
         columns.extend([
-            ("uplift_pressure", (|f| f.uplift) as fn(&FaceState) -> f64),
-            ("effective_normal_stress", |f| -f.pressure),
+            ("uplift_pressure", "Pa", (|f| f.uplift) as fn(&FaceState) -> f64),
+            ("effective_normal_stress", "Pa", |f| -f.pressure),
         ]);
     }
     let states = contact.facet_states();
     columns
         .into_iter()
-        .map(|(name, value)| {
+        .map(|(name, unit, value)| {
             let mut field = vec![if name == "contact_status" { -1.0 } else { 0.0 }; n_facets];
             for (facet, state) in &states {
                 field[*facet] = value(state);
             }
-            Field::scalar(name, field)
+            Field::scalar(name, unit, field)
         })
         .collect()
 }
+
+/// The "unit" of `contact_status`: the meaning of its codes.
+const STATUS_UNIT: &str = "code: -1 not on the joint, 0 open, 1 closed (stick), 2 slip";
 
 /// What `summary.json` records of a solution (`solve`, and the last step of `adapt`), with
 /// the command's own part `command` (flattened into it).
@@ -195,6 +198,9 @@ fn contact_fields(n_facets: usize, contact: &ContactSolution) -> Vec<Field> {
 pub struct Summary<T> {
     units: Units,
     scene: PathBuf,
+    /// The load combination solved, if not the scene's own loads.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    combination: Option<String>,
     order: usize,
     nodes: usize,
     cells: usize,
@@ -340,6 +346,7 @@ impl<T> Summary<T> {
         Summary {
             units: UNITS,
             scene: scene.source.clone(),
+            combination: scene.combination_name.clone(),
             order: problem.mesh.order,
             nodes: problem.mesh.n_points(),
             cells: problem.mesh.n_cells(),

@@ -13,7 +13,7 @@ use crate::contact::{
 };
 use crate::elasticity::{Discretisation, Problem};
 use crate::io::atomic::write_output;
-use crate::io::plot::{write_linear_figure, Figure, Series};
+use crate::io::plot::{write_linear_figure, Figure, Mark, Series};
 use crate::scene::Scene;
 use crate::solve::NewtonOptions;
 use anyhow::{Context, Result};
@@ -346,7 +346,9 @@ fn analyse(
     let table = table(&report);
     let joint = joint_rows(&solution, &line);
     write_output(&dir.join("joint.csv"), joint_csv(&joint).as_bytes())?;
-    write_linear_figure(&dir.join("base_stresses"), &base_figure(&joint, &report)).context("writing the figure")?;
+    let drains = plane_drains(&solution, &plane);
+    write_linear_figure(&dir.join("base_stresses"), &base_figure(&joint, &report, drains))
+        .context("writing the figure")?;
     Ok((report, table))
 }
 
@@ -662,8 +664,16 @@ fn joint_csv(rows: &[JointRow]) -> String {
     csv
 }
 
-/// σ'^n, σ^n, σ^t and −p_u \[MPa\] against the distance from the heel \[m\].
-fn base_figure(rows: &[JointRow], report: &Report) -> Figure {
+/// The distance from the heel of the drain line of a diagram on the `plane`'s curves.
+fn plane_drains(solution: &ContactSolution, plane: &[bool]) -> Option<f64> {
+    let uplift = solution.nitsche.uplift.iter().find(|up| up.curves.iter().any(|&c| plane[c]))?;
+    uplift.diagram.drains.map(|d| d.distance)
+}
+
+/// σ'^n, σ^n, σ^t and −p_u \[MPa\] against the distance from the heel \[m\], with the
+/// drain line at `drains` and the crack tip marked. Further lines (beam theory) are series,
+/// allowable stresses horizontal marks.
+fn base_figure(rows: &[JointRow], report: &Report, drains: Option<f64>) -> Figure {
     let series = |label: &str, value: fn(&JointRow) -> f64, dashed: bool| Series {
         label: label.into(),
         points: rows.iter().map(|r| (r.s, value(r) / 1e6)).collect(),
@@ -677,11 +687,17 @@ fn base_figure(rows: &[JointRow], report: &Report) -> Figure {
     if report.sliding_safety_factor.is_some() {
         all.push(series("tangential stress σᵗ", |r| r.tangential, false));
     }
+    let mut marks: Vec<Mark> = drains.map(|s| Mark::vertical(format!("drains, s = {s:.2} m"), s)).into_iter().collect();
+    if report.crack_length > 0.0 {
+        marks.push(Mark::vertical(format!("crack tip, s = {:.2} m", report.crack_length), report.crack_length));
+    }
     Figure {
         title: "stresses along the joint (tension positive)".into(),
         x_label: "distance from the heel s [m]".into(),
         y_label: "stress [MPa]".into(),
         series: all,
+        marks,
+        lower: None,
     }
 }
 

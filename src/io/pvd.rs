@@ -78,7 +78,7 @@ fn slash_separated(path: &Path) -> Option<String> {
 }
 
 /// Escapes the characters that cannot appear verbatim in an XML attribute value.
-fn escape(text: &str) -> String {
+pub(super) fn escape(text: &str) -> String {
     text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
 }
 

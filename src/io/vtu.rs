@@ -5,10 +5,17 @@
 //! `VTK_TRIANGLE` / `VTK_QUADRATIC_TRIANGLE`, boundary facets `VTK_LINE` /
 //! `VTK_QUADRATIC_EDGE`; both node orders coincide with those of [`Mesh`].
 //!
+//! Every file carries field data (VTK's `FieldData`, meshio's `field_data`): an `Int32` array
+//! (tag, dimension) named after each physical group of the mesh, the convention meshio uses for
+//! gmsh's groups, and for every point and cell array, the tags included, a `UInt8` array named
+//! `<array> [<unit>]` that holds the unit's UTF-8 bytes. Both are numeric arrays, which meshio
+//! reads as VTK does (meshio refuses VTK's string arrays).
+//!
 //! Every field is checked before anything is written: a wrong length or a NaN/infinite value is
 //! an [`OutputError`] naming the field, and no file is created. Files are written atomically.
 
 use super::atomic::{write_output, OutputError};
+use super::pvd::escape;
 use crate::mesh::Mesh;
 use std::path::Path;
 use vtkio::model::{
@@ -16,10 +23,12 @@ use vtkio::model::{
     VertexNumbers, Vtk,
 };
 
-/// A named array with `components` values per point or per cell.
+/// A named array with `components` values per point or per cell, in `unit`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Field {
     pub name: String,
+    /// The unit of the values, e.g. "Pa", "m", "1" for a pure number.
+    pub unit: &'static str,
     pub components: usize,
     /// `n × components` values, the components of each point or cell contiguous.
     pub values: Vec<f64>,
@@ -27,13 +36,14 @@ pub struct Field {
 
 impl Field {
     /// One value per point or cell.
-    pub fn scalar(name: impl Into<String>, values: Vec<f64>) -> Self {
-        Field { name: name.into(), components: 1, values }
+    pub fn scalar(name: impl Into<String>, unit: &'static str, values: Vec<f64>) -> Self {
+        Field { name: name.into(), unit, components: 1, values }
     }
 
     /// A plane vector per point or cell, stored with z = 0 so ParaView can warp by it.
-    pub fn vector(name: impl Into<String>, values: Vec<[f64; 2]>) -> Self {
-        Field { name: name.into(), components: 3, values: values.iter().flat_map(|v| [v[0], v[1], 0.0]).collect() }
+    pub fn vector(name: impl Into<String>, unit: &'static str, values: Vec<[f64; 2]>) -> Self {
+        let values = values.iter().flat_map(|v| [v[0], v[1], 0.0]).collect();
+        Field { name: name.into(), unit, components: 3, values }
     }
 }
 
@@ -91,8 +101,59 @@ fn write_grid(
     check_grid(path, mesh, grid)?;
     check_fields(path, "point", mesh.n_points(), point_data, None)?;
     check_fields(path, "cell", grid.tags.len(), cell_data, Some(grid.tag_name))?;
+    let metadata = field_data(path, mesh, grid, point_data, cell_data)?;
     let piece = piece(mesh, grid, point_data, cell_data);
-    write_output(path, &encode(path, piece)?)
+    write_output(path, &with_field_data(path, encode(path, piece)?, &metadata)?)
+}
+
+/// The unit of the tag arrays `material` and `physical_tag`.
+const TAG_UNIT: &str = "physical group tag";
+
+/// The `FieldData` element of a grid: the physical groups of `mesh` and the unit of every
+/// array. Err: two arrays of the same name (a group named as a unit array).
+fn field_data(
+    path: &Path,
+    mesh: &Mesh,
+    grid: &Grid,
+    point_data: &[Field],
+    cell_data: &[Field],
+) -> Result<String, OutputError> {
+    let groups = mesh.groups.iter().map(|g| (g.name.clone(), "Int32", format!("{} {}", g.tag, g.dim)));
+    let fields = std::iter::once((grid.tag_name, TAG_UNIT))
+        .chain(point_data.iter().chain(cell_data).map(|f| (f.name.as_str(), f.unit)));
+    let units = fields.map(|(name, unit)| (format!("{name} [{unit}]"), "UInt8", bytes(unit)));
+    let arrays: Vec<(String, &str, String)> = groups.chain(units).collect();
+    let mut xml = String::from("    <FieldData>\n");
+    for (k, (name, kind, values)) in arrays.iter().enumerate() {
+        if arrays[..k].iter().any(|a| &a.0 == name) {
+            let reason = format!("two field data arrays named `{name}` (a physical group and a unit)");
+            return Err(OutputError::Invalid { path: path.to_path_buf(), reason });
+        }
+        let tuples = values.split(' ').count();
+        xml += &format!(
+            "      <DataArray type=\"{kind}\" Name=\"{}\" NumberOfTuples=\"{tuples}\" format=\"ascii\">{values}</DataArray>\n",
+            escape(name)
+        );
+    }
+    Ok(xml + "    </FieldData>\n")
+}
+
+/// The UTF-8 bytes of `text` as decimal numbers separated by spaces.
+fn bytes(text: &str) -> String {
+    text.bytes().map(|b| b.to_string()).collect::<Vec<_>>().join(" ")
+}
+
+/// `xml` with the `FieldData` element `metadata` as the first child of `UnstructuredGrid`.
+fn with_field_data(path: &Path, xml: Vec<u8>, metadata: &str) -> Result<Vec<u8>, OutputError> {
+    const GRID: &[u8] = b"<UnstructuredGrid>";
+    let at = xml.windows(GRID.len()).position(|w| w == GRID).ok_or_else(|| OutputError::Encode {
+        path: path.to_path_buf(),
+        message: "no <UnstructuredGrid> element to hold the field data".into(),
+    })? + GRID.len();
+    let newline = usize::from(xml.get(at) == Some(&b'\n'));
+    let (head, tail) = xml.split_at(at + newline);
+    let separator = if newline == 1 { "" } else { "\n" };
+    Ok([head, separator.as_bytes(), metadata.as_bytes(), tail].concat())
 }
 
 /// The points, cells, tags and fields of one grid in `vtkio`'s model.

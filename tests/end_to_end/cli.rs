@@ -140,6 +140,46 @@ fn every_scene_checks() {
     }
 }
 
+// `damfem check` lists each load combination with its water and the uplift diagram at the
+// heel, the drain line and the toe. Source: geo/dam_combinations.toml (base 47.6 m from x = 0
+// to 47.6 at y = 0, drains 10 m from the heel, E = 0.66, tailwater 5 m; usual and earthquake
+// 57 m, flood 61 m with the crest under water; earthquake 0.1 g). Expected: USACE EM
+// 1110-2-2100 with the crack closed, H3 = H2 + (1 − E)(H1 − H2)(L − X)/L at the drain line, as
+// ρ_w g × head, to the 5 digits printed.
+#[test]
+fn check_lists_the_combinations_water_and_uplift() {
+    let out = damfem(&["check".as_ref(), repo("geo/dam_combinations.toml").as_os_str()]);
+    assert_ok(&out);
+    let table = String::from_utf8_lossy(&out.stdout);
+    let line = |kind: &str, case: &str| {
+        let start = format!("{kind:<8} {case:<20} ");
+        table.lines().find(|l| l.starts_with(&start)).unwrap_or_else(|| panic!("no {start:?} in {table}")).to_string()
+    };
+    let (l, x, e, h2) = (47.6, 10.0, 0.66, 5.0);
+    let gamma_w = 1000.0 * 9.81;
+    for (case, h1, acceleration) in
+        [("scene", 57.0, 0.0), ("usual", 57.0, 0.0), ("flood", 61.0, 0.0), ("earthquake", 57.0, 0.1)]
+    {
+        let case = if case == "scene" { case.to_string() } else { format!("combination {case}") };
+        let water = line("water", &case);
+        assert!(water.contains(&format!("upstream {h1:.3} m")), "{water}");
+        assert!(water.contains(&format!("downstream {h2:.3} m")), "{water}");
+        assert_eq!(water.contains(&format!("crest {h1:.3} m")), h1 == 61.0, "{water}");
+        assert!(water.ends_with(&format!("acceleration [{acceleration}, 0] g")), "{water}");
+        let uplift = line("uplift", &case);
+        let h3 = h2 + (1.0 - e) * (h1 - h2) * (l - x) / l;
+        let expected = format!(
+            "base: headwater {h1:.3} m, tailwater {h2:.3} m, crack full; heel at s = 0.000 m (0.000, 0.000): p_u {:.4e} Pa; \
+             drain line at s = 10.000 m (10.000, 0.000): p_u {:.4e} Pa, efficiency 0.66; toe at s = 47.600 m (47.600, \
+             0.000): p_u {:.4e} Pa",
+            gamma_w * h1,
+            gamma_w * h3,
+            gamma_w * h2
+        );
+        assert!(uplift.ends_with(&expected), "{uplift}\nagainst {expected}");
+    }
+}
+
 // Every scene of geo/ solves and writes <stem>.vtu, <stem>_boundary.vtu and a sound summary.json.
 #[test]
 fn every_scene_solves() {

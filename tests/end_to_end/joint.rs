@@ -428,7 +428,7 @@ fn adapt_estimates_the_coulomb_joint_remeshed_apart() {
 // units and gives N = W − U (to 10⁻⁸: Newton's tolerance), FS_LE = F N/|T|, FS_SR's bracket around it within 0.5 %, the
 // crack and resultant of summary.json, compressive heel and toe means over L/10; joint.csv
 // runs from the heel to the toe, open (status 0) under full reservoir pressure ρ_w g 45 m up to
-// the crack; report.md (saying that its numbers carry no error bar) and the figure exist; the table goes to stdout, progress to stderr, and
+// the crack; report.md (saying that its numbers carry no error bar) and the figure, marking the drain line and the crack tip, exist; the table goes to stdout, progress to stderr, and
 // -q prints nothing. Parameters: P1, mesh sizes × 2, --tol-relative 0.005.
 #[test]
 fn safety_reports_the_dam_with_uplift() {
@@ -471,6 +471,10 @@ fn safety_reports_the_dam_with_uplift() {
     let md = std::fs::read_to_string(tmp.join("report.md")).unwrap();
     assert!(md.contains("| FS_SR |") && md.contains("base_stresses.png") && md.contains("no error bar"), "{md}");
     assert!(tmp.join("base_stresses.png").is_file() && tmp.join("base_stresses.svg").is_file());
+    let svg = std::fs::read_to_string(tmp.join("base_stresses.svg")).unwrap();
+    for mark in ["drains, s = 5.00 m".to_string(), format!("crack tip, s = {crack:.2} m")] {
+        assert!(svg.contains(&mark), "the figure does not mark {mark}");
+    }
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(stdout.contains("FS_SR") && stdout.contains("crack length from the heel"), "{stdout}");
     assert!(stderr(&out).contains("strength ") && !stderr(&out).contains("FS_LE"), "{}", stderr(&out));

@@ -88,3 +88,35 @@ def test_estimate_fields(damfem, tmp_path):
     for c in ["sigma_h_xx", "sigma_h_xy", "sigma_h_yx", "sigma_h_yy"]:
         assert c in dg.point_data and c in grid.cell_data
         assert np.isfinite(dg.point_data[c]).all()
+
+
+def units(field_data):
+    """{array: unit} from the `<array> [<unit>]` field data arrays, checked against their bytes."""
+    found = {}
+    for key, value in field_data.items():
+        if key.endswith("]") and " [" in key:
+            name, unit = key[:-1].split(" [", 1)
+            assert bytes(np.asarray(value, dtype=np.uint8).ravel()).decode() == unit, key
+            found[name] = unit
+    return found
+
+
+@pytest.mark.parametrize("name", ["scene_a.vtu", "scene_a_boundary.vtu"])
+def test_field_data_names_groups_and_states_units(solved, name):
+    # meshio and VTK read the same field data: each physical group (tag, dim), as in
+    # summary.json's tags, and a unit for every array of the file
+    out, summary = solved("scene_a", 2)
+    mesh, grid = meshio.read(out / name), pv.read(out / name)
+    vtk_data = {k: np.asarray(grid.field_data[k]) for k in grid.field_data.keys()}
+    assert set(vtk_data) == set(mesh.field_data)
+    for key, value in mesh.field_data.items():
+        np.testing.assert_array_equal(np.ravel(value), np.ravel(vtk_data[key]))
+    groups = {(int(tag), dim): group for dim, key in [(2, "material"), (1, "physical_tag")]
+              for tag, group in summary["tags"][key].items()}
+    named = {k: v for k, v in mesh.field_data.items() if not k.endswith("]")}
+    assert {(int(v[0]), int(v[1])): k for k, v in named.items()} == groups
+    arrays = set(mesh.point_data) | set(mesh.cell_data)
+    found = units(mesh.field_data)
+    assert set(found) == arrays
+    assert found["displacement"] == "m"
+    assert found.get("von_mises", "Pa") == "Pa" and found.get("contact_pressure", "Pa") == "Pa"

@@ -13,7 +13,13 @@ fn scratch(name: &str) -> PathBuf {
 }
 
 fn figure(series: Vec<Series>) -> Figure {
-    Figure { title: "Scene A: estimators".into(), x_label: "unknowns".into(), y_label: "estimator".into(), series }
+    Figure {
+        title: "Scene A: estimators".into(),
+        x_label: "unknowns".into(),
+        y_label: "estimator".into(),
+        series,
+        ..Default::default()
+    }
 }
 
 fn series(label: &str, points: Vec<(f64, f64)>, dashed: bool) -> Series {

@@ -56,7 +56,7 @@ fn connectivity(piece: &UnstructuredGridPiece) -> Vec<usize> {
 }
 
 fn displacement(mesh: &Mesh) -> Field {
-    Field::vector("displacement", mesh.points.iter().map(|p| [0.1 * p[0], -0.2 * p[1]]).collect())
+    Field::vector("displacement", "m", mesh.points.iter().map(|p| [0.1 * p[0], -0.2 * p[1]]).collect())
 }
 
 fn check_points(piece: &UnstructuredGridPiece, mesh: &Mesh) {
@@ -75,7 +75,7 @@ fn mesh_round_trip_p1_and_p2() {
     for (order, cell_type) in [(1, CellType::Triangle), (2, CellType::QuadraticTriangle)] {
         let mut mesh = unit_square(3, order);
         mesh.cell_tags[0] = 7;
-        let area = Field::scalar("area", (0..mesh.n_cells()).map(|c| mesh.cell_area(c)).collect());
+        let area = Field::scalar("area", "1", (0..mesh.n_cells()).map(|c| mesh.cell_area(c)).collect());
         let path = dir.join(format!("p{order}.vtu"));
         write_mesh_vtu(&path, &mesh, &[displacement(&mesh)], std::slice::from_ref(&area)).unwrap();
 
@@ -96,7 +96,7 @@ fn boundary_round_trip_p1_and_p2() {
     let dir = scratch("boundary");
     for (order, cell_type) in [(1, CellType::Line), (2, CellType::QuadraticEdge)] {
         let mesh = unit_square(2, order);
-        let length = Field::scalar("length", (0..mesh.n_facets()).map(|f| mesh.facet_length(f)).collect());
+        let length = Field::scalar("length", "1", (0..mesh.n_facets()).map(|f| mesh.facet_length(f)).collect());
         let path = dir.join(format!("p{order}_boundary.vtu"));
         write_boundary_vtu(&path, &mesh, &[displacement(&mesh)], std::slice::from_ref(&length)).unwrap();
 
@@ -139,7 +139,7 @@ fn non_finite_values_are_rejected_before_writing() {
     let message = err.to_string();
     assert!(message.contains("point field `displacement` at point 4"), "{message}");
 
-    let stress = Field::scalar("stress", vec![f64::INFINITY; mesh.n_cells()]);
+    let stress = Field::scalar("stress", "1", vec![f64::INFINITY; mesh.n_cells()]);
     let err = write_boundary_vtu(&path, &mesh, &[], &[stress]).unwrap_err();
     assert!(err.to_string().contains("`stress`"), "{err}");
     assert_eq!(fs::read_dir(&dir).unwrap().count(), 0);
@@ -150,12 +150,12 @@ fn field_length_and_name_are_checked() {
     let dir = scratch("length");
     let mesh = unit_square(2, 1);
     let path = dir.join("bad.vtu");
-    let short = Field::scalar("pressure", vec![0.0; mesh.n_points() - 1]);
+    let short = Field::scalar("pressure", "1", vec![0.0; mesh.n_points() - 1]);
     let err = write_mesh_vtu(&path, &mesh, &[short], &[]).unwrap_err();
     assert!(matches!(err, OutputError::Invalid { .. }), "{err:?}");
     assert!(err.to_string().contains("point field `pressure` has 8 values"), "{err}");
 
-    let clash = Field::scalar("material", vec![0.0; mesh.n_cells()]);
+    let clash = Field::scalar("material", "1", vec![0.0; mesh.n_cells()]);
     let err = write_mesh_vtu(&path, &mesh, &[], &[clash]).unwrap_err();
     assert!(err.to_string().contains("duplicate cell field `material`"), "{err}");
     assert!(!path.exists());
@@ -184,4 +184,54 @@ fn pvd_lists_relative_data_sets() {
     let err = write_pvd(&dir.join("nan.pvd"), &[(f64::NAN, entries[0].1.clone())]).unwrap_err();
     assert!(matches!(err, OutputError::NonFinite { .. }), "{err:?}");
     assert!(!dir.join("nan.pvd").exists());
+}
+
+/// The text of the ascii `DataArray` named `name` inside the `FieldData` element of `xml`.
+fn field_data_array<'a>(xml: &'a str, kind: &str, name: &str) -> Option<&'a str> {
+    let start = xml.find("<FieldData>")?;
+    let block = &xml[start..xml.find("</FieldData>")?];
+    let open = format!("<DataArray type=\"{kind}\" Name=\"{name}\" ");
+    let at = block.find(&open)?;
+    let text = &block[at..];
+    Some(&text[text.find('>')? + 1..text.find("</DataArray>")?])
+}
+
+#[test]
+fn field_data_names_the_groups_and_gives_the_units() {
+    let dir = scratch("field_data");
+    let mut mesh = unit_square(2, 1);
+    mesh.groups[1].name = "base & <joint>".into();
+    let area = Field::scalar("area", "m^2", (0..mesh.n_cells()).map(|c| mesh.cell_area(c)).collect());
+    let path = dir.join("named.vtu");
+    write_mesh_vtu(&path, &mesh, &[displacement(&mesh)], &[area]).unwrap();
+    let xml = fs::read_to_string(&path).unwrap();
+    // every group as (tag, dim), its name escaped
+    assert_eq!(field_data_array(&xml, "Int32", "domain"), Some("1 2"));
+    let base = mesh.groups[1].tag;
+    assert_eq!(field_data_array(&xml, "Int32", "base &amp; &lt;joint&gt;"), Some(format!("{base} 1").as_str()));
+    assert_eq!(field_data_array(&xml, "Int32", "left"), Some(format!("{} 1", mesh.groups[4].tag).as_str()));
+    // every array's unit, its bytes as the values
+    let unit = |name: &str| {
+        let text = field_data_array(&xml, "UInt8", name).unwrap_or_else(|| panic!("no {name}"));
+        String::from_utf8(text.split(' ').map(|b| b.parse::<u8>().unwrap()).collect()).unwrap()
+    };
+    assert_eq!(unit("displacement [m]"), "m");
+    assert_eq!(unit("area [m^2]"), "m^2");
+    assert_eq!(unit("material [physical group tag]"), "physical group tag");
+    let field_data = &xml[xml.find("<FieldData>").unwrap()..xml.find("</FieldData>").unwrap()];
+    assert_eq!(field_data.matches("<DataArray type=\"UInt8\"").count(), 3);
+    // the grid still reads back whole
+    assert_eq!(read_piece(&path).num_points(), mesh.n_points());
+}
+
+#[test]
+fn a_group_named_as_a_unit_array_is_refused() {
+    let dir = scratch("field_data_clash");
+    let mut mesh = unit_square(1, 1);
+    mesh.groups[0].name = "material [physical group tag]".into();
+    let path = dir.join("clash.vtu");
+    let err = write_mesh_vtu(&path, &mesh, &[], &[]).unwrap_err();
+    assert!(matches!(err, OutputError::Invalid { .. }), "{err:?}");
+    assert!(err.to_string().contains("two field data arrays named `material [physical group tag]`"), "{err}");
+    assert!(!path.exists());
 }
