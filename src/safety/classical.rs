@@ -72,6 +72,8 @@ pub enum LoadKind {
     Tailwater,
     /// Water on a face parallel to the base, facing up (over the crest).
     CrestWater,
+    /// Westergaard's added pressure on the reservoir's faces.
+    Hydrodynamic,
     /// Any other traction of a Neumann curve.
     Traction,
     Uplift,
@@ -86,6 +88,7 @@ impl LoadKind {
             LoadKind::Reservoir => "reservoir (upstream face)",
             LoadKind::Tailwater => "tailwater (downstream face)",
             LoadKind::CrestWater => "water on the crest",
+            LoadKind::Hydrodynamic => "hydrodynamic (Westergaard)",
             LoadKind::Traction => "other tractions",
             LoadKind::Uplift => "uplift",
         }
@@ -226,10 +229,11 @@ pub fn section_loads(
 fn kind_of(t: &Traction, n: [f64; 2], base: &Base) -> LoadKind {
     let along = n[0] * base.line.along[0] + n[1] * base.line.along[1];
     let down = n[0] * base.normal[0] + n[1] * base.normal[1];
-    match t {
-        Traction::Hydrostatic { .. } if along < -1e-9 => LoadKind::Reservoir,
-        Traction::Hydrostatic { .. } if along > 1e-9 => LoadKind::Tailwater,
-        Traction::Hydrostatic { .. } if down < 0.0 => LoadKind::CrestWater,
+    let water = matches!(t, Traction::Hydrostatic { .. } | Traction::Westergaard { .. });
+    match water {
+        true if along < -1e-9 => LoadKind::Reservoir,
+        true if along > 1e-9 => LoadKind::Tailwater,
+        true if down < 0.0 => LoadKind::CrestWater,
         _ => LoadKind::Traction,
     }
 }
@@ -238,8 +242,9 @@ fn kind_of(t: &Traction, n: [f64; 2], base: &Base) -> LoadKind {
 fn traction_loads(problem: &Problem, base: &Base, cells: &[bool]) -> Vec<Load> {
     let mesh = &problem.mesh;
     let topology = Topology::new(mesh);
-    let kinds = [LoadKind::Reservoir, LoadKind::Tailwater, LoadKind::CrestWater, LoadKind::Traction];
-    let mut sums = [Sums::default(); 4];
+    let kinds =
+        [LoadKind::Reservoir, LoadKind::Tailwater, LoadKind::CrestWater, LoadKind::Traction, LoadKind::Hydrodynamic];
+    let mut sums = [Sums::default(); 5];
     for bc in &problem.neumann {
         let faces = mesh.facets_tagged(std::slice::from_ref(&bc.tag));
         for f in faces.filter(|&f| cells[topology.facet_cell(f)]) {
@@ -248,9 +253,12 @@ fn traction_loads(problem: &Problem, base: &Base, cells: &[bool]) -> Vec<Load> {
             let ends = [mesh.points[mesh.facet(f)[0]], mesh.points[mesh.facet(f)[1]]];
             let segment = Segment::new(ends[0], ends[1]);
             for (s, w) in traction_rule(&bc.traction, ends, mesh.order) {
-                let (x, g) = (segment.point(s), bc.traction.at(segment.point(s), n));
+                let x = segment.point(s);
+                // the added pressure apart from the water's own
+                let (g, added) = (bc.traction.at(x, n), bc.traction.hydrodynamic(x, n));
                 let scale = w * segment.length();
-                base.add(&mut sums[k], [g[0] * scale, g[1] * scale], x);
+                base.add(&mut sums[k], [(g[0] - added[0]) * scale, (g[1] - added[1]) * scale], x);
+                base.add(&mut sums[4], [added[0] * scale, added[1] * scale], x);
             }
         }
     }
@@ -333,7 +341,7 @@ struct State {
 }
 
 impl State {
-    fn from_toe(&self) -> f64 {
+    fn resultant_arm(&self) -> f64 {
         self.moment / self.normal
     }
 }
@@ -355,11 +363,11 @@ impl Classical {
                 -uncracked.uplift.normal
             ));
         }
-        let d = uncracked.from_toe();
+        let d = uncracked.resultant_arm();
         let crack = if d < length / 3.0 { crack_length(&state, length)? } else { 0.0 };
         let at = state(crack);
         let (n, lc) = (at.normal, length - crack);
-        let (s_r, e) = (length - at.from_toe(), length / 2.0 - at.from_toe());
+        let (s_r, e) = (length - at.resultant_arm(), length / 2.0 - at.resultant_arm());
         let toe_in_tension = crack == 0.0 && e < -length / 6.0;
         let (heel_stress, toe_stress) = match crack > 0.0 {
             true => (0.0, -2.0 * n / lc),
@@ -384,7 +392,7 @@ impl Classical {
             overturning_factor: (overturning > 0.0).then(|| resisting / overturning),
             flotation_factor: (at.uplift.normal < 0.0).then(|| pressing / -at.uplift.normal),
             resultant_position: s_r,
-            resultant_from_toe: at.from_toe(),
+            resultant_from_toe: at.resultant_arm(),
             eccentricity: e,
             crack,
             compressed_length: lc,
@@ -425,7 +433,7 @@ fn crack_length(state: &impl Fn(f64) -> State, length: f64) -> Result<f64, Strin
                 s.normal
             ));
         }
-        Ok(length - t - 3.0 * s.from_toe())
+        Ok(length - t - 3.0 * s.resultant_arm())
     };
     let mut lo = 0.0;
     for k in 1..=SCAN {

@@ -166,3 +166,24 @@ fn a_section_lifted_by_its_uplift_floats() {
     let e = classical(&triangle([0.0; 2]), &joint, &line, G, [0.0; 2]).unwrap_err();
     assert!(e.contains("floats"), "{e}");
 }
+
+// Source: Westergaard (1933), p(z) = (7/8) a_h ρ_w g √(H z) on a vertical face, whose resultant
+// is ∫₀^H p dz = (7/12) a_h ρ_w g H² at ∫₀^H p (H − z) dz / ∫ p dz = 0.4 H above the base. Goal:
+// the added pressure of the problem's traction, integrated by its own rule, has them to 1e-6,
+// and the reservoir's own thrust is unchanged. Parameters: the triangle with a_h = 0.15 g,
+// the reservoir at H_w = 45 m on the 50 m face.
+#[test]
+fn westergaards_pressure_has_its_resultant_on_a_vertical_face() {
+    let a = [0.15, 0.0];
+    let mut problem = triangle(a);
+    problem.neumann[1].traction =
+        Traction::Westergaard { density: RHO_W, gravity: G, level: HW, depth: HW, acceleration: a[0] };
+    let (joint, line) = joint(true);
+    let c = classical(&problem, &joint, &line, G, a).unwrap();
+    let load = |k: LoadKind| *c.loads.iter().find(|l| l.kind == k).unwrap();
+    let added = load(LoadKind::Hydrodynamic);
+    close("H", added.shear, 7.0 / 12.0 * a[0] * RHO_W * G * HW * HW);
+    close("h_H", added.shear_arm, 0.4 * HW);
+    close("V", added.normal, 0.0);
+    close("reservoir", load(LoadKind::Reservoir).shear, RHO_W * G * HW * HW / 2.0);
+}
