@@ -588,6 +588,14 @@ impl Scene {
                 self.loads.gravity
             )));
         }
+        let water = self.boundary.values().any(|b| b.hydrostatic.is_some());
+        if self.loads.westergaard == Some(true) && (a[0] == 0.0 || !water) {
+            return Err(self.invalid(format!(
+                "loads.westergaard = true needs a horizontal loads.acceleration (now {}) and a reservoir: a \
+                 boundary curve with a hydrostatic load",
+                a[0]
+            )));
+        }
         if let Some(up) = &self.uplift {
             self.check_uplift("uplift", up)?;
         }

@@ -142,7 +142,8 @@ pub fn run(args: Args) -> Result<()> {
     let dir = args.output.dir(&scene)?;
     if names.is_empty() {
         let line = lines.remove(0)?;
-        let req = scene.criteria.requirements(scene.criteria.category_of(None));
+        // a scene without combinations, or one run by --combination
+        let req = scene.criteria.requirements(scene.criteria.category_of(args.input.combination.as_deref()));
         let (report, table) = analyse(&cases[0].1, &args, line, req, &dir)?;
         write_files(&dir, &report, &table)?;
         if !args.input.quiet {

@@ -501,8 +501,10 @@ fn safety_without_friction_reports_no_safety_factor() {
 
 // Bad input to `damfem safety`: an unknown key, a NaN level, a tailwater above the headwater,
 // drains outside the joint, the same in a load combination, a key a combination cannot change,
-// a three-component acceleration, a scene without a joint, and out-of-range flags each give one
-// error line, exit 1 and no output directory.
+// a three-component acceleration, a misspelt or out-of-range [criteria] key, a category for a
+// combination the scene does not have, Westergaard's pressure without an acceleration, a scene
+// without a joint, and out-of-range flags each give one error line, exit 1 and no output
+// directory.
 #[test]
 fn safety_refuses_bad_input() {
     let tmp = TempDir::new("safety-bad");
@@ -543,6 +545,22 @@ fn safety_refuses_bad_input() {
             uplift("headwater = 45.0\n[combinations.quake.loads]\nacceleration = [0.1, 0.0, 0.0]"),
             vec![],
             vec!["combinations.quake.loads.acceleration has 3 components"],
+        ),
+        (uplift("headwater = 45.0\n[criteria.usual]\nslidng = 2.0"), vec![], vec!["unknown field `slidng`", "sliding"]),
+        (
+            uplift("headwater = 45.0\n[criteria.unusual]\nflotation = 0.0"),
+            vec![],
+            vec!["criteria.unusual.flotation = 0", "positive"],
+        ),
+        (
+            uplift("headwater = 45.0\n[criteria]\ncategories = { flood = \"extreme\" }"),
+            vec![],
+            vec!["criteria.categories.flood names no combination"],
+        ),
+        (
+            uplift("headwater = 45.0\n[combinations.quake.loads]\nwestergaard = true"),
+            vec![],
+            vec!["combinations.quake: loads.westergaard = true needs a horizontal loads.acceleration"],
         ),
         (repo("geo/unit_square.toml"), vec![], vec!["needs a joint", "contact"]),
         (
