@@ -161,25 +161,58 @@ impl Base {
     }
 }
 
-/// The section above the sliding plane on `problem`'s mesh: the base of the faces of the
-/// joint's curves (their slave sides) on `line`, ν their outward normal, per cell whether it
-/// belongs to a body that rests on them, and per curve of the joint whether it has a face on
-/// the plane. Err: why there is none.
+/// The section above the sliding plane on `problem`'s mesh: the bodies whose cells touch the
+/// faces of the joint's curves (either side of a joint between two bodies) on `line` from
+/// above (y up), ν the unit normal of the line pointing down into the foundation; per cell
+/// whether it is the section's, and per curve of the joint whether it has a face on the plane.
+/// Err: why there is none.
 pub fn section(problem: &Problem, joint: &ContactJoint, line: &JointLine) -> Result<Section, String> {
     let mesh = &problem.mesh;
     let topology = Topology::new(mesh);
     let on_line = |f: usize| mesh.facet(f)[..2].iter().all(|&n| line.holds(mesh.points[n]));
-    let faces: Vec<usize> = mesh.facets_tagged(&joint.tags).filter(|&f| on_line(f)).collect();
-    let normals: Vec<[f64; 2]> = faces.iter().map(|&f| topology.outward_normal(mesh, f)).collect();
-    let &normal = normals.first().ok_or("no face of the joint lies on the sliding plane")?;
-    if normals.iter().any(|n| (n[0] - normal[0]).hypot(n[1] - normal[1]) > 1e-9) {
-        return Err("the faces of the sliding plane do not all face the same way".into());
+    let [tx, ty] = line.along;
+    if tx.abs() <= 1e-9 {
+        return Err("the sliding plane is vertical: no side of it lies above the other".into());
     }
-    let bodies = mesh.bodies();
-    let resting: Vec<usize> = faces.iter().map(|&f| bodies[topology.facet_cell(f)]).collect();
+    // ν ⟂ τ with ν_y < 0
+    let normal = if tx > 0.0 { [ty, -tx] } else { [-ty, tx] };
+    let sides: Vec<i32> = joint.tags.iter().chain(&joint.masters).copied().collect();
+    let faces: Vec<usize> = mesh.facets_tagged(&sides).filter(|&f| on_line(f)).collect();
+    let above = |c: usize| {
+        let (x, h) = (mesh.cell_centroid(c), line.heel);
+        (x[0] - h[0]) * normal[0] + (x[1] - h[1]) * normal[1] < 0.0
+    };
+    let bodies = bodies_apart(problem, &topology, line);
+    let resting: Vec<usize> =
+        faces.iter().map(|&f| topology.facet_cell(f)).filter(|&c| above(c)).map(|c| bodies[c]).collect();
+    if resting.is_empty() {
+        return Err("no face of the joint on the sliding plane has a body above it".into());
+    }
     let cells = bodies.iter().map(|b| resting.contains(b)).collect();
     let plane = joint.tags.iter().map(|t| faces.iter().any(|&f| mesh.facet_tags[f] == *t)).collect();
     Ok(Section { base: Base { line: *line, normal }, cells, plane })
+}
+
+/// The body of each cell: the cells joined through their edges, but not across an edge on
+/// `line` (the nodes of a joint between two bodies need not be split).
+fn bodies_apart(problem: &Problem, topology: &Topology, line: &JointLine) -> Vec<usize> {
+    let mesh = &problem.mesh;
+    let mut parent: Vec<usize> = (0..mesh.n_cells()).collect();
+    fn root(parent: &mut [usize], mut k: usize) -> usize {
+        while parent[k] != k {
+            parent[k] = parent[parent[k]];
+            k = parent[k];
+        }
+        k
+    }
+    for (edge, cells) in topology.edges.iter().zip(&topology.edge_cells) {
+        let on_line = edge.iter().all(|&n| line.holds(mesh.points[n]));
+        if cells[1] != crate::mesh::topology::NONE && !on_line {
+            let (a, b) = (root(&mut parent, cells[0]), root(&mut parent, cells[1]));
+            parent[a] = b;
+        }
+    }
+    (0..mesh.n_cells()).map(|c| root(&mut parent, c)).collect()
 }
 
 /// The section of [`section`].

@@ -730,6 +730,14 @@ fn safety_reports_the_dam_on_its_rock_with_a_frictional_joint() {
     let (_, uplift) = linear_moments(&[(0.0, h_u), (5.0, at_drains), (40.0, 0.0)]);
     assert_eq!(number(&report["crack_length"]), 0.0, "{report}");
     assert!((u - uplift).abs() <= 1e-9 * uplift, "U = {u} against {uplift}");
+    // the classical method takes the dam alone above the joint (the rock below it, joined at
+    // the joint's nodes, is not its section): its weight W, the thrust and the same uplift
+    let c = &report["classical"];
+    let load = |kind: &str| c["loads"].as_array().unwrap().iter().find(|l| l["kind"] == kind).unwrap().clone();
+    assert!((number(&load("weight")["normal"]) - weight).abs() <= 1e-9 * weight, "{c}");
+    assert!((number(&load("reservoir")["shear"]) - thrust).abs() <= 1e-9 * thrust, "{c}");
+    assert!((number(&c["uplift_force"]) - uplift).abs() <= 1e-9 * uplift, "{c}");
+    assert_eq!(c["loads"].as_array().unwrap().len(), 3, "{c}");
     let exact = 0.8391 * (weight - uplift) / thrust;
     let sr = &report["strength_reduction"];
     let (held, failed) = (number(&sr["held"]), number(&sr["failed"]));
