@@ -66,6 +66,9 @@ struct BaseStresses {
     length: f64,
     heel: f64,
     toe: f64,
+    /// The mean over `length` from the end of the closed part at the heel (the crack tip; the
+    /// heel itself without a crack), to compare with beam theory beyond a crack.
+    heel_closed: f64,
 }
 
 /// What `safety.json` records.
@@ -389,6 +392,7 @@ fn finite_elements(r: &Report) -> FiniteElements {
         contact: r.contact_length,
         crack: r.crack_length,
         heel: r.base_stresses.heel,
+        heel_closed: r.base_stresses.heel_closed,
         toe: r.base_stresses.toe,
     }
 }
@@ -495,7 +499,13 @@ fn base_stresses(
     length: f64,
 ) -> BaseStresses {
     let mean = |window| solution.mean_normal_stress(problem, disc, line, window);
-    BaseStresses { length, heel: mean([0.0, length]), toe: mean([line.length - length, line.length]) }
+    let tip = solution.crack_from_heel(line).min(line.length - length);
+    BaseStresses {
+        length,
+        heel: mean([0.0, length]),
+        toe: mean([line.length - length, line.length]),
+        heel_closed: mean([tip, tip + length]),
+    }
 }
 
 /// The results as (quantity, value, unit) rows.
@@ -854,7 +864,7 @@ fn code_check_markdown(r: &Report) -> String {
         "\n## Code check ({} combination)\n\nThe requirements are those of the scene's [criteria] for its category \
          (defaults: US Army Corps of Engineers, EM 1110-2-2200 Table 4-1 and EM 1110-2-2100 Table 3-4; \
          docs/method.md §1.12). Stresses in MPa, tension positive; the finite-element ones are means of σ'ⁿ over \
-         {:.3} m at the heel and the toe, the classical ones beam theory on the same loads (0 in a crack).\n\n",
+         {:.3} m at the heel, from the end of its closed part (the crack tip) and at the toe, the classical ones beam theory on the same loads (0 in a crack).\n\n",
         category_name(req),
         r.base_stresses.length
     );
@@ -967,7 +977,7 @@ mod tests {
             contact_length: 9.0,
             crack_length: 1.0,
             resultant: None,
-            base_stresses: BaseStresses { length: 1.0, heel: 0.0, toe: -1.0 },
+            base_stresses: BaseStresses { length: 1.0, heel: 0.0, toe: -1.0, heel_closed: -0.5 },
             sliding_safety_factor: None,
             strength_reduction: None,
             safety_factor_note: None,

@@ -25,8 +25,10 @@ pub struct FiniteElements {
     /// The contact length and the crack from the heel \[m\].
     pub contact: f64,
     pub crack: f64,
-    /// σ'^n \[Pa\] at the heel and the toe (tension positive).
+    /// σ'^n \[Pa\] at the heel, beyond the crack and at the toe (tension positive): means over a
+    /// stated length from each end and from the crack tip.
     pub heel: f64,
+    pub heel_closed: f64,
     pub toe: f64,
 }
 
@@ -137,6 +139,7 @@ pub fn checks(fe: &FiniteElements, classical: Option<&Classical>, req: &Requirem
             none,
         ),
         line("heel normal stress", "Pa", [Some(fe.heel), c(|c| Some(c.heel_stress))], allowable.clone(), stress),
+        line("normal stress from the crack tip", "Pa", [Some(fe.heel_closed), None], allowable.clone(), stress),
         line("toe normal stress", "Pa", [Some(fe.toe), c(|c| Some(c.toe_stress))], allowable, stress),
     ]
 }
@@ -182,6 +185,7 @@ mod tests {
             contact: 50.0,
             crack: 10.0,
             heel: 0.0,
+            heel_closed: -1e6,
             toe: -1.1e7,
         };
         let lines = checks(&fe, None, &req);

@@ -634,7 +634,7 @@ fn safety_runs_every_load_combination() {
         (&"extreme".into(), &1.3.into())
     );
     assert_eq!(usual["requirements"]["category"], "usual");
-    assert!(usual["verdict"]["classical"].is_boolean() && usual["checks"].as_array().unwrap().len() == 10, "{usual}");
+    assert!(usual["verdict"]["classical"].is_boolean() && usual["checks"].as_array().unwrap().len() == 11, "{usual}");
     let sub = std::fs::read_to_string(tmp.join("out/earthquake/report.md")).unwrap();
     assert!(
         sub.contains("## Code check (extreme combination)") && sub.contains("| inertia (pseudo-static) |"),
