@@ -62,6 +62,7 @@ pub mod estimate;
 pub mod fem;
 pub mod io;
 pub mod mesh;
+pub mod safety;
 pub mod scene;
 pub mod solve;
 pub mod verify;

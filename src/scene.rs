@@ -16,6 +16,7 @@ use crate::elasticity::material::MAX_DENSITY;
 use crate::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};
 use crate::io::gmsh::MeshOptions;
 use crate::mesh::{distance, Mesh, Topology};
+use crate::safety::criteria::CriteriaSection;
 use crate::solve::NewtonOptions;
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -168,13 +169,17 @@ pub struct LoadSection {
     /// Gravity g [m/s²] for self-weight (0, −ρ g) and hydrostatic pressure; 0 disables self-weight.
     pub gravity: f64,
     /// A pseudo-static acceleration (a_x, a_y) in units of g: the body force becomes
-    /// ρ g (a_x, a_y − 1). The water pressures do not change (no hydrodynamic added pressure).
+    /// ρ g (a_x, a_y − 1).
     pub acceleration: [f64; 2],
+    /// Westergaard's added pressure (7/8) a_x ρ_w g √(H z) on the reservoir's curves (the
+    /// hydrostatic curves of the highest level) under a horizontal acceleration; default: on
+    /// when a_x ≠ 0.
+    pub westergaard: Option<bool>,
 }
 
 impl Default for LoadSection {
     fn default() -> Self {
-        LoadSection { gravity: 9.81, acceleration: [0.0; 2] }
+        LoadSection { gravity: 9.81, acceleration: [0.0; 2], westergaard: None }
     }
 }
 
@@ -370,6 +375,9 @@ pub struct Scene {
     pub uplift: Option<UpliftSection>,
     #[serde(default)]
     pub safety: SafetySection,
+    /// The acceptance criteria of the load combinations by category (`damfem safety`).
+    #[serde(default)]
+    pub criteria: CriteriaSection,
     #[serde(default)]
     pub adapt: AdaptSettings,
     #[serde(default)]
@@ -409,6 +417,8 @@ impl Scene {
         table.remove("combinations");
         scene.table = table;
         scene.validate()?;
+        let names: Vec<&str> = scene.combinations.keys().map(String::as_str).collect();
+        scene.criteria.check(&names).map_err(|message| scene.invalid(message))?;
         for name in scene.combinations.keys() {
             scene.combination(name)?;
         }
@@ -496,6 +506,7 @@ impl Scene {
             joints: BTreeMap::new(),
             uplift: None,
             safety: SafetySection::default(),
+            criteria: CriteriaSection::default(),
             adapt: AdaptSettings::default(),
             output: OutputSection::default(),
             combinations: BTreeMap::new(),
@@ -580,6 +591,14 @@ impl Scene {
             return Err(self.invalid(format!(
                 "loads.acceleration = {a:?} is in g, so it needs loads.gravity > 0 (now {})",
                 self.loads.gravity
+            )));
+        }
+        let water = self.boundary.values().any(|b| b.hydrostatic.is_some());
+        if self.loads.westergaard == Some(true) && (a[0] == 0.0 || !water) {
+            return Err(self.invalid(format!(
+                "loads.westergaard = true needs a horizontal loads.acceleration (now {}) and a reservoir: a \
+                 boundary curve with a hydrostatic load",
+                a[0]
             )));
         }
         if let Some(up) = &self.uplift {
@@ -812,6 +831,7 @@ impl Scene {
                 Role::Contact | Role::Free => {}
             }
         }
+        self.add_westergaard(&mesh, &mut neumann)?;
         let how = if self.boundary.is_empty() {
             "name a physical curve Gamma_D (or dirichlet) in the geometry"
         } else {
@@ -967,7 +987,7 @@ impl Scene {
         let water: Vec<[f64; 2]> = problem
             .neumann
             .iter()
-            .filter(|bc| matches!(bc.traction, Traction::Hydrostatic { .. }))
+            .filter(|bc| matches!(bc.traction, Traction::Hydrostatic { .. } | Traction::Westergaard { .. }))
             .flat_map(|bc| mesh.facets_tagged(&[bc.tag]).flat_map(|f| mesh.facet(f).to_vec()).collect::<Vec<_>>())
             .map(|n| mesh.points[n])
             .collect();
@@ -1054,6 +1074,41 @@ impl Scene {
             crack_filled: up.crack == CrackKind::Full,
             crack: 0.0,
         })
+    }
+
+    /// Westergaard's added pressure on the reservoir: the hydrostatic curves of `neumann` at the
+    /// highest level H_w, with H = H_w − the lowest point of their nodes, when `[loads]
+    /// westergaard` (default: a_x ≠ 0) asks for it.
+    fn add_westergaard(&self, mesh: &Mesh, neumann: &mut [Neumann]) -> Result<(), SceneError> {
+        let a_x = self.loads.acceleration[0];
+        if !self.loads.westergaard.unwrap_or(a_x != 0.0) {
+            return Ok(());
+        }
+        let level_of = |t: &Traction| match t {
+            Traction::Hydrostatic { level, .. } => Some(*level),
+            _ => None,
+        };
+        let top = neumann.iter().filter_map(|bc| level_of(&bc.traction)).fold(f64::NEG_INFINITY, f64::max);
+        if self.loads.westergaard.is_none() && !top.is_finite() {
+            return Ok(());
+        }
+        if a_x == 0.0 || !top.is_finite() {
+            return Err(self.invalid(format!(
+                "loads.westergaard = true needs a horizontal loads.acceleration (now {a_x}) and a reservoir: a \
+                 boundary curve with a hydrostatic load"
+            )));
+        }
+        let reservoir: Vec<usize> =
+            (0..neumann.len()).filter(|&k| level_of(&neumann[k].traction) == Some(top)).collect();
+        let tags: Vec<i32> = reservoir.iter().map(|&k| neumann[k].tag).collect();
+        let bottom = mesh.facets_tagged(&tags).flat_map(|f| mesh.facet(f).to_vec()).map(|n| mesh.points[n][1]);
+        let depth = (top - bottom.fold(f64::INFINITY, f64::min)).max(0.0);
+        for k in reservoir {
+            if let Traction::Hydrostatic { density, gravity, level } = neumann[k].traction {
+                neumann[k].traction = Traction::Westergaard { density, gravity, level, depth, acceleration: a_x };
+            }
+        }
+        Ok(())
     }
 
     /// Without a Dirichlet condition the joint alone holds the body. On a straight joint of

@@ -14,6 +14,9 @@ use crate::contact::{
 use crate::elasticity::{Discretisation, Problem};
 use crate::io::atomic::write_output;
 use crate::io::plot::{write_linear_figure, Figure, Mark, Series};
+use crate::safety::check::{checks, verdict, Check, FiniteElements, Verdict};
+use crate::safety::classical::{classical, Classical};
+use crate::safety::criteria::Requirements;
 use crate::scene::Scene;
 use crate::solve::NewtonOptions;
 use anyhow::{Context, Result};
@@ -63,6 +66,9 @@ struct BaseStresses {
     length: f64,
     heel: f64,
     toe: f64,
+    /// The mean over `length` from the end of the closed part at the heel (the crack tip; the
+    /// heel itself without a crack), to compare with beam theory beyond a crack.
+    heel_closed: f64,
 }
 
 /// What `safety.json` records.
@@ -99,6 +105,14 @@ struct Report {
     safety_factor_note: Option<String>,
     /// Where the crack of the sliding plane stopped at the drain line, what of it.
     crack_note: Option<String>,
+    /// The combination's category and what it requires.
+    requirements: Requirements,
+    /// The classical gravity method on the same loads, or why it has no answer.
+    classical: Option<Classical>,
+    classical_note: Option<String>,
+    /// The code check, line by line, and its verdict by each method.
+    checks: Vec<Check>,
+    verdict: Verdict,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -131,7 +145,9 @@ pub fn run(args: Args) -> Result<()> {
     let dir = args.output.dir(&scene)?;
     if names.is_empty() {
         let line = lines.remove(0)?;
-        let (report, table) = analyse(&cases[0].1, &args, line, &dir)?;
+        // a scene without combinations, or one run by --combination
+        let req = scene.criteria.requirements(scene.criteria.category_of(args.input.combination.as_deref()));
+        let (report, table) = analyse(&cases[0].1, &args, line, req, &dir)?;
         write_files(&dir, &report, &table)?;
         if !args.input.quiet {
             println!("{}", text_table(&table));
@@ -147,7 +163,8 @@ pub fn run(args: Args) -> Result<()> {
         let name = name.expect("a combination");
         progress.say(&format!("combination {name}"));
         let sub = output_dir(dir.join(name))?;
-        let outcome = match line.and_then(|line| analyse(case, &args, line, &sub)) {
+        let req = scene.criteria.requirements(scene.criteria.category_of(Some(name)));
+        let outcome = match line.and_then(|line| analyse(case, &args, line, req, &sub)) {
             Ok((report, table)) => {
                 write_files(&sub, &report, &table)?;
                 Outcome::Solved(Box::new(report))
@@ -274,6 +291,7 @@ fn analyse(
     scene: &Scene,
     args: &Args,
     (line, average): (JointLine, f64),
+    requirements: Requirements,
     dir: &Path,
 ) -> Result<(Report, Vec<[String; 3]>)> {
     let progress = args.input.progress();
@@ -320,7 +338,12 @@ fn analyse(
         }
     };
     let eta_relative = record.eta.tot / record.stress_norm;
-    let report = Report {
+    let (gravity, acceleration) = (scene.loads.gravity, scene.loads.acceleration);
+    let (classical, classical_note) = match classical(&problem, &joint, &line, gravity, acceleration) {
+        Ok(c) => (Some(c), None),
+        Err(why) => (None, Some(format!("the classical method has no answer: {why}"))),
+    };
+    let mut report = Report {
         units: UNITS,
         scene: scene.source.clone(),
         order: problem.mesh.order,
@@ -341,7 +364,14 @@ fn analyse(
         strength_reduction: strength,
         safety_factor_note: note,
         crack_note: plane_crack_note(&solution, &plane),
+        requirements,
+        classical,
+        classical_note,
+        checks: Vec::new(),
+        verdict: verdict(&[]),
     };
+    report.checks = checks(&finite_elements(&report), report.classical.as_ref(), &requirements);
+    report.verdict = verdict(&report.checks);
     warn(&report, &progress);
     let table = table(&report);
     let joint = joint_rows(&solution, &line);
@@ -350,6 +380,23 @@ fn analyse(
     write_linear_figure(&dir.join("base_stresses"), &base_figure(&joint, &report, drains))
         .context("writing the figure")?;
     Ok((report, table))
+}
+
+/// The finite-element numbers of `r` that the code check judges.
+fn finite_elements(r: &Report) -> FiniteElements {
+    let f = r.resultant;
+    FiniteElements {
+        length: r.joint_line.length,
+        sliding: r.sliding_safety_factor,
+        strength_reduction: r.strength_reduction.as_ref().map(|s| s.held),
+        flotation: f.filter(|f| f.uplift_force > 0.0).map(|f| (f.normal_force + f.uplift_force) / f.uplift_force),
+        resultant: f.map(|f| f.position),
+        contact: r.contact_length,
+        crack: r.crack_length,
+        heel: r.base_stresses.heel,
+        heel_closed: r.base_stresses.heel_closed,
+        toe: r.base_stresses.toe,
+    }
 }
 
 /// The progress line of FS_SR.
@@ -374,6 +421,9 @@ fn warn(r: &Report, progress: &Progress) {
         progress.say(&format!("warning: {STALLED}"));
     }
     if let Some(note) = &r.crack_note {
+        progress.say(&format!("note: {note}"));
+    }
+    if let Some(note) = &r.classical_note {
         progress.say(&format!("note: {note}"));
     }
 }
@@ -451,7 +501,13 @@ fn base_stresses(
     length: f64,
 ) -> BaseStresses {
     let mean = |window| solution.mean_normal_stress(problem, disc, line, window);
-    BaseStresses { length, heel: mean([0.0, length]), toe: mean([line.length - length, line.length]) }
+    let tip = solution.crack_from_heel(line).min(line.length - length);
+    BaseStresses {
+        length,
+        heel: mean([0.0, length]),
+        toe: mean([line.length - length, line.length]),
+        heel_closed: mean([tip, tip + length]),
+    }
 }
 
 /// The results as (quantity, value, unit) rows.
@@ -588,6 +644,7 @@ fn combinations_markdown(scene: &Path, rows: &[Vec<String>], reports: &[Combinat
         };
         md += &format!("| {name} | {} |\n", cells(&row[1..]));
     }
+    md += &code_check_summary(reports);
     for Combination { name, outcome } in reports {
         match outcome {
             Outcome::DoesNotHold { verdict, .. } => md += &format!("\n{name}: the dam does not hold. {verdict}.\n"),
@@ -744,8 +801,158 @@ fn markdown(r: &Report, table: &[[String; 3]]) -> String {
         );
     }
     md += &r.best_step.as_ref().map_or(String::new(), |b| best_sentence(b, r));
+    md += &code_check_markdown(r);
     md += "\n## Stresses along the joint\n\n![stresses along the joint](base_stresses.png)\n\n\
            The values per contact face are in `joint.csv`.\n";
+    md
+}
+
+/// Why the two answers differ, in one sentence.
+const DIFFER: &str = "The classical method takes the section rigid on a plane base, so its base pressure is \
+     linear and its crack is where that line would be tensile; the finite elements take the dam and its foundation \
+     elastic, so the pressure gathers at the heel and the toe, and their crack is the open part of the elastic \
+     joint (docs/method.md §1.8).";
+
+/// A category in a word.
+fn category_name(r: &Requirements) -> String {
+    format!("{:?}", r.category).to_lowercase()
+}
+
+/// A value of a check in its report unit (MPa for a stress).
+fn check_value(v: Option<f64>, unit: &str) -> String {
+    match (v, unit) {
+        (None, _) => "–".into(),
+        (Some(v), "Pa") => format!("{:.4}", v / 1e6),
+        (Some(v), _) => format!("{v:.4}"),
+    }
+}
+
+fn pass_word(p: Option<bool>) -> &'static str {
+    match p {
+        Some(true) => "pass",
+        Some(false) => "FAIL",
+        None => "–",
+    }
+}
+
+/// A method's verdict in words.
+fn verdict_word(v: Option<bool>) -> &'static str {
+    match v {
+        Some(true) => "meets the criteria",
+        Some(false) => "fails",
+        None => "no answer",
+    }
+}
+
+/// The classical method's loads table.
+fn loads_markdown(c: &Classical) -> String {
+    let mut md = String::from(
+        "V presses on the base, H pushes towards the toe; d_V is the arm of V upstream of the toe, h_H that of H \
+         above the base, and M = V d_V − H h_H the moment about the toe, resisting positive.\n\n\
+         | load | V [N/m] | d_V [m] | H [N/m] | h_H [m] | M [N m/m] |\n|---|---|---|---|---|---|\n",
+    );
+    for l in &c.loads {
+        md += &format!(
+            "| {} | {:.4e} | {:.4} | {:.4e} | {:.4} | {:.4e} |\n",
+            l.kind.label(),
+            l.normal,
+            l.normal_arm,
+            l.shear,
+            l.shear_arm,
+            l.moment
+        );
+    }
+    let total = |f: fn(&crate::safety::classical::Load) -> f64| c.loads.iter().map(f).sum::<f64>();
+    md += &format!(
+        "| total | {:.4e} | | {:.4e} | | {:.4e} |\n",
+        total(|l| l.normal),
+        total(|l| l.shear),
+        total(|l| l.moment)
+    );
+    md
+}
+
+/// The code check of `report.md`: the requirements, the classical loads, each line with both
+/// methods, the verdict.
+fn code_check_markdown(r: &Report) -> String {
+    let req = &r.requirements;
+    let mut md = format!(
+        "\n## Code check ({} combination)\n\nThe requirements are those of the scene's [criteria] for its category \
+         (defaults: US Army Corps of Engineers, EM 1110-2-2200 Table 4-1 and EM 1110-2-2100 Table 3-4; \
+         docs/method.md §1.12). Stresses in MPa, tension positive; the finite-element ones are means of σ'ⁿ over \
+         {:.3} m at the heel, from the end of its closed part (the crack tip) and at the toe, the classical ones beam theory on the same loads (0 in a crack).\n\n",
+        category_name(req),
+        r.base_stresses.length
+    );
+    if let Some(c) = &r.classical {
+        md += &format!(
+            "### Loads on the section (classical method{})\n\n",
+            if c.crack > 0.0 { ", the uplift with the classical crack" } else { "" }
+        );
+        md += &loads_markdown(c);
+        if c.toe_in_tension {
+            md += "\nThe toe is in tension by beam theory: the classical method cracks the heel only, so its \
+                   stresses are those of the uncracked base.\n";
+        }
+        md += "\n";
+    }
+    if let Some(note) = &r.classical_note {
+        md += &format!("T{}.\n\n", &note[1..]);
+    }
+    md += "| quantity | unit | finite elements | classical | required | finite elements | classical |\n\
+           |---|---|---|---|---|---|---|\n";
+    for c in &r.checks {
+        let unit = if c.unit == "Pa" { "MPa" } else { c.unit };
+        md += &format!(
+            "| {} | {unit} | {} | {} | {} | {} | {} |\n",
+            c.quantity,
+            check_value(c.finite_elements, c.unit),
+            check_value(c.classical, c.unit),
+            c.requirement.as_deref().unwrap_or("–"),
+            pass_word(c.finite_elements_pass),
+            pass_word(c.classical_pass)
+        );
+    }
+    let v = &r.verdict;
+    md += &format!(
+        "\nVerdict: by the finite elements the combination {}, by the classical method it {}{}.\n\n{DIFFER}\n",
+        verdict_word(v.finite_elements),
+        verdict_word(v.classical),
+        if v.failed.is_empty() { String::new() } else { format!(" (failing: {})", v.failed.join(", ")) }
+    );
+    md
+}
+
+/// The summary table of the code check of every combination.
+fn code_check_summary(reports: &[Combination]) -> String {
+    let mut md = String::from(
+        "\n## Code check of all combinations\n\n| combination | category | FS_LE | FS classical | required FS | \
+         FS_OT classical | FS_F classical | s_R [m] | s_R classical [m] | resultant | crack classical [% of L] | \
+         finite elements | classical |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    let value = |v: Option<f64>| check_value(v, "");
+    for Combination { name, outcome } in reports {
+        let Some(r) = outcome.report() else {
+            md += &format!("| {name} | | | | | | | | | | | {} | |\n", outcome.label());
+            continue;
+        };
+        let c = r.classical.as_ref();
+        md += &format!(
+            "| {name} | {} | {} | {} | {:.3} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+            category_name(&r.requirements),
+            value(r.sliding_safety_factor),
+            value(c.and_then(|c| c.sliding_factor)),
+            r.requirements.sliding,
+            value(c.and_then(|c| c.overturning_factor)),
+            value(c.and_then(|c| c.flotation_factor)),
+            value(r.resultant.map(|f| f.position)),
+            value(c.map(|c| c.resultant_position)),
+            r.requirements.resultant.label(),
+            value(c.map(|c| 100.0 * c.crack / c.length)),
+            verdict_word(r.verdict.finite_elements),
+            verdict_word(r.verdict.classical)
+        );
+    }
     md
 }
 
@@ -756,6 +963,7 @@ mod tests {
         Outcome, Report, StepRow, StrengthReduction, UNITS,
     };
     use crate::contact::JointLine;
+    use crate::safety::criteria::{Category, CriteriaSection};
     use std::path::Path;
 
     /// The report of a frictionless joint after two steps, the last with η_tot = 2 Pa m and 100
@@ -785,11 +993,16 @@ mod tests {
             contact_length: 9.0,
             crack_length: 1.0,
             resultant: None,
-            base_stresses: BaseStresses { length: 1.0, heel: 0.0, toe: -1.0 },
+            base_stresses: BaseStresses { length: 1.0, heel: 0.0, toe: -1.0, heel_closed: -0.5 },
             sliding_safety_factor: None,
             strength_reduction: None,
             safety_factor_note: None,
             crack_note: None,
+            requirements: CriteriaSection::default().requirements(Category::Usual),
+            classical: None,
+            classical_note: None,
+            checks: Vec::new(),
+            verdict: crate::safety::check::verdict(&[]),
         }
     }
 

@@ -103,6 +103,19 @@ impl Uplift {
         points.sort_by(f64::total_cmp);
         points.windows(2).map(|w| 0.5 * (w[1] - w[0]) * (self.pressure(w[0], crack) + self.pressure(w[1], crack))).sum()
     }
+
+    /// The first moment M_u = ∫ p_u s ds \[N\] about the heel (exact on each linear piece
+    /// [s₀, s₁]: (s₁ − s₀)/6 (p₀ (2 s₀ + s₁) + p₁ (s₀ + 2 s₁))).
+    pub fn moment(&self, crack: f64) -> f64 {
+        let mut points = vec![0.0, self.line.length];
+        points.extend(self.kinks(crack));
+        points.sort_by(f64::total_cmp);
+        let p = |s: f64| self.pressure(s, crack);
+        points
+            .windows(2)
+            .map(|w| (w[1] - w[0]) / 6.0 * (p(w[0]) * (2.0 * w[0] + w[1]) + p(w[1]) * (w[0] + 2.0 * w[1])))
+            .sum()
+    }
 }
 
 #[cfg(test)]
@@ -126,6 +139,8 @@ mod tests {
         assert_eq!((plain.pressure(0.0, 0.0), plain.pressure(40.0, 0.0)), (700.0, 100.0));
         assert!((plain.pressure(10.0, 0.0) - 550.0).abs() < 1e-12);
         assert!((plain.force(0.0) - 0.5 * 40.0 * 800.0).abs() < 1e-9);
+        // a trapezoid 700 → 100 over 40 m: ∫ p s ds = 40² (700/6 + 100/3)
+        assert!((plain.moment(0.0) - 1600.0 * (700.0 / 6.0 + 100.0 / 3.0)).abs() < 1e-7);
         // drains at 5 m, 2/3 effective: 100 + (1/3)(600)(35/40) = 275 at the drains
         let drained = joint(Some(Drains { distance: 5.0, efficiency: 2.0 / 3.0 }));
         assert!((drained.pressure(5.0, 0.0) - 275.0).abs() < 1e-12);

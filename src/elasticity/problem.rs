@@ -13,7 +13,7 @@ use super::material::Material;
 use super::rigid;
 use crate::fem::affine::AffineMap;
 use crate::fem::dofs::{DofMap, FIXED};
-use crate::fem::quadrature::{gauss_segment_cached, split_rule};
+use crate::fem::quadrature::{gauss_segment_cached, split_rule, Rule1d};
 use crate::fem::sparse::{vector_dofs, LinearSystem, Local, SparsePattern};
 use crate::fem::tabulate::Tabulation;
 use crate::fem::transfer::interpolate_by_tag;
@@ -40,6 +40,11 @@ pub enum Traction {
     Constant([f64; 2]),
     /// Water pressure p = ρ_w g (H_w − y)₊ acting along −n (g points along −y).
     Hydrostatic { density: f64, gravity: f64, level: f64 },
+    /// The water pressure of `Hydrostatic` with Westergaard's added pressure of a horizontal
+    /// pseudo-static acceleration a_x (in g) on the face of a reservoir of depth H:
+    /// p = ρ_w g z + (7/8) a_n ρ_w g √(H z), z = (H_w − y)₊, a_n = −a_x n_x the acceleration
+    /// towards the water (a suction where the face moves away from it).
+    Westergaard { density: f64, gravity: f64, level: f64, depth: f64, acceleration: f64 },
     /// Any field of x.
     Field(VectorFn),
 }
@@ -49,7 +54,7 @@ impl Traction {
     /// a hydrostatic pressure. Quadrature on a facet is split there.
     pub fn kinks(&self, [a, b]: [[f64; 2]; 2]) -> Vec<f64> {
         match self {
-            Traction::Hydrostatic { level, .. } if b[1] != a[1] => {
+            Traction::Hydrostatic { level, .. } | Traction::Westergaard { level, .. } if b[1] != a[1] => {
                 let s = (level - a[1]) / (b[1] - a[1]);
                 if s > 0.0 && s < 1.0 {
                     vec![s]
@@ -69,7 +74,25 @@ impl Traction {
                 let p = density * gravity * (level - x[1]).max(0.0);
                 [-p * n[0], -p * n[1]]
             }
+            Traction::Westergaard { density, gravity, level, .. } => {
+                let p = density * gravity * (level - x[1]).max(0.0);
+                let added = self.hydrodynamic(x, n);
+                [-p * n[0] + added[0], -p * n[1] + added[1]]
+            }
             Traction::Field(f) => f(x),
+        }
+    }
+
+    /// Westergaard's added pressure of g_N at x, −(7/8) a_n ρ_w g √(H z) n (0 for the other
+    /// tractions).
+    pub fn hydrodynamic(&self, x: [f64; 2], n: [f64; 2]) -> [f64; 2] {
+        match self {
+            Traction::Westergaard { density, gravity, level, depth, acceleration } => {
+                let z = (level - x[1]).max(0.0);
+                let p = 0.875 * (-acceleration * n[0]) * density * gravity * (depth * z).sqrt();
+                [-p * n[0], -p * n[1]]
+            }
+            _ => [0.0; 2],
         }
     }
 }
@@ -113,7 +136,35 @@ pub fn load_degree(order: usize) -> usize {
 /// `ends`: p + 4 Gauss points on each piece between the kinks of g_N. The estimator uses the
 /// same rule.
 pub fn traction_rule(traction: &Traction, ends: [[f64; 2]; 2], order: usize) -> Vec<(f64, f64)> {
-    split_rule(gauss_segment_cached(order + 4), traction.kinks(ends))
+    let gauss = gauss_segment_cached(order + 4);
+    match traction {
+        Traction::Westergaard { level, .. } => graded_at_surface(gauss, traction.kinks(ends), ends, *level),
+        _ => split_rule(gauss, traction.kinks(ends)),
+    }
+}
+
+/// The rule of [`split_rule`], but on a wet piece whose shallow end e lies at the water surface
+/// (√z there) in s = e + (f − e) u², f the deep end: √z ∝ u, so the integrand is a
+/// polynomial in u, which the p + 4 Gauss points in u integrate exactly for p ≤ 2.
+fn graded_at_surface(gauss: &Rule1d, mut cuts: Vec<f64>, ends: [[f64; 2]; 2], level: f64) -> Vec<(f64, f64)> {
+    let depth = |s: f64| level - (ends[0][1] + s * (ends[1][1] - ends[0][1]));
+    cuts.extend([0.0, 1.0]);
+    cuts.sort_by(f64::total_cmp);
+    let points = || gauss.points.iter().zip(&gauss.weights);
+    cuts.windows(2)
+        .filter(|w| w[1] > w[0])
+        .flat_map(|w| {
+            let (shallow, deep) = if depth(w[0]) <= depth(w[1]) { (w[0], w[1]) } else { (w[1], w[0]) };
+            let at_surface = depth(shallow).abs() <= 1e-12 * (1.0 + level.abs()) && depth(deep) > 0.0;
+            let piece: Vec<(f64, f64)> = match at_surface {
+                true => points()
+                    .map(|(&u, &wu)| (shallow + (deep - shallow) * u * u, wu * 2.0 * u * (w[1] - w[0])))
+                    .collect(),
+                false => points().map(|(&s, &ws)| (w[0] + s * (w[1] - w[0]), ws * (w[1] - w[0]))).collect(),
+            };
+            piece
+        })
+        .collect()
 }
 
 /// The free unknowns of a refined linear solve as the unevaluated sum x + lo, x = fl(x + lo).

@@ -202,7 +202,7 @@ fn polynomial_on_face(traction: &Traction, ends: [[f64; 2]; 2]) -> bool {
     match traction {
         Traction::Constant(_) => true,
         Traction::Hydrostatic { level, .. } => (ends[0][1] <= *level) == (ends[1][1] <= *level),
-        Traction::Field(_) => false,
+        Traction::Field(_) | Traction::Westergaard { .. } => false,
     }
 }
 

@@ -518,7 +518,11 @@ impl DamCase {
         if let Some(ratio) = self.rock_ratio() {
             toml += &format!("[materials.rock]\nE = {:?}\nnu = {NU_ROCK:?}\nrho = 0.0\n\n", ratio * E_CONCRETE);
         }
-        toml += &format!("[loads]\ngravity = {GRAVITY:?}\nacceleration = [{:?}, 0.0]\n\n", self.acceleration);
+        // the reference has no hydrodynamic pressure
+        toml += &format!(
+            "[loads]\ngravity = {GRAVITY:?}\nacceleration = [{:?}, 0.0]\nwestergaard = false\n\n",
+            self.acceleration
+        );
         let hydrostatic = |curve: &str, level: f64| {
             format!("[boundary.{curve}]\nrole = \"neumann\"\nhydrostatic = {{ level = {level:?}, density = {RHO_WATER:?} }}\n\n")
         };

@@ -21,6 +21,13 @@ pub fn rescale(problem: &Problem, sigma0: f64, length: f64) -> Problem {
             Traction::Hydrostatic { density, gravity, level } => {
                 Traction::Hydrostatic { density: density * length / sigma0, gravity, level: level / length }
             }
+            Traction::Westergaard { density, gravity, level, depth, acceleration } => Traction::Westergaard {
+                density: density * length / sigma0,
+                gravity,
+                level: level / length,
+                depth: depth / length,
+                acceleration,
+            },
             Traction::Field(f) => Traction::Field(Arc::new(move |x| {
                 let t = f([x[0] * length, x[1] * length]);
                 [t[0] / sigma0, t[1] / sigma0]

@@ -210,8 +210,9 @@ fn uplift_keys_out_of_range() {
 }
 
 // A load combination overrides the water levels and the pseudo-static acceleration of the
-// scene: the joint forces follow statics exactly, N + U = W and T = −(the thrust + a_x W), with
-// the thrust ρ_w g H_w²/2 of the combination's reservoir level.
+// scene: the joint forces follow statics exactly, N + U = W and T = −(the thrust + a_x W + the
+// hydrodynamic thrust), with the thrust ρ_w g H_w²/2 of the combination's reservoir level and,
+// under the earthquake, Westergaard's (7/12) a_x ρ_w g H_w² on the vertical upstream face.
 #[test]
 fn combinations_override_water_levels_and_acceleration() {
     let tmp = TempDir::new("combinations");
@@ -233,7 +234,8 @@ fn combinations_override_water_levels_and_acceleration() {
         let thrust = 1000.0 * 9.81 * level * level / 2.0;
         let (n, t, u) = (force("normal_force"), force("tangential_force"), force("uplift_force"));
         assert!((n + u - weight).abs() <= 1e-8 * weight, "{name}: N + U = {} against W = {weight}", n + u);
-        let expected = -(thrust + a_x * weight);
+        let hydrodynamic = 7.0 / 12.0 * a_x * 1000.0 * 9.81 * level * level;
+        let expected = -(thrust + a_x * weight + hydrodynamic);
         assert!((t - expected).abs() <= 1e-8 * expected.abs(), "{name}: T = {t} against {expected}");
     }
 }
@@ -503,8 +505,10 @@ fn safety_without_friction_reports_no_safety_factor() {
 
 // Bad input to `damfem safety`: an unknown key, a NaN level, a tailwater above the headwater,
 // drains outside the joint, the same in a load combination, a key a combination cannot change,
-// a three-component acceleration, a scene without a joint, and out-of-range flags each give one
-// error line, exit 1 and no output directory.
+// a three-component acceleration, a misspelt or out-of-range [criteria] key, a category for a
+// combination the scene does not have, Westergaard's pressure without an acceleration, a scene
+// without a joint, and out-of-range flags each give one error line, exit 1 and no output
+// directory.
 #[test]
 fn safety_refuses_bad_input() {
     let tmp = TempDir::new("safety-bad");
@@ -546,6 +550,22 @@ fn safety_refuses_bad_input() {
             vec![],
             vec!["combinations.quake.loads.acceleration has 3 components"],
         ),
+        (uplift("headwater = 45.0\n[criteria.usual]\nslidng = 2.0"), vec![], vec!["unknown field `slidng`", "sliding"]),
+        (
+            uplift("headwater = 45.0\n[criteria.unusual]\nflotation = 0.0"),
+            vec![],
+            vec!["criteria.unusual.flotation = 0", "positive"],
+        ),
+        (
+            uplift("headwater = 45.0\n[criteria]\ncategories = { flood = \"extreme\" }"),
+            vec![],
+            vec!["criteria.categories.flood names no combination"],
+        ),
+        (
+            uplift("headwater = 45.0\n[combinations.quake.loads]\nwestergaard = true"),
+            vec![],
+            vec!["combinations.quake: loads.westergaard = true needs a horizontal loads.acceleration"],
+        ),
         (repo("geo/unit_square.toml"), vec![], vec!["needs a joint", "contact"]),
         (
             repo("geo/scene_a_uplift.toml"),
@@ -573,7 +593,8 @@ fn safety_runs_every_load_combination() {
     let scene = tmp.join("dam.toml");
     let combinations = "\n[combinations.usual]\n\
         [combinations.drains_blocked.uplift]\ndrains = { x = 5.0, efficiency = 0.0 }\n\
-        [combinations.earthquake.loads]\nacceleration = [0.05, 0.0]\n";
+        [combinations.earthquake.loads]\nacceleration = [0.05, 0.0]\n\
+        [criteria]\ncategories = { earthquake = \"extreme\" }\n";
     std::fs::write(&scene, text.replace("geometry = \"scene_a_friction.geo\"", &geometry) + combinations).unwrap();
     let out = safety_coarse(&scene, &tmp.join("out"), &["--order", "1", "--max-steps", "1"]);
     assert_ok(&out);
@@ -591,13 +612,38 @@ fn safety_runs_every_load_combination() {
     let number = |c: &serde_json::Value, key: &str| c["resultant"][key].as_f64().unwrap_or_else(|| panic!("{c}"));
     let (weight, _) = scene_a_weight();
     let thrust = 1000.0 * 9.81 * 45.0 * 45.0 / 2.0;
+    // Westergaard's added pressure on the vertical upstream face: (7/12) a_x ρ_w g H² at 0.4 H
+    let hydrodynamic = 7.0 / 12.0 * 0.05 * 1000.0 * 9.81 * 45.0 * 45.0;
     let t = number(&case("earthquake"), "tangential_force");
-    assert!((t + thrust + 0.05 * weight).abs() <= 1e-6 * thrust, "T = {t} against {}", -(thrust + 0.05 * weight));
+    let pushed = thrust + 0.05 * weight + hydrodynamic;
+    assert!((t + pushed).abs() <= 1e-6 * thrust, "T = {t} against {}", -pushed);
     let (usual, blocked) = (case("usual"), case("drains_blocked"));
     assert!(number(&blocked, "uplift_force") > number(&usual, "uplift_force"), "{blocked}");
     let fs = |c: &serde_json::Value| c["sliding_safety_factor"].as_f64().unwrap();
     assert!(fs(&blocked) < fs(&usual), "FS_LE {} against {}", fs(&blocked), fs(&usual));
-    assert!(std::fs::read_to_string(tmp.join("out/report.md")).unwrap().contains("[earthquake](earthquake/report.md)"));
+    let md = std::fs::read_to_string(tmp.join("out/report.md")).unwrap();
+    assert!(md.contains("[earthquake](earthquake/report.md)") && md.contains("## Code check of all combinations"));
+    // the classical method on the same loads: T and P = N + U by the section's equilibrium,
+    // the earthquake judged as extreme (FS ≥ 1.3), the others as usual
+    let quake = &case("earthquake");
+    let classical = |key: &str| quake["classical"][key].as_f64().unwrap_or_else(|| panic!("{quake}"));
+    assert!((classical("shear_force") - pushed).abs() <= 1e-6 * thrust, "{quake}");
+    let loads = quake["classical"]["loads"].as_array().unwrap();
+    let added = loads.iter().find(|l| l["kind"] == "hydrodynamic").unwrap_or_else(|| panic!("{quake}"));
+    let (h, arm) = (added["shear"].as_f64().unwrap(), added["shear_arm"].as_f64().unwrap());
+    assert!((h - hydrodynamic).abs() <= 1e-6 * hydrodynamic && (arm - 18.0).abs() <= 1e-6 * 18.0, "{added}");
+    assert!((classical("pressing_force") - weight).abs() <= 1e-9 * weight, "{quake}");
+    assert_eq!(
+        (&quake["requirements"]["category"], &quake["requirements"]["sliding"]),
+        (&"extreme".into(), &1.3.into())
+    );
+    assert_eq!(usual["requirements"]["category"], "usual");
+    assert!(usual["verdict"]["classical"].is_boolean() && usual["checks"].as_array().unwrap().len() == 11, "{usual}");
+    let sub = std::fs::read_to_string(tmp.join("out/earthquake/report.md")).unwrap();
+    assert!(
+        sub.contains("## Code check (extreme combination)") && sub.contains("| inertia (pseudo-static) |"),
+        "{sub}"
+    );
 }
 
 // A combination under which the dam does not hold is a row of the report, and the others go
@@ -688,6 +734,14 @@ fn safety_reports_the_dam_on_its_rock_with_a_frictional_joint() {
     let (_, uplift) = linear_moments(&[(0.0, h_u), (5.0, at_drains), (40.0, 0.0)]);
     assert_eq!(number(&report["crack_length"]), 0.0, "{report}");
     assert!((u - uplift).abs() <= 1e-9 * uplift, "U = {u} against {uplift}");
+    // the classical method takes the dam alone above the joint (the rock below it, joined at
+    // the joint's nodes, is not its section): its weight W, the thrust and the same uplift
+    let c = &report["classical"];
+    let load = |kind: &str| c["loads"].as_array().unwrap().iter().find(|l| l["kind"] == kind).unwrap().clone();
+    assert!((number(&load("weight")["normal"]) - weight).abs() <= 1e-9 * weight, "{c}");
+    assert!((number(&load("reservoir")["shear"]) - thrust).abs() <= 1e-9 * thrust, "{c}");
+    assert!((number(&c["uplift_force"]) - uplift).abs() <= 1e-9 * uplift, "{c}");
+    assert_eq!(c["loads"].as_array().unwrap().len(), 3, "{c}");
     let exact = 0.8391 * (weight - uplift) / thrust;
     let sr = &report["strength_reduction"];
     let (held, failed) = (number(&sr["held"]), number(&sr["failed"]));

@@ -1,0 +1,11 @@
+//! The dam engineer's checks beside the finite elements.
+//!
+//! [`classical`] is the guideline's gravity method (a rigid section on a plane base, a linear
+//! base pressure, the uplift diagram and its crack iteration) computed from the loads of the
+//! same problem that the finite elements solve, so that the two answers differ by the method
+//! alone. [`criteria`] holds the requirements of each category of load combination, which
+//! both answers are checked against.
+
+pub mod check;
+pub mod classical;
+pub mod criteria;
