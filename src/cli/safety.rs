@@ -744,9 +744,15 @@ fn base_figure(rows: &[JointRow], report: &Report, drains: Option<f64>) -> Figur
     if report.sliding_safety_factor.is_some() {
         all.push(series("tangential stress σᵗ", |r| r.tangential, false));
     }
+    if let Some(c) = &report.classical {
+        all.push(beam_theory(c));
+    }
     let mut marks: Vec<Mark> = drains.map(|s| Mark::vertical(format!("drains, s = {s:.2} m"), s)).into_iter().collect();
     if report.crack_length > 0.0 {
         marks.push(Mark::vertical(format!("crack tip, s = {:.2} m", report.crack_length), report.crack_length));
+    }
+    if let Some(allowable) = report.requirements.allowable_compression {
+        marks.push(Mark::horizontal(format!("allowable compression {:.1} MPa", allowable / 1e6), -allowable / 1e6));
     }
     Figure {
         title: "stresses along the joint (tension positive)".into(),
@@ -756,6 +762,16 @@ fn base_figure(rows: &[JointRow], report: &Report, drains: Option<f64>) -> Figur
         marks,
         lower: None,
     }
+}
+
+/// σ'ⁿ of the classical method along the joint: 0 over its crack T, then linear from the
+/// crack tip (the heel without a crack) to the toe, from its heel to its toe stress [MPa].
+fn beam_theory(c: &Classical) -> Series {
+    let mut points = vec![(0.0, 0.0), (c.crack, c.heel_stress / 1e6), (c.length, c.toe_stress / 1e6)];
+    if c.crack == 0.0 {
+        points.remove(0);
+    }
+    Series { label: "σ'ⁿ by beam theory (classical method)".into(), points, dashed: true }
 }
 
 /// `report.md`: the results table, the convergence of the adaptive run, the figure.
