@@ -1,5 +1,6 @@
 # damfem: commands for a fresh Debian machine.
-#   make demo   installs what is missing, builds in release mode and runs the adaptive loop on Scene A into out/
+#   make demo   installs what is missing, builds in release mode and runs `damfem safety` on the dam of
+#               geo/dam_combinations.toml (three load combinations) into out/dam
 #   make test   installs what is missing and runs the whole test suite
 #   make bench-peers  also installs Debian's python3-getfem and times damfem against GetFEM on
 #               Scene A at about 1e4 and 1e5 unknowns (LARGE=1: also 5e5), damfem from the same
@@ -14,12 +15,13 @@ SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 .PHONY: demo test bench-peers getfem rust deps apt-deps python-deps build
 
 demo: rust deps build
-	./target/release/damfem adapt geo/scene_a.toml -o out/scene_a
-	$(PYTHON) scripts/render.py out/scene_a/scene_a.pvd out/scene_a/scene_a.png
-	$(PYTHON) scripts/render.py out/scene_a/scene_a.pvd out/scene_a/scene_a_mesh.png --field eta_tot --log --edges --warp 0 --box 24 40 0 8
-	@echo "results in out/scene_a: scene_a.pvd and scene_a_boundary.pvd (every step, for ParaView),"
-	@echo "  history.csv and history.json, figures scene_a_eta.png and scene_a_time.png,"
-	@echo "  pictures scene_a.png (von Mises) and scene_a_mesh.png (final mesh and eta_tot near the toe)"
+	./target/release/damfem safety geo/dam_combinations.toml -o out/dam; code=$$?; [ $$code -eq 0 ] || [ $$code -eq 3 ]
+	$(PYTHON) scripts/render.py out/dam/usual/dam_combinations.pvd out/dam/usual/dam.png
+	$(PYTHON) scripts/render.py out/dam/usual/dam_combinations.pvd out/dam/usual/heel.png --field sigma_yy --edges --box -5 20 -8 8
+	@echo "results in out/dam: report.md and safety.json for the three load combinations, one directory"
+	@echo "  per combination with its report.md, base_stresses.png, joint.csv and the .pvd of its adaptive"
+	@echo "  run (for ParaView); pictures out/dam/usual/dam.png (von Mises) and heel.png (sigma_yy near the heel)"
+	@echo "  (exit 3 of damfem safety: a combination does not hold, which report.md states)"
 
 test: rust deps build
 	cargo test --release
