@@ -228,7 +228,7 @@ pub fn contact_level<'a>(
         StartDelta::FirstIterate { load_scale, path: Some(path) } => {
             contact.stage_loads(path.weight);
             let deltas = (PATH_DELTA * load_scale, delta);
-            let followed = follow(&mut contact, deltas, x0, newton, path.trace)?;
+            let followed = follow(&mut contact, deltas, x0, newton, path.trace, &[])?;
             stages.extend(followed.stages);
             (followed.x, PATH_DELTA * load_scale, None)
         }

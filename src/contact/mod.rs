@@ -1054,15 +1054,27 @@ pub fn solve_from(
 /// [`solve_from`] on `contact`, the system of `joint` already assembled (its stiffness perhaps
 /// already factorised).
 pub fn solve_system_from(
-    mut contact: ContactProblem,
+    contact: ContactProblem,
     joint: &ContactJoint,
     settings: &Continuation,
     x0: Vec<f64>,
 ) -> Result<ContactSolution, ContactError> {
+    solve_system_along(contact, joint, settings, x0, &[])
+}
+
+/// [`solve_system_from`] whose load path from rest tries the load factors of `schedule` first
+/// ([`path::follow`]).
+pub fn solve_system_along(
+    mut contact: ContactProblem,
+    joint: &ContactJoint,
+    settings: &Continuation,
+    x0: Vec<f64>,
+    schedule: &[f64],
+) -> Result<ContactSolution, ContactError> {
     if let Some(path) = settings.path.filter(|_| x0.iter().all(|&v| v == 0.0)) {
         contact.stage_loads(path.weight);
         let deltas = (settings.delta, settings.delta_start);
-        let followed = path::follow(&mut contact, deltas, x0, &settings.newton, path.trace)?;
+        let followed = path::follow(&mut contact, deltas, x0, &settings.newton, path.trace, schedule)?;
         let solution = contact.solution(followed.x, followed.stages, followed.cracks);
         return Ok(ContactSolution { path: followed.path, ..solution });
     }
@@ -1116,7 +1128,7 @@ pub fn nested_start(
             (Some(path), None) => {
                 contact.stage_loads(path.weight);
                 let deltas = (settings.delta, delta_start);
-                let followed = path::follow(&mut contact, deltas, x0, &settings.newton, path.trace)?;
+                let followed = path::follow(&mut contact, deltas, x0, &settings.newton, path.trace, &[])?;
                 cracks = followed.cracks;
                 (followed.x, followed.stages)
             }

@@ -128,14 +128,17 @@ pub struct Followed {
 }
 
 /// The load path on `contact` from `x0` (usually rest) along the δ path from `delta_start` to
-/// `delta` at λ = 0, then at δ, each converged state shown to `trace`. Ends at λ = 1 with the state there, or with [`ContactError::NoEquilibrium`] or
-/// [`ContactError::PathStalled`] at λ*.
+/// `delta` at λ = 0, then at δ, each converged state shown to `trace`. The load factors of
+/// `schedule` (ascending; those a coarser mesh reached) are tried first, in order, and the
+/// step rule takes over after them or at the first that fails. Ends at λ = 1 with the state
+/// there, or with [`ContactError::NoEquilibrium`] or [`ContactError::PathStalled`] at λ*.
 pub fn follow(
     contact: &mut ContactProblem,
     (delta, delta_start): (f64, f64),
     x0: Vec<f64>,
     options: &NewtonOptions,
     trace: Option<fn(&PathPoint)>,
+    schedule: &[f64],
 ) -> Result<Followed, ContactError> {
     let joint_length = contact.nitsche.faces.iter().map(|f| f.length).sum();
     contact.set_load_factor(0.0);
@@ -149,8 +152,13 @@ pub fn follow(
     let at_end = NewtonOptions { max_iter, ..*options };
     let (mut lambda, mut step, mut cracks) = (0.0, FIRST_STEP, Vec::new());
     let mut previous: Option<(Vec<f64>, f64)> = None;
+    let mut schedule = schedule;
     while lambda < 1.0 {
-        let trial = (lambda + step).min(1.0);
+        while schedule.first().is_some_and(|&l| l <= lambda) {
+            schedule = &schedule[1..];
+        }
+        let planned = schedule.first().copied().filter(|&l| l < 1.0);
+        let trial = planned.unwrap_or((lambda + step).min(1.0));
         let kept: Vec<f64> = contact.nitsche.uplift.iter().map(|up| up.diagram.crack).collect();
         contact.set_load_factor(trial);
         contact.set_slip_origin(Some(&x));
@@ -168,7 +176,9 @@ pub fn follow(
                 (lambda, cracks) = (trial, found);
                 stages.extend(more);
                 reached(&mut path, point(contact, &x, lambda, steps), trace);
-                if first <= EASY_STEPS {
+                if planned.is_some() {
+                    step = trial - previous.as_ref().map_or(0.0, |p| p.1);
+                } else if first <= EASY_STEPS {
                     step = (2.0 * step).min(FIRST_STEP);
                 }
             }
@@ -179,8 +189,10 @@ pub fn follow(
                     }
                 };
                 restore(contact);
-                // half the step that failed (that to λ = 1 may have been shorter than Δλ)
+                // half the step that failed (that to λ = 1 may have been shorter than Δλ); the
+                // schedule no longer holds
                 step = 0.5 * (trial - lambda);
+                schedule = &[];
                 if slides(&path) {
                     // its strength used up, the joint cannot take more load: λ* is here
                     return Err(limit(path, failure, joint_length));

@@ -4,7 +4,8 @@
 
 use super::Scene;
 use crate::contact::projection::Smoothing;
-use crate::contact::{nested_start, solve_by_continuation, solve_system_from, CoarseLevel, ContactError, ContactJoint};
+use crate::contact::{nested_start, solve_by_continuation, solve_system_along, solve_system_from, CoarseLevel};
+use crate::contact::{ContactError, ContactJoint};
 use crate::contact::{ContactProblem, ContactSolution, Continuation, NestedStart};
 use crate::elasticity::{Discretisation, Problem};
 use crate::io::gmsh::{mesh_geo, MeshOptions};
@@ -96,7 +97,12 @@ impl Scene {
             }
             return solve_by_continuation(problem, disc, joint, settings);
         }
-        solve_system_from(contact, joint, settings, vec![0.0; disc.dofs.n_free])
+        // a coarse level's path that ended at λ* gives this mesh the load factors it reached
+        let schedule: Vec<f64> = match &nested {
+            Err(ContactError::NoEquilibrium(limit)) => limit.path.iter().map(|p| p.load_factor).collect(),
+            _ => Vec::new(),
+        };
+        solve_system_along(contact, joint, settings, vec![0.0; disc.dofs.n_free], &schedule)
     }
 
     /// The degree-1 problem on the vertices of the degree-2 mesh of `problem` read from a
