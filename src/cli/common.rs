@@ -87,9 +87,14 @@ impl Input {
         }
     }
 
-    /// With `-v`, what the load path calls at every converged state: one line on stderr.
+    /// What the load path calls at every converged state, unless `-q`: one line on stderr,
+    /// with the joint's forces under `-v`.
     pub fn path_trace(&self) -> Option<fn(&PathPoint)> {
-        self.verbose.then_some(path_point_line as fn(&PathPoint))
+        match (self.quiet, self.verbose) {
+            (true, _) => None,
+            (false, true) => Some(path_point_line),
+            (false, false) => Some(path_progress_line),
+        }
     }
 
     /// With `-v`, what Newton calls at every iterate: one line on stderr.
@@ -259,16 +264,27 @@ pub fn remove_earlier_outputs(dir: &Path, name: &str, keep: &[PathBuf]) -> Resul
     Ok(removed)
 }
 
-/// A Newton iterate's progress line: its number k and ‖F(x_k)‖ / scale.
+/// A converged state of the load path: λ, the joint's forces, contact length, crack and FS_LE
+/// (above 10³ where the joint carries almost no shear), and its Newton steps.
 fn path_point_line(p: &PathPoint) {
     let crack = p.crack.map_or(String::new(), |c| format!(", crack {c:.3} m"));
-    let fs = p.sliding_safety_factor.map_or(String::new(), |f| format!(", FS_LE {f:.3}"));
+    let fs = p.sliding_safety_factor.map_or(String::new(), |f| match f > 1e3 {
+        true => ", FS_LE > 1000".to_string(),
+        false => format!(", FS_LE {f:.3}"),
+    });
     eprintln!(
         "load       lambda {:.4}: N = {:.4e} N/m, T = {:.4e} N/m, contact {:.3} m{crack}{fs}, {} Newton steps",
         p.load_factor, p.normal_force, p.tangential_force, p.contact_length, p.newton_steps
     );
 }
 
+/// A converged state of the load path in short: λ, the crack and the Newton steps.
+fn path_progress_line(p: &PathPoint) {
+    let crack = p.crack.map_or(String::new(), |c| format!(", crack {c:.3} m"));
+    eprintln!("load       lambda {:.4}{crack}, {} Newton steps", p.load_factor, p.newton_steps);
+}
+
+/// A Newton iterate's progress line: its number k and ‖F(x_k)‖ / scale.
 fn newton_step_line(step: usize, relative_residual: f64) {
     eprintln!("newton     step {step:>3}, relative residual {relative_residual:.3e}");
 }
