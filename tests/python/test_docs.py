@@ -1,0 +1,90 @@
+"""The documents: every repository path they cite exists, and the README's worked example runs
+as written (its `damfem check` and its quick `damfem safety` of the worked dam)."""
+
+import json
+import re
+import shlex
+import subprocess
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[2]
+DOCUMENTS = [REPO / "README.md", *sorted((REPO / "docs").glob("*.md"))]
+
+# a path inside the repository: a top-level directory of it, then names of files and folders
+CITED = re.compile(r"(?<![\w./-])((?:src|tests|geo|scripts|docs|examples)/[\w./-]*[\w/])")
+# the target of a Markdown link or image to a file, relative to the document
+LINK = re.compile(r"\]\(([\w./-]+\.(?:md|png|svg|rs|py|toml|geo|msh|txt|csv))(?:#[\w-]*)?\)")
+
+
+def cited_paths(document):
+    """(path, line number) of every repository path the document cites, and of every local
+    link target, resolved against the repository or the document's folder."""
+    cited = []
+    for number, line in enumerate(document.read_text().splitlines(), 1):
+        for match in CITED.finditer(line):
+            path = match.group(1).rstrip(".")
+            if line.startswith(".*", match.end()):
+                # `geo/dam_on_rock.*`: the files of that stem
+                found = next(iter((REPO / path).parent.glob((REPO / path).name + ".*")), REPO / path)
+                cited.append((found, path + ".*", number))
+            else:
+                cited.append((REPO / path, path, number))
+        for target in LINK.findall(line):
+            cited.append((document.parent / target, target, number))
+    return cited
+
+
+def test_the_scanner_finds_the_citations():
+    # the README cites the worked scene and links the reference
+    found = {shown for _, shown, _ in cited_paths(REPO / "README.md")}
+    assert "geo/dam_combinations.toml" in found
+    assert "docs/reference.md" in found
+    assert any(shown.startswith("src/") for document in DOCUMENTS for _, shown, _ in cited_paths(document))
+
+
+@pytest.mark.parametrize("document", DOCUMENTS, ids=lambda d: str(d.relative_to(REPO)))
+def test_every_path_a_document_cites_exists(document):
+    missing = [f"{document.name}:{number}: {shown}" for path, shown, number in cited_paths(document)
+               if not path.exists()]
+    assert not missing, "paths cited that do not exist:\n" + "\n".join(missing)
+
+
+def readme_commands():
+    """The `damfem check` and `damfem safety` commands of the README's worked example, as written."""
+    text = (REPO / "README.md").read_text()
+    return [c for c in re.findall(r"`(damfem (?:check|safety) geo/dam_combinations\.toml[^`]*)`", text)]
+
+
+def test_the_readme_worked_example_runs_as_written(damfem, tmp_path):
+    commands = readme_commands()
+    check = [c for c in commands if c.startswith("damfem check")]
+    quick = [c for c in commands if c.startswith("damfem safety") and "--max-steps 1" in c]
+    assert check and quick, f"the README's worked example has no check or quick safety command: {commands}"
+    for command in check + quick:
+        args = shlex.split(command)
+        # run from the repository as written, with the output directory under tmp_path
+        if "-o" in args:
+            args[args.index("-o") + 1] = str(tmp_path / args[args.index("-o") + 1])
+        done = subprocess.run([str(damfem), *args[1:]], cwd=REPO, capture_output=True, text=True, timeout=120)
+        assert done.returncode == 0, f"{command}: exit {done.returncode}\n{done.stderr}"
+        if args[1] == "check":
+            assert "geo/dam_combinations.toml: ok" in done.stdout
+            # the lines the README quotes from the check
+            readme = (REPO / "README.md").read_text()
+            for line in done.stdout.splitlines():
+                if line.startswith("joint    base") or line.startswith("uplift   combination flood"):
+                    assert line in readme, f"the README quotes another line than `{line}`"
+        else:
+            out = Path(args[args.index("-o") + 1])
+            report = (out / "report.md").read_text()
+            safety = json.loads((out / "safety.json").read_text())
+            assert safety["verdict"], "no verdict"
+            assert "Code check" in report and "classical" in report
+            for name in ["base_stresses.png", "joint.csv", "dam_combinations.pvd"]:
+                assert (out / name).is_file(), name
+            # the README quotes this run's numbers: FS_LE and the crack of the usual combination
+            readme = (REPO / "README.md").read_text()
+            for value in [safety["sliding_safety_factor"], safety["crack_length"]]:
+                assert f"{value:.4f}" in readme, f"the README does not quote {value:.4f} of {command}"
