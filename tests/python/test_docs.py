@@ -16,6 +16,18 @@ DOCUMENTS = [REPO / "README.md", *sorted((REPO / "docs").glob("*.md"))]
 CITED = re.compile(r"(?<![\w./-])((?:src|tests|geo|scripts|docs|examples)/[\w./-]*[\w/])")
 # the target of a Markdown link or image to a file, relative to the document
 LINK = re.compile(r"\]\(([\w./-]+\.(?:md|png|svg|rs|py|toml|geo|msh|txt|csv))(?:#[\w-]*)?\)")
+# a link to a heading of a Markdown document: its target and the anchor
+ANCHOR = re.compile(r"\]\(([\w./-]*)#([^)\s]+)\)")
+
+
+def anchors(document):
+    """The anchors of a Markdown document's headings, as GitHub makes them."""
+    found = set()
+    for line in document.read_text().splitlines():
+        if re.match(r"#{1,6} ", line):
+            title = line.lstrip("#").strip().lower()
+            found.add(re.sub(r"[^\w\- ]", "", title).replace(" ", "-"))
+    return found
 
 
 def cited_paths(document):
@@ -49,6 +61,17 @@ def test_every_path_a_document_cites_exists(document):
     missing = [f"{document.name}:{number}: {shown}" for path, shown, number in cited_paths(document)
                if not path.exists()]
     assert not missing, "paths cited that do not exist:\n" + "\n".join(missing)
+
+
+@pytest.mark.parametrize("document", DOCUMENTS, ids=lambda d: str(d.relative_to(REPO)))
+def test_every_heading_a_document_links_exists(document):
+    missing = []
+    for number, line in enumerate(document.read_text().splitlines(), 1):
+        for target, anchor in ANCHOR.findall(line):
+            linked = document.parent / target if target else document
+            if linked.suffix == ".md" and linked.exists() and anchor not in anchors(linked):
+                missing.append(f"{document.name}:{number}: {target}#{anchor}")
+    assert not missing, "links to headings that do not exist:\n" + "\n".join(missing)
 
 
 def readme_commands():
