@@ -111,3 +111,19 @@ def test_the_readme_worked_example_runs_as_written(damfem, tmp_path):
             readme = (REPO / "README.md").read_text()
             for value in [safety["sliding_safety_factor"], safety["crack_length"]]:
                 assert f"{value:.4f}" in readme, f"the README does not quote {value:.4f} of {command}"
+
+
+@pytest.mark.parametrize("document", DOCUMENTS, ids=lambda d: str(d.relative_to(REPO)))
+def test_every_test_a_document_names_exists(document):
+    # `cargo test --release --test <crate> <filter>`: the filter is part of the path of a test
+    # of that crate (a module, tests/<crate>/<module>.rs, or a function)
+    missing = []
+    text = re.sub(r"`\s*\n\s*", "` ", document.read_text().replace("\n", " "))
+    for crate, name in re.findall(r"--test (\w+) (\w+)", text):
+        folder = REPO / "tests" / crate
+        sources = list(folder.rglob("*.rs")) if folder.is_dir() else []
+        modules = {p.stem for p in sources}
+        functions = {f for p in sources for f in re.findall(r"fn (\w+)", p.read_text())}
+        if not sources or not any(name in m for m in modules | functions):
+            missing.append(f"--test {crate} {name}")
+    assert not missing, "tests named that do not exist:\n" + "\n".join(missing)
