@@ -1,7 +1,7 @@
 //! Scene files: the geometry, mesh options, materials, boundary roles and loads of a run.
 //!
 //! A scene is a TOML file beside its `.geo` file. Materials are keyed by physical-surface
-//! name, boundary conditions by physical-curve name. Every key is documented in the README.
+//! name, boundary conditions by physical-curve name. Every key is documented in docs/reference.md.
 //! Without a scene file, [`Scene::for_geometry`] gives roles by curve name (`Gamma_D`,
 //! `Gamma_N`, `Gamma_C`, or `dirichlet`, `neumann`, `contact`, any case) and the default
 //! material [`Scene::DEFAULT_MATERIAL`] to every region.

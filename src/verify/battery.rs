@@ -900,7 +900,7 @@ mod tests {
         assert!((m + thrust * 20.0 / 3.0).abs() < 1e-9 * thrust * 20.0, "{m}");
     }
 
-    // Scene A under its usual load (geo/scene_a_uplift.toml, README "Dam safety"): H = 50 m,
+    // Scene A under its usual load (geo/scene_a_uplift.toml, docs/results.md "Dam safety"): H = 50 m,
     // B = 40 m, C = 5 m, reservoir at 45 m, drains 5 m from the heel, 2/3 effective. The
     // weight is W = 2.6487·10⁷ N/m, the thrust γ_w 45²/2 = 9.9326·10⁶ N/m, the uplift without
     // crack 3.6785·10⁶ N/m; with the crack past the drains, the triangle-and-strip

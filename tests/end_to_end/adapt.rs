@@ -437,7 +437,7 @@ fn rates(scene: &Scene, adaptive: usize, uniform: usize) -> (f64, f64) {
     (rate(scene, Refinement::Adaptive, adaptive), rate(scene, Refinement::Uniform, uniform))
 }
 
-/// Source: README "Adaptive refinement", docs/method.md §5.3–§5.5.
+/// Source: docs/reference.md "Adaptive refinement", docs/method.md §5.3–§5.5.
 /// Goal: P1, adaptive refinement (equidistribution, η halved per step) reaches η ~ N^{−1/2};
 /// uniform refinement stays limited by the Γ_D/Γ_C junction (about N^{−1/4}).
 /// Parameters: Scene A, P1, 6 adaptive and 4 uniform steps from the scene's mesh; slopes
