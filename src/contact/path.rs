@@ -159,6 +159,7 @@ pub fn follow(
         }
         let planned = schedule.first().copied().filter(|&l| l < 1.0);
         let trial = planned.unwrap_or((lambda + step).min(1.0));
+        let increment = trial - lambda;
         let kept: Vec<f64> = contact.nitsche.uplift.iter().map(|up| up.diagram.crack).collect();
         contact.set_load_factor(trial);
         contact.set_slip_origin(Some(&x));
@@ -177,7 +178,7 @@ pub fn follow(
                 stages.extend(more);
                 reached(&mut path, point(contact, &x, lambda, steps), trace);
                 if planned.is_some() {
-                    step = trial - previous.as_ref().map_or(0.0, |p| p.1);
+                    step = increment;
                 } else if first <= EASY_STEPS {
                     step = (2.0 * step).min(FIRST_STEP);
                 }
@@ -191,7 +192,7 @@ pub fn follow(
                 restore(contact);
                 // half the step that failed (that to λ = 1 may have been shorter than Δλ); the
                 // schedule no longer holds
-                step = 0.5 * (trial - lambda);
+                step = 0.5 * increment;
                 schedule = &[];
                 if slides(&path) {
                     // its strength used up, the joint cannot take more load: λ* is here

@@ -4,8 +4,9 @@
 //! k is followed from the solution at k = 1: it goes at once to 1 − 2 tol times the k at which
 //! the state at k = 1 slides by limit equilibrium (k = FS_LE), then grows by steps from
 //! 2 tol k that double while the joint holds (by a quarter where a retry or no FS_LE rules
-//! the jump out), then the bracket [held, failed] is bisected, every solve from the last state that held at the δ
-//! of the start (after a load path, the friction law on the slip from that state). Near the
+//! the jump out), then the bracket [held, failed] is bisected, every solve from the last
+//! state that held at the δ of the start (after a load path, the friction law on the slip
+//! from that state). Near the
 //! limit Newton also fails where the joint holds (the tangential stiffness of a slipping joint
 //! vanishes), so a failed solve at k counts as a loss of
 //! equilibrium only where the last state that held, judged by limit equilibrium with the

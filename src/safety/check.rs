@@ -99,16 +99,13 @@ pub fn checks(fe: &FiniteElements, classical: Option<&Classical>, req: &Requirem
             Some(format!("≥ {:.3}", req.sliding)),
             at_least(req.sliding),
         ),
-        match req.overturning {
-            Some(r) => line(
-                "overturning FS_OT",
-                "",
-                [None, c(|c| c.overturning_factor)],
-                Some(format!("≥ {r:.3}")),
-                at_least(r),
-            ),
-            None => line("overturning FS_OT", "", [None, c(|c| c.overturning_factor)], None, none),
-        },
+        line(
+            "overturning FS_OT",
+            "",
+            [None, c(|c| c.overturning_factor)],
+            req.overturning.map(|r| format!("≥ {r:.3}")),
+            move |v| req.overturning.map(|r| v >= r),
+        ),
         line(
             "flotation FS_F",
             "",
