@@ -9,7 +9,7 @@
 use crate::adapt::geo::GeoMesher;
 use crate::adapt::{AdaptError, AdaptSettings, Model, Refinement};
 use crate::contact::nitsche::{Gap, NitscheParameters};
-use crate::contact::uplift::{Drains, Uplift};
+use crate::contact::uplift::{CrackRule, Drains, Uplift};
 use crate::contact::LoadPath;
 use crate::contact::{ContactJoint, Continuation, CurveUplift, JointLaw, JointLine};
 use crate::elasticity::material::MAX_DENSITY;
@@ -137,9 +137,9 @@ pub struct UpliftSection {
     #[serde(default = "water_density")]
     pub density: f64,
     pub drains: Option<DrainsSection>,
-    /// `full` (the default): the reservoir pressure fills the crack open at the heel; `ignore`.
-    #[serde(default)]
-    pub crack: CrackKind,
+    /// What the water does in the crack open at the heel; default `full`, and `unchanged` in a
+    /// combination with an acceleration ([`UpliftSection::crack_rule`]).
+    pub crack: Option<CrackKind>,
     /// A point at the heel (the upstream end of the joint); none: the end nearest a curve with
     /// a hydrostatic load.
     pub heel: Option<[f64; 2]>,
@@ -153,13 +153,43 @@ pub struct DrainsSection {
     pub efficiency: f64,
 }
 
-/// Whether the open crack at the heel carries the reservoir pressure.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
+/// What the water does in the crack open at the heel (docs/method.md §1.8): the static rule
+/// `full`, the seismic rules `unchanged` and `none` (which read as `full` without an
+/// acceleration: no earthquake, no crack of its own), and `ignore`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum CrackKind {
-    #[default]
+    /// The reservoir pressure fills the crack.
     Full,
+    /// The diagram of the state before the earthquake, whatever opens.
+    Unchanged,
+    /// No pressure in the crack; beyond it, the diagram before the earthquake.
+    #[serde(rename = "none")]
+    Dry,
+    /// The diagram without crack, whatever opens.
     Ignore,
+}
+
+impl UpliftSection {
+    /// The crack's rule under the acceleration `a` \[g\]: the key's, or its default.
+    pub fn crack_kind(&self, a: [f64; 2]) -> CrackKind {
+        let seismic = a != [0.0; 2];
+        match self.crack.unwrap_or(if seismic { CrackKind::Unchanged } else { CrackKind::Full }) {
+            CrackKind::Unchanged | CrackKind::Dry if !seismic => CrackKind::Full,
+            kind => kind,
+        }
+    }
+
+    /// The crack's rule under the acceleration `a`, with s₀ = `prior` the crack of the state
+    /// before the earthquake.
+    pub fn crack_rule(&self, a: [f64; 2], prior: f64) -> CrackRule {
+        match self.crack_kind(a) {
+            CrackKind::Full => CrackRule::Filled,
+            CrackKind::Unchanged => CrackRule::Kept { prior },
+            CrackKind::Dry => CrackRule::Drained { prior },
+            CrackKind::Ignore => CrackRule::Kept { prior: 0.0 },
+        }
+    }
 }
 
 /// `[loads]`.
@@ -395,6 +425,10 @@ pub struct Scene {
     /// The load combination this scene was made for ([`Scene::combination`]); None: the scene's own loads.
     #[serde(skip)]
     pub combination_name: Option<String>,
+    /// The crack s₀ \[m\] of each uplift diagram in the state before the earthquake, which the
+    /// seismic rules keep ([`Scene::pre_earthquake`]); 0 until it is solved.
+    #[serde(skip)]
+    pub prior_cracks: Vec<f64>,
 }
 
 impl Scene {
@@ -472,6 +506,25 @@ impl Scene {
         }
     }
 
+    /// The state before the earthquake, where a seismic crack rule (`unchanged`, `none`) keeps
+    /// its crack: this scene without its acceleration (so without Westergaard's pressure),
+    /// the same water, its cracks filled; None where no rule needs it.
+    pub fn pre_earthquake(&self) -> Option<Scene> {
+        let a = self.loads.acceleration;
+        let mut sections = self.uplift.iter().chain(self.joints.values().filter_map(|j| j.uplift.as_ref()));
+        if !sections.any(|up| matches!(up.crack_kind(a), CrackKind::Unchanged | CrackKind::Dry)) {
+            return None;
+        }
+        let loads = LoadSection { acceleration: [0.0; 2], westergaard: None, ..self.loads.clone() };
+        Some(Scene { loads, prior_cracks: Vec::new(), ..self.clone() })
+    }
+
+    /// This scene with the cracks s₀ \[m\] of its state before the earthquake, one per
+    /// uplift diagram in order.
+    pub fn with_prior_cracks(self, prior_cracks: Vec<f64>) -> Scene {
+        Scene { prior_cracks, ..self }
+    }
+
     /// The `joints` of a combination's `overlay` name joints of the scene and change their
     /// `uplift` tables only.
     fn check_combined_joints(&self, overlay: &toml::Table) -> Result<(), String> {
@@ -513,6 +566,7 @@ impl Scene {
             source: path.into(),
             table: toml::Table::new(),
             combination_name: None,
+            prior_cracks: Vec::new(),
         }
     }
 
@@ -1013,29 +1067,30 @@ impl Scene {
     ) -> Result<Vec<CurveUplift>, SceneError> {
         if let Some(up) = &self.uplift {
             let curves = if self.joints.is_empty() { "the contact curves are" } else { "the joint curves are" };
-            let diagram = self.uplift_diagram(problem, facets, up, "uplift", curves)?;
+            let diagram = self.uplift_diagram(problem, facets, up, ("uplift", 0), curves)?;
             return Ok(vec![CurveUplift { curves: (0..joint.tags.len()).collect(), diagram }]);
         }
         // the curves of a two-body joint are those of [joints], in order
         (self.joints.iter().zip(&joint.tags).enumerate())
             .filter_map(|(curve, ((name, j), &tag))| j.uplift.as_ref().map(|up| (curve, name, tag, up)))
-            .map(|(curve, name, tag, up)| {
+            .enumerate()
+            .map(|(d, (curve, name, tag, up))| {
                 let facets = contact_facets(&problem.mesh, topology, &[tag]);
                 let (table, curves) = (format!("joints.{name}.uplift"), format!("curve '{name}' is"));
-                let diagram = self.uplift_diagram(problem, &facets, up, &table, &curves)?;
+                let diagram = self.uplift_diagram(problem, &facets, up, (&table, d), &curves)?;
                 Ok(CurveUplift { curves: vec![curve], diagram })
             })
             .collect()
     }
 
-    /// The uplift diagram of the table `table` (`up`) on the straight joint of `facets`, whose
-    /// curves are named in the errors by `curves` ("curve 'lift' is").
+    /// The uplift diagram `d` of the table `table` (`up`) on the straight joint of `facets`,
+    /// whose curves are named in the errors by `curves` ("curve 'lift' is").
     fn uplift_diagram(
         &self,
         problem: &Problem,
         facets: &[(usize, [f64; 2])],
         up: &UpliftSection,
-        table: &str,
+        (table, d): (&str, usize),
         curves: &str,
     ) -> Result<Uplift, SceneError> {
         let line = self.straight_joint(problem, facets, up.heel).map_err(|why| {
@@ -1071,7 +1126,7 @@ impl Scene {
             upstream: head(up.headwater, heel[1]),
             downstream: up.tailwater.map_or(0.0, |t| head(t, toe[1])),
             drains,
-            crack_filled: up.crack == CrackKind::Full,
+            rule: up.crack_rule(self.loads.acceleration, self.prior_cracks.get(d).copied().unwrap_or(0.0)),
             crack: 0.0,
         })
     }

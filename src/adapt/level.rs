@@ -421,7 +421,7 @@ fn solve_level<'a>(
         // moved, the level goes on from the new solution, so that the last iterate is
         // estimated (a crack settled by its bracket stays: it would not settle again)
         let mut cracks = Vec::new();
-        if contact.nitsche.uplift.iter().any(|up| up.diagram.crack_filled) {
+        if contact.nitsche.uplift.iter().any(|up| up.diagram.rule.follows_crack()) {
             let found = match settled.clone().filter(|(at, _)| *at == delta) {
                 Some((_, found)) => found,
                 None => {

@@ -221,6 +221,7 @@ pub fn run_sequence(
 ) -> Result<Sequence> {
     let progress = input.progress();
     interrupt::record_in(&dir.join("history.json"));
+    let scene = &input.before_earthquake(scene.clone())?;
     let mut mesher = GeoMesher {
         verbose: input.verbose,
         allow_system_calls: input.allow_system_calls,

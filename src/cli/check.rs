@@ -4,7 +4,7 @@
 use super::common::Input;
 use crate::contact::{ContactJoint, Uplift};
 use crate::mesh::Mesh;
-use crate::scene::{Scene, UpliftSection};
+use crate::scene::{CrackKind, Scene, UpliftSection};
 use anyhow::{Context, Result};
 
 #[derive(clap::Args, Debug)]
@@ -100,14 +100,15 @@ fn water_lines(case: &str, scene: &Scene, mesh: &Mesh, joint: Option<&ContactJoi
             .map(|g| g.name.as_str())
             .collect();
         let table = scene.uplift.as_ref().or_else(|| scene.joints.values().nth(up.curves[0])?.uplift.as_ref());
-        lines.push(format!("uplift   {case:<20} {}: {}", curves.join(", "), uplift_line(table, &up.diagram)));
+        let line = uplift_line(table, &up.diagram, scene.loads.acceleration);
+        lines.push(format!("uplift   {case:<20} {}: {line}", curves.join(", ")));
     }
     lines
 }
 
-/// The heads of the uplift `table`, the drain line of its `diagram` and p_u at the heel, the
-/// drains and the toe, with the crack closed.
-fn uplift_line(table: Option<&UpliftSection>, diagram: &Uplift) -> String {
+/// The heads and crack rule (under the acceleration `a`) of the uplift `table`, the drain line
+/// of its `diagram` and p_u at the heel, the drains and the toe, with the crack closed.
+fn uplift_line(table: Option<&UpliftSection>, diagram: &Uplift, a: [f64; 2]) -> String {
     let line = &diagram.line;
     let at = |what: &str, s: f64| {
         let x = line.point(s);
@@ -115,7 +116,12 @@ fn uplift_line(table: Option<&UpliftSection>, diagram: &Uplift) -> String {
     };
     let heads = table.map_or(String::new(), |u| {
         let tailwater = u.tailwater.map_or("none".into(), |t| format!("{t:.3} m"));
-        let crack = format!("{:?}", u.crack).to_lowercase();
+        let crack = match u.crack_kind(a) {
+            CrackKind::Full => "full",
+            CrackKind::Unchanged => "unchanged (that of the state before the earthquake, solved first)",
+            CrackKind::Dry => "none (beyond the crack before the earthquake, solved first)",
+            CrackKind::Ignore => "ignore",
+        };
         format!("headwater {:.3} m, tailwater {tailwater}, crack {crack}; ", u.headwater)
     });
     let mut places = vec![at("heel", 0.0)];

@@ -119,6 +119,32 @@ impl Input {
         Ok(mesh)
     }
 
+    /// `scene` with the crack s₀ of its state before the earthquake where a seismic crack rule
+    /// keeps it ([`Scene::pre_earthquake`]): that state solved on the scene's own mesh.
+    pub fn before_earthquake(&self, scene: Scene) -> Result<Scene> {
+        let Some(before) = scene.pre_earthquake() else { return Ok(scene) };
+        let solve = || -> Result<Vec<f64>> {
+            let (problem, joint) = before.problem(self.mesh(&before)?)?;
+            let joint = joint.context("an uplift diagram without a joint")?;
+            let disc = problem.discretise();
+            let mut settings = before.continuation(&problem, &disc.topology);
+            settings.newton.trace = self.newton_trace();
+            if let Some(path) = settings.path.as_mut() {
+                path.trace = self.path_trace();
+            }
+            let solution = before.solve_contact(&problem, &disc, &joint, &settings, self.allow_system_calls)?;
+            Ok(solution.cracks.iter().map(|c| c.map_or(0.0, |c| c.length)).collect())
+        };
+        let describe = |cracks: &Vec<f64>| {
+            let lengths: Vec<String> = cracks.iter().map(|s| format!("{s:.3} m")).collect();
+            format!("before the earthquake: crack {}", lengths.join(", "))
+        };
+        let (cracks, _) = self.progress().stage("static", solve, describe).context(
+            "the state before the earthquake (the same water, no acceleration), whose crack the seismic crack rule keeps",
+        )?;
+        Ok(scene.with_prior_cracks(cracks))
+    }
+
     /// Progress reporter honouring `-q`.
     pub fn progress(&self) -> Progress {
         Progress { quiet: self.quiet }

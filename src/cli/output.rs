@@ -1,7 +1,7 @@
 //! ParaView files and summaries of one solution, shared by `solve` and `adapt`.
 
 use crate::contact::{
-    CoarseSolve, ContactSolution, Crack, FaceState, JointForces, JointLaw, JointLine, PathPoint, Resultant,
+    CoarseSolve, ContactSolution, Crack, CrackRule, FaceState, JointForces, JointLaw, JointLine, PathPoint, Resultant,
 };
 use crate::elasticity::kernels::{principal, von_mises};
 use crate::elasticity::{Discretisation, Problem};
@@ -264,6 +264,9 @@ pub struct ContactSummary {
     /// that it fills (each curve's in `curves`).
     pub uplift_force: Option<f64>,
     crack: Option<Crack>,
+    /// With one diagram, what the water does in its crack ("filled"; "kept" or "drained" with
+    /// the crack before the earthquake, `prior` \[m\]).
+    crack_rule: Option<CrackRule>,
     /// On a straight joint whose heel is known (docs/method.md §1.9): the joint from its heel,
     /// the length open at the heel \[m\], and the resultant of the joint traction.
     joint_line: Option<JointLine>,
@@ -287,6 +290,8 @@ struct CurveSummary {
     uplift_force: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     crack: Option<Crack>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    crack_rule: Option<CrackRule>,
 }
 
 impl CurveSummary {
@@ -306,6 +311,7 @@ impl CurveSummary {
                     forces: c.forces(|k| faces[k].curve == curve),
                     uplift_force: diagram.map(|_| c.uplift_force_of(|k| faces[k].curve == curve)),
                     crack: diagram.and_then(|d| c.cracks.get(d).copied().flatten()),
+                    crack_rule: diagram.map(|d| c.nitsche.uplift[d].diagram.rule),
                 })
             })
             .collect()
@@ -415,6 +421,7 @@ impl ContactSummary {
             sliding_safety_factor: c.sliding_safety_factor().filter(|_| c.on_one_line()),
             uplift_force: (!c.nitsche.uplift.is_empty()).then(|| c.uplift_force()),
             crack: if let [crack] = c.cracks[..] { crack } else { None },
+            crack_rule: if let [up] = &c.nitsche.uplift[..] { Some(up.diagram.rule) } else { None },
             joint_line: line,
             crack_length: line.map(|l| c.crack_from_heel(&l)),
             resultant: line.and_then(|l| c.resultant(&l)),

@@ -99,6 +99,7 @@ pub fn run(args: Args) -> Result<()> {
     if args.strength_reduction && !scene.has_friction() {
         anyhow::bail!("--strength-reduction needs a frictional joint: give --friction, --cohesion or --threshold");
     }
+    let scene = input.before_earthquake(scene)?;
     let dir = args.output.dir(&scene)?;
     let (mesh, t) = progress.stage(
         "mesh",

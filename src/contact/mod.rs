@@ -35,7 +35,7 @@ pub use resultant::{JointLine, Resultant};
 use std::sync::OnceLock;
 use std::time::Instant;
 pub use strength::{reduce_strength, strength_reduction, StrengthError, StrengthReduction, STRENGTH_TOLERANCE};
-pub use uplift::Uplift;
+pub use uplift::{CrackRule, Uplift};
 
 /// The joint law and the Nitsche parameters of one curve of Γ_C.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -1079,7 +1079,7 @@ pub fn solve_system_along(
         return Ok(ContactSolution { path: followed.path, ..solution });
     }
     let (x, mut stages) = continuation(&mut contact, settings.delta, settings.delta_start, x0, &settings.newton)?;
-    let (x, cracks) = match joint.uplift.iter().any(|up| up.diagram.crack_filled) {
+    let (x, cracks) = match joint.uplift.iter().any(|up| up.diagram.rule.follows_crack()) {
         true => {
             let (x, more, cracks) = settle_crack(&mut contact, x, &settings.newton)?;
             stages.extend(more);
@@ -1217,7 +1217,7 @@ pub fn settle_crack_to(
         let mut next = vec![None; searches.len()];
         for (d, search) in searches.iter_mut().enumerate() {
             let up = &contact.nitsche.uplift[d].diagram;
-            if !up.crack_filled {
+            if !up.rule.follows_crack() {
                 continue;
             }
             match search.record(up.crack, open[d], up.line.length) {

@@ -110,8 +110,8 @@ fn describe(v: &NoEquilibrium) -> String {
             100.0 * LIFT_OFF
         ),
         Limit::CrackRuns => format!(
-            "the crack at the heel reaches {:.3} m of {:.3} m at λ* and, filled with the reservoir's pressure, \
-             runs on beyond it",
+            "the crack at the heel reaches {:.3} m of {:.3} m at λ* and, with the uplift its rule gives it, runs on \
+             beyond it",
             at.crack.unwrap_or(0.0),
             v.joint_length
         ),
@@ -266,7 +266,7 @@ fn solve_at(
     let report = crate::solve::newton(contact, x, options)?;
     let mut stages = vec![Stage { delta: contact.smoothing.delta, report }];
     let x = stages[0].report.x.clone();
-    if !contact.nitsche.uplift.iter().any(|up| up.diagram.crack_filled) {
+    if !contact.nitsche.uplift.iter().any(|up| up.diagram.rule.follows_crack()) {
         return Ok((x, stages, Vec::new()));
     }
     let (x, more, cracks) = settle_crack_to(contact, x, options, tolerance)?;
@@ -278,7 +278,7 @@ fn solve_at(
 fn point(contact: &ContactProblem, x: &[f64], load_factor: f64, newton_steps: usize) -> PathPoint {
     let solution = contact.solution(x.to_vec(), Vec::new(), Vec::new());
     let forces = solution.forces(|_| true);
-    let filled = contact.nitsche.uplift.iter().find(|up| up.diagram.crack_filled);
+    let filled = contact.nitsche.uplift.iter().find(|up| up.diagram.rule.follows_crack());
     PathPoint {
         load_factor,
         crack: filled.map(|up| solution.crack_from_heel(&up.diagram.line)),

@@ -45,6 +45,27 @@ pub struct Drains {
     pub efficiency: f64,
 }
 
+/// What the water does in the crack s_c open at the heel (docs/method.md §1.8).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum CrackRule {
+    /// `full` (static): the reservoir pressure H_u fills the crack, whose length the solve finds.
+    Filled,
+    /// `unchanged` (seismic) and `ignore` (s₀ = 0): the diagram of the crack s₀ of the state
+    /// before the earthquake, whatever opens.
+    Kept { prior: f64 },
+    /// `none` (seismic): no pressure where the earthquake opens the joint beyond the crack s₀
+    /// before it, on [s₀, s_c] (s_c found by the solve); elsewhere the diagram of s₀.
+    Drained { prior: f64 },
+}
+
+impl CrackRule {
+    /// Whether the pressure follows the crack of the solution (a fixed point to settle).
+    pub fn follows_crack(&self) -> bool {
+        !matches!(self, CrackRule::Kept { .. })
+    }
+}
+
 /// The uplift diagram of a straight joint.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Uplift {
@@ -54,10 +75,16 @@ pub struct Uplift {
     pub upstream: f64,
     pub downstream: f64,
     pub drains: Option<Drains>,
-    /// Whether the reservoir pressure fills the open crack at the heel.
-    pub crack_filled: bool,
-    /// The crack s_c \[m\] open from the heel that the pressure fills (found by the solve).
+    pub rule: CrackRule,
+    /// The crack s_c \[m\] open from the heel (found by the solve where the rule follows it).
     pub crack: f64,
+}
+
+/// One linear piece of a diagram: p from `p[0]` at s = `s[0]` to `p[1]` at s = `s[1]`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Piece {
+    s: [f64; 2],
+    p: [f64; 2],
 }
 
 impl Uplift {
@@ -66,55 +93,77 @@ impl Uplift {
         self.line.distance(x)
     }
 
-    /// p_u at the distance s from the heel, with the crack open to `crack` (0: none).
+    /// p_u at the distance s from the heel, with the crack open to `crack` (0: none); at a
+    /// jump (the tip of a drained crack) the value on the heel's side.
     pub fn pressure(&self, s: f64, crack: f64) -> f64 {
-        let (h_u, h_d, l) = (self.upstream, self.downstream, self.line.length);
-        let crack = if self.crack_filled { crack.clamp(0.0, l) } else { 0.0 };
-        if s <= crack {
-            return h_u;
-        }
-        let line = |s0: f64, p0: f64, s1: f64, p1: f64| p0 + (p1 - p0) * ((s - s0) / (s1 - s0)).clamp(0.0, 1.0);
-        match self.drains.filter(|d| d.distance > crack) {
-            Some(d) => {
-                let at_drains = h_d + (1.0 - d.efficiency) * (h_u - h_d) * (l - d.distance) / (l - crack);
-                if s <= d.distance {
-                    line(crack, h_u, d.distance, at_drains)
-                } else {
-                    line(d.distance, at_drains, l, h_d)
+        Self::on(&self.pieces(crack), s)
+    }
+
+    /// The diagram as linear pieces from the heel to the toe, with the crack open to `crack`.
+    fn pieces(&self, crack: f64) -> Vec<Piece> {
+        let l = self.line.length;
+        let crack = crack.clamp(0.0, l);
+        match self.rule {
+            CrackRule::Filled => self.filled(crack),
+            CrackRule::Kept { prior } => self.filled(prior.clamp(0.0, l)),
+            CrackRule::Drained { prior } => {
+                let (prior, before) = (prior.clamp(0.0, l), self.filled(prior.clamp(0.0, l)));
+                if crack <= prior {
+                    return before;
                 }
+                let cut = |q: &Piece| {
+                    let s0 = q.s[0].max(crack);
+                    Piece { s: [s0, q.s[1]], p: [Self::on(&before, s0), q.p[1]] }
+                };
+                let mut pieces = vec![Piece { s: [0.0, prior], p: [self.upstream; 2] }, Piece { s: [prior, crack], p: [0.0; 2] }];
+                pieces.extend(before.iter().filter(|q| q.s[1] > crack).map(cut));
+                pieces.retain(|q| q.s[1] > q.s[0]);
+                pieces
             }
-            None => line(crack, h_u, l, h_d),
         }
     }
 
-    /// The distances from the heel where p_u has a kink: the crack tip and the drains.
+    /// The guideline's diagram with the reservoir pressure in the crack [0, c] (EM 1110-2-2100).
+    fn filled(&self, c: f64) -> Vec<Piece> {
+        let (h_u, h_d, l) = (self.upstream, self.downstream, self.line.length);
+        let mut pieces = vec![Piece { s: [0.0, c], p: [h_u; 2] }];
+        match self.drains.filter(|d| d.distance > c) {
+            Some(d) => {
+                let at_drains = h_d + (1.0 - d.efficiency) * (h_u - h_d) * (l - d.distance) / (l - c);
+                pieces.push(Piece { s: [c, d.distance], p: [h_u, at_drains] });
+                pieces.push(Piece { s: [d.distance, l], p: [at_drains, h_d] });
+            }
+            None => pieces.push(Piece { s: [c, l], p: [h_u, h_d] }),
+        }
+        pieces.retain(|q| q.s[1] > q.s[0]);
+        pieces
+    }
+
+    /// The value of `pieces` at s (at a jump, the piece on the heel's side).
+    fn on(pieces: &[Piece], s: f64) -> f64 {
+        let q = pieces.iter().find(|q| s <= q.s[1]).or(pieces.last()).expect("a diagram has pieces");
+        q.p[0] + (q.p[1] - q.p[0]) * ((s - q.s[0]) / (q.s[1] - q.s[0])).clamp(0.0, 1.0)
+    }
+
+    /// The distances from the heel where p_u has a kink or a jump: the crack tips and the drains.
     pub fn kinks(&self, crack: f64) -> Vec<f64> {
-        let crack = if self.crack_filled { crack } else { 0.0 };
-        let mut kinks = vec![crack];
-        kinks.extend(self.drains.map(|d| d.distance).filter(|&s| s > crack));
-        kinks.retain(|&s| s > 0.0 && s < self.line.length);
-        kinks
+        let pieces = self.pieces(crack);
+        pieces[1..].iter().map(|q| q.s[0]).collect()
     }
 
     /// The uplift force U = ∫ p_u ds \[N/m\] (exact: p_u is piecewise linear).
     pub fn force(&self, crack: f64) -> f64 {
-        let mut points = vec![0.0, self.line.length];
-        points.extend(self.kinks(crack));
-        points.sort_by(f64::total_cmp);
-        points.windows(2).map(|w| 0.5 * (w[1] - w[0]) * (self.pressure(w[0], crack) + self.pressure(w[1], crack))).sum()
+        self.pieces(crack).iter().map(|q| 0.5 * (q.s[1] - q.s[0]) * (q.p[0] + q.p[1])).sum()
     }
 
     /// The first moment M_u = ∫ p_u s ds \[N\] about the heel (exact on each linear piece
     /// [s₀, s₁]: (s₁ − s₀)/6 (p₀ (2 s₀ + s₁) + p₁ (s₀ + 2 s₁))).
     pub fn moment(&self, crack: f64) -> f64 {
-        let mut points = vec![0.0, self.line.length];
-        points.extend(self.kinks(crack));
-        points.sort_by(f64::total_cmp);
-        let p = |s: f64| self.pressure(s, crack);
-        points
-            .windows(2)
-            .map(|w| (w[1] - w[0]) / 6.0 * (p(w[0]) * (2.0 * w[0] + w[1]) + p(w[1]) * (w[0] + 2.0 * w[1])))
-            .sum()
+        let piece = |q: &Piece| {
+            let ([s0, s1], [p0, p1]) = (q.s, q.p);
+            (s1 - s0) / 6.0 * (p0 * (2.0 * s0 + s1) + p1 * (s0 + 2.0 * s1))
+        };
+        self.pieces(crack).iter().map(piece).sum()
     }
 }
 
@@ -128,7 +177,7 @@ mod tests {
             upstream: 700.0,
             downstream: 100.0,
             drains,
-            crack_filled: true,
+            rule: CrackRule::Filled,
             crack: 0.0,
         }
     }
@@ -152,5 +201,31 @@ mod tests {
         assert_eq!(drained.kinks(2.0), vec![2.0, 5.0]);
         // a crack short of the drains keeps them: 100 + (1/3)(600)(35/38) at 5 m
         assert!((drained.pressure(5.0, 2.0) - (100.0 + 200.0 * 35.0 / 38.0)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_seismic_rules_keep_the_diagram_before_and_drain_the_crack() {
+        let drains = Some(Drains { distance: 5.0, efficiency: 2.0 / 3.0 });
+        let before = joint(drains);
+        let kept = Uplift { rule: CrackRule::Kept { prior: 10.0 }, ..joint(drains) };
+        for crack in [0.0, 3.0, 30.0] {
+            assert_eq!(kept.force(crack), before.force(10.0));
+            assert_eq!(kept.pressure(25.0, crack), before.pressure(25.0, 10.0));
+        }
+        // opened to 10 m by the earthquake from 2 m before: full pressure on [0, 2], none on
+        // [2, 10], then the diagram of 2 m
+        let drained = Uplift { rule: CrackRule::Drained { prior: 2.0 }, ..joint(drains) };
+        let p10 = before.pressure(10.0, 2.0);
+        assert_eq!((drained.pressure(1.0, 10.0), drained.pressure(2.5, 10.0)), (700.0, 0.0));
+        assert_eq!(drained.pressure(10.0, 10.0), 0.0);
+        assert!((drained.pressure(10.0 + 1e-9, 10.0) - p10).abs() < 1e-6);
+        assert_eq!(drained.pressure(20.0, 10.0), before.pressure(20.0, 2.0));
+        assert!((drained.force(10.0) - 2.0 * 700.0 - 0.5 * 30.0 * (p10 + 100.0)).abs() < 1e-9);
+        // ∫ p s ds of 700 on [0, 2] and of the line p10 → 100 on [10, 40]
+        let moment = 700.0 * 2.0 + 30.0 / 6.0 * (p10 * 60.0 + 100.0 * 90.0);
+        assert!((drained.moment(10.0) - moment).abs() < 1e-9 * moment);
+        assert_eq!(drained.kinks(10.0), vec![2.0, 10.0]);
+        // a crack within the one before: the diagram before
+        assert_eq!(drained.force(1.0), before.force(2.0));
     }
 }

@@ -36,8 +36,9 @@
 //!
 //! When σ_heel > 0 the base cracks from the heel (EM 1110-2-2100 §3-3 and Appendix C): the
 //! crack T leaves L_c = L − T in compression with a triangular pressure, zero at the crack tip
-//! and −2N/L_c at the toe, so d_R(T) = L_c / 3; with `crack_filled` (`crack = "full"`) the
-//! reservoir pressure fills the crack and U, s_U follow T. T is the smallest root of
+//! and −2N/L_c at the toe, so d_R(T) = L_c / 3; under the joint's crack rule (`crack = "full"`)
+//! the reservoir pressure fills the crack and U, s_U follow T (`none`: the crack is dry and U
+//! falls with T; `unchanged`, `ignore`: the diagram before the earthquake, whatever T). T is the smallest root of
 //! g(T) = L − T − 3 d_R(T) on [0, L], bracketed by a scan and refined by bisection.
 //!
 //! - sliding (Mohr–Coulomb on the plane, limit equilibrium): FS = (c L_c + tan φ N) / |T|,
@@ -48,7 +49,7 @@
 //!   apart (the uplift overturns);
 //! - flotation: FS_F = P / U, the loads pressing on the base over the uplift.
 
-use crate::contact::{ContactJoint, JointLaw, JointLine, Uplift};
+use crate::contact::{ContactJoint, CrackRule, JointLaw, JointLine, Uplift};
 use crate::elasticity::problem::traction_rule;
 use crate::elasticity::{BodyForce, Problem, Traction};
 use crate::mesh::{Segment, Topology};
@@ -360,8 +361,8 @@ pub struct Classical {
     /// σ'^n at the heel (0 in a crack) and at the toe by beam theory \[Pa\], tension positive.
     pub heel_stress: f64,
     pub toe_stress: f64,
-    /// Whether the reservoir pressure fills the crack.
-    pub crack_filled: bool,
+    /// What the water does in the crack (None without uplift).
+    pub crack_rule: Option<CrackRule>,
     /// The toe in tension: the method cracks the heel only, so the stresses are uncracked.
     pub toe_in_tension: bool,
 }
@@ -431,7 +432,7 @@ impl Classical {
             compressed_length: lc,
             heel_stress,
             toe_stress,
-            crack_filled: uplift.is_some_and(|u| u.crack_filled),
+            crack_rule: uplift.map(|u| u.rule),
             toe_in_tension,
             loads: all,
         })

@@ -240,6 +240,40 @@ fn combinations_override_water_levels_and_acceleration() {
     }
 }
 
+// Source: EM 1110-2-2100 §3-3 and CADAM3D's seismic crack rules (docs/method.md §1.8). Goal:
+// a combination with an acceleration and no crack key takes `unchanged`, which keeps the uplift
+// of the state before the earthquake (the same reservoir without acceleration, its crack
+// filled): the crack s₀ it keeps is the static combination's, and U equals its U to round-off,
+// whatever the earthquake opens. (`none`: tests/python/test_crack_rules.py.) Parameters:
+// scene_a_friction at 45 m, 0.1 g, P2, size factor 2.
+#[test]
+fn an_earthquake_keeps_the_uplift_before_it() {
+    let tmp = TempDir::new("crack-rules");
+    let scene = frictional_scene(&tmp, |t| {
+        format!(
+            "{}\n[uplift]\nheadwater = 45.0\n\n[combinations.static]\n\n\
+             [combinations.earthquake]\nloads.acceleration = [0.1, 0.0]\n",
+            t.replace("level = 70.0", "level = 45.0")
+        )
+    });
+    let solve = |name: &str| {
+        let out = tmp.join(name);
+        let args = ["solve", "-q", scene.to_str().unwrap(), "--combination", name, "--size-factor", "2", "-o"];
+        assert_ok(&damfem(&[&args[..], &[out.to_str().unwrap()]].concat()));
+        check_summary(&out)["contact"].clone()
+    };
+    let (before, quake) = (solve("static"), solve("earthquake"));
+    let number = |c: &serde_json::Value, path: &[&str]| {
+        path.iter().fold(c, |v, key| &v[*key]).as_f64().unwrap_or_else(|| panic!("{path:?} in {c}"))
+    };
+    let s0 = number(&before, &["crack", "length"]);
+    assert!(s0 > 0.0 && before["crack_rule"] == "filled", "{}", before["crack"]);
+    assert_eq!(number(&quake, &["crack_rule", "kept", "prior"]), s0);
+    let (u0, u1) = (number(&before, &["uplift_force"]), number(&quake, &["uplift_force"]));
+    assert!((u1 - u0).abs() <= 1e-12 * u0, "U under the earthquake {u1} against {u0} before it");
+    assert!(number(&quake, &["crack_length"]) > s0 + 0.5, "the earthquake opens more than it keeps: {quake}");
+}
+
 // A combination is checked like the scene: an unknown key, a NaN level, a tailwater above the
 // headwater, or a table it may not override is refused when the scene is read, naming the
 // combination; an unknown --combination lists the scene's.

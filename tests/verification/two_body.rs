@@ -6,7 +6,7 @@ use crate::common;
 
 use damfem::contact::nitsche::NitscheParameters;
 use damfem::contact::projection::Smoothing;
-use damfem::contact::{continuation, ContactJoint, ContactProblem, JointLaw, JointLine, Uplift};
+use damfem::contact::{continuation, ContactJoint, ContactProblem, JointLaw, JointLine, Uplift, CrackRule};
 use damfem::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction, VectorFn};
 use damfem::fem::norms::errors;
 use damfem::mesh::structured::{rectangle, two_blocks, BOTTOM, JOINT, JOINT_LOWER, LEFT, LOWER, RIGHT, TOP};
@@ -120,7 +120,7 @@ fn two_body_uniform_uplift_drops_the_contact_pressure_by_p_u() {
         upstream: p_u,
         downstream: p_u,
         drains: None,
-        crack_filled: false,
+        rule: CrackRule::Kept { prior: 0.0 },
         crack: 0.0,
     };
     for order in [1, 2] {

@@ -5,7 +5,7 @@
 use super::two_body::{joint, pressed_blocks};
 use damfem::contact::projection::Smoothing;
 use damfem::contact::uplift::Drains;
-use damfem::contact::{continuation, ContactJoint, ContactProblem, JointLine, Linearisation, Uplift};
+use damfem::contact::{continuation, ContactJoint, ContactProblem, JointLine, Linearisation, Uplift, CrackRule};
 use damfem::elasticity::Problem;
 use damfem::estimate::{estimate_iterate, Estimate};
 use damfem::solve::NewtonOptions;
@@ -105,7 +105,7 @@ fn two_body_estimate_with_uplift_is_equilibrated_and_bounds_the_residual() {
         upstream: 5e-3,
         downstream: 1e-3,
         drains: Some(Drains { distance: 0.37, efficiency: 0.5 }),
-        crack_filled: false,
+        rule: CrackRule::Kept { prior: 0.0 },
         crack: 0.0,
     };
     for order in [1, 2] {

@@ -4,7 +4,7 @@
 use crate::common;
 use damfem::contact::nitsche::NitscheParameters;
 use damfem::contact::resultant::JointLine;
-use damfem::contact::uplift::Uplift;
+use damfem::contact::uplift::{CrackRule, Uplift};
 use damfem::contact::{solve_by_continuation, ContactJoint, Continuation, JointLaw};
 use damfem::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};
 use damfem::mesh::structured::{unit_square, BOTTOM, LEFT, RIGHT, TOP};
@@ -28,7 +28,7 @@ fn uniform_uplift_lowers_the_contact_pressure_by_exactly_p_u() {
         upstream: p_u,
         downstream: p_u,
         drains: None,
-        crack_filled: false,
+        rule: CrackRule::Kept { prior: 0.0 },
         crack: 0.0,
     };
     for law in [JointLaw::Frictionless, JointLaw::Coulomb { friction: 0.5 }] {
@@ -124,7 +124,7 @@ fn strength_reduction_finds_the_exact_sliding_factor() {
     use damfem::contact::strength_reduction;
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("geo/scene_a_uplift.toml");
     let mut with_uplift = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
-    with_uplift.uplift.as_mut().expect("[uplift]").crack = damfem::scene::CrackKind::Ignore;
+    with_uplift.uplift.as_mut().expect("[uplift]").crack = Some(damfem::scene::CrackKind::Ignore);
     let mut without_uplift = with_uplift.clone();
     without_uplift.uplift = None;
     let weight = 2400.0 * 9.81 * (40.0 + 5.0) / 2.0 * 50.0;
