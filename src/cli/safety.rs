@@ -8,7 +8,7 @@ use super::common::{output_dir, remove_earlier_outputs, stem, validate_overrides
 use super::output::{drain_note, Units, UNITS};
 use crate::adapt::{AdaptError, Step};
 use crate::contact::{
-    reduce_strength, ContactError, ContactJoint, ContactSolution, JointLine, Resultant, StrengthReduction,
+    reduce_strength, ContactError, ContactJoint, ContactSolution, CrackRule, JointLine, Resultant, StrengthReduction,
     STRENGTH_TOLERANCE,
 };
 use crate::elasticity::{Discretisation, Problem};
@@ -95,6 +95,8 @@ struct Report {
     joint_line: JointLine,
     contact_length: f64,
     crack_length: f64,
+    /// What the water does in the crack of the sliding plane (None without uplift there).
+    crack_rule: Option<CrackRule>,
     /// N, T, U, the resultant's point, position, eccentricity and the middle-third check; None
     /// when nothing presses on the joint.
     resultant: Option<Resultant>,
@@ -358,6 +360,9 @@ fn analyse(
         joint_line: line,
         contact_length: solution.forces_on(&line).contact_length,
         crack_length: solution.crack_from_heel(&line),
+        crack_rule: (solution.nitsche.uplift.iter())
+            .find(|up| up.curves.iter().any(|&c| plane[c]))
+            .map(|up| up.diagram.rule),
         resultant: solution.resultant(&line),
         base_stresses: base_stresses(&solution, &problem, &disc, &line, average),
         sliding_safety_factor: solution.forces_on(&line).sliding_safety_factor,
@@ -521,6 +526,7 @@ fn table(r: &Report) -> Vec<[String; 3]> {
         row("contact length", format!("{:.4}", r.contact_length), "m"),
         row("crack length from the heel", format!("{:.4}", r.crack_length), "m"),
     ];
+    rows.extend(r.crack_rule.map(|rule| row("uplift in the crack", rule_words(rule), "")));
     match &r.resultant {
         Some(f) => rows.extend([
             row("normal force N", force(f.normal_force), "N/m"),
@@ -540,6 +546,15 @@ fn table(r: &Report) -> Vec<[String; 3]> {
     rows.push(row("FS_LE", r.sliding_safety_factor.map_or_else(none, |f| format!("{f:.4}")), ""));
     rows.push(row("FS_SR", r.strength_reduction.as_ref().map_or_else(none, bracket), ""));
     rows
+}
+
+/// The crack rule in words.
+fn rule_words(rule: CrackRule) -> String {
+    match rule {
+        CrackRule::Filled => "full: the reservoir's pressure fills it".into(),
+        CrackRule::Kept { prior } => format!("kept: the diagram of the {prior:.4} m crack before the earthquake"),
+        CrackRule::Drained { prior } => format!("none: dry beyond the {prior:.4} m crack before the earthquake"),
+    }
 }
 
 /// FS_SR's bracket \[held, failed\], or "> held" if the joint never failed.
@@ -1008,6 +1023,7 @@ mod tests {
             joint_line: JointLine::new([0.0, 0.0], [10.0, 0.0]),
             contact_length: 9.0,
             crack_length: 1.0,
+            crack_rule: None,
             resultant: None,
             base_stresses: BaseStresses { length: 1.0, heel: 0.0, toe: -1.0, heel_closed: -0.5 },
             sliding_safety_factor: None,
