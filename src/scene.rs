@@ -123,6 +123,60 @@ pub struct BoundarySection {
     pub traction: Option<[f64; 2]>,
     /// Neumann: hydrostatic water pressure.
     pub hydrostatic: Option<Hydrostatic>,
+    /// Neumann: silt against the face, beside the water.
+    pub silt: Option<SiltSection>,
+    /// Neumann: the thrust of an ice sheet, beside the water.
+    pub ice: Option<IceSection>,
+}
+
+/// `silt = { level, density, coefficient }`: silt against the face up to `level` \[m\] (a y
+/// coordinate), of submerged density ρ' \[kg/m³\], with the earth-pressure coefficient K
+/// (default 1: ρ' is then an equivalent fluid's): p = K ρ' g (level − y)₊, horizontal.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SiltSection {
+    pub level: f64,
+    pub density: f64,
+    #[serde(default = "unit_coefficient")]
+    pub coefficient: f64,
+}
+
+fn unit_coefficient() -> f64 {
+    1.0
+}
+
+/// `ice = { force, level, thickness }`: an ice sheet's thrust F \[N/m\] at the reservoir
+/// surface `level` \[m\], spread as a horizontal pressure F / t over its `thickness` t \[m\]
+/// below it (a line load would make the stresses singular).
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IceSection {
+    pub force: f64,
+    pub level: f64,
+    pub thickness: f64,
+}
+
+impl BoundarySection {
+    /// g_N of a Neumann curve under gravity `g`: its traction or water, with its silt and ice.
+    fn traction(&self, g: f64) -> Traction {
+        let main = match (self.traction, self.hydrostatic) {
+            (_, Some(h)) => Some(Traction::Hydrostatic { density: h.density, gravity: g, level: h.level }),
+            (Some(t), None) => Some(Traction::Constant(t)),
+            (None, None) => None,
+        };
+        let silt = self.silt.map(|s| Traction::Silt { gradient: s.coefficient * s.density * g, level: s.level });
+        let ice = self.ice.map(|i| Traction::Ice {
+            pressure: i.force / i.thickness,
+            bottom: i.level - i.thickness,
+            top: i.level,
+        });
+        let mut parts: Vec<Traction> = main.into_iter().chain(silt).chain(ice).collect();
+        match parts.len() {
+            0 => Traction::Constant([0.0; 2]),
+            1 => parts.remove(0),
+            _ => Traction::Sum(parts),
+        }
+    }
 }
 
 /// `[uplift]`, or `[joints.<curve>.uplift]`: the pore-water pressure in the joint
@@ -201,7 +255,7 @@ pub struct LoadSection {
     /// A pseudo-static acceleration (a_x, a_y) in units of g: the body force becomes
     /// ρ g (a_x, a_y − 1).
     pub acceleration: [f64; 2],
-    /// Westergaard's added pressure (7/8) a_x ρ_w g √(H z) on the reservoir's curves (the
+    /// Westergaard's added pressure (7/8) a_x cos²θ ρ_w g √(H z) on the reservoir's curves (the
     /// hydrostatic curves of the highest level) under a horizontal acceleration; default: on
     /// when a_x ≠ 0.
     pub westergaard: Option<bool>,
@@ -678,7 +732,7 @@ impl Scene {
             })?;
         }
         for (name, b) in &self.boundary {
-            let has_load = b.traction.is_some() || b.hydrostatic.is_some();
+            let has_load = b.traction.is_some() || b.hydrostatic.is_some() || b.silt.is_some() || b.ice.is_some();
             if b.role != Role::Neumann && has_load {
                 return Err(self.invalid(format!("boundary '{name}': a traction needs role = \"neumann\"")));
             }
@@ -705,6 +759,8 @@ impl Scene {
                             value: [0.0; 2],
                             traction: None,
                             hydrostatic: None,
+                            silt: None,
+                            ice: None,
                         };
                         (g.tag, g.name.clone(), section)
                     })
@@ -875,13 +931,7 @@ impl Scene {
                     };
                     dirichlet.push(Dirichlet { tag: *tag, fix, value: Arc::new(move |_| value) });
                 }
-                Role::Neumann => {
-                    let traction = match (b.traction, b.hydrostatic) {
-                        (_, Some(h)) => Traction::Hydrostatic { density: h.density, gravity: g, level: h.level },
-                        (t, None) => Traction::Constant(t.unwrap_or([0.0; 2])),
-                    };
-                    neumann.push(Neumann { tag: *tag, traction });
-                }
+                Role::Neumann => neumann.push(Neumann { tag: *tag, traction: b.traction(g) }),
                 Role::Contact | Role::Free => {}
             }
         }
@@ -1041,7 +1091,10 @@ impl Scene {
         let water: Vec<[f64; 2]> = problem
             .neumann
             .iter()
-            .filter(|bc| matches!(bc.traction, Traction::Hydrostatic { .. } | Traction::Westergaard { .. }))
+            .filter(|bc| {
+                (bc.traction.parts().iter())
+                    .any(|t| matches!(t, Traction::Hydrostatic { .. } | Traction::Westergaard { .. }))
+            })
             .flat_map(|bc| mesh.facets_tagged(&[bc.tag]).flat_map(|f| mesh.facet(f).to_vec()).collect::<Vec<_>>())
             .map(|n| mesh.points[n])
             .collect();
@@ -1139,9 +1192,11 @@ impl Scene {
         if !self.loads.westergaard.unwrap_or(a_x != 0.0) {
             return Ok(());
         }
-        let level_of = |t: &Traction| match t {
-            Traction::Hydrostatic { level, .. } => Some(*level),
-            _ => None,
+        let level_of = |t: &Traction| {
+            t.parts().iter().find_map(|t| match t {
+                Traction::Hydrostatic { level, .. } => Some(*level),
+                _ => None,
+            })
         };
         let top = neumann.iter().filter_map(|bc| level_of(&bc.traction)).fold(f64::NEG_INFINITY, f64::max);
         if self.loads.westergaard.is_none() && !top.is_finite() {
@@ -1158,10 +1213,17 @@ impl Scene {
         let tags: Vec<i32> = reservoir.iter().map(|&k| neumann[k].tag).collect();
         let bottom = mesh.facets_tagged(&tags).flat_map(|f| mesh.facet(f).to_vec()).map(|n| mesh.points[n][1]);
         let depth = (top - bottom.fold(f64::INFINITY, f64::min)).max(0.0);
-        for k in reservoir {
-            if let Traction::Hydrostatic { density, gravity, level } = neumann[k].traction {
-                neumann[k].traction = Traction::Westergaard { density, gravity, level, depth, acceleration: a_x };
+        let added = |t: &Traction| match *t {
+            Traction::Hydrostatic { density, gravity, level } => {
+                Traction::Westergaard { density, gravity, level, depth, acceleration: a_x }
             }
+            ref other => other.clone(),
+        };
+        for k in reservoir {
+            neumann[k].traction = match &neumann[k].traction {
+                Traction::Sum(parts) => Traction::Sum(parts.iter().map(added).collect()),
+                one => added(one),
+            };
         }
         Ok(())
     }

@@ -42,9 +42,19 @@ pub enum Traction {
     Hydrostatic { density: f64, gravity: f64, level: f64 },
     /// The water pressure of `Hydrostatic` with Westergaard's added pressure of a horizontal
     /// pseudo-static acceleration a_x (in g) on the face of a reservoir of depth H:
-    /// p = ρ_w g z + (7/8) a_n ρ_w g √(H z), z = (H_w − y)₊, a_n = −a_x n_x the acceleration
-    /// towards the water (a suction where the face moves away from it).
+    /// p = ρ_w g z + (7/8) a_n cos θ ρ_w g √(H z), z = (H_w − y)₊, a_n = −a_x n_x = a_x cos θ
+    /// the acceleration towards the water (a suction where the face moves away from it), θ the
+    /// face's angle from the vertical: on an inclined face the added pressure, along the
+    /// normal, is the vertical face's times cos²θ (CADAM3D's cos² correction).
     Westergaard { density: f64, gravity: f64, level: f64, depth: f64, acceleration: f64 },
+    /// Silt: a horizontal earth pressure p = `gradient` (level − y)₊ against the face,
+    /// g_N = −p (n_x, 0) (its horizontal force is p times the face's vertical projection).
+    Silt { gradient: f64, level: f64 },
+    /// Ice: a horizontal pressure p = F / t against the face between `bottom` = level − t and
+    /// `top` = level, g_N = −p (n_x, 0): the ice sheet's line load F spread over its thickness t.
+    Ice { pressure: f64, bottom: f64, top: f64 },
+    /// Several of them on one curve, added.
+    Sum(Vec<Traction>),
     /// Any field of x.
     Field(VectorFn),
 }
@@ -53,16 +63,30 @@ impl Traction {
     /// Parameters s ∈ (0, 1) of the segment a → b where g_N has a kink: the water level of
     /// a hydrostatic pressure. Quadrature on a facet is split there.
     pub fn kinks(&self, [a, b]: [[f64; 2]; 2]) -> Vec<f64> {
+        let at_level = |level: f64| {
+            let s = (level - a[1]) / (b[1] - a[1]);
+            (b[1] != a[1] && s > 0.0 && s < 1.0).then_some(s)
+        };
         match self {
-            Traction::Hydrostatic { level, .. } | Traction::Westergaard { level, .. } if b[1] != a[1] => {
-                let s = (level - a[1]) / (b[1] - a[1]);
-                if s > 0.0 && s < 1.0 {
-                    vec![s]
-                } else {
-                    vec![]
-                }
+            Traction::Hydrostatic { level, .. }
+            | Traction::Westergaard { level, .. }
+            | Traction::Silt { level, .. } => at_level(*level).into_iter().collect(),
+            Traction::Ice { bottom, top, .. } => [*bottom, *top].into_iter().filter_map(at_level).collect(),
+            Traction::Sum(parts) => {
+                let mut kinks: Vec<f64> = parts.iter().flat_map(|t| t.kinks([a, b])).collect();
+                kinks.sort_by(f64::total_cmp);
+                kinks.dedup();
+                kinks
             }
-            _ => vec![],
+            Traction::Constant(_) | Traction::Field(_) => vec![],
+        }
+    }
+
+    /// The parts of a sum, or the traction itself.
+    pub fn parts(&self) -> &[Traction] {
+        match self {
+            Traction::Sum(parts) => parts,
+            other => std::slice::from_ref(other),
         }
     }
 
@@ -79,21 +103,38 @@ impl Traction {
                 let added = self.hydrodynamic(x, n);
                 [-p * n[0] + added[0], -p * n[1] + added[1]]
             }
+            Traction::Silt { gradient, level } => [-gradient * (level - x[1]).max(0.0) * n[0], 0.0],
+            Traction::Ice { pressure, bottom, top } => match (bottom..=top).contains(&&x[1]) {
+                true => [-pressure * n[0], 0.0],
+                false => [0.0; 2],
+            },
+            Traction::Sum(parts) => parts.iter().map(|t| t.at(x, n)).fold([0.0; 2], |s, g| [s[0] + g[0], s[1] + g[1]]),
             Traction::Field(f) => f(x),
         }
     }
 
-    /// Westergaard's added pressure of g_N at x, −(7/8) a_n ρ_w g √(H z) n (0 for the other
-    /// tractions).
+    /// Westergaard's added pressure of g_N at x, −(7/8) a_n cos θ ρ_w g √(H z) n, cos θ = |n_x|
+    /// (0 for the other tractions).
     pub fn hydrodynamic(&self, x: [f64; 2], n: [f64; 2]) -> [f64; 2] {
         match self {
             Traction::Westergaard { density, gravity, level, depth, acceleration } => {
                 let z = (level - x[1]).max(0.0);
-                let p = 0.875 * (-acceleration * n[0]) * density * gravity * (depth * z).sqrt();
+                let p = 0.875 * (-acceleration * n[0]) * n[0].abs() * density * gravity * (depth * z).sqrt();
                 [-p * n[0], -p * n[1]]
+            }
+            Traction::Sum(parts) => {
+                parts.iter().map(|t| t.hydrodynamic(x, n)).fold([0.0; 2], |s, g| [s[0] + g[0], s[1] + g[1]])
             }
             _ => [0.0; 2],
         }
+    }
+
+    /// The water level of Westergaard's pressure among the parts, where √z is singular.
+    fn westergaard_level(&self) -> Option<f64> {
+        self.parts().iter().find_map(|t| match t {
+            Traction::Westergaard { level, .. } => Some(*level),
+            _ => None,
+        })
     }
 }
 
@@ -137,9 +178,9 @@ pub fn load_degree(order: usize) -> usize {
 /// same rule.
 pub fn traction_rule(traction: &Traction, ends: [[f64; 2]; 2], order: usize) -> Vec<(f64, f64)> {
     let gauss = gauss_segment_cached(order + 4);
-    match traction {
-        Traction::Westergaard { level, .. } => graded_at_surface(gauss, traction.kinks(ends), ends, *level),
-        _ => split_rule(gauss, traction.kinks(ends)),
+    match traction.westergaard_level() {
+        Some(level) => graded_at_surface(gauss, traction.kinks(ends), ends, level),
+        None => split_rule(gauss, traction.kinks(ends)),
     }
 }
 

@@ -201,7 +201,11 @@ fn oscillation(problem: &Problem) -> Vec<f64> {
 fn polynomial_on_face(traction: &Traction, ends: [[f64; 2]; 2]) -> bool {
     match traction {
         Traction::Constant(_) => true,
-        Traction::Hydrostatic { level, .. } => (ends[0][1] <= *level) == (ends[1][1] <= *level),
+        Traction::Hydrostatic { level, .. } | Traction::Silt { level, .. } => {
+            (ends[0][1] <= *level) == (ends[1][1] <= *level)
+        }
+        Traction::Ice { .. } => traction.kinks(ends).is_empty(),
+        Traction::Sum(parts) => parts.iter().all(|t| polynomial_on_face(t, ends)),
         Traction::Field(_) | Traction::Westergaard { .. } => false,
     }
 }

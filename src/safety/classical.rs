@@ -75,6 +75,10 @@ pub enum LoadKind {
     CrestWater,
     /// Westergaard's added pressure on the reservoir's faces.
     Hydrodynamic,
+    /// Silt's horizontal earth pressure.
+    Silt,
+    /// The ice sheet's thrust.
+    Ice,
     /// Any other traction of a Neumann curve.
     Traction,
     Uplift,
@@ -90,6 +94,8 @@ impl LoadKind {
             LoadKind::Tailwater => "tailwater (downstream face)",
             LoadKind::CrestWater => "water on the crest",
             LoadKind::Hydrodynamic => "hydrodynamic (Westergaard)",
+            LoadKind::Silt => "silt",
+            LoadKind::Ice => "ice",
             LoadKind::Traction => "other tractions",
             LoadKind::Uplift => "uplift",
         }
@@ -263,11 +269,12 @@ pub fn section_loads(
 fn kind_of(t: &Traction, n: [f64; 2], base: &Base) -> LoadKind {
     let along = n[0] * base.line.along[0] + n[1] * base.line.along[1];
     let down = n[0] * base.normal[0] + n[1] * base.normal[1];
-    let water = matches!(t, Traction::Hydrostatic { .. } | Traction::Westergaard { .. });
-    match water {
-        true if along < -1e-9 => LoadKind::Reservoir,
-        true if along > 1e-9 => LoadKind::Tailwater,
-        true if down < 0.0 => LoadKind::CrestWater,
+    match t {
+        Traction::Silt { .. } => LoadKind::Silt,
+        Traction::Ice { .. } => LoadKind::Ice,
+        Traction::Hydrostatic { .. } | Traction::Westergaard { .. } if along < -1e-9 => LoadKind::Reservoir,
+        Traction::Hydrostatic { .. } | Traction::Westergaard { .. } if along > 1e-9 => LoadKind::Tailwater,
+        Traction::Hydrostatic { .. } | Traction::Westergaard { .. } if down < 0.0 => LoadKind::CrestWater,
         _ => LoadKind::Traction,
     }
 }
@@ -276,23 +283,34 @@ fn kind_of(t: &Traction, n: [f64; 2], base: &Base) -> LoadKind {
 fn traction_loads(problem: &Problem, base: &Base, cells: &[bool]) -> Vec<Load> {
     let mesh = &problem.mesh;
     let topology = Topology::new(mesh);
-    let kinds =
-        [LoadKind::Reservoir, LoadKind::Tailwater, LoadKind::CrestWater, LoadKind::Traction, LoadKind::Hydrodynamic];
-    let mut sums = [Sums::default(); 5];
+    let kinds = [
+        LoadKind::Reservoir,
+        LoadKind::Tailwater,
+        LoadKind::CrestWater,
+        LoadKind::Traction,
+        LoadKind::Hydrodynamic,
+        LoadKind::Silt,
+        LoadKind::Ice,
+    ];
+    let mut sums = [Sums::default(); 7];
+    let hydrodynamic = kinds.iter().position(|&k| k == LoadKind::Hydrodynamic).expect("a kind");
     for bc in &problem.neumann {
         let faces = mesh.facets_tagged(std::slice::from_ref(&bc.tag));
         for f in faces.filter(|&f| cells[topology.facet_cell(f)]) {
             let n = topology.outward_normal(mesh, f);
-            let k = kinds.iter().position(|&k| k == kind_of(&bc.traction, n, base)).expect("a kind");
             let ends = [mesh.points[mesh.facet(f)[0]], mesh.points[mesh.facet(f)[1]]];
             let segment = Segment::new(ends[0], ends[1]);
-            for (s, w) in traction_rule(&bc.traction, ends, mesh.order) {
-                let x = segment.point(s);
-                // the added pressure apart from the water's own
-                let (g, added) = (bc.traction.at(x, n), bc.traction.hydrodynamic(x, n));
-                let scale = w * segment.length();
-                base.add(&mut sums[k], [(g[0] - added[0]) * scale, (g[1] - added[1]) * scale], x);
-                base.add(&mut sums[4], [added[0] * scale, added[1] * scale], x);
+            let rule = traction_rule(&bc.traction, ends, mesh.order);
+            for part in bc.traction.parts() {
+                let k = kinds.iter().position(|&k| k == kind_of(part, n, base)).expect("a kind");
+                for &(s, w) in &rule {
+                    let x = segment.point(s);
+                    // the added pressure apart from the water's own
+                    let (g, added) = (part.at(x, n), part.hydrodynamic(x, n));
+                    let scale = w * segment.length();
+                    base.add(&mut sums[k], [(g[0] - added[0]) * scale, (g[1] - added[1]) * scale], x);
+                    base.add(&mut sums[hydrodynamic], [added[0] * scale, added[1] * scale], x);
+                }
             }
         }
     }

@@ -5,7 +5,7 @@
 //! warnings of `damfem check` (defaults assumed, parameters outside their known range, an
 //! uplift headwater that differs from the reservoir).
 
-use super::{too_dense, ContactSection, Fix, ProjectionKind, Role, Scene, SceneError, UpliftSection};
+use super::{too_dense, BoundarySection, ContactSection, Fix, ProjectionKind, Role, Scene, SceneError, UpliftSection};
 use crate::contact::ContactJoint;
 use crate::elasticity::material::MAX_DENSITY;
 use crate::mesh::topology::NONE;
@@ -135,6 +135,7 @@ impl Scene {
             if let Some(h) = b.hydrostatic.filter(|h| h.density > MAX_DENSITY) {
                 return Err(self.invalid(too_dense(&format!("boundary.{name}.hydrostatic.density"), h.density)));
             }
+            check_silt_and_ice(name, b, g).map_err(|message| self.invalid(message))?;
             if b.hydrostatic.is_some() && g == 0.0 {
                 return Err(self.invalid(format!(
                     "boundary.{name}.hydrostatic needs loads.gravity > 0: its pressure rho_w g (level - y) vanishes at g = 0"
@@ -412,6 +413,41 @@ impl Scene {
         }
         warnings
     }
+}
+
+/// A curve's silt: ρ' in (0, MAX_DENSITY], K in (0, 10], g > 0; its ice: F ≥ 0, t > 0.
+fn check_silt_and_ice(name: &str, b: &BoundarySection, g: f64) -> Result<(), String> {
+    if let Some(s) = b.silt {
+        let key = format!("boundary.{name}.silt");
+        if s.density <= 0.0 {
+            return Err(format!(
+                "{key}.density = {} must be positive: the submerged density of the silt [kg/m^3]",
+                s.density
+            ));
+        }
+        if s.density > MAX_DENSITY {
+            return Err(too_dense(&format!("{key}.density"), s.density));
+        }
+        if s.coefficient <= 0.0 || s.coefficient > 10.0 {
+            return Err(format!(
+                "{key}.coefficient = {} must lie in (0, 10]: the earth-pressure coefficient K (about 0.5 at rest)",
+                s.coefficient
+            ));
+        }
+        if g == 0.0 {
+            return Err(format!("{key} needs loads.gravity > 0: its pressure K rho' g (level - y) vanishes at g = 0"));
+        }
+    }
+    if let Some(i) = b.ice {
+        let key = format!("boundary.{name}.ice");
+        if i.force < 0.0 {
+            return Err(format!("{key}.force = {} must be non-negative: the ice sheet's thrust [N/m]", i.force));
+        }
+        if i.thickness <= 0.0 {
+            return Err(format!("{key}.thickness = {} must be positive: the ice sheet's thickness [m]", i.thickness));
+        }
+    }
+    Ok(())
 }
 
 fn role_name(role: Role) -> &'static str {

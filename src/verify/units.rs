@@ -16,23 +16,7 @@ pub fn rescale(problem: &Problem, sigma0: f64, length: f64) -> Problem {
         *m = Material { young: m.young / sigma0, poisson: m.poisson, density: m.density * length / sigma0 };
     }
     for bc in &mut scaled.neumann {
-        bc.traction = match bc.traction.clone() {
-            Traction::Constant(t) => Traction::Constant([t[0] / sigma0, t[1] / sigma0]),
-            Traction::Hydrostatic { density, gravity, level } => {
-                Traction::Hydrostatic { density: density * length / sigma0, gravity, level: level / length }
-            }
-            Traction::Westergaard { density, gravity, level, depth, acceleration } => Traction::Westergaard {
-                density: density * length / sigma0,
-                gravity,
-                level: level / length,
-                depth: depth / length,
-                acceleration,
-            },
-            Traction::Field(f) => Traction::Field(Arc::new(move |x| {
-                let t = f([x[0] * length, x[1] * length]);
-                [t[0] / sigma0, t[1] / sigma0]
-            })),
-        };
+        bc.traction = rescale_traction(bc.traction.clone(), sigma0, length);
     }
     if let BodyForce::Field(f) = scaled.body_force.clone() {
         scaled.body_force = BodyForce::Field(Arc::new(move |x| {
@@ -48,4 +32,32 @@ pub fn rescale(problem: &Problem, sigma0: f64, length: f64) -> Problem {
         });
     }
     scaled
+}
+
+/// `traction` in the units of [`rescale`].
+fn rescale_traction(traction: Traction, sigma0: f64, length: f64) -> Traction {
+    match traction {
+        Traction::Constant(t) => Traction::Constant([t[0] / sigma0, t[1] / sigma0]),
+        Traction::Hydrostatic { density, gravity, level } => {
+            Traction::Hydrostatic { density: density * length / sigma0, gravity, level: level / length }
+        }
+        Traction::Westergaard { density, gravity, level, depth, acceleration } => Traction::Westergaard {
+            density: density * length / sigma0,
+            gravity,
+            level: level / length,
+            depth: depth / length,
+            acceleration,
+        },
+        Traction::Field(f) => Traction::Field(Arc::new(move |x| {
+            let t = f([x[0] * length, x[1] * length]);
+            [t[0] / sigma0, t[1] / sigma0]
+        })),
+        Traction::Silt { gradient, level } => {
+            Traction::Silt { gradient: gradient * length / sigma0, level: level / length }
+        }
+        Traction::Ice { pressure, bottom, top } => {
+            Traction::Ice { pressure: pressure / sigma0, bottom: bottom / length, top: top / length }
+        }
+        Traction::Sum(parts) => Traction::Sum(parts.into_iter().map(|t| rescale_traction(t, sigma0, length)).collect()),
+    }
 }

@@ -274,6 +274,40 @@ fn an_earthquake_keeps_the_uplift_before_it() {
     assert!(number(&quake, &["crack_length"]) > s0 + 0.5, "the earthquake opens more than it keeps: {quake}");
 }
 
+// Source: statics of a rigid section. Goal: silt and ice on the upstream face beside the
+// reservoir add their thrusts to the joint's shear exactly, T = −(ρ_w g H²/2 + K ρ' g h²/2 + F),
+// N = W; a silt density ≤ 0 or an ice sheet without thickness is refused, naming the key.
+// Parameters: scene_a_friction at 45 m, silt 12 m deep (ρ' = 1100 kg/m³, K = 0.5), ice
+// F = 150 kN/m over 0.6 m at 45 m, P2, size factor 2.
+#[test]
+fn silt_and_ice_add_their_thrusts() {
+    let tmp = TempDir::new("silt-ice");
+    let loads = "silt = { level = 12.0, density = 1100.0, coefficient = 0.5 }\n\
+                 ice = { force = 1.5e5, level = 45.0, thickness = 0.6 }\n";
+    let scene = |extra: &str| {
+        let extra = extra.to_string();
+        frictional_scene(&tmp, move |t| {
+            t.replace("level = 70.0 }", &format!("level = 45.0 }}\n{extra}"))
+                .replace("friction = 0.8391", "friction = 1.5")
+        })
+    };
+    let out = tmp.join("out");
+    let run = scene(loads);
+    assert_ok(&damfem(&["solve", "-q", run.to_str().unwrap(), "--size-factor", "2", "-o", out.to_str().unwrap()]));
+    let c = &check_summary(&out)["contact"];
+    let (n, t) = (c["normal_force"].as_f64().unwrap(), c["tangential_force"].as_f64().unwrap());
+    let weight = 2400.0 * 9.81 * (40.0 + 5.0) / 2.0 * 50.0;
+    let thrust = 1000.0 * 9.81 * 45.0 * 45.0 / 2.0 + 0.5 * 1100.0 * 9.81 * 12.0 * 12.0 / 2.0 + 1.5e5;
+    assert!((n - weight).abs() <= 1e-8 * weight, "N = {n} against W = {weight}");
+    assert!((t + thrust).abs() <= 1e-8 * thrust, "T = {t} against -{thrust}");
+    for (bad, expected) in [
+        ("silt = { level = 12.0, density = -5.0 }", "boundary.upstream.silt.density = -5"),
+        ("ice = { force = 1.5e5, level = 45.0, thickness = 0.0 }", "boundary.upstream.ice.thickness = 0"),
+    ] {
+        assert_solve_fails("silt-ice-key", &scene(bad), &[expected]);
+    }
+}
+
 // A combination is checked like the scene: an unknown key, a NaN level, a tailwater above the
 // headwater, or a table it may not override is refused when the scene is read, naming the
 // combination; an unknown --combination lists the scene's.

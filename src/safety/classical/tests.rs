@@ -45,8 +45,7 @@ fn triangle(a: [f64; 2]) -> Problem {
 fn joint(rule: CrackRule) -> (ContactJoint, JointLine) {
     let line = JointLine::new([0.0, 0.0], [B, 0.0]);
     let law = JointLaw::MohrCoulomb { friction: FRICTION, cohesion: COHESION };
-    let uplift =
-        Uplift { line, upstream: RHO_W * G * HW, downstream: RHO_W * G * TW, drains: None, rule, crack: 0.0 };
+    let uplift = Uplift { line, upstream: RHO_W * G * HW, downstream: RHO_W * G * TW, drains: None, rule, crack: 0.0 };
     (ContactJoint::uniform(vec![1], vec![], law, NitscheParameters::default()).with_uplift(uplift), line)
 }
 
@@ -185,5 +184,52 @@ fn westergaards_pressure_has_its_resultant_on_a_vertical_face() {
     close("H", added.shear, 7.0 / 12.0 * a[0] * RHO_W * G * HW * HW);
     close("h_H", added.shear_arm, 0.4 * HW);
     close("V", added.normal, 0.0);
+    close("reservoir", load(LoadKind::Reservoir).shear, RHO_W * G * HW * HW / 2.0);
+}
+
+// Source: CADAM3D's cos² correction of Westergaard's pressure on an inclined face: along the
+// normal, (7/8) a cos²θ ρ_w g √(H z), whose horizontal force per unit height is the same, so
+// the resultant is cos²θ (7/12) a ρ_w g H² at 0.4 H, and the vertical one tan θ times it.
+// Goal: the problem's traction on the triangle's sloping face has them to 1e-6. Parameters:
+// water at 20 m on the downstream face (tan θ = B/H = 0.8), a_h = −0.15 g (towards it).
+#[test]
+fn westergaards_pressure_on_an_inclined_face_is_corrected_by_cos_squared() {
+    let (a, level) = ([-0.15, 0.0], 20.0);
+    let mut problem = triangle(a);
+    problem.neumann[0].traction =
+        Traction::Westergaard { density: RHO_W, gravity: G, level, depth: level, acceleration: a[0] };
+    let (joint, line) = joint(CrackRule::Filled);
+    let c = classical(&problem, &joint, &line, G, a).unwrap();
+    let added = *c.loads.iter().find(|l| l.kind == LoadKind::Hydrodynamic).unwrap();
+    let cos2 = H * H / (H * H + B * B);
+    let horizontal = cos2 * 7.0 / 12.0 * a[0].abs() * RHO_W * G * level * level;
+    close("H", added.shear, -horizontal);
+    close("h_H", added.shear_arm, 0.4 * level);
+    close("V", added.normal, horizontal * B / H);
+}
+
+// Source: a silt layer h deep of submerged density ρ' and coefficient K thrusts K ρ' g h²/2 at
+// h/3 above its foot; an ice sheet's thrust F spread over its thickness t acts at t/2 below the
+// surface. Goal: beside the reservoir on the vertical upstream face, the classical method has
+// both loads to 1e-6 and the reservoir's own thrust unchanged. Parameters: silt 12 m deep,
+// ρ' = 1100 kg/m³, K = 0.5; ice F = 150 kN/m, t = 0.6 m at the 45 m reservoir surface.
+#[test]
+fn silt_and_ice_thrust_with_their_resultants() {
+    let (depth, density, k, force, thickness) = (12.0, 1100.0, 0.5, 1.5e5, 0.6);
+    let mut problem = triangle([0.0; 2]);
+    problem.neumann[1].traction = Traction::Sum(vec![
+        Traction::Hydrostatic { density: RHO_W, gravity: G, level: HW },
+        Traction::Silt { gradient: k * density * G, level: depth },
+        Traction::Ice { pressure: force / thickness, bottom: HW - thickness, top: HW },
+    ]);
+    let (joint, line) = joint(CrackRule::Filled);
+    let c = classical(&problem, &joint, &line, G, [0.0; 2]).unwrap();
+    let load = |kind: LoadKind| *c.loads.iter().find(|l| l.kind == kind).unwrap();
+    let (silt, ice) = (load(LoadKind::Silt), load(LoadKind::Ice));
+    close("silt H", silt.shear, k * density * G * depth * depth / 2.0);
+    close("silt h_H", silt.shear_arm, depth / 3.0);
+    close("ice H", ice.shear, force);
+    close("ice h_H", ice.shear_arm, HW - thickness / 2.0);
+    close("V", silt.normal + ice.normal, 0.0);
     close("reservoir", load(LoadKind::Reservoir).shear, RHO_W * G * HW * HW / 2.0);
 }
