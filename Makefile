@@ -2,6 +2,8 @@
 #   make demo   installs what is missing, builds in release mode and runs `damfem safety` on the dam of
 #               geo/dam_combinations.toml (three load combinations) into out/dam
 #   make test   installs what is missing and runs the whole test suite
+#   make test-quick  the unit tests, the bad-input tests and a few end-to-end runs (about a
+#               minute once built); make test stays the suite that must pass
 #   make bench-peers  also installs Debian's python3-getfem and times damfem against GetFEM on
 #               Scene A at about 1e4 and 1e5 unknowns (LARGE=1: also 5e5), damfem from the same
 #               .msh and from the .geo (nested iteration); not part of make test
@@ -12,7 +14,7 @@ VENV := .venv
 PYTHON := $(VENV)/bin/python
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: demo test bench-peers getfem rust deps apt-deps python-deps build
+.PHONY: demo test test-quick bench-peers getfem rust deps apt-deps python-deps build
 
 demo: rust deps build
 	./target/release/damfem safety geo/dam_combinations.toml -o out/dam; code=$$?; [ $$code -eq 0 ] || [ $$code -eq 3 ]
@@ -26,6 +28,16 @@ demo: rust deps build
 test: rust deps build
 	cargo test --release
 	DAMFEM=$(CURDIR)/target/release/damfem $(PYTHON) -m pytest -q tests/python
+
+QUICK_END_TO_END := input:: cli::every_scene_checks cli::help_texts cli::adapt_writes_every_step \
+	joint::friction_keys joint::combinations_override joint::an_earthquake joint::silt_and_ice \
+	joint::safety_runs_every_load_combination joint::safety_reports_a_combination_that_does_not_hold
+
+test-quick: rust deps build
+	cargo test --release --lib
+	cargo test --release --test unit
+	cargo test --release --test end_to_end -- $(QUICK_END_TO_END)
+	DAMFEM=$(CURDIR)/target/release/damfem $(PYTHON) -m pytest -q tests/python/test_docs.py tests/python/test_crack_rules.py
 
 bench-peers: rust apt-deps getfem build
 	/usr/bin/python3 scripts/bench_peers.py $(if $(LARGE),--large)

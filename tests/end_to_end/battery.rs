@@ -1,7 +1,7 @@
 //! The battery of random gravity-dam sections (`damfem::verify::battery`) through the
 //! `damfem` binary, against the exact limit equilibrium of each section.
 
-use super::cli::TempDir;
+use super::support::TempDir;
 use damfem::verify::battery::{cases, header, row, run, run_with, summary, DamCase, Record};
 use std::path::Path;
 

@@ -1,6 +1,6 @@
 //! The guaranteed bound of `damfem solve --estimate` across the inputs the CLI accepts.
 
-use super::cli::{assert_ok, check_summary, damfem, repo, TempDir};
+use super::support::{assert_ok, check_summary, damfem, repo, TempDir};
 use std::path::Path;
 
 /// `damfem solve -q <scene> --effectivity -o <dir> [extra]`; its summary.json.

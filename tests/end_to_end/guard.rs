@@ -3,7 +3,7 @@
 //! any dam. Each ends with exit code 1 and one sentence naming the flag, key or file and no
 //! file left behind, or with a result and a sentence saying where it stopped.
 
-use super::cli::{assert_error, assert_ok, damfem, repo, spawned_until, stderr, TempDir};
+use super::support::{assert_error, assert_ok, damfem, repo, spawned_until, stderr, TempDir};
 use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 use std::process::Output;
@@ -181,7 +181,7 @@ fn an_input_that_is_not_a_regular_file_is_refused() {
     fifo("pipe.geo");
     let pipe_geometry = tmp.join("pipe_geometry.toml");
     std::fs::write(&pipe_geometry, "geometry = \"pipe.geo\"\n").unwrap();
-    let body = std::fs::read_to_string(super::cli::fixture("bare.geo")).unwrap();
+    let body = std::fs::read_to_string(super::support::fixture("bare.geo")).unwrap();
     let includes = tmp.join("includes.geo");
     std::fs::write(&includes, format!("Include \"pipe.geo\";\n{body}")).unwrap();
     let cases: [(PathBuf, &str, &str); 8] = [
@@ -222,13 +222,13 @@ fn values_beyond_any_dam_are_refused() {
         ("E = 3.0e10", "E = 3.0e10", &["--friction", "0.5", "--cohesion", "1e12"], &["--cohesion", "1e10 Pa"]),
     ];
     for (k, (from, to, flags, keywords)) in cases.into_iter().enumerate() {
-        let scene = super::cli::edited_scene(&tmp, "scene_a", |s| {
+        let scene = super::support::edited_scene(&tmp, "scene_a", |s| {
             assert!(s.contains(from), "{from}");
             s.replacen(from, to, 1)
         });
         let start = std::time::Instant::now();
         let args: Vec<&str> = ["--order", "1"].iter().chain(flags).copied().collect();
-        super::cli::assert_refused(&format!("beyond-{k}"), "solve", &scene, &args, keywords);
+        super::support::assert_refused(&format!("beyond-{k}"), "solve", &scene, &args, keywords);
         assert!(start.elapsed().as_secs() < 5, "{to} {flags:?} took {:?}", start.elapsed());
     }
 }
@@ -240,7 +240,7 @@ fn values_beyond_any_dam_are_refused() {
 #[test]
 fn ten_thousand_physical_groups_are_read_in_seconds_with_few_warnings() {
     let tmp = TempDir::new("many-groups");
-    let body = std::fs::read_to_string(super::cli::fixture("bare.geo")).unwrap();
+    let body = std::fs::read_to_string(super::support::fixture("bare.geo")).unwrap();
     let groups: String = (0..10_000).map(|i| format!("Physical Curve(\"c{i}\", {}) = {{2}};\n", 100 + i)).collect();
     let geo = tmp.join("many.geo");
     std::fs::write(&geo, body + &groups).unwrap();
@@ -261,11 +261,12 @@ fn ten_thousand_physical_groups_are_read_in_seconds_with_few_warnings() {
 #[test]
 fn a_combination_whose_problem_fails_is_named() {
     let tmp = TempDir::new("combination-problem");
-    let scene =
-        super::cli::edited_scene(&tmp, "scene_a", |s| s + "\n[combinations.bad.boundary.nowhere]\nrole = \"free\"\n");
+    let scene = super::support::edited_scene(&tmp, "scene_a", |s| {
+        s + "\n[combinations.bad.boundary.nowhere]\nrole = \"free\"\n"
+    });
     for command in ["solve", "adapt"] {
         let args = ["--order", "1", "--combination", "bad"];
-        super::cli::assert_refused(command, command, &scene, &args, &["--combination bad", "'nowhere'"]);
+        super::support::assert_refused(command, command, &scene, &args, &["--combination bad", "'nowhere'"]);
     }
 }
 

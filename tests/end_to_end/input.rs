@@ -5,7 +5,7 @@
 //! used to build, and `.msh` tags with two names. Each is refused with one sentence naming the
 //! key, flag, group or file, exit code 1 and no output file, or said in a warning.
 
-use super::cli::{
+use super::support::{
     assert_error, assert_ok, assert_refused, check_warnings, damfem, edited_scene, repo, stderr, TempDir,
 };
 use std::ffi::OsStr;
@@ -472,7 +472,7 @@ fn check_checks_every_combination() {
 fn a_msh_tag_with_two_names_is_refused() {
     let tmp = TempDir::new("msh-two-names");
     let msh = tmp.join("two_names.msh");
-    let body = std::fs::read_to_string(super::cli::fixture("square.msh")).unwrap();
+    let body = std::fs::read_to_string(super::support::fixture("square.msh")).unwrap();
     let twice = body.replace("2\n1 1 \"Gamma_D\"\n", "3\n1 1 \"Gamma_D\"\n1 1 \"bottom\"\n");
     assert_ne!(twice, body);
     std::fs::write(&msh, twice).unwrap();

@@ -1,22 +1,13 @@
 //! End-to-end tests of the dam–rock joint through the `damfem` binary: friction and uplift
 //! keys, load combinations, the joint's resultant in `solve` and `adapt`, and `damfem safety`.
 
-use super::cli::{
-    assert_error, assert_nothing_written, assert_ok, assert_refused, assert_solve_fails, check_summary, damfem, repo,
-    stderr, TempDir,
+use super::support::{
+    assert_error, assert_nothing_written, assert_ok, assert_refused, assert_solve_fails, check_summary, damfem,
+    edited_scene, repo, stderr, TempDir,
 };
 use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 use std::process::Output;
-
-/// Writes geo/<name>.toml with `edit` applied into `tmp`, the geometry by absolute path.
-fn edited_scene(tmp: &TempDir, name: &str, edit: impl Fn(String) -> String) -> PathBuf {
-    let text = std::fs::read_to_string(repo(&format!("geo/{name}.toml"))).unwrap();
-    let geometry = format!("geometry = {:?}", repo(&format!("geo/{name}.geo")).display().to_string());
-    let scene = tmp.join("scene.toml");
-    std::fs::write(&scene, edit(text.replace(&format!("geometry = \"{name}.geo\""), &geometry))).unwrap();
-    scene
-}
 
 /// geo/scene_a_friction.toml with `edit` applied, in `tmp`.
 fn frictional_scene(tmp: &TempDir, edit: impl Fn(String) -> String) -> PathBuf {

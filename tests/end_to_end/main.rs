@@ -8,5 +8,6 @@ mod cli;
 mod guard;
 mod input;
 mod joint;
+mod support;
 mod tutorial;
 mod two_body;

@@ -2,7 +2,7 @@
 //! docs/method.md §1.10) through the `damfem` binary: geo/dam_on_rock.toml against the bonded
 //! geo/scene_b.toml, and the refusals.
 
-use super::cli::{assert_ok, assert_refused, check_summary, damfem, repo, TempDir};
+use super::support::{assert_ok, assert_refused, check_summary, damfem, repo, TempDir};
 use std::path::{Path, PathBuf};
 
 /// Writes geo/dam_on_rock.toml with `edit` applied into `tmp` as `name`, the geometry by
