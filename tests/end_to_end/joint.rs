@@ -235,8 +235,9 @@ fn combinations_override_water_levels_and_acceleration() {
 // a combination with an acceleration and no crack key takes `unchanged`, which keeps the uplift
 // of the state before the earthquake (the same reservoir without acceleration, its crack
 // filled): the crack s₀ it keeps is the static combination's, and U equals its U to round-off,
-// whatever the earthquake opens. (`none`: tests/python/test_crack_rules.py.) Parameters:
-// scene_a_friction at 45 m, 0.1 g, P2, size factor 2.
+// whatever the earthquake opens, in `solve` and in `safety`'s adaptive run and report. (`none`:
+// tests/python/test_crack_rules.py.) Parameters: scene_a_friction at 45 m, 0.1 g, P2, size
+// factor 2.
 #[test]
 fn an_earthquake_keeps_the_uplift_before_it() {
     let tmp = TempDir::new("crack-rules");
@@ -263,6 +264,15 @@ fn an_earthquake_keeps_the_uplift_before_it() {
     let (u0, u1) = (number(&before, &["uplift_force"]), number(&quake, &["uplift_force"]));
     assert!((u1 - u0).abs() <= 1e-12 * u0, "U under the earthquake {u1} against {u0} before it");
     assert!(number(&quake, &["crack_length"]) > s0 + 0.5, "the earthquake opens more than it keeps: {quake}");
+    // safety's adaptive run keeps the same crack, and its report says so
+    let out = tmp.join("safety");
+    let args = ["safety", "-q", scene.to_str().unwrap(), "--combination", "earthquake", "--size-factor", "2"];
+    assert_ok(&damfem(&[&args[..], &["--max-steps", "1", "-o", out.to_str().unwrap()]].concat()));
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("safety.json")).unwrap()).unwrap();
+    assert_eq!(number(&report, &["crack_rule", "kept", "prior"]), s0);
+    let markdown = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(markdown.contains(&format!("kept: the diagram of the {s0:.4} m crack before the earthquake")), "{markdown}");
 }
 
 // Source: statics of a rigid section. Goal: silt and ice on the upstream face beside the
