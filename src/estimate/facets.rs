@@ -10,7 +10,8 @@
 //! reconstruction, the equilibration checks and the estimators see only facets and their
 //! samples, so one body and two bodies take the same path.
 
-use super::reconstruction::{contact_rule, tractions};
+use crate::contact::nitsche::FaceDisplacement;
+use crate::contact::projection::Smoothing;
 use crate::contact::Linearisation;
 use crate::elasticity::Displacement;
 use crate::fem::lagrange::reference_vertex;
@@ -178,4 +179,36 @@ mod tests {
         assert!(uncovered(vec![[0.0, 0.5], [0.5, 1.0]]).is_empty());
         assert_eq!(uncovered(Vec::new()), vec![[0.0, 1.0]]);
     }
+}
+
+/// The Γ_C tractions (t₁, t₂, t₃) at parameter `s` of contact face k, for the displacements
+/// `u` and `u_prev` of its cells and the increment `step` = u − u_prev: the exact traction, the
+/// smoothing's part and the linearisation's part, t₁ + t₂ + t₃ the traction of the Newton step
+/// (docs/method.md §4.3).
+fn tractions(
+    c: &Linearisation,
+    k: usize,
+    s: f64,
+    [u, u_prev, step]: [&FaceDisplacement; 3],
+) -> [[f64; 2]; 3] {
+    let point = c.nitsche.point(k, s);
+    let exact = c.nitsche.traction(k, &point, u, Smoothing::NONE);
+    let regularised = c.nitsche.traction(k, &point, u, c.smoothing);
+    let linearised = c.nitsche.linearised_traction(k, &point, u_prev, step, c.smoothing);
+    let minus = |a: [f64; 2], b: [f64; 2]| [a[0] - b[0], a[1] - b[1]];
+    [exact, minus(regularised, exact), minus(linearised, regularised)]
+}
+
+/// The rule on contact face k split at every kink of t₁, t₂ and t₃: (s, weight · |F|).
+fn contact_rule(
+    c: &Linearisation,
+    k: usize,
+    u: &FaceDisplacement,
+    u_prev: &FaceDisplacement,
+) -> Vec<(f64, f64)> {
+    let mut cuts = c.nitsche.kinks(k, u, Smoothing::NONE);
+    cuts.extend(c.nitsche.kinks(k, u, c.smoothing));
+    cuts.extend(c.nitsche.kinks(k, u_prev, c.smoothing));
+    cuts.sort_by(f64::total_cmp);
+    c.nitsche.split_rule(k, &cuts)
 }

@@ -17,8 +17,6 @@ use super::afw::{self, cell_integrals, edge_moments, CellIntegrals, COMPONENTS};
 use super::facets::{sampled_facets, SampledFacet};
 use super::patch::{self, FaceKind, PatchFace, PatchInput};
 use super::{volume_degree, EstimateError};
-use crate::contact::nitsche::FaceDisplacement;
-use crate::contact::projection::Smoothing;
 use crate::contact::Linearisation;
 use crate::elasticity::kernels::{displacement_gradient, stress};
 use crate::elasticity::problem::traction_rule;
@@ -433,38 +431,6 @@ fn traction_moments(ctx: &Context, traction: &Traction, a: usize, ends: [usize; 
             }
         }
     }
-}
-
-/// The Γ_C tractions (t₁, t₂, t₃) at parameter `s` of contact face k, for the displacements
-/// `u` and `u_prev` of its cells and the increment `step` = u − u_prev: the exact traction, the
-/// smoothing's part and the linearisation's part, t₁ + t₂ + t₃ the traction of the Newton step
-/// (docs/method.md §4.3).
-pub(crate) fn tractions(
-    c: &Linearisation,
-    k: usize,
-    s: f64,
-    [u, u_prev, step]: [&FaceDisplacement; 3],
-) -> [[f64; 2]; 3] {
-    let point = c.nitsche.point(k, s);
-    let exact = c.nitsche.traction(k, &point, u, Smoothing::NONE);
-    let regularised = c.nitsche.traction(k, &point, u, c.smoothing);
-    let linearised = c.nitsche.linearised_traction(k, &point, u_prev, step, c.smoothing);
-    let minus = |a: [f64; 2], b: [f64; 2]| [a[0] - b[0], a[1] - b[1]];
-    [exact, minus(regularised, exact), minus(linearised, regularised)]
-}
-
-/// The rule on contact face k split at every kink of t₁, t₂ and t₃: (s, weight · |F|).
-pub(crate) fn contact_rule(
-    c: &Linearisation,
-    k: usize,
-    u: &FaceDisplacement,
-    u_prev: &FaceDisplacement,
-) -> Vec<(f64, f64)> {
-    let mut cuts = c.nitsche.kinks(k, u, Smoothing::NONE);
-    cuts.extend(c.nitsche.kinks(k, u, c.smoothing));
-    cuts.extend(c.nitsche.kinks(k, u_prev, c.smoothing));
-    cuts.sort_by(f64::total_cmp);
-    c.nitsche.split_rule(k, &cuts)
 }
 
 /// ∫_F ψ_a t_i q_m for the three cases on contact facet k, with the samples of its datum.
