@@ -11,12 +11,12 @@ use crate::adapt::{self, AdaptError, AdaptSettings, Model, PhaseTimes, Refinemen
 use crate::contact::{ContactJoint, JointLine, LoadPath, PathPoint, Resultant};
 use crate::elasticity::stress::cell_mean_stress;
 use crate::elasticity::Problem;
+use crate::estimate::reference::{effectivity, Effectivity};
 use crate::io::atomic::{write_output, Provisional};
 use crate::io::pvd::write_pvd;
 use crate::mesh::Mesh;
 use crate::scene::Scene;
 use crate::solve::NewtonOptions;
-use crate::verify::dual_norm::{effectivity, Effectivity};
 use anyhow::{Context, Result};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -594,7 +594,7 @@ mod tests {
     }
 
     // The record of a step whose sharp reference stopped at its size limit before its last
-    // two values agreed (src/verify/dual_norm.rs). Goal: the progress line and history.json say
+    // two values agreed (src/estimate/reference/mod.rs). Goal: the progress line and history.json say
     // so, since I_eff then overestimates the true index by more than the reference's 2 %; a
     // converged reference's line says nothing of it. Parameters: a record with I_eff 1.5.
     #[test]

@@ -8,11 +8,11 @@ use crate::contact::{
 };
 use crate::elasticity::stress::cell_mean_stress;
 use crate::elasticity::{Discretisation, Problem};
+use crate::estimate::reference::{effectivity, Effectivity};
 use crate::estimate::{estimate_displacement, Estimate};
 use crate::io::atomic::{write_output, Provisional};
 use crate::scene::{ProjectionKind, Scene};
 use crate::solve::{diverged, NewtonError};
-use crate::verify::dual_norm::{effectivity, Effectivity};
 use anyhow::Result;
 use serde::Serialize;
 use std::path::Path;

@@ -185,12 +185,7 @@ mod tests {
 /// `u` and `u_prev` of its cells and the increment `step` = u − u_prev: the exact traction, the
 /// smoothing's part and the linearisation's part, t₁ + t₂ + t₃ the traction of the Newton step
 /// (docs/method.md §4.3).
-fn tractions(
-    c: &Linearisation,
-    k: usize,
-    s: f64,
-    [u, u_prev, step]: [&FaceDisplacement; 3],
-) -> [[f64; 2]; 3] {
+fn tractions(c: &Linearisation, k: usize, s: f64, [u, u_prev, step]: [&FaceDisplacement; 3]) -> [[f64; 2]; 3] {
     let point = c.nitsche.point(k, s);
     let exact = c.nitsche.traction(k, &point, u, Smoothing::NONE);
     let regularised = c.nitsche.traction(k, &point, u, c.smoothing);
@@ -200,12 +195,7 @@ fn tractions(
 }
 
 /// The rule on contact face k split at every kink of t₁, t₂ and t₃: (s, weight · |F|).
-fn contact_rule(
-    c: &Linearisation,
-    k: usize,
-    u: &FaceDisplacement,
-    u_prev: &FaceDisplacement,
-) -> Vec<(f64, f64)> {
+fn contact_rule(c: &Linearisation, k: usize, u: &FaceDisplacement, u_prev: &FaceDisplacement) -> Vec<(f64, f64)> {
     let mut cuts = c.nitsche.kinks(k, u, Smoothing::NONE);
     cuts.extend(c.nitsche.kinks(k, u, c.smoothing));
     cuts.extend(c.nitsche.kinks(k, u_prev, c.smoothing));

@@ -1,5 +1,5 @@
 //! A posteriori error estimation (docs/method.md §3–§5). The reference it is verified
-//! against, the dual norm of the residual on a finer space, is `verify::dual_norm`.
+//! against, the dual norm of the residual on a finer space, is `estimate::reference`.
 
 pub mod afw;
 pub mod checks;
@@ -8,6 +8,7 @@ pub mod face;
 pub mod facets;
 pub mod patch;
 pub mod reconstruction;
+pub mod reference;
 
 use crate::contact::Linearisation;
 use crate::elasticity::problem::load_degree;

@@ -1,7 +1,7 @@
 //! Perturbed and graded meshes for stability studies.
 
-use super::refine::{bisect, Refinement};
 use super::rng::Rng;
+use crate::estimate::reference::refine::{bisect, Refinement};
 use crate::mesh::Mesh;
 
 /// Moves every interior vertex by a random vector of length up to `fraction · h` (uniform

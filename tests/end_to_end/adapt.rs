@@ -10,10 +10,10 @@ use damfem::contact::projection::Smoothing;
 use damfem::contact::{ContactJoint, ContactProblem, Linearisation};
 use damfem::elasticity::Problem;
 use damfem::estimate::estimate_iterate;
+use damfem::estimate::reference::effectivity;
 use damfem::mesh::Mesh;
 use damfem::scene::Scene;
 use damfem::solve::{newton_until, NewtonOptions};
-use damfem::verify::dual_norm::effectivity;
 use std::path::Path;
 
 fn scene(name: &str, order: usize) -> Scene {

@@ -272,7 +272,10 @@ fn an_earthquake_keeps_the_uplift_before_it() {
         serde_json::from_str(&std::fs::read_to_string(out.join("safety.json")).unwrap()).unwrap();
     assert_eq!(number(&report, &["crack_rule", "kept", "prior"]), s0);
     let markdown = std::fs::read_to_string(out.join("report.md")).unwrap();
-    assert!(markdown.contains(&format!("kept: the diagram of the {s0:.4} m crack before the earthquake")), "{markdown}");
+    assert!(
+        markdown.contains(&format!("kept: the diagram of the {s0:.4} m crack before the earthquake")),
+        "{markdown}"
+    );
 }
 
 // Source: statics of a rigid section. Goal: silt and ice on the upstream face beside the

@@ -1,5 +1,5 @@
 //! Verification of the dual norm of the residual (docs/method.md §2) computed by
-//! `damfem::verify::dual_norm`: the reference "true error" of the a posteriori estimator
+//! `damfem::estimate::reference`: the reference "true error" of the a posteriori estimator
 //! tests. Every test checks the tool against something it does not compute itself: exact
 //! solutions, Galerkin orthogonality of the project's solvers, and two-sided bounds by
 //! independently integrated norms of known errors.
@@ -13,6 +13,7 @@ use damfem::contact::projection::Smoothing;
 use damfem::contact::{continuation, ContactJoint, ContactProblem};
 use damfem::elasticity::kernels::{displacement_gradient, stress};
 use damfem::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction, VectorFn};
+use damfem::estimate::reference::{residual_dual_norm, residual_riesz};
 use damfem::fem::affine::AffineMap;
 use damfem::fem::norms::errors;
 use damfem::fem::quadrature::gauss_segment;
@@ -21,7 +22,6 @@ use damfem::mesh::midpoints::elevate_to_p2;
 use damfem::mesh::structured::{rectangle, unit_square, BOTTOM, LEFT, RIGHT, TOP};
 use damfem::mesh::{Mesh, Topology};
 use damfem::solve::{newton, Cholesky, NewtonOptions};
-use damfem::verify::dual_norm::{residual_dual_norm, residual_riesz};
 use std::sync::Arc;
 
 // ---------------------------------------------------------------------------------------

@@ -8,11 +8,11 @@ use damfem::elasticity::{Displacement, Problem};
 use damfem::estimate::checks::check;
 use damfem::estimate::estimators::estimate;
 use damfem::estimate::reconstruction::reconstruct;
+use damfem::estimate::reference::{sharp_reference, REFERENCE_AGREEMENT, REFERENCE_MAX_UNKNOWNS};
 use damfem::mesh::structured::unit_square;
 use damfem::mesh::structured::BOTTOM;
 use damfem::solve::Cholesky;
 use damfem::solve::NewtonOptions;
-use damfem::verify::dual_norm::{sharp_reference, REFERENCE_AGREEMENT, REFERENCE_MAX_UNKNOWNS};
 use damfem::verify::{v1, v3};
 
 /// The sharp reference of ‖R(u_h)‖ (the one of `damfem solve --effectivity`), converged.

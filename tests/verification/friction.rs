@@ -4,9 +4,9 @@ use crate::common;
 use damfem::contact::nitsche::{FaceDisplacement, NitscheParameters};
 use damfem::contact::{solve_by_continuation, ContactError, ContactJoint, ContactSolution, Continuation, JointLaw};
 use damfem::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};
+use damfem::estimate::reference::{sharp_reference, REFERENCE_AGREEMENT, REFERENCE_MAX_UNKNOWNS};
 use damfem::mesh::structured::{unit_square, BOTTOM, LEFT, RIGHT, TOP};
 use damfem::solve::{NewtonError, NewtonOptions};
-use damfem::verify::dual_norm::{sharp_reference, REFERENCE_AGREEMENT, REFERENCE_MAX_UNKNOWNS};
 use std::sync::Arc;
 
 /// The laws of the exact cases: S = 0.02 (Tresca), F = 0.5 (Coulomb), F = 0.3 and c = 0.005

@@ -7,9 +7,9 @@ use damfem::contact::projection::Smoothing;
 use damfem::contact::uplift::Drains;
 use damfem::contact::{continuation, ContactJoint, ContactProblem, CrackRule, JointLine, Linearisation, Uplift};
 use damfem::elasticity::Problem;
+use damfem::estimate::reference::{residual_dual_norm, sharp_reference, REFERENCE_AGREEMENT, REFERENCE_MAX_UNKNOWNS};
 use damfem::estimate::{estimate_iterate, Estimate};
 use damfem::solve::NewtonOptions;
-use damfem::verify::dual_norm::{residual_dual_norm, sharp_reference, REFERENCE_AGREEMENT, REFERENCE_MAX_UNKNOWNS};
 
 /// Newton to δ = 10⁻¹² across the joint, and the estimate of the solution: the nodal
 /// displacement and the estimate.

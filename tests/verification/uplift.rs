@@ -7,10 +7,10 @@ use damfem::contact::resultant::JointLine;
 use damfem::contact::uplift::{CrackRule, Uplift};
 use damfem::contact::{solve_by_continuation, ContactJoint, Continuation, JointLaw};
 use damfem::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};
+use damfem::estimate::reference::{sharp_reference, REFERENCE_AGREEMENT, REFERENCE_MAX_UNKNOWNS};
 use damfem::mesh::structured::{unit_square, BOTTOM, LEFT, RIGHT, TOP};
 use damfem::scene::Scene;
 use damfem::solve::NewtonOptions;
-use damfem::verify::dual_norm::{sharp_reference, REFERENCE_AGREEMENT, REFERENCE_MAX_UNKNOWNS};
 use std::sync::Arc;
 
 /// Uniform uplift. Source: docs/method.md §1.8 with p_u constant. Goal: on a block pressed and

@@ -8,11 +8,11 @@ use damfem::contact::nitsche::NitscheParameters;
 use damfem::contact::projection::Smoothing;
 use damfem::contact::{solve_by_continuation, ContactJoint, ContactProblem, Continuation, Linearisation};
 use damfem::elasticity::{Discretisation, Problem};
+use damfem::estimate::reference::{residual_dual_norm, residual_riesz, sharp_reference, sharp_start};
 use damfem::estimate::{estimate_iterate, EstimateError};
 use damfem::fem::dofs::FIXED;
 use damfem::mesh::structured::{unit_square, BOTTOM};
 use damfem::solve::NewtonOptions;
-use damfem::verify::dual_norm::{residual_dual_norm, residual_riesz, sharp_reference, sharp_start};
 use damfem::verify::rng::Rng;
 use damfem::verify::{v1, v3};
 

@@ -4,7 +4,7 @@
 //! gmsh meshes of the scenes.
 //!
 //! Notation: η_* are the global estimators (Σ_T η_T²)^{1/2} of damfem::estimate::estimators,
-//! "dual" is the Riesz lower bound ‖r‖_{C,h} ≤ ‖R(u_h)‖ of damfem::verify::dual_norm on the
+//! "dual" is the Riesz lower bound ‖r‖_{C,h} ≤ ‖R(u_h)‖ of damfem::estimate::reference on the
 //! coarse mesh refined once (P2), "worst" the largest relative equilibration violation of
 //! damfem::estimate::checks.
 

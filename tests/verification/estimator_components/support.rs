@@ -7,11 +7,11 @@ use damfem::elasticity::{Discretisation, Displacement, Problem};
 use damfem::estimate::checks::{check, Equilibration};
 use damfem::estimate::estimators::{estimate, GlobalEstimators};
 use damfem::estimate::reconstruction::reconstruct;
+use damfem::estimate::reference::residual_dual_norm;
 use damfem::io::gmsh::{mesh_geo, MeshOptions};
 use damfem::mesh::{Mesh, Topology};
 use damfem::scene::Scene;
 use damfem::solve::{Cholesky, NonlinearSystem, SparseLu};
-use damfem::verify::dual_norm::residual_dual_norm;
 use std::path::{Path, PathBuf};
 
 pub(super) fn manifest(relative: &str) -> PathBuf {

@@ -36,6 +36,8 @@
 //! by sparse Cholesky; when both components have the same Dirichlet nodes, one factorisation
 //! serves both. ‖r‖²_{C,h} = Σ_a r_aᵀ A_a r_a.
 
+pub mod refine;
+
 use crate::contact::nitsche::Nitsche;
 use crate::contact::projection::Smoothing;
 use crate::contact::ContactJoint;
@@ -50,9 +52,9 @@ use crate::mesh::midpoints::elevate_to_p2;
 use crate::mesh::midpoints::vertex_mesh;
 use crate::mesh::{Mesh, Topology};
 use crate::solve::{Cholesky, SolveError};
-use crate::verify::refine::{bisect, refine_levels, Refinement};
 use faer::Mat;
 use rayon::prelude::*;
+use refine::{bisect, refine_levels, Refinement};
 use serde::Serialize;
 
 /// Refinement levels used when the caller has no reason to choose.
