@@ -115,7 +115,8 @@ impl Uplift {
                     let s0 = q.s[0].max(crack);
                     Piece { s: [s0, q.s[1]], p: [Self::on(&before, s0), q.p[1]] }
                 };
-                let mut pieces = vec![Piece { s: [0.0, prior], p: [self.upstream; 2] }, Piece { s: [prior, crack], p: [0.0; 2] }];
+                let mut pieces =
+                    vec![Piece { s: [0.0, prior], p: [self.upstream; 2] }, Piece { s: [prior, crack], p: [0.0; 2] }];
                 pieces.extend(before.iter().filter(|q| q.s[1] > crack).map(cut));
                 pieces.retain(|q| q.s[1] > q.s[0]);
                 pieces

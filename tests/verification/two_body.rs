@@ -6,7 +6,7 @@ use crate::common;
 
 use damfem::contact::nitsche::NitscheParameters;
 use damfem::contact::projection::Smoothing;
-use damfem::contact::{continuation, ContactJoint, ContactProblem, JointLaw, JointLine, Uplift, CrackRule};
+use damfem::contact::{continuation, ContactJoint, ContactProblem, CrackRule, JointLaw, JointLine, Uplift};
 use damfem::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction, VectorFn};
 use damfem::fem::norms::errors;
 use damfem::mesh::structured::{rectangle, two_blocks, BOTTOM, JOINT, JOINT_LOWER, LEFT, LOWER, RIGHT, TOP};

@@ -5,7 +5,7 @@
 use super::two_body::{joint, pressed_blocks};
 use damfem::contact::projection::Smoothing;
 use damfem::contact::uplift::Drains;
-use damfem::contact::{continuation, ContactJoint, ContactProblem, JointLine, Linearisation, Uplift, CrackRule};
+use damfem::contact::{continuation, ContactJoint, ContactProblem, CrackRule, JointLine, Linearisation, Uplift};
 use damfem::elasticity::Problem;
 use damfem::estimate::{estimate_iterate, Estimate};
 use damfem::solve::NewtonOptions;

@@ -45,8 +45,7 @@ fn triangle(a: [f64; 2]) -> Problem {
 fn joint(rule: CrackRule) -> (ContactJoint, JointLine) {
     let line = JointLine::new([0.0, 0.0], [B, 0.0]);
     let law = JointLaw::MohrCoulomb { friction: FRICTION, cohesion: COHESION };
-    let uplift =
-        Uplift { line, upstream: RHO_W * G * HW, downstream: RHO_W * G * TW, drains: None, rule, crack: 0.0 };
+    let uplift = Uplift { line, upstream: RHO_W * G * HW, downstream: RHO_W * G * TW, drains: None, rule, crack: 0.0 };
     (ContactJoint::uniform(vec![1], vec![], law, NitscheParameters::default()).with_uplift(uplift), line)
 }
 
