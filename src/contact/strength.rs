@@ -16,9 +16,10 @@
 //! (Coulomb, no cohesion), N and T are the statics of the body above it whatever k, so FS_SR
 //! must equal FS_LE: a gap of more than [`AGREEMENT`] is an error ([`StrengthError::Disagrees`]).
 
-use super::{newton, solve_by_continuation, ContactError, ContactJoint, ContactProblem, ContactSolution, Continuation};
-use super::{JointLaw, NewtonError, NewtonOptions};
+use super::JointLaw;
+use super::{solve_by_continuation, ContactError, ContactJoint, ContactProblem, ContactSolution, Continuation};
 use crate::elasticity::{Discretisation, Problem};
+use crate::solve::{newton, NewtonError, NewtonOptions};
 
 /// The relative width of the FS_SR bracket at which `damfem solve --strength-reduction` and
 /// `damfem safety` stop.
