@@ -5,7 +5,8 @@
 //! warnings of `damfem check` (defaults assumed, parameters outside their known range, an
 //! uplift headwater that differs from the reservoir).
 
-use super::{too_dense, BoundarySection, ContactSection, Fix, ProjectionKind, Role, Scene, SceneError, UpliftSection};
+use super::validate::too_dense;
+use super::{BoundarySection, ContactSection, Fix, ProjectionKind, Role, Scene, SceneError, UpliftSection};
 use crate::contact::ContactJoint;
 use crate::elasticity::material::MAX_DENSITY;
 use crate::mesh::topology::NONE;

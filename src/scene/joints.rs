@@ -48,7 +48,7 @@ impl Default for JointSection {
 impl JointSection {
     /// The joint law of the friction keys.
     pub fn law(&self) -> JointLaw {
-        super::law_of(self.threshold, self.friction, self.cohesion)
+        super::sections::law_of(self.threshold, self.friction, self.cohesion)
     }
 
     /// The law and Nitsche parameters of the joint.
@@ -65,7 +65,7 @@ impl JointSection {
         if ![1.0, 0.0, -1.0].contains(&self.theta) {
             return Err(format!("joints.{name}.theta = {} must be 1, 0 or -1", self.theta));
         }
-        super::check_law(&format!("joints.{name}"), self.threshold, self.friction, self.cohesion)
+        super::validate::check_law(&format!("joints.{name}"), self.threshold, self.friction, self.cohesion)
     }
 }
 
