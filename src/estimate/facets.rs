@@ -169,18 +169,6 @@ fn uncovered(mut intervals: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
     gaps
 }
 
-#[cfg(test)]
-mod tests {
-    use super::uncovered;
-
-    #[test]
-    fn uncovered_parts_are_the_gaps_between_the_pieces() {
-        assert_eq!(uncovered(vec![[0.5, 1.0], [0.0, 0.25]]), vec![[0.25, 0.5]]);
-        assert!(uncovered(vec![[0.0, 0.5], [0.5, 1.0]]).is_empty());
-        assert_eq!(uncovered(Vec::new()), vec![[0.0, 1.0]]);
-    }
-}
-
 /// The Γ_C tractions (t₁, t₂, t₃) at parameter `s` of contact face k, for the displacements
 /// `u` and `u_prev` of its cells and the increment `step` = u − u_prev: the exact traction, the
 /// smoothing's part and the linearisation's part, t₁ + t₂ + t₃ the traction of the Newton step
@@ -201,4 +189,16 @@ fn contact_rule(c: &Linearisation, k: usize, u: &FaceDisplacement, u_prev: &Face
     cuts.extend(c.nitsche.kinks(k, u_prev, c.smoothing));
     cuts.sort_by(f64::total_cmp);
     c.nitsche.split_rule(k, &cuts)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::uncovered;
+
+    #[test]
+    fn uncovered_parts_are_the_gaps_between_the_pieces() {
+        assert_eq!(uncovered(vec![[0.5, 1.0], [0.0, 0.25]]), vec![[0.25, 0.5]]);
+        assert!(uncovered(vec![[0.0, 0.5], [0.5, 1.0]]).is_empty());
+        assert_eq!(uncovered(Vec::new()), vec![[0.0, 1.0]]);
+    }
 }
