@@ -352,7 +352,7 @@ fn galerkin_solution_bounded_by_stress_error_and_converges() {
 // contact
 
 /// V2 patch test with the project's Nitsche solver. Source: docs/method.md §7 V2 and
-/// tests/contact.rs: unit square (E = 1, ν = 0) on 4 × 4 cells, Γ_C = {y = 0}, top moved by
+/// tests/verification/contact.rs: unit square (E = 1, ν = 0) on 4 × 4 cells, Γ_C = {y = 0}, top moved by
 /// (0, d), f = 0. Returns the nodal solution and the problem.
 fn v2_solution(order: usize, theta: f64, top_uy: f64) -> (Problem, Vec<[f64; 2]>) {
     let mesh = unit_square(4, order);
@@ -462,7 +462,7 @@ fn v3_contact_defect(problem: &Problem, u_h: &[[f64; 2]], gamma0: f64) -> f64 {
 ///     ⟨R(u_h), v⟩ = (σ(u) − σ(u_h), ε(v)) + ([P_γ(u_h)]_{R⁻} − σ^n(u), v^n)_{Γ_C},
 ///     so ‖r‖ ≤ (‖σ(u) − σ(u_h)‖² + Σ_F h_F ‖[P_γ(u_h)]_{R⁻} − σ^n(u)‖²_F)^{1/2}, asserted
 ///     with both terms integrated here; the fitted rate of ‖r‖ is at least 0.9 (P1) and 1.4
-///     (P2), the bounds of the H¹ error in tests/contact.rs.
+///     (P2), the bounds of the H¹ error in tests/verification/contact.rs.
 #[test]
 fn contact_residual_orthogonality_bound_and_rate() {
     let data = ContactJoint::frictionless(vec![BOTTOM], NitscheParameters::default());

@@ -37,7 +37,7 @@ pub(super) struct ContactRun {
     pub(super) contact_length: f64,
 }
 
-/// Solves along the δ path of `settings` (as tests/estimator.rs does).
+/// Solves along the δ path of `settings` (as tests/verification/estimator.rs does).
 pub(super) fn solve_with_contact(
     problem: &Problem,
     disc: &Discretisation,
