@@ -40,9 +40,9 @@ fn every_scene_checks() {
 // `damfem check` lists each load combination with its water and the uplift diagram at the
 // heel, the drain line and the toe. Source: geo/dam_combinations.toml (base 47.6 m from x = 0
 // to 47.6 at y = 0, drains 10 m from the heel, E = 0.66, tailwater 5 m; usual and earthquake
-// 57 m, flood 61 m with the crest under water; earthquake 0.1 g). Expected: USACE EM
-// 1110-2-2100 with the crack closed, H3 = H2 + (1 − E)(H1 − H2)(L − X)/L at the drain line, as
-// ρ_w g × head, to the 5 digits printed.
+// 57 m, flood 61 m with the crest under water; earthquake 0.1 g, its crack rule unchanged).
+// Expected: USACE EM 1110-2-2100 with the crack closed, H3 = H2 + (1 − E)(H1 − H2)(L − X)/L at
+// the drain line, as ρ_w g × head, to the 5 digits printed; each combination's crack rule.
 #[test]
 fn check_lists_the_combinations_water_and_uplift() {
     let out = damfem(&["check".as_ref(), repo("geo/dam_combinations.toml").as_os_str()]);
@@ -65,8 +65,12 @@ fn check_lists_the_combinations_water_and_uplift() {
         assert!(water.ends_with(&format!("acceleration [{acceleration}, 0] g")), "{water}");
         let uplift = line("uplift", &case);
         let h3 = h2 + (1.0 - e) * (h1 - h2) * (l - x) / l;
+        let rule = match acceleration == 0.0 {
+            true => "full",
+            false => "unchanged (that of the state before the earthquake, solved first)",
+        };
         let expected = format!(
-            "base: headwater {h1:.3} m, tailwater {h2:.3} m, crack full; heel at s = 0.000 m (0.000, 0.000): p_u {:.4e} Pa; \
+            "base: headwater {h1:.3} m, tailwater {h2:.3} m, crack {rule}; heel at s = 0.000 m (0.000, 0.000): p_u {:.4e} Pa; \
              drain line at s = 10.000 m (10.000, 0.000): p_u {:.4e} Pa, efficiency 0.66; toe at s = 47.600 m (47.600, \
              0.000): p_u {:.4e} Pa",
             gamma_w * h1,
