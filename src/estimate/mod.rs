@@ -24,8 +24,8 @@ use reconstruction::{covered, reconstruct_sampled, Reconstruction};
 pub enum EstimateError {
     #[error("the estimator covers the Nitsche variant theta = 0 only (this run uses theta = {0})")]
     Theta(f64),
-    #[error("patch of the vertex at ({x}, {y}): {message}")]
-    Patch { x: f64, y: f64, message: String },
+    #[error("patch of the vertex at ({x}, {y}): {why}")]
+    Patch { x: f64, y: f64, why: patch::PatchError },
     #[error(
         "no guaranteed bound: the reconstructed stress violates {} by {:.1e} near ({:.4}, {:.4}); \
          the iterate does not solve its linearised problem, or the mesh is too thin (docs/method.md §4.1)",

@@ -157,9 +157,9 @@ pub(crate) fn reconstruct_sampled(
         .into_par_iter()
         .map_init(patch::Workspace::default, |work, k| {
             let input = patch_input(&ctx, k);
-            patch::solve(&input, work).map_err(|message| {
+            patch::solve(&input, work).map_err(|why| {
                 let [x, y] = mesh.points[topology.vertices[k]];
-                EstimateError::Patch { x, y, message }
+                EstimateError::Patch { x, y, why }
             })
         })
         .collect::<Result<_, _>>()?;
