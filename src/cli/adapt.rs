@@ -273,18 +273,19 @@ pub fn run_sequence(
             Refinement::Uniform => "uniform",
         };
         let hint = result.as_ref().err().and_then(|e| remesh_hint(e, writer.history.len(), scene.adapt.refinement));
+        let kept = match writer.history.is_empty() {
+            true => format!("its history is in {}", dir.display()),
+            false => format!("the steps before it are in {}", dir.display()),
+        };
         if let (None, Err(source)) = (&hint, result) {
             // the error kept as the source: its outcome (no equilibrium, a failed solve) sets the exit code
             let at = format!("{}: {kind} step {}", scene.source.display(), writer.history.len());
-            return Err(
-                anyhow::Error::new(source).context(format!("{at} (the steps before it are in {})", dir.display()))
-            );
+            return Err(anyhow::Error::new(source).context(format!("{at} ({kept})")));
         }
         anyhow::bail!(
-            "{}: {kind} step {}: {e}; the steps before it are in {}{}",
+            "{}: {kind} step {}: {e}; {kept}{}",
             scene.source.display(),
             writer.history.len(),
-            dir.display(),
             hint.map_or(String::new(), |h| format!("\n{h}"))
         );
     }

@@ -20,6 +20,11 @@ pub enum ContactError {
          table"
     )]
     CrackJump { length: f64, change: f64, face: f64 },
+    #[error(
+        "the crack at the heel would grow from {from:.3} m to {to:.3} m in one load step, more than {limit:.3} m: a \
+         shorter load step follows it"
+    )]
+    CrackStep { from: f64, to: f64, limit: f64 },
     #[error(transparent)]
     NoEquilibrium(#[from] NoEquilibrium),
     #[error(

@@ -38,6 +38,13 @@ const CRACK_TOLERANCE: f64 = 1e-3;
 const EASY_STEPS: usize = 8;
 /// Newton steps per solve on the path: a step that needs more is halved.
 const STEP_ITERATIONS: usize = 60;
+/// A load step whose first solve opens the crack that the reservoir fills by more than this
+/// share of its joint fails at once, unless it is at most [`CONTROLLED_STEP`]: the crack's
+/// solves converge only from nearby cracks, and beyond λ* they run on for hundreds of Newton
+/// steps before a solve fails.
+pub const CRACK_STEP: f64 = 0.1;
+/// Load steps up to this size are not held to [`CRACK_STEP`] (a crack may jump at a fixed λ).
+const CONTROLLED_STEP: f64 = 1.0 / 64.0;
 /// At the limit, FS_LE of the joint below 1 + this means that it slides.
 pub const SLIDING_MARGIN: f64 = 0.02;
 /// At the limit, a contact length below this share of the joint means that it has lifted off.
@@ -152,7 +159,7 @@ pub fn follow(
     let at_end = NewtonOptions { max_iter, ..*options };
     let (mut lambda, mut step, mut cracks) = (0.0, FIRST_STEP, Vec::new());
     let mut previous: Option<(Vec<f64>, f64)> = None;
-    let mut schedule = schedule;
+    let (mut schedule, mut failed) = (schedule, f64::INFINITY);
     while lambda < 1.0 {
         while schedule.first().is_some_and(|&l| l <= lambda) {
             schedule = &schedule[1..];
@@ -164,9 +171,10 @@ pub fn follow(
         contact.set_load_factor(trial);
         contact.set_slip_origin(Some(&x));
         let guess = predicted(&x, previous.as_ref(), lambda, trial);
+        let growth = (increment > CONTROLLED_STEP && trial >= failed).then_some(CRACK_STEP);
         let attempt = match trial == 1.0 {
-            true => solve_at(contact, guess, &at_end, Crack::TOLERANCE),
-            false => solve_at(contact, guess, &on_path, CRACK_TOLERANCE),
+            true => solve_at(contact, guess, &at_end, (Crack::TOLERANCE, growth)),
+            false => solve_at(contact, guess, &on_path, (CRACK_TOLERANCE, growth)),
         };
         let attempt = attempt.and_then(|solved| contact.lift_off(&solved.0, trial).map(|_| solved));
         match attempt {
@@ -190,6 +198,7 @@ pub fn follow(
                     }
                 };
                 restore(contact);
+                failed = failed.min(trial);
                 // half the step that failed (that to λ = 1 may have been shorter than Δλ); the
                 // schedule no longer holds
                 step = 0.5 * increment;
@@ -202,7 +211,7 @@ pub fn follow(
                     // the crack may jump past a drain line at a fixed λ, which no step resolves:
                     // the loads of λ = 1 at once from the last converged state, before a verdict
                     contact.set_load_factor(1.0);
-                    let at_once = solve_at(contact, x.clone(), options, Crack::TOLERANCE);
+                    let at_once = solve_at(contact, x.clone(), options, (Crack::TOLERANCE, None));
                     if let Ok((y, more, found)) = at_once.and_then(|s| contact.lift_off(&s.0, 1.0).map(|_| s)) {
                         let steps = more.iter().map(|s| s.report.iterations.len()).sum();
                         stages.extend(more);
@@ -256,18 +265,29 @@ fn reached(path: &mut Vec<PathPoint>, point: PathPoint, trace: Option<fn(&PathPo
     path.push(point);
 }
 
-/// Newton at the current λ from `x`, and the crack settled there to `tolerance` L.
+/// Newton at the current λ from `x`, and the crack settled there to `tolerance` L; with a
+/// `growth` share, [`ContactError::CrackStep`] where the first solve opens a crack by more
+/// than that share of its joint.
 fn solve_at(
     contact: &mut ContactProblem,
     x: Vec<f64>,
     options: &NewtonOptions,
-    tolerance: f64,
+    (tolerance, growth): (f64, Option<f64>),
 ) -> Result<(Vec<f64>, Vec<Stage>, Cracks), ContactError> {
     let report = crate::solve::newton(contact, x, options)?;
     let mut stages = vec![Stage { delta: contact.smoothing.delta, report }];
     let x = stages[0].report.x.clone();
     if !contact.nitsche.uplift.iter().any(|up| up.diagram.rule.follows_crack()) {
         return Ok((x, stages, Vec::new()));
+    }
+    if let Some(share) = growth {
+        let open = contact.crack_lengths(&x);
+        for (up, open) in contact.nitsche.uplift.iter().zip(open) {
+            let (crack, limit) = (up.diagram.crack, share * up.diagram.line.length);
+            if up.diagram.rule.follows_crack() && open - crack > limit {
+                return Err(ContactError::CrackStep { from: crack, to: open, limit });
+            }
+        }
     }
     let (x, more, cracks) = settle_crack_to(contact, x, options, tolerance)?;
     stages.extend(more);
