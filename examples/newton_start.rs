@@ -7,7 +7,7 @@
 //! 10, 100, 1000}: the Newton steps and wall time of the solve from u = 0
 //! (`contact::solve_by_continuation`), and of the solve of `damfem solve`
 //! (`Scene::solve_contact`: nested iteration on the geometry meshed 1.5 and 3 times coarser
-//! here, 1.5 × 4^k in general (docs/method.md §1.5), each solution interpolated as the start
+//! here, 1.5 × 4^k in general (docs/solver.md §4), each solution interpolated as the start
 //! of the next), with the steps on each coarser mesh and ‖u_cold − u_nested‖ / ‖u_cold‖. Each
 //! time includes the factorisation of the stiffness with its contact layer; the nested one
 //! also includes gmsh's coarse meshes.

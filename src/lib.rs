@@ -52,7 +52,7 @@
 //! an estimate whose reconstruction fails an equilibration check is refused, never reported.
 //! Known limit: Newton on Coulomb joints can stall (its line search keeps ‖F‖ monotone); it
 //! stops with an error. On a softening (Mohr–Coulomb) joint its stalled steps take the
-//! Jacobian with the cohesion's closed indicator held fixed (docs/method.md §1.5).
+//! Jacobian with the cohesion's closed indicator held fixed (docs/solver.md §3).
 
 pub mod adapt;
 pub mod cli;

@@ -141,7 +141,7 @@ pub fn solve_system_along(
     Ok(contact.solution(x, stages, cracks))
 }
 
-/// Nested iteration (docs/method.md §1.5): Newton on each level of `coarse` (coarser meshes
+/// Nested iteration (docs/solver.md §4): Newton on each level of `coarse` (coarser meshes
 /// of the same geometry, or the degree-1 problem on the triangles of `problem`, coarsest
 /// first, taken one at a time), from u = 0 along the δ path of `settings` on the first and at
 /// δ from the previous solution interpolated on the others.

@@ -41,7 +41,7 @@ pub struct Tangential {
     pub d_normal: f64,
     /// ∂/∂P^n with the cohesion's closed indicator q'(P^n) held fixed: (q'(S − p_t) −
     /// q'(p_t + S)) (−F q'(P^n)), the derivative of a law that does not soften as the joint
-    /// opens (docs/method.md §1.5); d_normal for the other laws.
+    /// opens (docs/solver.md §3); d_normal for the other laws.
     pub d_normal_frozen: f64,
     /// The threshold S at the point.
     pub threshold: f64,
@@ -191,7 +191,7 @@ mod tests {
         }
     }
 
-    /// Source: docs/method.md §1.5 (the frozen Jacobian of a stalled run). Goal: d_normal_frozen
+    /// Source: docs/solver.md §3 (the frozen Jacobian of a stalled run). Goal: d_normal_frozen
     /// is the derivative in P^n of Π_S with S = c q'(p̄) − F q(P^n), the cohesion's indicator
     /// held at p̄ (central differences), and d_normal itself for the laws that do not soften.
     /// Parameters: LAWS, δ = 0.05, (p_n, p_t) on a grid of step 0.05 across both kinks.

@@ -545,7 +545,7 @@ impl Nitsche {
     /// of face k with local nodal displacements `u`. With `frozen`, the Jacobian is that of the
     /// law whose cohesion's closed indicator q'(P_γ) is held at its value at `u`
     /// ([`Tangential::d_normal_frozen`]): a law that does not soften, for the steps of a
-    /// stalled Newton run (docs/method.md §1.5).
+    /// stalled Newton run (docs/solver.md §3).
     pub fn face_terms(
         &self,
         k: usize,

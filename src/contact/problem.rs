@@ -452,7 +452,7 @@ impl NonlinearSystem for ContactProblem<'_> {
         self.coupled.as_ref().unwrap_or(&self.disc.pattern)
     }
 
-    /// Friction couples the normal traction into the tangential rows (docs/method.md §1.5).
+    /// Friction couples the normal traction into the tangential rows (docs/solver.md §2).
     fn monotone(&self) -> bool {
         self.nitsche.has_friction()
     }

@@ -39,7 +39,7 @@ pub struct ContactSolution {
 /// and times.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct CoarseSolve {
-    /// 1 on the degree-1 problem of the given mesh's triangles (docs/method.md §1.5).
+    /// 1 on the degree-1 problem of the given mesh's triangles (docs/solver.md §4).
     pub order: usize,
     pub unknowns: usize,
     pub newton_steps: usize,

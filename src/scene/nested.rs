@@ -1,6 +1,6 @@
 //! The contact solve of `damfem solve` started by nested iteration on coarser meshes of the
 //! scene's geometry, or on the degree-1 problem on the triangles of a degree-2 `.msh`
-//! (docs/method.md §1.5).
+//! (docs/solver.md §4).
 
 use super::Scene;
 use crate::contact::projection::Smoothing;
@@ -37,7 +37,7 @@ const COARSE_RTOL: f64 = 1e-3;
 impl Scene {
     /// The contact solve on `problem` (meshed from this scene's geometry with its `[mesh]`
     /// options) along the δ path of `settings`, started by nested iteration ([`nested_start`];
-    /// docs/method.md §1.5) on coarser levels solved to ‖F‖ ≤ 10⁻³ ‖b‖, then straight to δ:
+    /// docs/solver.md §4) on coarser levels solved to ‖F‖ ≤ 10⁻³ ‖b‖, then straight to δ:
     /// - a mesh of N ≥ 1.5² × 5 000 unknowns meshed from a `.geo`: the geometry meshed
     ///   1.5 × 4^k times coarser, k = 0, 1, … (about N / (1.5² 16^k) unknowns, while ≥ 5 000,
     ///   the coarsest possibly only twice as coarse as the next); gmsh meshes each level on a

@@ -1,7 +1,7 @@
 //! Newton steps for a Jacobian J(x) = K + E C(x) Eᵀ: a constant symmetric positive definite
 //! bulk K and a nonlinear part C(x) on a thin layer of m ≪ n dofs (E: the n × m selection of
 //! the layer), such as the Nitsche terms of the cells along Γ_C, whose nonzero rows lie in a
-//! subset R of the layer (for θ = 0, the dofs of the nodes on Γ_C: docs/method.md §1.5).
+//! subset R of the layer (for θ = 0, the dofs of the nodes on Γ_C: docs/solver.md §1).
 //!
 //! K is factorised once by sparse Cholesky with the layer L eliminated after the interior I,
 //! and within the layer its part L₁ = L \ R before R: P K Pᵀ = L Lᵀ, whose trailing m × m

@@ -602,7 +602,7 @@ fn each_joint_has_its_own_uplift() {
 // ρ_w g ∫₂₀⁵⁰ (55 − y) dy to 10⁻⁶.
 // Parameters: P2, gmsh's sizes × 2, δ = 2·10⁴ Pa (the figures of docs/method.md §1.10; at the
 // default δ of `damfem solve` Newton on this Mohr–Coulomb joint settles the crack only with the
-// frozen steps of docs/method.md §1.5).
+// frozen steps of docs/solver.md §3).
 #[test]
 fn a_lift_joint_cracks_under_its_own_uplift() {
     let tmp = TempDir::new("lift-crack");
@@ -804,7 +804,7 @@ fn two_cracks_weights() -> (f64, f64) {
 // at the joint's end (0.75 m × 2) of those of `solve`, with the same statics; there the sides
 // no longer match, and up to 0.2 m past each tip may open again (0.043 m measured on the
 // base and 0.021 m on the lift joint with Newton's monotone line search, 0.127 m on the lift
-// joint since its natural monotonicity test, docs/method.md §1.5: another solution of the
+// joint since its natural monotonicity test, docs/solver.md §2: another solution of the
 // frictional problem, whose solution need not be unique).
 // Parameters: P2, gmsh's sizes × 2; `adapt` two steps.
 #[test]
@@ -880,7 +880,7 @@ fn two_cracks_open_at_once() {
 }
 
 // The two cracks in either order. Source: the scene of [`two_cracks_open_at_once`]
-// ([`two_cracks_scene`]); docs/method.md §1.5, §1.8. Goal: the fixed point does not depend on
+// ([`two_cracks_scene`]); docs/solver.md §3, docs/method.md §1.8. Goal: the fixed point does not depend on
 // the order in which the cracks settle: settled together from s_c = 0 (as `damfem solve`
 // does), from the lift joint's crack given at that fixed point and the base's at 0, and from
 // the base's given and the lift joint's at 0, each crack agrees to 10⁻⁵ L (the search stops

@@ -127,3 +127,12 @@ def test_every_test_a_document_names_exists(document):
         if not sources or not any(name in m for m in modules | functions):
             missing.append(f"--test {crate} {name}")
     assert not missing, "tests named that do not exist:\n" + "\n".join(missing)
+
+
+@pytest.mark.parametrize("document", DOCUMENTS, ids=lambda d: str(d.relative_to(REPO)))
+def test_every_example_a_document_names_exists(document):
+    # `cargo run --release --example <name>`: examples/<name>.rs
+    text = document.read_text()
+    missing = sorted({name for name in re.findall(r"--example (\w+)", text)
+                      if not (REPO / "examples" / f"{name}.rs").is_file()})
+    assert not missing, "examples named that do not exist:\n" + "\n".join(missing)

@@ -1,4 +1,4 @@
-//! Nested iteration (docs/method.md §1.5): the contact solve of `damfem solve` started on
+//! Nested iteration (docs/solver.md §4): the contact solve of `damfem solve` started on
 //! coarser meshes of the scene's geometry, or on the degree-1 problem of a `.msh`.
 
 use damfem::contact::{solve_by_continuation, ContactSolution};
@@ -31,7 +31,7 @@ fn assert_same_solution_in_fewer_steps(cold: &ContactSolution, nested: &ContactS
     assert!(relative <= 1e-9, "‖u_cold − u_nested‖ / ‖u_cold‖ = {relative:.1e}");
 }
 
-/// The nested start reaches the cold solution. Source: docs/method.md §1.5 (coarse levels 1.5
+/// The nested start reaches the cold solution. Source: docs/solver.md §4 (coarse levels 1.5
 /// and 1.5 × 2 times coarser here, solved to ‖F‖ ≤ 10⁻³ ‖b‖; Newton on the given mesh to the
 /// scene's tolerance). Goal: `Scene::solve_contact` solves the levels the rule gives, each
 /// with ≥ 5 000 unknowns, and ends at the solution of the solve from u = 0 to the Newton
@@ -63,7 +63,7 @@ fn nested_start_reaches_the_cold_solution() {
 }
 
 /// A degree-2 mesh read from a `.msh` starts from the degree-1 problem on its triangles.
-/// Source: docs/method.md §1.5 (the degree-1 level of a `.msh`, solved to ‖F‖ ≤ 10⁻³ ‖b‖, its
+/// Source: docs/solver.md §4 (the degree-1 level of a `.msh`, solved to ‖F‖ ≤ 10⁻³ ‖b‖, its
 /// solution a degree-2 field of the same triangles). Goal: `Scene::solve_contact` on the
 /// order-1 `.msh` that gmsh writes, raised to degree 2 as `--order 2` raises it, solves one
 /// coarse level, of degree 1 and about N / 4 unknowns, then ends at the solution of the solve

@@ -277,7 +277,7 @@ fn scene_a_joint(theta: f64, law: JointLaw) -> (Problem, Discretisation, Contact
     (problem, disc, ContactJoint::uniform(joint.tags, Vec::new(), law, parameters), scale)
 }
 
-/// The Schur complement on the contact layer. Source: docs/method.md §1.5 and the block
+/// The Schur complement on the contact layer. Source: docs/solver.md §1 and the block
 /// elimination of J = K + E C Eᵀ with the interior and the layer's dofs off the rows R of C
 /// eliminated first (src/solve/schur.rs). Goal: a Newton step by the dense Schur complement S_R
 /// on R solves the same equation as the sparse LU of the whole Jacobian, for symmetric and
@@ -391,7 +391,7 @@ fn newton_by_the_schur_complement_reaches_the_lu_solution() {
     }
 }
 
-/// The fully active start. Source: docs/method.md §1.5 (Smoothing::CLOSED: [P_γ] replaced by
+/// The fully active start. Source: docs/solver.md §4 (Smoothing::CLOSED: [P_γ] replaced by
 /// P_γ). Goal: `fully_active_start` solves the linear problem with every point of Γ_C held
 /// closed, and Newton from it reaches the solution it reaches from u = 0. Problem: Scene A
 /// (P2, gmsh, as above), θ = 0, γ₀ = 100, δ = 10⁻⁴ S. Checks: the residual of the start with
@@ -431,7 +431,7 @@ fn fully_active_start_solves_the_closed_problem() {
 /// translation is free in K. The solve goes the way of `damfem solve`, [`continuation`] from
 /// u = 0: there the contact sits on its kink (p_γ = 0), J = K is singular and the first step
 /// is set by the round-off of K, so the path starts again from the closed state
-/// (docs/method.md §1.5). Checks: no Schur complement; the path converges; the contact force
+/// (docs/solver.md §4). Checks: no Schur complement; the path converges; the contact force
 /// balances the weight, ∫ p_c = 1, to 10⁻⁸.
 #[test]
 fn a_body_held_only_by_its_contact_is_solved_by_lu() {
