@@ -1,9 +1,10 @@
 //! `damfem adapt`: the adaptive loop on a scene, with ParaView files of every step, the
 //! history (JSON and CSV) and its figures.
 
-use super::common::{output_dir, remove_earlier_outputs, stem, validate_overrides, Input, Output};
+use super::common::{output_dir, remove_earlier_outputs, stem, Input, Output};
 use super::interrupt;
 use super::output::{write_results, Results, Summary, Units, UNITS};
+use super::settings::{self, Setting};
 use crate::adapt::geo::GeoMesher;
 use crate::adapt::history::{to_csv, write_adaptive_uniform, write_plots};
 use crate::adapt::marking::Marking;
@@ -334,31 +335,31 @@ fn remesh_hint(error: &AdaptError, step: usize, refinement: Refinement) -> Optio
     )
 }
 
-/// The scene's `[adapt]` table with the command-line overrides.
+/// The flags of `adapt` that override `[adapt]` keys.
+fn adapt_settings(args: &Args) -> Vec<Setting<'static>> {
+    vec![
+        Setting::value("--steps", "adapt.steps", args.steps, |s, v| s.adapt.steps = v),
+        Setting::value("--tol", "adapt.tol", args.tol, |s, v| s.adapt.tol = Some(v)),
+        Setting::value("--tol-relative", "adapt.tol_relative", args.tol_relative, |s, v| {
+            s.adapt.tol_relative = Some(v)
+        }),
+        Setting::value("--max-unknowns", "adapt.max_unknowns", args.max_unknowns, |s, v| {
+            s.adapt.max_unknowns = Some(v)
+        }),
+        Setting::switch("--uniform", "adapt.refinement", args.uniform, |s| s.adapt.refinement = Refinement::Uniform),
+        Setting::value("--marking", "adapt.marking", args.marking, |s, v| s.adapt.marking = v),
+        Setting::value("--bulk", "adapt.bulk", args.bulk, |s, v| s.adapt.bulk = v),
+        Setting::value("--gamma-lin", "adapt.gamma_lin", args.gamma_lin, |s, v| s.adapt.gamma_lin = v),
+        Setting::value("--gamma-reg", "adapt.gamma_reg", args.gamma_reg, |s, v| s.adapt.gamma_reg = v),
+        Setting::switch("--compare-uniform", "adapt.compare_uniform", args.compare_uniform, |s| {
+            s.adapt.compare_uniform = true
+        }),
+    ]
+}
+
+/// The scene with the flags' `[adapt]` keys, checked.
 fn override_settings(args: &Args, scene: &mut Scene) -> Result<()> {
-    let a = &mut scene.adapt;
-    a.steps = args.steps.unwrap_or(a.steps);
-    a.tol = args.tol.or(a.tol);
-    a.tol_relative = args.tol_relative.or(a.tol_relative);
-    a.max_unknowns = args.max_unknowns.or(a.max_unknowns);
-    if args.uniform {
-        a.refinement = Refinement::Uniform;
-    }
-    a.marking = args.marking.unwrap_or(a.marking);
-    a.bulk = args.bulk.unwrap_or(a.bulk);
-    a.gamma_lin = args.gamma_lin.unwrap_or(a.gamma_lin);
-    a.gamma_reg = args.gamma_reg.unwrap_or(a.gamma_reg);
-    a.compare_uniform |= args.compare_uniform;
-    let overrides = [
-        ("--steps", "adapt.steps", args.steps.is_some()),
-        ("--tol", "adapt.tol", args.tol.is_some()),
-        ("--tol-relative", "adapt.tol_relative", args.tol_relative.is_some()),
-        ("--max-unknowns", "adapt.max_unknowns", args.max_unknowns.is_some()),
-        ("--bulk", "adapt.bulk", args.bulk.is_some()),
-        ("--gamma-lin", "adapt.gamma_lin", args.gamma_lin.is_some()),
-        ("--gamma-reg", "adapt.gamma_reg", args.gamma_reg.is_some()),
-    ];
-    validate_overrides(scene, &overrides)?;
+    settings::write(scene, adapt_settings(args)).validate(scene)?;
     Ok(scene.check_adaptive()?)
 }
 

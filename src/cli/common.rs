@@ -5,7 +5,7 @@ use crate::io::gmsh;
 use crate::io::input::check_regular;
 use crate::mesh::midpoints::elevate_to_p2;
 use crate::mesh::Mesh;
-use crate::scene::{Scene, SceneError};
+use crate::scene::Scene;
 use anyhow::{Context, Result};
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, PoisonError};
@@ -165,26 +165,6 @@ fn at_order(mesh: Mesh, order: Option<(usize, String)>, path: &Path) -> Result<M
             path.display(),
             mesh.order
         ),
-    }
-}
-
-/// Validates `scene` after the command-line overrides: an error on a key whose value came
-/// from a flag names the flag. `overrides` holds (flag, key, given) for each flag.
-pub fn validate_overrides(scene: &Scene, overrides: &[(&str, &str, bool)]) -> Result<()> {
-    blame_overrides(scene.validate(), overrides)
-}
-
-/// The error of a check of the scene, blamed on the flag (flag, key, given) that overrides the
-/// key it names, if one does.
-pub fn blame_overrides(checked: Result<(), SceneError>, overrides: &[(&str, &str, bool)]) -> Result<()> {
-    let Err(e) = checked else { return Ok(()) };
-    let SceneError::Invalid { message, .. } = &e else { return Err(e.into()) };
-    let blamed = overrides.iter().find(|(_, key, given)| *given && message.starts_with(&format!("{key} ")));
-    match blamed {
-        Some((flag, key, _)) => {
-            anyhow::bail!("{flag}{} (given on the command line, where it overrides {key})", &message[key.len()..])
-        }
-        None => Err(e.into()),
     }
 }
 

@@ -15,10 +15,12 @@ mod lock;
 mod mesh;
 mod output;
 mod safety;
+mod settings;
 mod solve;
 
 use crate::adapt::AdaptError;
-use crate::contact::{ContactError, StrengthError};
+use crate::contact::ContactError;
+use crate::safety::strength::StrengthError;
 use crate::scene::SceneError;
 use clap::{Parser, Subcommand};
 

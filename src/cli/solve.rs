@@ -1,16 +1,16 @@
 //! `damfem solve`: mesh, assemble, solve (with Nitsche contact when the scene has Γ_C),
 //! write ParaView files, `summary.json` and `history.json`.
 
-use super::common::{blame_overrides, remove_earlier_outputs, stem, validate_overrides, Input, Output, SolverFailed};
+use super::common::{remove_earlier_outputs, stem, Input, Output, SolverFailed};
 use super::output::{write_results, EstimateSummary, Results, Summary, Units, UNITS};
-use crate::contact::{
-    reduce_strength, ContactError, ContactJoint, Continuation, Solution, Stage, StrengthReduction, STRENGTH_TOLERANCE,
-};
+use super::settings::{self, Given, Setting};
+use crate::contact::{ContactError, ContactJoint, Continuation, Solution, Stage};
 use crate::elasticity::stress::cell_mean_stress;
 use crate::elasticity::{Discretisation, Problem};
 use crate::estimate::reference::{effectivity, Effectivity};
 use crate::estimate::{estimate_displacement, Estimate};
 use crate::io::atomic::{write_output, Provisional};
+use crate::safety::strength::{reduce_strength, StrengthReduction, STRENGTH_TOLERANCE};
 use crate::scene::{ProjectionKind, Scene};
 use crate::solve::{diverged, NewtonError};
 use anyhow::Result;
@@ -95,7 +95,7 @@ pub fn run(args: Args) -> Result<()> {
     let mut seconds = Timings::default();
     // 1. Scene and mesh
     let mut scene = input.scene()?;
-    override_contact(&args, &mut scene)?;
+    let given = override_contact(&args, &mut scene)?;
     if args.strength_reduction && !scene.has_friction() {
         anyhow::bail!("--strength-reduction needs a frictional joint: give --friction, --cohesion or --threshold");
     }
@@ -111,7 +111,7 @@ pub fn run(args: Args) -> Result<()> {
     let (problem, joint) = match scene.problem(mesh) {
         Ok(problem) => problem,
         // an error, blamed on the flag of a key it names
-        Err(e) => return input.in_combination(blame_overrides(Err(e), &contact_overrides(&args))),
+        Err(e) => return input.in_combination(given.blame(Err(e))),
     };
     progress.warn(&scene.warnings(&problem.mesh, joint.as_ref())?);
     let (disc, t) = progress.stage(
@@ -341,49 +341,38 @@ fn describe_estimate(e: &Estimate, order: usize) -> String {
     format!("eta = {:.4e}, equilibrated to {:.1e}", e.estimators.global().tot, e.equilibration.worst(order))
 }
 
-/// The scene's `[contact]` table with the command-line overrides.
-fn override_contact(args: &Args, scene: &mut Scene) -> Result<()> {
-    let c = &mut scene.contact;
-    c.gamma0 = args.gamma0.unwrap_or(c.gamma0);
-    c.theta = args.theta.unwrap_or(c.theta);
-    c.delta = args.delta.or(c.delta);
-    c.friction = args.friction.unwrap_or(c.friction);
-    c.cohesion = args.cohesion.unwrap_or(c.cohesion);
-    c.threshold = args.threshold.or(c.threshold);
-    if args.semismooth {
-        c.projection = ProjectionKind::Semismooth;
-    }
-    let rigid_only = [
-        ("--gamma0", args.gamma0.is_some()),
-        ("--theta", args.theta.is_some()),
-        ("--friction", args.friction.is_some()),
-        ("--cohesion", args.cohesion.is_some()),
-        ("--threshold", args.threshold.is_some()),
-    ];
-    if let (Some(joint), Some((flag, _))) = (scene.joints.keys().next(), rigid_only.iter().find(|(_, given)| *given)) {
+/// The flags of `solve` that override `[contact]` keys.
+fn contact_settings(args: &Args) -> Vec<Setting<'static>> {
+    vec![
+        Setting::value("--gamma0", "contact.gamma0", args.gamma0, |s, v| s.contact.gamma0 = v),
+        Setting::value("--theta", "contact.theta", args.theta, |s, v| s.contact.theta = v),
+        Setting::value("--delta", "contact.delta", args.delta, |s, v| s.contact.delta = Some(v)),
+        Setting::value("--friction", "contact.friction", args.friction, |s, v| s.contact.friction = v),
+        Setting::value("--cohesion", "contact.cohesion", args.cohesion, |s, v| s.contact.cohesion = v),
+        Setting::value("--threshold", "contact.threshold", args.threshold, |s, v| s.contact.threshold = Some(v)),
+        Setting::switch("--semismooth", "contact.projection", args.semismooth, |s| {
+            s.contact.projection = ProjectionKind::Semismooth
+        }),
+    ]
+}
+
+/// The flags of [`contact_settings`] that a joint between two bodies takes from its own table.
+const RIGID_ONLY: [&str; 5] = ["--gamma0", "--theta", "--friction", "--cohesion", "--threshold"];
+
+/// The scene with the flags' `[contact]` keys, checked; returns the flags given.
+fn override_contact(args: &Args, scene: &mut Scene) -> Result<Given> {
+    let given = settings::write(scene, contact_settings(args));
+    if let (Some(joint), Some(flag)) = (scene.joints.keys().next(), given.among(&RIGID_ONLY).next()) {
         anyhow::bail!(
             "{flag} sets a [contact] key, which applies to curves of role contact only; set the joint's key in \
              [joints.{joint}] of {}",
             scene.source.display()
         );
     }
-    let overrides = contact_overrides(args);
-    validate_overrides(scene, &overrides)?;
+    given.validate(scene)?;
     if args.estimate || args.check_equilibration || args.effectivity {
         let estimate = "the error estimate of --estimate, --check-equilibration and --effectivity";
-        blame_overrides(scene.check_estimable(estimate), &overrides)?;
+        given.blame(scene.check_estimable(estimate))?;
     }
-    Ok(())
-}
-
-/// The `[contact]` keys that flags override: (flag, key, given).
-fn contact_overrides(args: &Args) -> [(&'static str, &'static str, bool); 6] {
-    [
-        ("--gamma0", "contact.gamma0", args.gamma0.is_some()),
-        ("--theta", "contact.theta", args.theta.is_some()),
-        ("--delta", "contact.delta", args.delta.is_some()),
-        ("--friction", "contact.friction", args.friction.is_some()),
-        ("--cohesion", "contact.cohesion", args.cohesion.is_some()),
-        ("--threshold", "contact.threshold", args.threshold.is_some()),
-    ]
+    Ok(given)
 }

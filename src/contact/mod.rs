@@ -31,7 +31,6 @@ mod problem;
 pub mod projection;
 pub mod resultant;
 mod solution;
-pub mod strength;
 pub mod uplift;
 
 pub use continuation::{
@@ -46,5 +45,4 @@ pub use path::{LoadPath, NoEquilibrium, PathPoint};
 pub use problem::{lifts_off, open_from_heel, ContactProblem, FaceState, Linearisation};
 pub use resultant::{JointLine, Resultant};
 pub use solution::{CoarseSolve, CoarseTimings, ContactSolution, JointForces, Solution};
-pub use strength::{reduce_strength, strength_reduction, StrengthError, StrengthReduction, STRENGTH_TOLERANCE};
 pub use uplift::{CrackRule, Uplift};

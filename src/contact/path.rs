@@ -1,4 +1,4 @@
-//! The load path (docs/method.md §1.11): the dam is built, its weight on the closed joint, and
+//! The load path (docs/method.md §1.11, its steps docs/solver.md §5): the dam is built, its weight on the closed joint, and
 //! then the other loads come on with a load factor λ from 0 to 1,
 //!
 //!   b(λ) = b_w + λ (b − b_w),   p_u(λ) = λ p_u,
@@ -11,7 +11,8 @@
 //! λ = 1, the crack that the reservoir fills settled at every λ (it grows with the loads), the
 //! friction law acting on the slip from the last converged state.
 //! Δλ doubles after a step of few Newton steps and halves after a failed one, down to
-//! [`MIN_STEP`]: a path that cannot pass λ* < 1 with that step ends there (at once where
+//! [`MIN_STEP`]; once a step has failed, a step to that λ or beyond fails at once where its
+//! first solve opens the filled crack by more than [`CRACK_STEP`] of the joint. A path that cannot pass λ* < 1 with that step ends there (at once where
 //! the state at λ* has used up the joint's strength, FS_LE ≤ 1 + [`SLIDING_MARGIN`]),
 //! and the state at λ* says why ([`Limit`]): the joint slides, opens over its length, or the
 //! crack runs on. A state that the joint alone holds with less than [`LIFT_OFF`] of it in

@@ -4,8 +4,11 @@
 //! base pressure, the uplift diagram and its crack iteration) computed from the loads of the
 //! same problem that the finite elements solve, so that the two answers differ by the method
 //! alone. [`criteria`] holds the requirements of each category of load combination, which
-//! both answers are checked against.
+//! both answers are checked against. [`strength`] is the strength reduction: FS_SR, the finite
+//! elements' own sliding factor. The room is 2D: the joint is a line (`contact::JointLine`),
+//! its resultant a point on it; the 3D issue makes it a plane and a point on it.
 
 pub mod check;
 pub mod classical;
 pub mod criteria;
+pub mod strength;

@@ -808,6 +808,9 @@ fn command_line_values_are_blamed_as_flags() {
         ("flag-theta", "solve", ["--theta", "2"], "--theta = 2", "contact.theta"),
         ("flag-delta", "solve", ["--delta", "-1e3"], "--delta = -1000", "contact.delta"),
         ("flag-bulk", "adapt", ["--bulk", "-0.5"], "--bulk = -0.5", "adapt.bulk"),
+        ("flag-steps", "adapt", ["--steps", "0"], "--steps = 0", "adapt.steps"),
+        ("flag-max-steps", "safety", ["--max-steps", "0"], "--max-steps = 0", "adapt.steps"),
+        ("flag-tol-relative", "safety", ["--tol-relative", "-0.1"], "--tol-relative = -0.1", "adapt.tol_relative"),
     ] {
         let message = assert_refused(name, command, &scene, &extra, &[flag, "command line", key]);
         assert!(!message.contains("scene_a.toml"), "the scene is not at fault: {message}");

@@ -121,7 +121,7 @@ fn the_dam_with_uplift_balances_weight_thrust_and_uplift() {
 /// [uplift] table (U = 0), mesh sizes × 2 and × 4, P1 and P2, bisection to 0.2 %.
 #[test]
 fn strength_reduction_finds_the_exact_sliding_factor() {
-    use damfem::contact::strength_reduction;
+    use damfem::safety::strength::strength_reduction;
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("geo/scene_a_uplift.toml");
     let mut with_uplift = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
     with_uplift.uplift.as_mut().expect("[uplift]").crack = Some(damfem::scene::CrackKind::Ignore);

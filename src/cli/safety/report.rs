@@ -1,522 +1,93 @@
-//! `damfem safety`: the dam-safety analysis of a scene (docs/method.md §1.9). The adaptive
-//! loop of `damfem adapt` refines until η_tot ≤ `--tol-relative` ‖σ_h‖; on its last mesh, whose
-//! Newton run the loop finishes to the residual tolerance, the joint gives N, T, U, the contact and crack lengths, the resultant and the middle-third
-//! check, the heel and toe normal stresses averaged over a stated length, FS_LE and FS_SR.
+//! `safety.json`, `report.md`, `joint.csv` and the figure of the joint's stresses of one
+//! combination, and the table of all combinations: what `damfem safety` writes of the analyses
+//! of `super`.
 
-use super::adapt::{run_sequence, BestStep};
-use super::common::{output_dir, remove_earlier_outputs, stem, validate_overrides, Input, Output, Progress};
-use super::output::{drain_note, Units, UNITS};
-use crate::adapt::{AdaptError, Step};
-use crate::contact::{
-    reduce_strength, ContactError, ContactJoint, ContactSolution, CrackRule, JointLine, Resultant, StrengthReduction,
-    STRENGTH_TOLERANCE,
-};
-use crate::elasticity::{Discretisation, Problem};
+use super::{Combination, Outcome, STALLED};
+use crate::cli::adapt::BestStep;
+use crate::cli::output::Units;
+use crate::contact::{ContactSolution, CrackRule, JointLine, Resultant};
 use crate::io::atomic::write_output;
-use crate::io::plot::{write_linear_figure, Figure, Mark, Series};
-use crate::safety::check::{checks, verdict, Check, FiniteElements, Verdict};
-use crate::safety::classical::{classical, Classical};
+use crate::io::plot::{Figure, Mark, Series};
+use crate::safety::check::{Check, Verdict};
+use crate::safety::classical::Classical;
 use crate::safety::criteria::Requirements;
-use crate::scene::Scene;
-use crate::solve::NewtonOptions;
-use anyhow::{Context, Result};
+use crate::safety::strength::StrengthReduction;
+use anyhow::Result;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
-/// The default tolerance on η_tot / ‖σ_h‖.
-const TOL_RELATIVE: f64 = 0.01;
-
-/// The heel and toe stresses are averaged over this fraction of the joint by default.
-const AVERAGE_FRACTION: f64 = 0.1;
-
-#[derive(clap::Args, Debug)]
-pub struct Args {
-    #[command(flatten)]
-    input: Input,
-    #[command(flatten)]
-    output: Output,
-    /// Refine until eta_tot <= TOL ||sigma_h||; overrides adapt.tol_relative (default 0.01)
-    #[arg(long, allow_negative_numbers = true)]
-    tol_relative: Option<f64>,
-    /// Most meshes of the adaptive run; overrides adapt.steps (default 8)
-    #[arg(long)]
-    max_steps: Option<usize>,
-    /// Length [m] from the heel and from the toe over which the normal stress is averaged
-    /// (default: a tenth of the joint)
-    #[arg(long, allow_negative_numbers = true)]
-    average_length: Option<f64>,
-}
-
 /// One step of the adaptive run as the report shows it.
 #[derive(Serialize, Clone, Copy)]
-struct StepRow {
-    step: usize,
-    unknowns: usize,
+pub(super) struct StepRow {
+    pub(super) step: usize,
+    pub(super) unknowns: usize,
     /// η_tot / ‖σ_h‖.
-    eta_relative: f64,
-    crack_length: f64,
-    resultant_position: Option<f64>,
-    sliding_safety_factor: Option<f64>,
+    pub(super) eta_relative: f64,
+    pub(super) crack_length: f64,
+    pub(super) resultant_position: Option<f64>,
+    pub(super) sliding_safety_factor: Option<f64>,
 }
 
 /// The mean effective normal stress σ'^n \[Pa\] (tension positive) over `length` \[m\] at the heel
 /// and at the toe.
 #[derive(Serialize)]
-struct BaseStresses {
-    length: f64,
-    heel: f64,
-    toe: f64,
+pub(super) struct BaseStresses {
+    pub(super) length: f64,
+    pub(super) heel: f64,
+    pub(super) toe: f64,
     /// The mean over `length` from the end of the closed part at the heel (the crack tip; the
     /// heel itself without a crack), to compare with beam theory beyond a crack.
-    heel_closed: f64,
+    pub(super) heel_closed: f64,
 }
 
 /// What `safety.json` records.
 #[derive(Serialize)]
-struct Report {
-    units: Units,
-    scene: PathBuf,
-    order: usize,
+pub(super) struct Report {
+    pub(super) units: Units,
+    pub(super) scene: PathBuf,
+    pub(super) order: usize,
     /// The adaptive run: its tolerance on η_tot / ‖σ_h‖, whether the last mesh met it, and
     /// every step.
-    tol_relative: f64,
-    tolerance_met: bool,
-    steps: Vec<StepRow>,
-    unknowns: usize,
+    pub(super) tol_relative: f64,
+    pub(super) tolerance_met: bool,
+    pub(super) steps: Vec<StepRow>,
+    pub(super) unknowns: usize,
     /// η_tot of the last mesh \[Pa m\] and η_tot / ‖σ_h‖.
-    eta_tot: f64,
-    eta_relative: f64,
+    pub(super) eta_tot: f64,
+    pub(super) eta_relative: f64,
     /// The earlier step of smallest η_tot, when the last mesh's η_tot is larger (null
     /// otherwise); the numbers below are the last mesh's.
-    best_step: Option<BestStep>,
+    pub(super) best_step: Option<BestStep>,
     /// Whether the last mesh's Newton run stalled before the residual tolerance: its numbers
     /// are then those of the iterate where (S_lin) stopped Newton (docs/method.md §5.3).
-    newton_stalled: bool,
-    joint_line: JointLine,
-    contact_length: f64,
-    crack_length: f64,
+    pub(super) newton_stalled: bool,
+    pub(super) joint_line: JointLine,
+    pub(super) contact_length: f64,
+    pub(super) crack_length: f64,
     /// What the water does in the crack of the sliding plane (None without uplift there).
-    crack_rule: Option<CrackRule>,
+    pub(super) crack_rule: Option<CrackRule>,
     /// N, T, U, the resultant's point, position, eccentricity and the middle-third check; None
     /// when nothing presses on the joint.
-    resultant: Option<Resultant>,
-    base_stresses: BaseStresses,
+    pub(super) resultant: Option<Resultant>,
+    pub(super) base_stresses: BaseStresses,
     /// FS_LE and FS_SR's bracket \[held, failed\], or why they are not computed.
-    sliding_safety_factor: Option<f64>,
-    strength_reduction: Option<StrengthReduction>,
-    safety_factor_note: Option<String>,
+    pub(super) sliding_safety_factor: Option<f64>,
+    pub(super) strength_reduction: Option<StrengthReduction>,
+    pub(super) safety_factor_note: Option<String>,
     /// Where the crack of the sliding plane stopped at the drain line, what of it.
-    crack_note: Option<String>,
+    pub(super) crack_note: Option<String>,
     /// The combination's category and what it requires.
-    requirements: Requirements,
+    pub(super) requirements: Requirements,
     /// The classical gravity method on the same loads, or why it has no answer.
-    classical: Option<Classical>,
-    classical_note: Option<String>,
+    pub(super) classical: Option<Classical>,
+    pub(super) classical_note: Option<String>,
     /// The code check, line by line, and its verdict by each method.
-    checks: Vec<Check>,
-    verdict: Verdict,
-}
-
-pub fn run(args: Args) -> Result<()> {
-    let progress = args.input.progress();
-    let scene = scene(&args)?;
-    let names: Vec<String> = scene.combinations.keys().cloned().collect();
-    let cases: Vec<(Option<&str>, Scene)> = if names.is_empty() {
-        vec![(None, scene.clone())]
-    } else {
-        names.iter().map(|n| Ok((Some(n.as_str()), scene.combination(n)?))).collect::<Result<_>>()?
-    };
-    // every case is checked before anything is written; one whose loads need more than the
-    // joint alone can carry already has its verdict
-    let mut lines = Vec::new();
-    for (name, case) in &cases {
-        let named = |e: anyhow::Error| match name {
-            Some(n) => e.context(format!("combination {n}")),
-            None => e,
-        };
-        let prefix = name.map_or(String::new(), |n| format!("combination {n}: "));
-        lines.push(match joint_line(case, &args.input) {
-            Err(e) if !names.is_empty() && super::exit_code(&e) == super::DOES_NOT_HOLD => Err(e),
-            checked => {
-                let (line, warnings) = checked.map_err(named)?;
-                progress.warn(&warnings.iter().map(|w| format!("{prefix}{w}")).collect::<Vec<_>>());
-                Ok((line, average_length(args.average_length, &line).map_err(named)?))
-            }
-        });
-    }
-    let dir = args.output.dir(&scene)?;
-    if names.is_empty() {
-        let line = lines.remove(0)?;
-        // a scene without combinations, or one run by --combination
-        let req = scene.criteria.requirements(scene.criteria.category_of(args.input.combination.as_deref()));
-        let (report, table) = analyse(&cases[0].1, &args, line, req, &dir)?;
-        write_files(&dir, &report, &table)?;
-        if !args.input.quiet {
-            println!("{}", text_table(&table));
-        }
-        progress.say(&format!("results in {} (safety.json, report.md, joint.csv, base_stresses.png)", dir.display()));
-        return Ok(());
-    }
-    remove_earlier_outputs(&dir, &stem(&scene.source), &[])?;
-    // each combination on its own: one that does not hold or whose solve fails gets its row,
-    // and the report is written again after every combination
-    let (mut reports, mut worst): (Vec<Combination>, Option<anyhow::Error>) = (Vec::new(), None);
-    for ((name, case), line) in cases.iter().zip(lines) {
-        let name = name.expect("a combination");
-        progress.say(&format!("combination {name}"));
-        let sub = output_dir(dir.join(name))?;
-        let req = scene.criteria.requirements(scene.criteria.category_of(Some(name)));
-        let outcome = match line.and_then(|line| analyse(case, &args, line, req, &sub)) {
-            Ok((report, table)) => {
-                write_files(&sub, &report, &table)?;
-                Outcome::Solved(Box::new(report))
-            }
-            Err(e) => {
-                let e = e.context(format!("combination {name}"));
-                let outcome = match super::exit_code(&e) {
-                    super::DOES_NOT_HOLD => Outcome::DoesNotHold { load_factor: limit(&e), verdict: format!("{e:#}") },
-                    super::SOLVER_FAILED => Outcome::SolverFailed { error: format!("{e:#}") },
-                    _ => return Err(e),
-                };
-                progress.say(&format!("{}: {e:#}", outcome.label()));
-                worst = match worst {
-                    Some(w) if super::exit_code(&w) <= super::exit_code(&e) => Some(w),
-                    _ => Some(e),
-                };
-                outcome
-            }
-        };
-        reports.push(Combination { name: name.to_string(), outcome });
-        write_combinations(&dir, &scene, &reports)?;
-    }
-    if !args.input.quiet {
-        println!("{}", text_columns(&combination_rows(&reports)));
-    }
-    progress.say(&format!("results in {} (safety.json, report.md; one directory per combination)", dir.display()));
-    match worst {
-        Some(e) => Err(e.context("not every combination has a result (report.md lists them)")),
-        None => Ok(()),
-    }
-}
-
-/// λ* of a combination that does not hold, where the load path ended.
-fn limit(e: &anyhow::Error) -> Option<f64> {
-    e.chain().find_map(|link| match link.downcast_ref::<ContactError>() {
-        Some(ContactError::NoEquilibrium(v)) => Some(v.load_factor),
-        _ => match link.downcast_ref::<AdaptError>() {
-            Some(AdaptError::Contact(ContactError::NoEquilibrium(v))) => Some(v.load_factor),
-            _ => None,
-        },
-    })
-}
-
-/// The scene with the flags' tolerance and steps for the adaptive run, checked.
-fn scene(args: &Args) -> Result<Scene> {
-    let mut scene = args.input.scene()?;
-    let tol_relative = args.tol_relative.or(scene.adapt.tol_relative).unwrap_or(TOL_RELATIVE);
-    scene.adapt.tol_relative = Some(tol_relative);
-    scene.adapt.steps = args.max_steps.unwrap_or(scene.adapt.steps);
-    scene.adapt.compare_uniform = false;
-    let overrides = [
-        ("--tol-relative", "adapt.tol_relative", args.tol_relative.is_some()),
-        ("--max-steps", "adapt.steps", args.max_steps.is_some()),
-    ];
-    validate_overrides(&scene, &overrides)?;
-    scene.check_adaptive()?;
-    anyhow::ensure!(
-        scene.geometry.extension().is_some_and(|e| e == "geo"),
-        "{}: the safety analysis refines the mesh adaptively, so it needs a .geo file, not a mesh",
-        scene.geometry.display()
-    );
-    Ok(scene)
-}
-
-/// `safety.json` and `report.md` of the combinations in `dir` finished so far.
-fn write_combinations(dir: &Path, scene: &Scene, reports: &[Combination]) -> Result<()> {
-    let rows = combination_rows(reports);
-    let json = serde_json::to_string_pretty(&Combinations { units: UNITS, combinations: reports })?;
-    write_output(&dir.join("safety.json"), json.as_bytes())?;
-    write_output(&dir.join("report.md"), combinations_markdown(&scene.source, &rows, reports).as_bytes())?;
-    Ok(())
-}
-
-/// One combination's outcome, as the combined `safety.json` lists it.
-#[derive(Serialize)]
-struct Combination {
-    name: String,
-    #[serde(flatten)]
-    outcome: Outcome,
-}
-
-/// What a combination gave: its report, the verdict that the dam does not hold under it (the
-/// load path ended at λ* < 1, or the loads need more than the joint alone can carry: λ*
-/// None), or the failure of its solve.
-#[derive(Serialize)]
-#[serde(tag = "outcome", rename_all = "snake_case")]
-enum Outcome {
-    Solved(Box<Report>),
-    DoesNotHold { load_factor: Option<f64>, verdict: String },
-    SolverFailed { error: String },
-}
-
-impl Outcome {
-    /// The outcome in a word or two.
-    fn label(&self) -> String {
-        match self {
-            Outcome::Solved(_) => "holds".to_string(),
-            Outcome::DoesNotHold { load_factor: Some(l), .. } => format!("does not hold beyond λ* = {l:.3}"),
-            Outcome::DoesNotHold { load_factor: None, .. } => "does not hold".to_string(),
-            Outcome::SolverFailed { .. } => "solver failed".to_string(),
-        }
-    }
-
-    /// The report of a combination that has one.
-    fn report(&self) -> Option<&Report> {
-        match self {
-            Outcome::Solved(r) => Some(r),
-            _ => None,
-        }
-    }
-}
-
-/// What `safety.json` records of a scene with load combinations.
-#[derive(Serialize)]
-struct Combinations<'a> {
-    units: Units,
-    combinations: &'a [Combination],
-}
-
-/// The analysis of `scene` into `dir`: the adaptive run on the joint `line` (with the
-/// averaging length), then the safety quantities of its last mesh; returns the report and its
-/// table.
-fn analyse(
-    scene: &Scene,
-    args: &Args,
-    (line, average): (JointLine, f64),
-    requirements: Requirements,
-    dir: &Path,
-) -> Result<(Report, Vec<[String; 3]>)> {
-    let progress = args.input.progress();
-    let tol_relative = scene.adapt.tol_relative.unwrap_or(TOL_RELATIVE);
-    let name = stem(&scene.source);
-    let mut rows = Vec::new();
-    // the last step's problem (its joints already split) and joint, and the solution
-    let mut last: Option<(Problem, ContactJoint, ContactSolution)> = None;
-    let mut keep = |step: &Step| -> Result<()> {
-        let c = step.contact.context("the step has no contact solution")?;
-        let r = step.record;
-        rows.push(StepRow {
-            step: r.step,
-            unknowns: r.unknowns,
-            eta_relative: r.eta.tot / r.stress_norm,
-            crack_length: c.crack_from_heel(&line),
-            resultant_position: c.resultant(&line).map(|f| f.position),
-            sliding_safety_factor: c.forces_on(&line).sliding_safety_factor,
-        });
-        let joint = step.joint.context("the step has no joint")?;
-        last = Some((step.problem.clone(), joint.clone(), c.clone()));
-        Ok(())
-    };
-    let run = run_sequence(scene, &args.input, dir, &name, "", &mut keep, false)?;
-    let (problem, joint, solution) = last.context("the adaptive run made no step")?;
-    let record = run.history.last().context("the adaptive run made no step")?;
-    let disc = problem.discretise();
-    // the sliding plane's curves: their friction alone gives FS_SR a strength to divide
-    let plane = solution.curves_on(&line);
-    let (strength, note) = match joint.has_friction_on(&plane) {
-        false => (None, Some(FRICTIONLESS.to_string())),
-        true => {
-            let newton = NewtonOptions { trace: args.input.newton_trace(), ..scene.newton_options() };
-            let sr = progress
-                .stage(
-                    "strength",
-                    || Ok(reduce_strength(&problem, &disc, &joint, &plane, &solution, &newton, STRENGTH_TOLERANCE)?),
-                    describe_strength,
-                )?
-                .0;
-            let unbounded = (!sr.failed.is_finite()).then(|| format!("{} {:.0}", UNBOUNDED, sr.held));
-            let fs_le = solution.forces_on(&line).sliding_safety_factor;
-            (Some(sr), unbounded.or_else(|| outside_note(fs_le?, &sr)))
-        }
-    };
-    let eta_relative = record.eta.tot / record.stress_norm;
-    let (gravity, acceleration) = (scene.loads.gravity, scene.loads.acceleration);
-    let (classical, classical_note) = match classical(&problem, &joint, &line, gravity, acceleration) {
-        Ok(c) => (Some(c), None),
-        Err(why) => (None, Some(format!("the classical method has no answer: {why}"))),
-    };
-    let mut report = Report {
-        units: UNITS,
-        scene: scene.source.clone(),
-        order: problem.mesh.order,
-        tol_relative,
-        tolerance_met: eta_relative <= tol_relative,
-        steps: rows,
-        unknowns: record.unknowns,
-        eta_tot: record.eta.tot,
-        eta_relative,
-        best_step: run.best.clone(),
-        newton_stalled: record.newton_stalled,
-        joint_line: line,
-        contact_length: solution.forces_on(&line).contact_length,
-        crack_length: solution.crack_from_heel(&line),
-        crack_rule: (solution.nitsche.uplift.iter())
-            .find(|up| up.curves.iter().any(|&c| plane[c]))
-            .map(|up| up.diagram.rule),
-        resultant: solution.resultant(&line),
-        base_stresses: base_stresses(&solution, &problem, &disc, &line, average),
-        sliding_safety_factor: solution.forces_on(&line).sliding_safety_factor,
-        strength_reduction: strength,
-        safety_factor_note: note,
-        crack_note: plane_crack_note(&solution, &plane),
-        requirements,
-        classical,
-        classical_note,
-        checks: Vec::new(),
-        verdict: verdict(&[]),
-    };
-    report.checks = checks(&finite_elements(&report), report.classical.as_ref(), &requirements);
-    report.verdict = verdict(&report.checks);
-    warn(&report, &progress);
-    let table = table(&report);
-    let joint = joint_rows(&solution, &line);
-    write_output(&dir.join("joint.csv"), joint_csv(&joint).as_bytes())?;
-    let drains = plane_drains(&solution, &plane);
-    write_linear_figure(&dir.join("base_stresses"), &base_figure(&joint, &report, drains))
-        .context("writing the figure")?;
-    Ok((report, table))
-}
-
-/// The finite-element numbers of `r` that the code check judges.
-fn finite_elements(r: &Report) -> FiniteElements {
-    let f = r.resultant;
-    FiniteElements {
-        length: r.joint_line.length,
-        sliding: r.sliding_safety_factor,
-        strength_reduction: r.strength_reduction.as_ref().map(|s| s.held),
-        flotation: f.filter(|f| f.uplift_force > 0.0).map(|f| (f.normal_force + f.uplift_force) / f.uplift_force),
-        resultant: f.map(|f| f.position),
-        contact: r.contact_length,
-        crack: r.crack_length,
-        heel: r.base_stresses.heel,
-        heel_closed: r.base_stresses.heel_closed,
-        toe: r.base_stresses.toe,
-    }
-}
-
-/// The progress line of FS_SR.
-fn describe_strength(s: &StrengthReduction) -> String {
-    format!("FS_SR in [{:.4}, {:.4}] after {} solves", s.held, s.failed, s.solves)
-}
-
-/// The warnings of a report: the tolerance not met, no safety factor.
-fn warn(r: &Report, progress: &Progress) {
-    if !r.tolerance_met {
-        progress.say(&format!(
-            "warning: eta_tot / ||sigma_h|| = {:.3e} after {} meshes is above --tol-relative {}: raise --max-steps",
-            r.eta_relative,
-            r.steps.len(),
-            r.tol_relative
-        ));
-    }
-    if let Some(note) = &r.safety_factor_note {
-        progress.say(&format!("warning: {note}"));
-    }
-    if r.newton_stalled {
-        progress.say(&format!("warning: {STALLED}"));
-    }
-    if let Some(note) = &r.crack_note {
-        progress.say(&format!("note: {note}"));
-    }
-    if let Some(note) = &r.classical_note {
-        progress.say(&format!("note: {note}"));
-    }
-}
-
-/// The note on the crack of a diagram on the `plane`'s curves that stopped at the drain line.
-fn plane_crack_note(solution: &ContactSolution, plane: &[bool]) -> Option<String> {
-    let on_plane = |d: &usize| solution.nitsche.uplift[*d].curves.iter().any(|&c| plane[c]);
-    (0..solution.cracks.len())
-        .filter(on_plane)
-        .find_map(|d| solution.cracks[d].and_then(|c| drain_note("the sliding plane", &c)))
-}
-
-/// What the report says of a last mesh whose Newton run stalled before the residual tolerance.
-const STALLED: &str = "on the last mesh Newton stalled before the residual tolerance: its numbers are those of \
-     the iterate where eta_lin met its share (S_lin), whose eta_tot still bounds the error";
-
-/// What `safety.json` says without friction.
-const FRICTIONLESS: &str = "the joint is frictionless (no [contact] friction, cohesion or threshold, or none \
-     in the [joints] table of the sliding plane): it has no sliding resistance of its own, so FS_LE and FS_SR are not computed";
-
-/// Why FS_LE may lie outside FS_SR's bracket (docs/method.md §1.9), said where it does.
-fn outside_note(fs_le: f64, sr: &StrengthReduction) -> Option<String> {
-    let side = if fs_le > sr.failed { "above" } else { "below" };
-    (fs_le < sr.held || fs_le > sr.failed).then(|| {
-        format!(
-            "FS_LE = {fs_le:.4} lies {side} FS_SR's bracket [{:.4}, {:.4}]: FS_LE counts the cohesion over the joint's \
-             contact length under the loads, while FS_SR follows the joint as its strength is divided by k, and with \
-             the cohesion the contact length may change with k (the joint opens or closes); with friction alone on a \
-             straight joint the two agree within 0.5 %, or the run stops",
-            sr.held, sr.failed
-        )
-    })
-}
-
-/// What `safety.json` says when the joint holds at every reduction.
-const UNBOUNDED: &str = "the joint still held with its strength divided by";
-
-/// The straight joint of the scene on its first mesh, refused with a reason when there is none,
-/// and the warnings of its uplift tables.
-fn joint_line(scene: &Scene, input: &Input) -> Result<(JointLine, Vec<String>)> {
-    let (problem, joint) = scene.problem(input.mesh(scene)?)?;
-    anyhow::ensure!(
-        joint.is_some(),
-        "{}: the safety analysis needs a joint: give the dam–rock curve role = \"contact\" (a rigid \
-         foundation) or a [joints.<curve>] table (a meshed rock block)",
-        scene.source.display()
-    );
-    let line = scene.joint_line(&problem).with_context(|| {
-        format!(
-            "{}: the safety analysis needs a straight joint whose heel is known: the contact curves on one line, \
-             and a hydrostatic curve (or the heel of [uplift] or of the joint's uplift table) at its upstream end",
-            scene.source.display()
-        )
-    })?;
-    Ok((line, scene.uplift_warnings(&problem.mesh, joint.as_ref())))
-}
-
-/// `--average-length`, or a tenth of the joint; it must lie in (0, L/2].
-fn average_length(given: Option<f64>, line: &JointLine) -> Result<f64> {
-    let length = given.unwrap_or(AVERAGE_FRACTION * line.length);
-    anyhow::ensure!(
-        length > 0.0 && length <= 0.5 * line.length,
-        "--average-length {length}: must be positive and at most half the joint ({:.3} m)",
-        0.5 * line.length
-    );
-    Ok(length)
-}
-
-/// The mean σ'^n over `length` at the heel and at the toe.
-fn base_stresses(
-    solution: &ContactSolution,
-    problem: &Problem,
-    disc: &Discretisation,
-    line: &JointLine,
-    length: f64,
-) -> BaseStresses {
-    let mean = |window| solution.mean_normal_stress(problem, disc, line, window);
-    let tip = solution.crack_from_heel(line).min(line.length - length);
-    BaseStresses {
-        length,
-        heel: mean([0.0, length]),
-        toe: mean([line.length - length, line.length]),
-        heel_closed: mean([tip, tip + length]),
-    }
+    pub(super) checks: Vec<Check>,
+    pub(super) verdict: Verdict,
 }
 
 /// The results as (quantity, value, unit) rows.
-fn table(r: &Report) -> Vec<[String; 3]> {
+pub(super) fn table(r: &Report) -> Vec<[String; 3]> {
     let row = |name: &str, value: String, unit: &str| [name.to_string(), value, unit.to_string()];
     let force = |v: f64| format!("{v:.4e}");
     let mut rows = vec![
@@ -549,7 +120,7 @@ fn table(r: &Report) -> Vec<[String; 3]> {
 }
 
 /// The crack rule in words.
-fn rule_words(rule: CrackRule) -> String {
+pub(super) fn rule_words(rule: CrackRule) -> String {
     match rule {
         CrackRule::Filled => "full: the reservoir's pressure fills it".into(),
         CrackRule::Kept { prior } => format!("kept: the diagram of the {prior:.4} m crack before the earthquake"),
@@ -558,7 +129,7 @@ fn rule_words(rule: CrackRule) -> String {
 }
 
 /// FS_SR's bracket \[held, failed\], or "> held" if the joint never failed.
-fn bracket(s: &StrengthReduction) -> String {
+pub(super) fn bracket(s: &StrengthReduction) -> String {
     match s.failed.is_finite() {
         true => format!("[{:.4}, {:.4}]", s.held, s.failed),
         false => format!("> {:.0}", s.held),
@@ -566,7 +137,7 @@ fn bracket(s: &StrengthReduction) -> String {
 }
 
 /// The rows as aligned columns.
-fn text_table(rows: &[[String; 3]]) -> String {
+pub(super) fn text_table(rows: &[[String; 3]]) -> String {
     let width = |k: usize| rows.iter().map(|r| r[k].chars().count()).max().unwrap_or(0);
     let (w0, w1) = (width(0), width(1));
     rows.iter()
@@ -576,14 +147,14 @@ fn text_table(rows: &[[String; 3]]) -> String {
 }
 
 /// `safety.json` and `report.md` of one analysis in `dir`.
-fn write_files(dir: &Path, report: &Report, table: &[[String; 3]]) -> Result<()> {
+pub(super) fn write_files(dir: &Path, report: &Report, table: &[[String; 3]]) -> Result<()> {
     write_output(&dir.join("safety.json"), serde_json::to_string_pretty(report)?.as_bytes())?;
     write_output(&dir.join("report.md"), markdown(report, table).as_bytes())?;
     Ok(())
 }
 
 /// The header and one row per combination: the headline numbers of each report.
-fn combination_rows(reports: &[Combination]) -> Vec<Vec<String>> {
+pub(super) fn combination_rows(reports: &[Combination]) -> Vec<Vec<String>> {
     let header = [
         "combination",
         "outcome",
@@ -631,7 +202,7 @@ fn combination_rows(reports: &[Combination]) -> Vec<Vec<String>> {
 }
 
 /// The rows as columns aligned on the right (the first on the left).
-fn text_columns(rows: &[Vec<String>]) -> String {
+pub(super) fn text_columns(rows: &[Vec<String>]) -> String {
     let widths: Vec<usize> =
         (0..rows[0].len()).map(|k| rows.iter().map(|r| r[k].chars().count()).max().unwrap_or(0)).collect();
     let line = |row: &Vec<String>| {
@@ -646,7 +217,7 @@ fn text_columns(rows: &[Vec<String>]) -> String {
 
 /// `report.md` of a scene with combinations: one row per combination, linked to its report,
 /// and a line for each combination whose last mesh has not the smallest η_tot of its run.
-fn combinations_markdown(scene: &Path, rows: &[Vec<String>], reports: &[Combination]) -> String {
+pub(super) fn combinations_markdown(scene: &Path, rows: &[Vec<String>], reports: &[Combination]) -> String {
     let mut md = format!("# Dam safety: {}, load combinations\n\n", scene.display());
     md += "Stresses are positive in tension. Each combination's report, joint stresses and figure are in \
            its own directory.\n\n";
@@ -677,7 +248,7 @@ fn combinations_markdown(scene: &Path, rows: &[Vec<String>], reports: &[Combinat
 }
 
 /// The sentence of `report.md` on the step `b` whose η_tot is below the last mesh's.
-fn best_sentence(b: &BestStep, r: &Report) -> String {
+pub(super) fn best_sentence(b: &BestStep, r: &Report) -> String {
     let file = b.file.file_name().map_or(b.file.display().to_string(), |f| f.to_string_lossy().into_owned());
     format!(
         "\nStep {} has the smallest η_tot of the run, {:.3e} Pa m with {} unknowns, against {:.3e} Pa m with {} \
@@ -689,18 +260,18 @@ fn best_sentence(b: &BestStep, r: &Report) -> String {
 
 /// One contact face along the joint: its midpoint x, its distance s from the heel, and the
 /// face means of σ'^n = −p_c, σ^n = σ'^n − p_u, σ^t and p_u \[Pa\], and its status.
-struct JointRow {
-    x: [f64; 2],
-    s: f64,
-    effective: f64,
-    total: f64,
-    tangential: f64,
-    uplift: f64,
-    status: f64,
+pub(super) struct JointRow {
+    pub(super) x: [f64; 2],
+    pub(super) s: f64,
+    pub(super) effective: f64,
+    pub(super) total: f64,
+    pub(super) tangential: f64,
+    pub(super) uplift: f64,
+    pub(super) status: f64,
 }
 
 /// The faces of the joint sorted from the heel.
-fn joint_rows(c: &ContactSolution, line: &JointLine) -> Vec<JointRow> {
+pub(super) fn joint_rows(c: &ContactSolution, line: &JointLine) -> Vec<JointRow> {
     let mut rows: Vec<JointRow> = c
         .faces
         .iter()
@@ -724,7 +295,7 @@ fn joint_rows(c: &ContactSolution, line: &JointLine) -> Vec<JointRow> {
     rows
 }
 
-fn joint_csv(rows: &[JointRow]) -> String {
+pub(super) fn joint_csv(rows: &[JointRow]) -> String {
     let mut csv =
         String::from("x,y,s,effective_normal_stress,normal_stress,tangential_stress,uplift_pressure,status\n");
     for r in rows {
@@ -737,7 +308,7 @@ fn joint_csv(rows: &[JointRow]) -> String {
 }
 
 /// The distance from the heel of the drain line of a diagram on the `plane`'s curves.
-fn plane_drains(solution: &ContactSolution, plane: &[bool]) -> Option<f64> {
+pub(super) fn plane_drains(solution: &ContactSolution, plane: &[bool]) -> Option<f64> {
     let uplift = solution.nitsche.uplift.iter().find(|up| up.curves.iter().any(|&c| plane[c]))?;
     uplift.diagram.drains.map(|d| d.distance)
 }
@@ -745,7 +316,7 @@ fn plane_drains(solution: &ContactSolution, plane: &[bool]) -> Option<f64> {
 /// σ'^n, σ^n, σ^t and −p_u \[MPa\] against the distance from the heel \[m\], with the
 /// drain line at `drains` and the crack tip marked. Further lines (beam theory) are series,
 /// allowable stresses horizontal marks.
-fn base_figure(rows: &[JointRow], report: &Report, drains: Option<f64>) -> Figure {
+pub(super) fn base_figure(rows: &[JointRow], report: &Report, drains: Option<f64>) -> Figure {
     let series = |label: &str, value: fn(&JointRow) -> f64, dashed: bool| Series {
         label: label.into(),
         points: rows.iter().map(|r| (r.s, value(r) / 1e6)).collect(),
@@ -781,7 +352,7 @@ fn base_figure(rows: &[JointRow], report: &Report, drains: Option<f64>) -> Figur
 
 /// σ'ⁿ of the classical method along the joint: 0 over its crack T, then linear from the
 /// crack tip (the heel without a crack) to the toe, from its heel to its toe stress [MPa].
-fn beam_theory(c: &Classical) -> Series {
+pub(super) fn beam_theory(c: &Classical) -> Series {
     let mut points = vec![(0.0, 0.0), (c.crack, c.heel_stress / 1e6), (c.length, c.toe_stress / 1e6)];
     if c.crack == 0.0 {
         points.remove(0);
@@ -790,7 +361,7 @@ fn beam_theory(c: &Classical) -> Series {
 }
 
 /// `report.md`: the results table, the convergence of the adaptive run, the figure.
-fn markdown(r: &Report, table: &[[String; 3]]) -> String {
+pub(super) fn markdown(r: &Report, table: &[[String; 3]]) -> String {
     let mut md = format!("# Dam safety: {}\n\n", r.scene.display());
     md += &format!(
         "P{} elements, refined adaptively until η_tot ≤ {} ‖σ_h‖ (adaptive steps: {}{}). Stresses are \
@@ -839,18 +410,19 @@ fn markdown(r: &Report, table: &[[String; 3]]) -> String {
 }
 
 /// Why the two answers differ, in one sentence.
-const DIFFER: &str = "The classical method takes the section rigid on a plane base, so its base pressure is \
+pub(super) const DIFFER: &str =
+    "The classical method takes the section rigid on a plane base, so its base pressure is \
      linear and its crack is where that line would be tensile; the finite elements take the dam and its foundation \
      elastic, so the pressure gathers at the heel and the toe, and their crack is the open part of the elastic \
      joint (docs/method.md §1.8).";
 
 /// A category in a word.
-fn category_name(r: &Requirements) -> String {
+pub(super) fn category_name(r: &Requirements) -> String {
     format!("{:?}", r.category).to_lowercase()
 }
 
 /// A value of a check in its report unit (MPa for a stress).
-fn check_value(v: Option<f64>, unit: &str) -> String {
+pub(super) fn check_value(v: Option<f64>, unit: &str) -> String {
     match (v, unit) {
         (None, _) => "–".into(),
         (Some(v), "Pa") => format!("{:.4}", v / 1e6),
@@ -858,7 +430,7 @@ fn check_value(v: Option<f64>, unit: &str) -> String {
     }
 }
 
-fn pass_word(p: Option<bool>) -> &'static str {
+pub(super) fn pass_word(p: Option<bool>) -> &'static str {
     match p {
         Some(true) => "pass",
         Some(false) => "FAIL",
@@ -867,7 +439,7 @@ fn pass_word(p: Option<bool>) -> &'static str {
 }
 
 /// A method's verdict in words.
-fn verdict_word(v: Option<bool>) -> &'static str {
+pub(super) fn verdict_word(v: Option<bool>) -> &'static str {
     match v {
         Some(true) => "meets the criteria",
         Some(false) => "fails",
@@ -876,7 +448,7 @@ fn verdict_word(v: Option<bool>) -> &'static str {
 }
 
 /// The classical method's loads table.
-fn loads_markdown(c: &Classical) -> String {
+pub(super) fn loads_markdown(c: &Classical) -> String {
     let mut md = String::from(
         "V presses on the base, H pushes towards the toe; d_V is the arm of V upstream of the toe, h_H that of H \
          above the base, and M = V d_V − H h_H the moment about the toe, resisting positive.\n\n\
@@ -905,7 +477,7 @@ fn loads_markdown(c: &Classical) -> String {
 
 /// The code check of `report.md`: the requirements, the classical loads, each line with both
 /// methods, the verdict.
-fn code_check_markdown(r: &Report) -> String {
+pub(super) fn code_check_markdown(r: &Report) -> String {
     let req = &r.requirements;
     let mut md = format!(
         "\n## Code check ({} combination)\n\nThe requirements are those of the scene's [criteria] for its category \
@@ -955,7 +527,7 @@ fn code_check_markdown(r: &Report) -> String {
 }
 
 /// The summary table of the code check of every combination.
-fn code_check_summary(reports: &[Combination]) -> String {
+pub(super) fn code_check_summary(reports: &[Combination]) -> String {
     let mut md = String::from(
         "\n## Code check of all combinations\n\n| combination | category | FS_LE | FS classical | required FS | \
          FS_OT classical | FS_F classical | s_R [m] | s_R classical [m] | resultant | crack classical [% of L] | \
@@ -989,10 +561,12 @@ fn code_check_summary(reports: &[Combination]) -> String {
 
 #[cfg(test)]
 mod tests {
+    use super::super::{outside_note, Combination, Outcome};
     use super::{
-        combination_rows, combinations_markdown, markdown, outside_note, table, BaseStresses, BestStep, Combination,
-        Outcome, Report, StepRow, StrengthReduction, UNITS,
+        combination_rows, combinations_markdown, markdown, table, BaseStresses, BestStep, Report, StepRow,
+        StrengthReduction,
     };
+    use crate::cli::output::UNITS;
     use crate::contact::JointLine;
     use crate::safety::criteria::{Category, CriteriaSection};
     use std::path::Path;

@@ -16,8 +16,9 @@
 //! (Coulomb, no cohesion), N and T are the statics of the body above it whatever k, so FS_SR
 //! must equal FS_LE: a gap of more than [`AGREEMENT`] is an error ([`StrengthError::Disagrees`]).
 
-use super::JointLaw;
-use super::{solve_by_continuation, ContactError, ContactJoint, ContactProblem, ContactSolution, Continuation};
+use crate::contact::{
+    solve_by_continuation, ContactError, ContactJoint, ContactProblem, ContactSolution, Continuation, JointLaw,
+};
 use crate::elasticity::{Discretisation, Problem};
 use crate::solve::{newton, NewtonError, NewtonOptions};
 
