@@ -12,7 +12,7 @@
 //!    │  io::gmsh        open, mesh (P1/P2), read nodes, cells, physical groups by name
 //!    ▼
 //!  Mesh + tags          mesh: topology, vertex patches, structured test meshes
-//!    │  fem             quadrature, Lagrange P1/P2, affine maps, sparse assembly, transfer
+//!    │  fem             quadrature, Lagrange P1/P2, sparse assembly, transfer
 //!    │  elasticity      plane-strain Hooke law, element kernels, loads, the linear solve
 //!    │                  refined to a pair of doubles x + lo (Displacement)
 //!    │  contact         Nitsche terms on Γ_C, joint laws, the smoothing of min(x, 0) at δ
@@ -35,6 +35,9 @@
 //!  io::vtu / io::pvd    ParaView files; cli writes summaries, histories, plots and the
 //!                       dam-safety report (`damfem safety`, per load combination)
 //! ```
+//!
+//! Under them all, `geometry` holds the dimension D = 2, points and vectors with their
+//! arithmetic, the affine map of a cell, the straight facet and the frame of its normal.
 //!
 //! Data flows one way: a module never calls a module above it; `cli` drives the pipeline and
 //! holds no numerical work of its own. The method is described in `docs/method.md`.
@@ -60,6 +63,7 @@ pub mod contact;
 pub mod elasticity;
 pub mod estimate;
 pub mod fem;
+pub mod geometry;
 pub mod io;
 pub mod mesh;
 pub mod safety;

@@ -2,6 +2,7 @@
 //! get half their size) or by equidistribution (every cell gets the size that would bring its
 //! η_T to a common target).
 
+use crate::geometry::{bounding_box, distance};
 use crate::mesh::Mesh;
 use serde::{Deserialize, Serialize};
 
@@ -45,10 +46,8 @@ const SMALLEST_SIZE: f64 = 1e-8;
 
 /// Diagonal of the bounding box of the mesh.
 fn extent(mesh: &Mesh) -> f64 {
-    let (lo, hi) = mesh.points.iter().fold(([f64::MAX; 2], [f64::MIN; 2]), |(lo, hi), p| {
-        ([lo[0].min(p[0]), lo[1].min(p[1])], [hi[0].max(p[0]), hi[1].max(p[1])])
-    });
-    (hi[0] - lo[0]).hypot(hi[1] - lo[1])
+    let [lo, hi] = bounding_box(mesh.points.iter().copied());
+    distance(lo, hi)
 }
 
 /// h_T/2 on the marked cells, h_T elsewhere.

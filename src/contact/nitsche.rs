@@ -29,11 +29,12 @@ use super::uplift::Uplift;
 use super::CurveUplift;
 use super::{ContactJoint, CurveLaw};
 use crate::elasticity::Material;
-use crate::fem::affine::AffineMap;
 use crate::fem::lagrange;
 use crate::fem::quadrature::gauss_segment_cached;
 use crate::fem::sparse::vector_dofs;
-use crate::mesh::{distance, Mesh, Segment, Topology};
+use crate::geometry::AffineMap;
+use crate::geometry::{distance, dot, sub, tangent, Segment};
+use crate::mesh::{Mesh, Topology};
 use crate::solve::two_sum;
 
 /// Normal gap to the foundation, g(x) = g₀ + ∇g · x (u^n ≤ g).
@@ -268,11 +269,11 @@ impl Nitsche {
         let n = face.normal;
         // σ^d(φ e_a) = (σ(φ e_a)n)·d = λ ∂_a φ (n·d) + μ((∇φ·n) d_a + (∇φ·d) n_a) and (φ e_a)·d
         let along = |d: [f64; 2]| {
-            let n_d = n[0] * d[0] + n[1] * d[1];
+            let n_d = dot(n, d);
             let (mut sigma, mut value) = (vec![0.0; 2 * nb], vec![0.0; 2 * nb]);
             for i in 0..nb {
                 let g = face.map.physical_gradient(grads[i]);
-                let (gn, gd) = (g[0] * n[0] + g[1] * n[1], g[0] * d[0] + g[1] * d[1]);
+                let (gn, gd) = (dot(g, n), dot(g, d));
                 for a in 0..2 {
                     sigma[2 * i + a] = face.lambda * g[a] * n_d + face.mu * (gn * d[a] + gd * n[a]);
                     value[2 * i + a] = phi[i] * d[a];
@@ -281,13 +282,13 @@ impl Nitsche {
             (sigma, value)
         };
         let nu = face.direction;
-        let tau = [-nu[1], nu[0]];
+        let tau = tangent(nu);
         let (mut sigma_n, mut u_n) = along(nu);
         let (mut sigma_t, mut u_t) = along(tau);
         // g − g₀ = ∇g·Jξ from the cell's origin x₀: without the rounding ε|x| of the point itself
         let offset = linear(&face.map, xi);
         let gradient = self.parameters(k).gap.gradient;
-        let mut gap = gradient[0] * offset[0] + gradient[1] * offset[1];
+        let mut gap = dot(gradient, offset);
         if let Some(opposite) = &face.opposite {
             // the jump [v] = v¹(x) − v²(y) at the point y of the master cell facing x:
             // −φ²_j(y) ν_a and −φ²_j(y) τ_a; σ^n(v) and σ^t(v) are the slave's
@@ -359,7 +360,7 @@ impl Nitsche {
             }
             compensated_sum(&terms)
         };
-        FaceDisplacement { relative, normal: jump(nu, g0), tangential: jump([-nu[1], nu[0]], 0.0) }
+        FaceDisplacement { relative, normal: jump(nu, g0), tangential: jump(tangent(nu), 0.0) }
     }
 
     /// P_γ(u_h) = σ^n(u_h) + p_u − γ(u_h^n − g) at a face point, with σ^n(u_h) from the nodal
@@ -367,15 +368,15 @@ impl Nitsche {
     /// ([`FaceDisplacement`]).
     pub fn p_gamma(&self, k: usize, point: &FacePoint, u: &FaceDisplacement) -> f64 {
         let gamma = self.faces[k].gamma;
-        let sigma_n = dot(&point.sigma_n, &u.relative);
-        let gap = u.normal + (dot(&point.u_n, &u.relative) - point.gap);
+        let sigma_n = dof_dot(&point.sigma_n, &u.relative);
+        let gap = u.normal + (dof_dot(&point.u_n, &u.relative) - point.gap);
         sigma_n + self.uplift_at(k, point.x) - gamma * gap
     }
 
     /// P_γ(u) − P_γ(u_prev) = σ^n(w) − γ w^n at a face point, for the increment w = u − u_prev
     /// ([`Nitsche::increment`]).
     pub fn p_increment(&self, k: usize, point: &FacePoint, w: &FaceDisplacement) -> f64 {
-        dot(&point.sigma_n, &w.relative) - self.faces[k].gamma * (w.normal + dot(&point.u_n, &w.relative))
+        dof_dot(&point.sigma_n, &w.relative) - self.faces[k].gamma * (w.normal + dof_dot(&point.u_n, &w.relative))
     }
 
     /// The index in `uplift` of the diagram on face `k`'s curve, if any.
@@ -396,19 +397,22 @@ impl Nitsche {
     /// P^t_γ(u_h) = σ^t(u_h) − γ (u_h^t − u^t_0) at a face point, u_h^t = (u¹_0 − u²_0)·τ +
     /// Σ_k φ_k (u_k − u_0)·τ and u^t_0 that of the slip origin (0 without one).
     pub fn p_tangential(&self, k: usize, point: &FacePoint, u: &FaceDisplacement) -> f64 {
-        let origin = self.origin_faces.get(k).map_or(0.0, |u0| u0.tangential + dot(&point.u_t, &u0.relative));
+        let origin = self.origin_faces.get(k).map_or(0.0, |u0| u0.tangential + dof_dot(&point.u_t, &u0.relative));
         self.t_increment(k, point, u) + self.faces[k].gamma * origin
     }
 
     /// P^t_γ(u) − P^t_γ(u_prev) = σ^t(w) − γ w^t at a face point, for the increment w = u − u_prev
     /// ([`Nitsche::increment`]).
     pub fn t_increment(&self, k: usize, point: &FacePoint, w: &FaceDisplacement) -> f64 {
-        dot(&point.sigma_t, &w.relative) - self.faces[k].gamma * (w.tangential + dot(&point.u_t, &w.relative))
+        dof_dot(&point.sigma_t, &w.relative) - self.faces[k].gamma * (w.tangential + dof_dot(&point.u_t, &w.relative))
     }
 
     /// u_h·ν and u_h·τ at a face point (the jump on a joint).
     pub fn displacement_at(&self, k: usize, point: &FacePoint, u: &FaceDisplacement) -> [f64; 2] {
-        [u.normal + self.gap_origin(k) + dot(&point.u_n, &u.relative), u.tangential + dot(&point.u_t, &u.relative)]
+        [
+            u.normal + self.gap_origin(k) + dof_dot(&point.u_n, &u.relative),
+            u.tangential + dof_dot(&point.u_t, &u.relative),
+        ]
     }
 
     /// The joint law's tangential traction Π_S(P^t_γ(u_h)) at a face point.
@@ -601,7 +605,7 @@ impl Nitsche {
             let pt = self.point(k, s);
             let p = self.p_gamma(k, &pt, u);
             let p_u = self.uplift_at(k, pt.x);
-            let sigma_n_u = dot(&pt.sigma_n, &u_new.relative) + p_u; // σ'^n(u) = σ^n(u) + p_u
+            let sigma_n_u = dof_dot(&pt.sigma_n, &u_new.relative) + p_u; // σ'^n(u) = σ^n(u) + p_u
             let [value, tangential] = self.linearised(k, &pt, u, step, smoothing);
             for i in 0..n {
                 test[i] = theta * pt.sigma_n[i] - gamma * pt.u_n[i]; // θ σ^n(v) − γ v^n
@@ -622,7 +626,7 @@ impl Nitsche {
                 }
             }
             if self.law(k).has_friction() {
-                let sigma_t_u = dot(&pt.sigma_t, &u_new.relative);
+                let sigma_t_u = dof_dot(&pt.sigma_t, &u_new.relative);
                 let t = self.tangential(k, &pt, u, smoothing);
                 let t = if frozen { Tangential { d_normal: t.d_normal_frozen, ..t } } else { t };
                 let traction = [sigma_t_u, tangential];
@@ -693,18 +697,18 @@ fn pieces(mesh: &Mesh, topology: &Topology, face: &ContactFace, master: &[(usize
     let mut pieces: Vec<(f64, ContactFace)> = Vec::new();
     for &(f, cell) in master {
         let normal = topology.outward_normal(mesh, f);
-        if normal[0] * nu[0] + normal[1] * nu[1] >= 0.0 {
+        if dot(normal, nu) >= 0.0 {
             continue;
         }
         let [c, d] = ends(f);
         // x + t ν = C + r (D − C): t ν − r (D − C) = C − x, by Cramer's rule
-        let e = [d[0] - c[0], d[1] - c[1]];
+        let e = sub(d, c);
         let det = -nu[0] * e[1] + nu[1] * e[0];
         if det.abs() <= 1e-12 * distance(c, d) {
             continue;
         }
         let solve = |x: [f64; 2]| {
-            let rhs = [c[0] - x[0], c[1] - x[1]];
+            let rhs = sub(c, x);
             let t = (-rhs[0] * e[1] + rhs[1] * e[0]) / det;
             let r = (nu[0] * rhs[1] - nu[1] * rhs[0]) / det;
             (t, r)
@@ -773,7 +777,8 @@ fn face(
     }
 }
 
-fn dot(a: &[f64], b: &[f64]) -> f64 {
+/// Σ a_i b_i over the dofs of a face's cells.
+fn dof_dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 

@@ -1,5 +1,6 @@
-//! The load path (docs/method.md §1.11, its steps docs/solver.md §5): the dam is built, its weight on the closed joint, and
-//! then the other loads come on with a load factor λ from 0 to 1,
+//! The load path (docs/method.md §1.11; its steps, docs/solver.md §5): the dam is built, its
+//! weight on the closed joint, and then the other loads come on with a load factor λ from 0
+//! to 1,
 //!
 //!   b(λ) = b_w + λ (b − b_w),   p_u(λ) = λ p_u,
 //!
@@ -12,8 +13,9 @@
 //! friction law acting on the slip from the last converged state.
 //! Δλ doubles after a step of few Newton steps and halves after a failed one, down to
 //! [`MIN_STEP`]; once a step has failed, a step to that λ or beyond fails at once where its
-//! first solve opens the filled crack by more than [`CRACK_STEP`] of the joint. A path that cannot pass λ* < 1 with that step ends there (at once where
-//! the state at λ* has used up the joint's strength, FS_LE ≤ 1 + [`SLIDING_MARGIN`]),
+//! first solve opens the filled crack by more than [`CRACK_STEP`] of the joint. A path that
+//! cannot pass λ* < 1 with that step ends there (at once where the state at λ* has used up the
+//! joint's strength, FS_LE ≤ 1 + [`SLIDING_MARGIN`]),
 //! and the state at λ* says why ([`Limit`]): the joint slides, opens over its length, or the
 //! crack runs on. A state that the joint alone holds with less than [`LIFT_OFF`] of it in
 //! contact is no equilibrium ([`ContactProblem::lift_off`]): the step fails. A limit with
@@ -45,7 +47,7 @@ const STEP_ITERATIONS: usize = 60;
 /// steps before a solve fails.
 pub const CRACK_STEP: f64 = 0.1;
 /// Load steps up to this size are not held to [`CRACK_STEP`] (a crack may jump at a fixed λ).
-const CONTROLLED_STEP: f64 = 1.0 / 64.0;
+pub const CONTROLLED_STEP: f64 = 1.0 / 64.0;
 /// At the limit, FS_LE of the joint below 1 + this means that it slides.
 pub const SLIDING_MARGIN: f64 = 0.02;
 /// At the limit, a contact length below this share of the joint means that it has lifted off.

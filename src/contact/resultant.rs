@@ -12,6 +12,7 @@
 //! Army Corps of Engineers (EM 1110-2-2100, Stability Analysis of Concrete Structures, 2005),
 //! which CADAM also applies.
 
+use crate::geometry::distance;
 use serde::Serialize;
 
 /// A straight joint from its heel (the upstream end) to its toe.
@@ -27,7 +28,7 @@ pub struct JointLine {
 impl JointLine {
     /// The joint from `heel` to `toe`.
     pub fn new(heel: [f64; 2], toe: [f64; 2]) -> Self {
-        let length = (toe[0] - heel[0]).hypot(toe[1] - heel[1]);
+        let length = distance(heel, toe);
         JointLine { heel, along: [(toe[0] - heel[0]) / length, (toe[1] - heel[1]) / length], length }
     }
 

@@ -3,10 +3,10 @@
 //! Local dofs are ordered node by node, x before y: local dof 2i + a is component a of node i.
 //! Kernels write into caller-owned buffers and allocate nothing.
 
-use crate::fem::affine::AffineMap;
 use crate::fem::lagrange;
 use crate::fem::tabulate::Tabulation;
-use crate::mesh::Segment;
+use crate::geometry::AffineMap;
+use crate::geometry::Segment;
 
 /// Element stiffness K_{2i+a, 2j+b} = ∫_T ε(φ_i e_a) : C ε(φ_j e_b), row-major in `k`: with
 /// D_kl = ∫_T ∂_k φ_i ∂_l φ_j, the 2 × 2 block of nodes (i, j) is

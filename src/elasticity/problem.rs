@@ -11,12 +11,13 @@ use super::displacement::Displacement;
 use super::kernels;
 use super::material::Material;
 use super::rigid;
-use crate::fem::affine::AffineMap;
 use crate::fem::dofs::{DofMap, FIXED};
 use crate::fem::quadrature::{gauss_segment_cached, split_rule, Rule1d};
 use crate::fem::sparse::{vector_dofs, LinearSystem, Local, SparsePattern};
 use crate::fem::tabulate::Tabulation;
 use crate::fem::transfer::interpolate_by_tag;
+use crate::geometry::AffineMap;
+use crate::geometry::{bounding_box, distance, norm};
 use crate::mesh::{Mesh, Topology};
 use crate::solve::{two_sum, Cholesky, SolveError};
 use rayon::prelude::*;
@@ -439,11 +440,8 @@ impl Problem {
     /// the regularisation δ, which must never scale with E alone.
     pub fn stress_scale(&self, topology: &Topology) -> f64 {
         let mesh = &self.mesh;
-        let (lo, hi) = mesh.points.iter().fold(([f64::MAX; 2], [f64::MIN; 2]), |(lo, hi), p| {
-            ([lo[0].min(p[0]), lo[1].min(p[1])], [hi[0].max(p[0]), hi[1].max(p[1])])
-        });
-        let diam = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
-        let norm = |v: [f64; 2]| v[0].hypot(v[1]);
+        let [lo, hi] = bounding_box(mesh.points.iter().copied());
+        let diam = distance(lo, hi);
         let traction = self.neumann.iter().flat_map(|bc| {
             (0..mesh.n_facets()).filter(move |&f| mesh.facet_tags[f] == bc.tag).flat_map(move |f| {
                 let n = topology.outward_normal(mesh, f);
@@ -475,7 +473,7 @@ impl Problem {
         let points: Vec<[f64; 2]> = (0..mesh.n_points()).filter(|&k| body[k]).map(|k| mesh.points[k]).collect();
         let n = points.len() as f64;
         let centre = points.iter().fold([0.0; 2], |c, p| [c[0] + p[0] / n, c[1] + p[1] / n]);
-        let size = points.iter().map(|p| crate::mesh::distance(*p, centre)).fold(f64::MIN_POSITIVE, f64::max);
+        let size = points.iter().map(|p| crate::geometry::distance(*p, centre)).fold(f64::MIN_POSITIVE, f64::max);
         let fixed = self.dirichlet.iter().flat_map(|bc| {
             let facets = (0..mesh.n_facets()).filter(move |&f| mesh.facet_tags[f] == bc.tag);
             facets.flat_map(|f| mesh.facet(f).iter()).filter(|&&node| body[node]).flat_map(move |&node| {

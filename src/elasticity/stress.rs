@@ -2,8 +2,8 @@
 
 use super::kernels::{displacement_gradient, stress};
 use super::problem::Problem;
-use crate::fem::affine::AffineMap;
 use crate::fem::lagrange;
+use crate::geometry::AffineMap;
 
 /// Cell mean of σ(u_h) as [σ_xx, σ_yy, σ_xy, σ_zz]. For p ≤ 2, σ(u_h) is affine on each
 /// cell, so its mean is its value at the centroid.

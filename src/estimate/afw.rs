@@ -11,9 +11,9 @@
 //! fields: the displacement r ∈ P_{p−1}(T)² (divergence) and the rotation m ∈ P_{p−1}(T)
 //! (weak symmetry, tested against m J with J = [[0, 1], [−1, 0]]).
 
-use crate::fem::affine::AffineMap;
 use crate::fem::lagrange;
 use crate::fem::quadrature::{gauss_segment_cached, triangle_cached};
+use crate::geometry::AffineMap;
 use std::sync::OnceLock;
 
 /// Number of stress components.

@@ -13,11 +13,12 @@ use crate::contact::Linearisation;
 use crate::elasticity::problem::traction_rule;
 use crate::elasticity::stress::cell_mean_stress;
 use crate::elasticity::{Displacement, Problem};
-use crate::fem::affine::AffineMap;
 use crate::fem::lagrange;
 use crate::fem::quadrature::{gauss_segment_cached, triangle_cached};
+use crate::geometry::dot;
+use crate::geometry::AffineMap;
+use crate::geometry::Segment;
 use crate::mesh::topology::NONE;
-use crate::mesh::Segment;
 use crate::mesh::Topology;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -302,7 +303,7 @@ impl<'a> Traces<'a> {
         let mesh = &self.problem.mesh;
         let [a, b] = self.topology.edges[e];
         let ends = [mesh.points[a], mesh.points[b]];
-        let length = crate::mesh::distance(ends[0], ends[1]);
+        let length = crate::geometry::distance(ends[0], ends[1]);
         let rule = gauss_segment_cached(mesh.order + 2);
         (rule.points.iter().zip(&rule.weights).map(|(&s, &w)| (s, w * length)).collect(), ends)
     }
@@ -313,7 +314,7 @@ impl<'a> Traces<'a> {
         let mesh = &self.problem.mesh;
         let [a, b] = self.topology.edges[e];
         let (pa, pb) = (mesh.points[a], mesh.points[b]);
-        let length = crate::mesh::distance(pa, pb);
+        let length = crate::geometry::distance(pa, pb);
         let n = [(pb[1] - pa[1]) / length, -(pb[0] - pa[0]) / length];
         let t = afw::evaluate(mesh.order, sigma, reference_point(mesh.cell(c), a, b, s));
         [t[0] * n[0] + t[1] * n[1], t[2] * n[0] + t[3] * n[1]]
@@ -369,7 +370,7 @@ impl<'a> Traces<'a> {
             let e = self.topology.facet_edges[f];
             let c = self.topology.facet_cell(f);
             let (_, ends) = self.rule(e);
-            let length = crate::mesh::distance(ends[0], ends[1]);
+            let length = crate::geometry::distance(ends[0], ends[1]);
             let rule: Vec<(f64, f64)> =
                 traction_rule(&bc.traction, ends, mesh.order).into_iter().map(|(s, w)| (s, w * length)).collect();
             let normal = self.topology.outward_normal(mesh, f);
@@ -377,7 +378,7 @@ impl<'a> Traces<'a> {
             // σ_h n along the edge's own normal, which is ± the outward normal
             let [a, b] = ends;
             let own = [(b[1] - a[1]), -(b[0] - a[0])];
-            let sign = if own[0] * normal[0] + own[1] * normal[1] > 0.0 { 1.0 } else { -1.0 };
+            let sign = if dot(own, normal) > 0.0 { 1.0 } else { -1.0 };
             let sigma = self.rec.total(c);
             let mut defect = 0.0;
             for i in 0..2 {

@@ -16,7 +16,8 @@ use crate::contact::Linearisation;
 use crate::elasticity::Displacement;
 use crate::fem::lagrange::reference_vertex;
 use crate::fem::quadrature::gauss_segment_cached;
-use crate::mesh::{distance, Mesh, Segment, Topology};
+use crate::geometry::{distance, dot, sub, Segment};
+use crate::mesh::{Mesh, Topology};
 use rayon::prelude::*;
 use std::collections::HashMap;
 
@@ -106,8 +107,8 @@ fn new_facet(mesh: &Mesh, edge: usize, cell: usize, ends: [usize; 2]) -> Contact
 /// taken in reference coordinates (exact for ξ on the facet, with no rounding of |x|).
 fn parameter(mesh: &Mesh, cell: usize, ends: [usize; 2], xi: [f64; 2]) -> f64 {
     let [a, b] = ends.map(|n| reference_vertex(mesh.cell(cell), n));
-    let d = [b[0] - a[0], b[1] - a[1]];
-    ((xi[0] - a[0]) * d[0] + (xi[1] - a[1]) * d[1]) / (d[0] * d[0] + d[1] * d[1])
+    let d = sub(b, a);
+    dot(sub(xi, a), d) / dot(d, d)
 }
 
 impl ContactFacet {
@@ -178,8 +179,7 @@ fn tractions(c: &Linearisation, k: usize, s: f64, [u, u_prev, step]: [&FaceDispl
     let exact = c.nitsche.traction(k, &point, u, Smoothing::NONE);
     let regularised = c.nitsche.traction(k, &point, u, c.smoothing);
     let linearised = c.nitsche.linearised_traction(k, &point, u_prev, step, c.smoothing);
-    let minus = |a: [f64; 2], b: [f64; 2]| [a[0] - b[0], a[1] - b[1]];
-    [exact, minus(regularised, exact), minus(linearised, regularised)]
+    [exact, sub(regularised, exact), sub(linearised, regularised)]
 }
 
 /// The rule on contact face k split at every kink of t₁, t₂ and t₃: (s, weight · |F|).

@@ -22,9 +22,9 @@ use crate::elasticity::kernels::{displacement_gradient, stress};
 use crate::elasticity::problem::traction_rule;
 use crate::elasticity::rigid;
 use crate::elasticity::{Displacement, Problem, Traction};
-use crate::fem::affine::AffineMap;
 use crate::fem::lagrange;
 use crate::fem::quadrature::triangle_cached;
+use crate::geometry::AffineMap;
 use crate::mesh::topology::NONE;
 use crate::mesh::{Mesh, Topology};
 use rayon::prelude::*;
@@ -340,7 +340,7 @@ fn patch_faces(ctx: &Context, a: usize, cells: &[usize], cases: usize) -> (Vec<P
             seen.push(e);
             let (va, vb) = ((i + 1) % 3, (i + 2) % 3);
             let (pa, pb) = (mesh.points[vertices[va]], mesh.points[vertices[vb]]);
-            let length = crate::mesh::distance(pa, pb);
+            let length = crate::geometry::distance(pa, pb);
             let normal = outward(pa, pb, mesh.points[vertices[i]]);
             let contains_a = vertices[i] != a;
             let other = ctx.topology.edge_cells[e].into_iter().find(|&o| o != c && o != NONE);
@@ -377,7 +377,7 @@ fn patch_faces(ctx: &Context, a: usize, cells: &[usize], cases: usize) -> (Vec<P
 
 /// Unit normal of the segment a → b pointing away from `inside`.
 fn outward(a: [f64; 2], b: [f64; 2], inside: [f64; 2]) -> [f64; 2] {
-    let length = crate::mesh::distance(a, b);
+    let length = crate::geometry::distance(a, b);
     let n = [(b[1] - a[1]) / length, -(b[0] - a[0]) / length];
     if (inside[0] - a[0]) * n[0] + (inside[1] - a[1]) * n[1] > 0.0 {
         [-n[0], -n[1]]
@@ -418,7 +418,7 @@ fn boundary_trace(
 fn traction_moments(ctx: &Context, traction: &Traction, a: usize, ends: [usize; 2], normal: [f64; 2], out: &mut [f64]) {
     let mesh = &ctx.problem.mesh;
     let (pa, pb) = (mesh.points[ends[0]], mesh.points[ends[1]]);
-    let length = crate::mesh::distance(pa, pb);
+    let length = crate::geometry::distance(pa, pb);
     let mut q = [0.0; 3];
     for (s, w) in traction_rule(traction, [pa, pb], mesh.order) {
         let x = [pa[0] + s * (pb[0] - pa[0]), pa[1] + s * (pb[1] - pa[1])];

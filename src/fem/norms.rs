@@ -1,7 +1,7 @@
 //! Error norms of a vector Lagrange field against an exact solution.
 
-use super::affine::AffineMap;
 use super::tabulate::Tabulation;
+use crate::geometry::AffineMap;
 use crate::mesh::Mesh;
 
 /// L² norm and H¹ seminorm of u − u_h, with u_h given by its nodal values `u_h[node]`:

@@ -15,6 +15,7 @@
 //! the distance from `p` to the buckets not yet searched.
 
 use super::lagrange;
+use crate::geometry::{bounding_box, dot, sub};
 use crate::mesh::Mesh;
 use rayon::prelude::*;
 
@@ -220,10 +221,8 @@ impl<'a> Locator<'a> {
     /// Buckets for the given `cells` of `mesh` only: points are located among them.
     pub fn of_cells(mesh: &'a Mesh, cells: &[usize]) -> Self {
         assert!(!cells.is_empty(), "cannot locate points in a mesh without cells");
-        let boxes: Vec<[[f64; 2]; 2]> = (0..mesh.n_cells()).map(|c| bounding_box(&mesh.cell_vertices(c))).collect();
-        let [lo, hi] = cells.iter().fold([[f64::INFINITY; 2], [f64::NEG_INFINITY; 2]], |[lo, hi], &c| {
-            [min(lo, boxes[c][0]), max(hi, boxes[c][1])]
-        });
+        let boxes: Vec<[[f64; 2]; 2]> = (0..mesh.n_cells()).map(|c| bounding_box(mesh.cell_vertices(c))).collect();
+        let [lo, hi] = bounding_box(cells.iter().flat_map(|&c| boxes[c]));
         Self { mesh, buckets: Buckets::new(Grid::new(lo, hi, cells.len()), cells, &boxes, MAX_DEPTH) }
     }
 
@@ -340,26 +339,6 @@ fn nearest_point(v: [[f64; 2]; 3], p: [f64; 2]) -> (f64, [f64; 2]) {
 /// Squared distance from `p` to the box `[lo, hi]`.
 fn box_distance2(p: [f64; 2], [lo, hi]: [[f64; 2]; 2]) -> f64 {
     (0..2).map(|k| (lo[k] - p[k]).max(p[k] - hi[k]).max(0.0).powi(2)).sum()
-}
-
-fn bounding_box(v: &[[f64; 2]; 3]) -> [[f64; 2]; 2] {
-    [min(min(v[0], v[1]), v[2]), max(max(v[0], v[1]), v[2])]
-}
-
-fn min(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
-    [a[0].min(b[0]), a[1].min(b[1])]
-}
-
-fn max(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
-    [a[0].max(b[0]), a[1].max(b[1])]
-}
-
-fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
-    [a[0] - b[0], a[1] - b[1]]
-}
-
-fn dot(a: [f64; 2], b: [f64; 2]) -> f64 {
-    a[0] * b[0] + a[1] * b[1]
 }
 
 #[cfg(test)]

@@ -55,7 +55,8 @@ pub fn flip_flat_cells(mesh: &mut Mesh) -> Result<usize, [f64; 2]> {
 /// The longest edge of the flat cell `c` and the vertex opposite it, if that vertex lies
 /// strictly between the edge's ends.
 fn chord(mesh: &Mesh, topology: &Topology, c: usize) -> Option<(usize, usize)> {
-    let length = |e: usize| super::distance(mesh.points[topology.edges[e][0]], mesh.points[topology.edges[e][1]]);
+    let length =
+        |e: usize| crate::geometry::distance(mesh.points[topology.edges[e][0]], mesh.points[topology.edges[e][1]]);
     let edges = topology.cell_edges[c];
     let chord = edges.into_iter().max_by(|&e, &f| length(e).total_cmp(&length(f)))?;
     let b = *mesh.cell(c)[..3].iter().find(|v| !topology.edges[chord].contains(v))?;

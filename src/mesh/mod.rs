@@ -10,13 +10,12 @@
 pub mod flat;
 pub mod interface;
 pub mod midpoints;
-pub mod segment;
 pub mod structured;
 pub mod topology;
 
-pub use segment::Segment;
-
 pub use topology::Topology;
+
+use crate::geometry::distance;
 
 /// A named physical group of gmsh: `dim` 2 for material regions, 1 for boundary curves.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -190,9 +189,4 @@ impl Mesh {
             }
         }
     }
-}
-
-/// Euclidean distance between two points.
-pub fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
-    (b[0] - a[0]).hypot(b[1] - a[1])
 }

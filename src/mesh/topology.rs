@@ -92,7 +92,7 @@ impl Topology {
             .find(|&&v| v != nodes[0] && v != nodes[1])
             .map(|&v| mesh.points[v])
             .expect("a triangle has a vertex off each edge");
-        super::Segment::new(mesh.points[nodes[0]], mesh.points[nodes[1]]).outward_normal(opposite)
+        crate::geometry::Segment::new(mesh.points[nodes[0]], mesh.points[nodes[1]]).outward_normal(opposite)
     }
 }
 

@@ -52,7 +52,8 @@
 use crate::contact::{ContactJoint, CrackRule, JointLaw, JointLine, Uplift};
 use crate::elasticity::problem::traction_rule;
 use crate::elasticity::{BodyForce, Problem, Traction};
-use crate::mesh::{Segment, Topology};
+use crate::geometry::{dot, sub, Segment};
+use crate::mesh::Topology;
 use serde::Serialize;
 
 /// Cells of the scan of g(T) over [0, L] that brackets the crack.
@@ -158,8 +159,7 @@ impl Base {
     /// Adds the force `f` at `x` to `sums`: V, V d, H, H h.
     fn add(&self, sums: &mut Sums, f: [f64; 2], x: [f64; 2]) {
         let (tau, nu, toe) = (self.line.along, self.normal, self.toe());
-        let r = [x[0] - toe[0], x[1] - toe[1]];
-        let dot = |a: [f64; 2], b: [f64; 2]| a[0] * b[0] + a[1] * b[1];
+        let r = sub(x, toe);
         let (v, h) = (dot(f, nu), dot(f, tau));
         sums.normal += v;
         sums.normal_moment += v * -dot(r, tau);

@@ -386,7 +386,7 @@ impl Scene {
         }
         let untagged: f64 = (0..topology.n_edges())
             .filter(|&e| topology.is_boundary_edge(e) && !tagged[e])
-            .map(|e| crate::mesh::distance(mesh.points[topology.edges[e][0]], mesh.points[topology.edges[e][1]]))
+            .map(|e| crate::geometry::distance(mesh.points[topology.edges[e][0]], mesh.points[topology.edges[e][1]]))
             .sum();
         if untagged > 0.0 {
             warnings.push(format!(

@@ -6,6 +6,7 @@ use super::{Role, Scene, SceneError, UpliftSection};
 use crate::contact::nitsche::NitscheParameters;
 use crate::contact::{ContactJoint, CurveLaw, JointLaw};
 use crate::elasticity::Problem;
+use crate::geometry::tangent;
 use crate::mesh::interface::{self, Interface};
 use crate::mesh::{Mesh, Topology};
 use serde::Deserialize;
@@ -196,7 +197,7 @@ impl Scene {
                 .filter(|&&(f, _)| body[topology.facet_cell(f)] == b)
                 .flat_map(|&(f, friction)| {
                     let nu = topology.outward_normal(mesh, f);
-                    let directions = if friction { vec![nu, [-nu[1], nu[0]]] } else { vec![nu] };
+                    let directions = if friction { vec![nu, tangent(nu)] } else { vec![nu] };
                     mesh.facet(f)
                         .iter()
                         .flat_map(move |&n| directions.clone().into_iter().map(move |d| (mesh.points[n], d)))

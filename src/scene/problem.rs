@@ -8,7 +8,8 @@ use crate::contact::nitsche::{Gap, NitscheParameters};
 use crate::contact::uplift::{Drains, Uplift};
 use crate::contact::{ContactJoint, CurveUplift, JointLine, LoadPath};
 use crate::elasticity::{Dirichlet, Material, Neumann, Problem, Traction};
-use crate::mesh::{distance, Mesh, Topology};
+use crate::geometry::{distance, dot, norm, tangent};
+use crate::mesh::{Mesh, Topology};
 use crate::solve::NewtonOptions;
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -76,7 +77,7 @@ impl Scene {
             theta: c.theta,
             gap: Gap { constant: c.gap, gradient: c.gap_gradient },
             direction: c.direction.map(|nu| {
-                let norm = nu[0].hypot(nu[1]);
+                let norm = norm(nu);
                 [nu[0] / norm, nu[1] / norm]
             }),
         }
@@ -222,13 +223,13 @@ impl Scene {
     ) -> Result<JointLine, String> {
         let mesh = &problem.mesh;
         let Some(&(_, nu)) = facets.first() else { return Err("there is no contact curve".into()) };
-        if facets.iter().any(|(_, n)| (n[0] - nu[0]).hypot(n[1] - nu[1]) > 1e-9) {
+        if facets.iter().any(|(_, n)| distance(nu, *n) > 1e-9) {
             return Err("not on one straight line".into());
         }
-        let along = [-nu[1], nu[0]];
+        let along = tangent(nu);
         let ends: Vec<[f64; 2]> =
             facets.iter().flat_map(|&(f, _)| mesh.facet(f)[..2].iter().map(|&n| mesh.points[n])).collect();
-        let at = |x: &[f64; 2]| x[0] * along[0] + x[1] * along[1];
+        let at = |x: &[f64; 2]| dot(*x, along);
         let first = *ends.iter().min_by(|a, b| at(a).total_cmp(&at(b))).expect("a joint has faces");
         let last = *ends.iter().max_by(|a, b| at(a).total_cmp(&at(b))).expect("a joint has faces");
         // parallel joints (a lift joint above the dam's base) are not one line
@@ -388,13 +389,13 @@ impl Scene {
         facets: &[(usize, [f64; 2])],
     ) -> Result<(), SceneError> {
         let nu = self.nitsche_parameters().direction.unwrap_or(facets[0].1);
-        if facets.iter().any(|(_, n)| (n[0] - nu[0]).hypot(n[1] - nu[1]) > 1e-9) {
+        if facets.iter().any(|(_, n)| distance(nu, *n) > 1e-9) {
             return Ok(());
         }
         let r = problem.load_resultant(topology);
         // the uplift without a crack: a crack only adds to it
         let uplift: f64 = joint.uplift.iter().map(|up| up.diagram.force(0.0)).sum();
-        let (normal, shear) = (r[0] * nu[0] + r[1] * nu[1] - uplift, r[1] * nu[0] - r[0] * nu[1]);
+        let (normal, shear) = (dot(r, nu) - uplift, r[1] * nu[0] - r[0] * nu[1]);
         // at most the largest friction's F N plus every curve's cohesion or threshold over its length
         let length = |tag: i32| problem.mesh.boundary_length(tag);
         let laws = || joint.tags.iter().zip(&joint.laws);
@@ -448,7 +449,7 @@ fn contact_supports(
         .iter()
         .flat_map(|&(f, normal)| {
             let nu = direction.unwrap_or(normal);
-            let directions = if friction { vec![nu, [-nu[1], nu[0]]] } else { vec![nu] };
+            let directions = if friction { vec![nu, tangent(nu)] } else { vec![nu] };
             mesh.facet(f).iter().flat_map(move |&n| directions.clone().into_iter().map(move |d| (mesh.points[n], d)))
         })
         .collect()
@@ -457,7 +458,7 @@ fn contact_supports(
 /// Tag of a contact facet whose outward normal n has ν·n ≤ 0, if any.
 fn facing_away(mesh: &Mesh, facets: &[(usize, [f64; 2])], direction: Option<[f64; 2]>) -> Option<i32> {
     let nu = direction?;
-    facets.iter().find(|(_, n)| n[0] * nu[0] + n[1] * nu[1] <= 0.0).map(|&(f, _)| mesh.facet_tags[f])
+    facets.iter().find(|(_, n)| dot(*n, nu) <= 0.0).map(|&(f, _)| mesh.facet_tags[f])
 }
 
 /// The facets of the contact curves (tags) with their outward normals.

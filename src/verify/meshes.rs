@@ -2,6 +2,7 @@
 
 use super::rng::Rng;
 use crate::estimate::reference::refine::{bisect, Refinement};
+use crate::geometry::{dot, norm, sub};
 use crate::mesh::Mesh;
 
 /// Moves every interior vertex by a random vector of length up to `fraction · h` (uniform
@@ -41,8 +42,8 @@ pub fn quality(mesh: &Mesh) -> (f64, f64) {
         min_area = min_area.min(mesh.cell_area(c));
         for i in 0..3 {
             let (a, b, d) = (v[i], v[(i + 1) % 3], v[(i + 2) % 3]);
-            let (e, f) = ([b[0] - a[0], b[1] - a[1]], [d[0] - a[0], d[1] - a[1]]);
-            let cos = (e[0] * f[0] + e[1] * f[1]) / (e[0].hypot(e[1]) * f[0].hypot(f[1]));
+            let (e, f) = (sub(b, a), sub(d, a));
+            let cos = dot(e, f) / (norm(e) * norm(f));
             min_angle = min_angle.min(cos.clamp(-1.0, 1.0).acos().to_degrees());
         }
     }
@@ -66,7 +67,7 @@ pub fn graded(mesh: &Mesh, point: [f64; 2], ratio: f64) -> Mesh {
         if h.iter().fold(f64::MAX, |m, &v| m.min(v)) * ratio <= largest {
             return current.mesh;
         }
-        let near = |c: usize| crate::mesh::distance(current.mesh.cell_centroid(c), point) <= 2.0 * h[c];
+        let near = |c: usize| crate::geometry::distance(current.mesh.cell_centroid(c), point) <= 2.0 * h[c];
         let marked: Vec<bool> = (0..h.len()).map(near).collect();
         current = bisect(&current, &marked);
     }

@@ -85,7 +85,7 @@ fn relative_density(mesh: &Mesh, p: [f64; 2], r: f64) -> f64 {
         let v = mesh.cell_vertices(c);
         [(v[0][0] + v[1][0] + v[2][0]) / 3.0, (v[0][1] + v[1][1] + v[2][1]) / 3.0]
     };
-    let near = (0..mesh.n_cells()).filter(|&c| damfem::mesh::distance(centroid(c), p) < r).count() as f64;
+    let near = (0..mesh.n_cells()).filter(|&c| damfem::geometry::distance(centroid(c), p) < r).count() as f64;
     let area: f64 = (0..mesh.n_cells()).map(|c| mesh.cell_area(c)).sum();
     (near / (0.5 * std::f64::consts::PI * r * r)) / (mesh.n_cells() as f64 / area)
 }

@@ -1,8 +1,8 @@
 //! Reference elements: Lagrange bases on a distorted triangle, quadrature exactness, affine maps.
 
-use damfem::fem::affine::AffineMap;
 use damfem::fem::lagrange::{gradients, n_basis, reference_nodes, values};
 use damfem::fem::quadrature::{gauss_segment, triangle, triangle_cached};
+use damfem::geometry::AffineMap;
 use damfem::verify::rng::Rng;
 
 const VERTICES: [[f64; 2]; 3] = [[0.1, 0.2], [1.3, 0.4], [0.35, 1.1]];

@@ -1,7 +1,8 @@
 //! gmsh interface against the real gmsh 4.8 library; tests run in parallel through the lock.
 
+use damfem::geometry::distance;
 use damfem::io::gmsh::{self, GmshError, MeshOptions, Session};
-use damfem::mesh::{distance, Mesh};
+use damfem::mesh::Mesh;
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 

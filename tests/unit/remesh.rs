@@ -1,7 +1,8 @@
 //! Remeshing a `.geo` file with per-cell target sizes, against the real gmsh 4.8 library.
 
+use damfem::geometry::distance;
 use damfem::io::gmsh::{self, GmshError, MeshOptions, SizeField};
-use damfem::mesh::{distance, Mesh};
+use damfem::mesh::Mesh;
 use std::path::{Path, PathBuf};
 
 fn geo(name: &str) -> PathBuf {

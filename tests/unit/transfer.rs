@@ -1,8 +1,8 @@
 //! Transfer of fields between non-nested meshes: exactness on polynomials, points on edges and
 //! outside the mesh, strongly graded meshes checked against a brute-force search, scale.
 
-use damfem::fem::affine::AffineMap;
 use damfem::fem::transfer::{interpolate, Locator};
+use damfem::geometry::AffineMap;
 use damfem::mesh::midpoints::elevate_to_p2;
 use damfem::mesh::structured::{rectangle, unit_square};
 use damfem::mesh::Mesh;

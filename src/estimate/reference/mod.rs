@@ -42,12 +42,13 @@ use crate::contact::nitsche::Nitsche;
 use crate::contact::projection::Smoothing;
 use crate::contact::ContactJoint;
 use crate::elasticity::{kernels, Problem};
-use crate::fem::affine::AffineMap;
 use crate::fem::dofs::{DofMap, FIXED};
 use crate::fem::lagrange;
 use crate::fem::quadrature::{gauss_segment, split_rule, Rule1d};
 use crate::fem::sparse::{vector_dofs, LinearSystem, Local, SparsePattern};
 use crate::fem::tabulate::Tabulation;
+use crate::geometry::AffineMap;
+use crate::geometry::{dot, sub};
 use crate::mesh::midpoints::elevate_to_p2;
 use crate::mesh::midpoints::vertex_mesh;
 use crate::mesh::{Mesh, Topology};
@@ -367,7 +368,7 @@ fn neumann_residual(problem: &Problem, topology: &Topology, fine: &Refinement, l
             let normal = topology.outward_normal(&problem.mesh, fine.facet_parents[f]);
             let nodes = mesh.facet(f);
             let (a, b) = (mesh.points[nodes[0]], mesh.points[nodes[1]]);
-            let length = crate::mesh::distance(a, b);
+            let length = crate::geometry::distance(a, b);
             let cuts = bc.traction.kinks([a, b]);
             for (t, w) in split_rule(&rule, cuts) {
                 let x = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
@@ -441,11 +442,8 @@ impl ContactFaces {
     /// The fine facets of `side` that meet the face, with the face parameters of their ends.
     fn fine_facets(&self, fine: &Refinement, side: &Side) -> Vec<FineFacet> {
         let [a, b] = side.ends;
-        let d = [b[0] - a[0], b[1] - a[1]];
-        let s = |n: usize| {
-            let x = fine.mesh.points[n];
-            ((x[0] - a[0]) * d[0] + (x[1] - a[1]) * d[1]) / (d[0] * d[0] + d[1] * d[1])
-        };
+        let d = sub(b, a);
+        let s = |n: usize| dot(sub(fine.mesh.points[n], a), d) / dot(d, d);
         (self.children[side.facet].iter())
             .map(|&f| FineFacet { facet: f, s: [s(fine.mesh.facet(f)[0]), s(fine.mesh.facet(f)[1])] })
             .filter(|f| f.s[0].max(f.s[1]) > 0.0 && f.s[0].min(f.s[1]) < 1.0)

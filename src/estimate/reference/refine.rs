@@ -100,7 +100,7 @@ pub fn bisect(refined: &Refinement, marked: &[bool]) -> Refinement {
     let mut midpoints = Midpoints::new();
     let longest_first = |c: usize| {
         let n = mesh.cell(c);
-        let length = |i: usize| crate::mesh::distance(mesh.points[n[(i + 1) % 3]], mesh.points[n[(i + 2) % 3]]);
+        let length = |i: usize| crate::geometry::distance(mesh.points[n[(i + 1) % 3]], mesh.points[n[(i + 2) % 3]]);
         let i = (0..3).fold(0, |best, i| if length(i) > length(best) { i } else { best });
         [n[i], n[(i + 1) % 3], n[(i + 2) % 3]]
     };
@@ -175,7 +175,7 @@ pub fn refine_levels(mesh: &Mesh, levels: usize) -> Refinement {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fem::affine::AffineMap;
+    use crate::geometry::AffineMap;
     use crate::mesh::midpoints::{elevate_to_p2, vertex_mesh};
     use crate::mesh::structured::{rectangle, BOTTOM, LEFT, RIGHT, TOP};
     use crate::mesh::Topology;

@@ -18,6 +18,7 @@
 //!   [`NOTICE_AFTER`] seconds the limit is stated once on stderr.
 
 use super::{api, GmshError};
+use crate::geometry::distance;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU32, AtomicUsize, Ordering};
 use std::sync::{Mutex, PoisonError};
@@ -186,7 +187,7 @@ fn mean_segment_length() -> Result<Option<f64>, GmshError> {
             let stride = if element_type == 8 { 3 } else { 2 };
             for segment in api::element_nodes(element_type, curve)?.as_slice().chunks_exact(stride) {
                 let (Some(a), Some(b)) = (xy.get(&segment[0]), xy.get(&segment[1])) else { continue };
-                total += (b[0] - a[0]).hypot(b[1] - a[1]);
+                total += distance(*a, *b);
                 count += 1;
             }
         }

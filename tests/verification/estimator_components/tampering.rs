@@ -27,7 +27,7 @@ fn perturb(rec: &mut Reconstruction, i: usize, cells: &[usize], scale: f64, rand
 
 /// The index in `topology.vertices` of the vertex nearest to x.
 fn vertex_near(mesh: &Mesh, topology: &Topology, x: [f64; 2]) -> usize {
-    let d = |k: &usize| damfem::mesh::distance(mesh.points[topology.vertices[*k]], x);
+    let d = |k: &usize| damfem::geometry::distance(mesh.points[topology.vertices[*k]], x);
     (0..topology.vertices.len()).min_by(|a, b| d(a).total_cmp(&d(b))).unwrap()
 }
 
@@ -98,7 +98,7 @@ fn tampered_reconstruction_fails_the_checks() {
         .min_by(|a, b| {
             let d = |f: &damfem::contact::nitsche::ContactFace| {
                 let m = f.map.to_physical([0.5 * (f.ends[0][0] + f.ends[1][0]), 0.5 * (f.ends[0][1] + f.ends[1][1])]);
-                damfem::mesh::distance(m, [0.25, 0.0])
+                damfem::geometry::distance(m, [0.25, 0.0])
             };
             d(a).total_cmp(&d(b))
         })
