@@ -1,10 +1,10 @@
 //! `damfem solve`: mesh, assemble, solve (with Nitsche contact when the scene has Γ_C),
 //! write ParaView files, `summary.json` and `history.json`.
 
-use super::common::{remove_earlier_outputs, stem, Input, Output, SolverFailed};
+use super::common::{remove_earlier_outputs, stem, Input, Output, Progress, SolverFailed};
 use super::output::{write_results, EstimateSummary, Results, Summary, Units, UNITS};
 use super::settings::{self, Given, Setting};
-use crate::contact::{ContactError, ContactJoint, Continuation, Solution, Stage};
+use crate::contact::{ContactError, ContactJoint, ContactSolution, Continuation, Solution, Stage};
 use crate::elasticity::stress::cell_mean_stress;
 use crate::elasticity::{Discretisation, Problem};
 use crate::estimate::reference::{effectivity, Effectivity};
@@ -135,58 +135,14 @@ pub fn run(args: Args) -> Result<()> {
     seconds.solve = t;
     // strength reduction from the solution at k = 1 just found
     let strength = match joint.as_ref().zip(solution.contact()).filter(|_| args.strength_reduction) {
-        Some((joint, start)) => Some(progress.stage(
-            "strength",
-            || {
-                Ok(reduce_strength(
-                    &problem,
-                    &disc,
-                    joint,
-                    &joint.every_curve(),
-                    start,
-                    &continuation.newton,
-                    STRENGTH_TOLERANCE,
-                )?)
-            },
-            |s: &StrengthReduction| format!("FS_SR in [{:.4}, {:.4}] after {} solves", s.held, s.failed, s.solves),
-        )?),
+        Some((joint, start)) => Some(strength_stage(&progress, &problem, &disc, joint, start, &continuation)?),
         None => None,
     };
     // 4. Estimate
-    let estimate = if args.estimate || args.check_equilibration || args.effectivity {
-        let (e, t) = progress.stage(
-            "estimate",
-            || estimate(&problem, &disc, &solution),
-            |e| describe_estimate(e, problem.mesh.order),
-        )?;
-        seconds.estimate = Some(t);
-        if args.check_equilibration {
-            eprintln!("{}", e.equilibration.table(problem.mesh.order));
-        }
-        Some(e)
-    } else {
-        None
-    };
+    let estimate = estimate_stage(&args, &progress, &problem, &disc, &solution, &mut seconds)?;
     let effectivity = match estimate.as_ref().filter(|_| args.effectivity) {
         Some(e) => {
-            let (reference, t) = progress.stage(
-                "effectivity",
-                || {
-                    let u = problem.displacement(&disc, solution.x());
-                    let solved = joint.as_ref().zip(solution.contact()).map(|(j, c)| j.as_solved(c));
-                    Ok(effectivity(&problem, &u, solved.as_ref(), e.estimators.global().tot)?)
-                },
-                |r| {
-                    let agree = if r.converged { "agree within 2 %" } else { "do NOT agree within 2 % (size limit)" };
-                    format!(
-                        "I_eff = {:.3} (eta_tot {:.4e}, reference {:.4e}; the last two of {} references {agree})",
-                        r.i_eff,
-                        r.eta_tot,
-                        r.reference,
-                        r.references.len()
-                    )
-                },
-            )?;
+            let (reference, t) = effectivity_stage(&progress, &problem, &disc, joint.as_ref(), &solution, e)?;
             seconds.effectivity = Some(t);
             Some(reference)
         }
@@ -229,6 +185,79 @@ pub fn run(args: Args) -> Result<()> {
         progress.result(&line);
     }
     Ok(())
+}
+
+/// The strength reduction from the contact solution `start` at k = 1, with its wall time.
+fn strength_stage(
+    progress: &Progress,
+    problem: &Problem,
+    disc: &Discretisation,
+    joint: &ContactJoint,
+    start: &ContactSolution,
+    continuation: &Continuation,
+) -> Result<(StrengthReduction, f64)> {
+    progress.stage(
+        "strength",
+        || {
+            let curves = joint.every_curve();
+            Ok(reduce_strength(problem, disc, joint, &curves, start, &continuation.newton, STRENGTH_TOLERANCE)?)
+        },
+        |s: &StrengthReduction| format!("FS_SR in [{:.4}, {:.4}] after {} solves", s.held, s.failed, s.solves),
+    )
+}
+
+/// The estimate of `solution` where a flag asks for it, its wall time in `seconds`; with
+/// `--check-equilibration`, its checks printed.
+fn estimate_stage(
+    args: &Args,
+    progress: &Progress,
+    problem: &Problem,
+    disc: &Discretisation,
+    solution: &Solution,
+    seconds: &mut Timings,
+) -> Result<Option<Estimate>> {
+    if !(args.estimate || args.check_equilibration || args.effectivity) {
+        return Ok(None);
+    }
+    let (e, t) = progress.stage(
+        "estimate",
+        || estimate(problem, disc, solution),
+        |e| describe_estimate(e, problem.mesh.order),
+    )?;
+    seconds.estimate = Some(t);
+    if args.check_equilibration {
+        eprintln!("{}", e.equilibration.table(problem.mesh.order));
+    }
+    Ok(Some(e))
+}
+
+/// I_eff of the estimate `e` against the sharp reference, with its wall time.
+fn effectivity_stage(
+    progress: &Progress,
+    problem: &Problem,
+    disc: &Discretisation,
+    joint: Option<&ContactJoint>,
+    solution: &Solution,
+    e: &Estimate,
+) -> Result<(Effectivity, f64)> {
+    progress.stage(
+        "effectivity",
+        || {
+            let u = problem.displacement(disc, solution.x());
+            let solved = joint.zip(solution.contact()).map(|(j, c)| j.as_solved(c));
+            Ok(effectivity(problem, &u, solved.as_ref(), e.estimators.global().tot)?)
+        },
+        |r| {
+            let agree = if r.converged { "agree within 2 %" } else { "do NOT agree within 2 % (size limit)" };
+            format!(
+                "I_eff = {:.3} (eta_tot {:.4e}, reference {:.4e}; the last two of {} references {agree})",
+                r.i_eff,
+                r.eta_tot,
+                r.reference,
+                r.references.len()
+            )
+        },
+    )
 }
 
 /// What `history.json` records of a Newton run that did not converge: the error and the
