@@ -24,7 +24,8 @@
 //!    ▼
 //!  contact::ContactSolution   the iterate (refined to a pair x + lo after a full Newton
 //!    │                  step), its linearisation point and smoothing, face states;
-//!    │                  the joint's N, T, U, resultant, crack and base stresses (resultant)
+//!    │                  the joint's N, T, U, crack and base stresses; safety reads the
+//!    │                  resultant, the strength reduction and the classical method from it
 //!    ▼
 //!  estimate             AFW patch problems → σ_h1 + σ_h2 + σ_h3 → η_osc … η_lin, checks
 //!    ▼

@@ -28,12 +28,13 @@ pub mod history;
 pub mod level;
 pub mod marking;
 
-use crate::contact::{CarriedState, ContactError, ContactJoint, ContactSolution, JointLine, LoadPath, Resultant};
+use crate::contact::{CarriedState, ContactError, ContactJoint, ContactSolution, JointLine, LoadPath};
 use crate::elasticity::{nodal, Discretisation, Problem};
 use crate::estimate::estimators::{stress_norm, GlobalEstimators};
 use crate::estimate::Estimate;
 use crate::estimate::EstimateError;
 use crate::mesh::Mesh;
+use crate::safety::resultant::{resultant, Resultant};
 use crate::solve::{NewtonError, NewtonOptions, SolveError};
 use level::{Level, StartDelta, Stopping};
 use marking::Marking;
@@ -450,7 +451,7 @@ pub fn run(
             i_eff: None,
             i_eff_reference_converged: None,
             crack_length: contact.zip(line).map(|(c, line)| c.crack_from_heel(&line)),
-            resultant: contact.zip(line).and_then(|(c, line)| c.resultant(&line)),
+            resultant: contact.zip(line).and_then(|(c, line)| resultant(c, &line)),
             stall,
             cell_limit,
             seconds,

@@ -1,7 +1,7 @@
 //! ParaView files and summaries of one solution, shared by `solve` and `adapt`.
 
 use crate::contact::{
-    CoarseSolve, ContactSolution, Crack, CrackRule, FaceState, JointForces, JointLaw, JointLine, PathPoint, Resultant,
+    CoarseSolve, ContactSolution, Crack, CrackRule, FaceState, JointForces, JointLaw, JointLine, PathPoint,
 };
 use crate::elasticity::kernels::{principal, von_mises};
 use crate::elasticity::{Discretisation, Problem};
@@ -10,6 +10,7 @@ use crate::estimate::Estimate;
 use crate::io::atomic::Provisional;
 use crate::io::vtu::{write_boundary_vtu, write_mesh_vtu, Field};
 use crate::mesh::Mesh;
+use crate::safety::resultant::{resultant, Resultant};
 use crate::scene::{OutputSection, Scene};
 use anyhow::Result;
 use serde::Serialize;
@@ -424,7 +425,7 @@ impl ContactSummary {
             crack_rule: if let [up] = &c.nitsche.uplift[..] { Some(up.diagram.rule) } else { None },
             joint_line: line,
             crack_length: line.map(|l| c.crack_from_heel(&l)),
-            resultant: line.and_then(|l| c.resultant(&l)),
+            resultant: line.and_then(|l| resultant(c, &l)),
         }
     }
 

@@ -4,7 +4,7 @@
 use super::nitsche::Nitsche;
 use super::problem::local;
 use super::projection::Smoothing;
-use super::{open_from_heel, Cracks, FaceState, JointLine, Linearisation, PathPoint, Resultant, Stage};
+use super::{open_from_heel, Cracks, FaceState, JointLine, Linearisation, PathPoint, Stage};
 use crate::elasticity::{Discretisation, Displacement, Problem, Refined};
 
 /// A contact iterate and what it was computed with.
@@ -154,23 +154,13 @@ impl ContactSolution {
     }
 
     /// The states of the faces on `line`.
-    fn faces_on(&self, line: &JointLine) -> Vec<FaceState> {
+    pub fn faces_on(&self, line: &JointLine) -> Vec<FaceState> {
         (self.faces.iter().enumerate()).filter(|&(k, _)| self.on_line(k, line)).map(|(_, f)| *f).collect()
     }
 
     /// The forces on the faces on `line` ([`ContactSolution::forces`]).
     pub fn forces_on(&self, line: &JointLine) -> JointForces {
         self.forces(|k| self.on_line(k, line))
-    }
-
-    /// The resultant of the traction of the faces on the straight joint `line` (docs/method.md
-    /// §1.9); None when nothing presses on the joint.
-    pub fn resultant(&self, line: &JointLine) -> Option<Resultant> {
-        let faces = self.faces_on(line);
-        let moment = faces.iter().fold([0.0; 2], |m, f| [m[0] + f.pressure_moment[0], m[1] + f.pressure_moment[1]]);
-        let JointForces { normal_force, tangential_force, .. } = self.forces_on(line);
-        let uplift = faces.iter().map(|f| f.uplift * f.length).sum();
-        Resultant::new(line, [normal_force, tangential_force, uplift], moment)
     }
 
     /// The length of `line` open at the heel ([`open_from_heel`]).

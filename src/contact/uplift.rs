@@ -36,7 +36,7 @@
 //! The pressure acts on the effective normal stress σ'^n = σ^n + p_u, which obeys the contact
 //! conditions; the joint carries the total traction (σ'^n − p_u) ν + σ^t τ.
 
-use super::resultant::JointLine;
+use super::line::JointLine;
 
 /// Drains in the joint: the distance s_d from the heel \[m\] and their efficiency E ∈ [0, 1].
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -11,4 +11,5 @@
 pub mod check;
 pub mod classical;
 pub mod criteria;
+pub mod resultant;
 pub mod strength;

@@ -3,7 +3,7 @@
 
 use crate::common;
 use damfem::contact::nitsche::NitscheParameters;
-use damfem::contact::resultant::JointLine;
+use damfem::contact::JointLine;
 use damfem::contact::uplift::{CrackRule, Uplift};
 use damfem::contact::{solve_by_continuation, ContactJoint, Continuation, JointLaw};
 use damfem::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};

@@ -17,6 +17,7 @@ use crate::io::plot::write_linear_figure;
 use crate::safety::check::{checks, verdict, FiniteElements};
 use crate::safety::classical::classical;
 use crate::safety::criteria::Requirements;
+use crate::safety::resultant::resultant;
 use crate::safety::strength::{reduce_strength, StrengthReduction, STRENGTH_TOLERANCE};
 use crate::scene::Scene;
 use crate::solve::NewtonOptions;
@@ -245,7 +246,7 @@ fn analyse(
             unknowns: r.unknowns,
             eta_relative: r.eta.tot / r.stress_norm,
             crack_length: c.crack_from_heel(&line),
-            resultant_position: c.resultant(&line).map(|f| f.position),
+            resultant_position: resultant(c, &line).map(|f| f.position),
             sliding_safety_factor: c.forces_on(&line).sliding_safety_factor,
         });
         let joint = step.joint.context("the step has no joint")?;
@@ -298,7 +299,7 @@ fn analyse(
         crack_rule: (solution.nitsche.uplift.iter())
             .find(|up| up.curves.iter().any(|&c| plane[c]))
             .map(|up| up.diagram.rule),
-        resultant: solution.resultant(&line),
+        resultant: resultant(&solution, &line),
         base_stresses: base_stresses(&solution, &problem, &disc, &line, average),
         sliding_safety_factor: solution.forces_on(&line).sliding_safety_factor,
         strength_reduction: strength,

@@ -5,12 +5,13 @@
 use super::{Combination, Outcome, STALLED};
 use crate::cli::adapt::BestStep;
 use crate::cli::output::Units;
-use crate::contact::{ContactSolution, CrackRule, JointLine, Resultant};
+use crate::contact::{ContactSolution, CrackRule, JointLine};
 use crate::io::atomic::write_output;
 use crate::io::plot::{Figure, Mark, Series};
 use crate::safety::check::{Check, Verdict};
 use crate::safety::classical::Classical;
 use crate::safety::criteria::Requirements;
+use crate::safety::resultant::Resultant;
 use crate::safety::strength::StrengthReduction;
 use anyhow::Result;
 use serde::Serialize;

@@ -12,42 +12,8 @@
 //! Army Corps of Engineers (EM 1110-2-2100, Stability Analysis of Concrete Structures, 2005),
 //! which CADAM also applies.
 
-use crate::geometry::distance;
+use crate::contact::{ContactSolution, JointForces, JointLine};
 use serde::Serialize;
-
-/// A straight joint from its heel (the upstream end) to its toe.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct JointLine {
-    pub heel: [f64; 2],
-    /// The unit vector from the heel to the toe.
-    pub along: [f64; 2],
-    /// The joint length L \[m\].
-    pub length: f64,
-}
-
-impl JointLine {
-    /// The joint from `heel` to `toe`.
-    pub fn new(heel: [f64; 2], toe: [f64; 2]) -> Self {
-        let length = distance(heel, toe);
-        JointLine { heel, along: [(toe[0] - heel[0]) / length, (toe[1] - heel[1]) / length], length }
-    }
-
-    /// The distance s from the heel of the point x of the joint.
-    pub fn distance(&self, x: [f64; 2]) -> f64 {
-        (x[0] - self.heel[0]) * self.along[0] + (x[1] - self.heel[1]) * self.along[1]
-    }
-
-    /// Whether the point x lies on the joint's line (to 10⁻⁹ of its length).
-    pub fn holds(&self, x: [f64; 2]) -> bool {
-        let offset = (x[0] - self.heel[0]) * self.along[1] - (x[1] - self.heel[1]) * self.along[0];
-        offset.abs() <= 1e-9 * self.length
-    }
-
-    /// The point at the distance s from the heel.
-    pub fn point(&self, s: f64) -> [f64; 2] {
-        [self.heel[0] + s * self.along[0], self.heel[1] + s * self.along[1]]
-    }
-}
 
 /// The resultant of the joint traction on a straight joint.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -92,4 +58,14 @@ impl Resultant {
             }
         })
     }
+}
+
+/// The resultant of the traction of the faces of `solution` on the straight joint `line`
+/// (docs/method.md §1.9); None when nothing presses on the joint.
+pub fn resultant(solution: &ContactSolution, line: &JointLine) -> Option<Resultant> {
+    let faces = solution.faces_on(line);
+    let moment = faces.iter().fold([0.0; 2], |m, f| [m[0] + f.pressure_moment[0], m[1] + f.pressure_moment[1]]);
+    let JointForces { normal_force, tangential_force, .. } = solution.forces_on(line);
+    let uplift = faces.iter().map(|f| f.uplift * f.length).sum();
+    Resultant::new(line, [normal_force, tangential_force, uplift], moment)
 }
