@@ -3,8 +3,8 @@
 
 use crate::common;
 use damfem::contact::nitsche::NitscheParameters;
-use damfem::contact::JointLine;
 use damfem::contact::uplift::{CrackRule, Uplift};
+use damfem::contact::JointLine;
 use damfem::contact::{solve_by_continuation, ContactJoint, Continuation, JointLaw};
 use damfem::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};
 use damfem::estimate::reference::{sharp_reference, REFERENCE_AGREEMENT, REFERENCE_MAX_UNKNOWNS};

@@ -66,7 +66,7 @@ impl Nitsche {
         up.kinks(up.crack).into_iter().map(|s| (s - d0) / (d1 - d0)).filter(|t| *t > 0.0 && *t < 1.0).collect()
     }
 
-    /// The Gauss rule of [`JointLaw::face_points`] on each piece between consecutive `cuts`:
+    /// The Gauss rule of [`JointLaw::face_points`](crate::contact::JointLaw::face_points) on each piece between consecutive `cuts`:
     /// (s, weight·|F|).
     pub fn split_rule(&self, k: usize, cuts: &[f64]) -> Vec<(f64, f64)> {
         let length = self.faces[k].length;
