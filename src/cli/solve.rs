@@ -23,7 +23,7 @@ pub struct Args {
     input: Input,
     #[command(flatten)]
     output: Output,
-    /// Nitsche parameter γ₀ (γ = γ₀ E / h_F); overrides contact.gamma0 (default 100)
+    /// Nitsche parameter γ₀ (γ = γ₀ E / h_F); overrides contact.gamma0 (default 10)
     #[arg(long, allow_negative_numbers = true)]
     gamma0: Option<f64>,
     /// Nitsche variant θ: 1 symmetric, 0 incomplete, -1 skew-symmetric; overrides contact.theta

@@ -35,7 +35,7 @@ pub struct JointSection {
 impl Default for JointSection {
     fn default() -> Self {
         JointSection {
-            gamma0: 100.0,
+            gamma0: NitscheParameters::GAMMA0,
             theta: 0.0,
             friction: 0.0,
             cohesion: 0.0,

@@ -14,9 +14,10 @@ use crate::solve::{NewtonOptions, NonlinearSystem};
 use std::sync::mpsc::sync_channel;
 use std::time::Instant;
 
-/// The coarsest mesh of nested iteration has at least this many unknowns: below it a cold
-/// Newton run costs less than meshing one more level.
-const COARSEST_UNKNOWNS: usize = 5000;
+/// The coarsest mesh of nested iteration has at least this many unknowns. From a coarse level
+/// of 1 000 unknowns on, the battery's meshes of 3 500–8 000 unknowns take fewer Newton steps
+/// per mesh and no more time than cold runs (docs/results.md, "The Nitsche parameter").
+const COARSEST_UNKNOWNS: usize = 1000;
 
 /// The ratio of the mesh sizes of the finest coarse level to the mesh's. At 10⁵ unknowns the
 /// fine mesh then needs at most 8 Newton steps for γ₀ ≤ 10³, 10 with a ratio of 2
@@ -38,8 +39,8 @@ impl Scene {
     /// The contact solve on `problem` (meshed from this scene's geometry with its `[mesh]`
     /// options) along the δ path of `settings`, started by nested iteration ([`nested_start`];
     /// docs/solver.md §4) on coarser levels solved to ‖F‖ ≤ 10⁻³ ‖b‖, then straight to δ:
-    /// - a mesh of N ≥ 1.5² × 5 000 unknowns meshed from a `.geo`: the geometry meshed
-    ///   1.5 × 4^k times coarser, k = 0, 1, … (about N / (1.5² 16^k) unknowns, while ≥ 5 000,
+    /// - a mesh of N ≥ 1.5² × 1 000 unknowns meshed from a `.geo`: the geometry meshed
+    ///   1.5 × 4^k times coarser, k = 0, 1, … (about N / (1.5² 16^k) unknowns, while ≥ 1 000,
     ///   the coarsest possibly only twice as coarse as the next); gmsh meshes each level on a
     ///   thread of its own while Newton solves the level below;
     /// - a degree-2 mesh read from a `.msh` (no geometry to mesh coarser): the degree-1
@@ -127,7 +128,7 @@ impl Scene {
 
     /// The size factors of the coarser meshes of nested iteration for a mesh of `unknowns`
     /// unknowns, coarsest first: the size factor × 1.5, then × 4 for each level below (× 2 for
-    /// the last if × 4 leaves too few), each kept while it has ≥ 5 000 unknowns (about N / r²
+    /// the last if × 4 leaves too few), each kept while it has ≥ 1 000 unknowns (about N / r²
     /// for a mesh r times coarser); none for a `.msh` geometry or a small mesh.
     fn coarse_size_factors(&self, unknowns: usize) -> Vec<f64> {
         if self.is_msh() {

@@ -1,6 +1,7 @@
 //! The sections of a scene file: the serde types of its tables, with their defaults and the
 //! loads and joint laws they describe.
 
+use crate::contact::nitsche::NitscheParameters;
 use crate::contact::uplift::CrackRule;
 use crate::contact::JointLaw;
 use crate::elasticity::{BodyForce, Traction};
@@ -290,7 +291,7 @@ pub(super) fn law_of(threshold: Option<f64>, friction: f64, cohesion: f64) -> Jo
 impl Default for ContactSection {
     fn default() -> Self {
         ContactSection {
-            gamma0: 100.0,
+            gamma0: NitscheParameters::GAMMA0,
             theta: 0.0,
             delta: None,
             delta_start: None,

@@ -191,11 +191,11 @@ pub struct Knobs {
 }
 
 impl Default for Knobs {
-    /// The CLI's defaults: γ₀ = 100, θ = 0, δ = 10⁻⁴ S, no continuation, rtol 10⁻¹⁰,
+    /// The CLI's defaults: γ₀ = 10, θ = 0, δ = 10⁻⁴ S, no continuation, rtol 10⁻¹⁰,
     /// 50 Newton steps, frictionless.
     fn default() -> Self {
         Knobs {
-            gamma0: 100.0,
+            gamma0: NitscheParameters::GAMMA0,
             theta: 0.0,
             delta: 1e-4,
             start: None,

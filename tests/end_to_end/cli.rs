@@ -1043,7 +1043,8 @@ fn adapt_effectivity_records_i_eff_at_every_step() {
 }
 
 // With -v, gmsh's messages and one line per Newton iterate on stderr (k = 0 … steps at every
-// δ of the path), in `solve` and `adapt`; with -q, nothing at all. summary.json and the
+// δ of the path; at size factor 2, too few unknowns for coarse levels), in `solve` and `adapt`;
+// with -q, nothing at all. summary.json and the
 // history.json of both commands state their units, and summary.json names the numeric tags
 // of the VTU files.
 #[test]
@@ -1051,7 +1052,8 @@ fn verbose_shows_newton_steps_quiet_shows_nothing_and_json_states_units() {
     let tmp = TempDir::new("verbose");
     let scene = repo("geo/scene_a.toml");
     let run = |flag: &str| {
-        damfem(&[OsStr::new("solve"), OsStr::new(flag), scene.as_os_str(), OsStr::new("-o"), tmp.0.as_os_str()])
+        let args = [OsStr::new("solve"), OsStr::new(flag), scene.as_os_str(), OsStr::new("--size-factor")];
+        damfem(&[&args[..], &[OsStr::new("2"), OsStr::new("-o"), tmp.0.as_os_str()]].concat())
     };
     let out = run("-v");
     assert_ok(&out);

@@ -24,7 +24,7 @@ fn patch_test(order: usize, theta: f64, top_uy: f64, exact: impl Fn([f64; 2]) ->
         mesh,
     };
     let disc = problem.discretise();
-    let parameters = NitscheParameters { theta, ..Default::default() };
+    let parameters = NitscheParameters { theta, ..crate::nitsche_parameters() };
     let joint = ContactJoint::frictionless(vec![BOTTOM], parameters);
     let contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 1e-4 });
     let report = newton(&contact, vec![0.0; disc.dofs.n_free], &NewtonOptions::default()).expect("Newton converges");
@@ -62,7 +62,7 @@ fn solve_v3(n: usize, order: usize) -> (f64, f64, f64, usize) {
     use damfem::verify::v3;
     let problem = v3::problem(unit_square(n, order));
     let disc = problem.discretise();
-    let joint = ContactJoint::frictionless(vec![BOTTOM], NitscheParameters::default());
+    let joint = ContactJoint::frictionless(vec![BOTTOM], crate::nitsche_parameters());
     let mut contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 1e-10 });
     let x0 = vec![0.0; disc.dofs.n_free];
     let (x, stages) =

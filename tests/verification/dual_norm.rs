@@ -364,7 +364,7 @@ fn v2_solution(order: usize, theta: f64, top_uy: f64) -> (Problem, Vec<[f64; 2]>
         mesh,
     };
     let disc = problem.discretise();
-    let parameters = NitscheParameters { theta, ..Default::default() };
+    let parameters = NitscheParameters { theta, ..crate::nitsche_parameters() };
     let joint = ContactJoint::frictionless(vec![BOTTOM], parameters);
     let contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 1e-4 });
     let report = newton(&contact, vec![0.0; disc.dofs.n_free], &NewtonOptions::default()).expect("Newton converges");
@@ -379,7 +379,7 @@ fn v2_solution(order: usize, theta: f64, top_uy: f64) -> (Problem, Vec<[f64; 2]>
 /// All three θ, P1 and P2.
 #[test]
 fn contact_patch_test_has_round_off_residual() {
-    let data = ContactJoint::frictionless(vec![BOTTOM], NitscheParameters::default());
+    let data = ContactJoint::frictionless(vec![BOTTOM], crate::nitsche_parameters());
     for order in [1, 2] {
         for theta in [1.0, 0.0, -1.0] {
             for d in [-1e-2, 1e-2] {
@@ -407,7 +407,7 @@ fn contact_patch_test_has_round_off_residual() {
 fn v3_solution(n: usize, order: usize, delta: f64) -> (Problem, Vec<[f64; 2]>) {
     let problem = v3::problem(unit_square(n, order));
     let disc = problem.discretise();
-    let joint = ContactJoint::frictionless(vec![BOTTOM], NitscheParameters::default());
+    let joint = ContactJoint::frictionless(vec![BOTTOM], crate::nitsche_parameters());
     let mut contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta });
     let x0 = vec![0.0; disc.dofs.n_free];
     let (x, _) =
@@ -465,7 +465,7 @@ fn v3_contact_defect(problem: &Problem, u_h: &[[f64; 2]], gamma0: f64) -> f64 {
 ///     (P2), the bounds of the H¹ error in tests/verification/contact.rs.
 #[test]
 fn contact_residual_orthogonality_bound_and_rate() {
-    let data = ContactJoint::frictionless(vec![BOTTOM], NitscheParameters::default());
+    let data = ContactJoint::frictionless(vec![BOTTOM], crate::nitsche_parameters());
     let (problem, u_h) = v3_solution(8, 2, 0.0);
     let own = residual_dual_norm(&problem, &u_h, Some(&data), 0).unwrap();
     let refined = residual_dual_norm(&problem, &u_h, Some(&data), 2).unwrap();

@@ -83,7 +83,7 @@ fn v3_contact_equilibration_and_guaranteed_bound() {
         for n in sizes {
             let problem = v3::problem(unit_square(n, order));
             let delta = 1e-8;
-            let joint = ContactJoint::frictionless(vec![BOTTOM], NitscheParameters::default());
+            let joint = ContactJoint::frictionless(vec![BOTTOM], crate::nitsche_parameters());
             let (u, solution) = solve_with_contact(&problem, &joint, delta);
             let topology = damfem::mesh::Topology::new(&problem.mesh);
             let state = Linearisation {

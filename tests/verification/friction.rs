@@ -100,7 +100,7 @@ fn stick_slip_solves(
                 let label = format!("{law:?} P{order} θ = {theta:2} δ = {delta:.0e}");
                 let problem = problem(4, order, a, b, shear);
                 let disc = problem.discretise();
-                let parameters = NitscheParameters { theta, ..Default::default() };
+                let parameters = NitscheParameters { theta, ..crate::nitsche_parameters() };
                 let origin = slip_origin.map(|s0| (0..problem.mesh.n_points()).flat_map(|_| [s0, 0.0]).collect());
                 let joint = ContactJoint {
                     slip_origin: origin,
@@ -165,7 +165,7 @@ fn incline(alpha: f64, n: usize, order: usize) -> Problem {
 
 /// The Coulomb joint of the block's base.
 fn incline_joint(friction: f64) -> ContactJoint {
-    ContactJoint::uniform(vec![BOTTOM], Vec::new(), JointLaw::Coulomb { friction }, Default::default())
+    ContactJoint::uniform(vec![BOTTOM], Vec::new(), JointLaw::Coulomb { friction }, crate::nitsche_parameters())
 }
 
 /// Block on an incline. Source: Coulomb's law. A unit square block rests with its base on a
@@ -269,7 +269,7 @@ fn the_jacobian_is_the_derivative_of_the_residual() {
             for theta in [1.0, 0.0, -1.0] {
                 let problem = problem(2, order, 0.05, 0.01, 0.015);
                 let disc = problem.discretise();
-                let parameters = NitscheParameters { theta, gamma0: 1.0, ..Default::default() };
+                let parameters = NitscheParameters { theta, gamma0: 1.0, ..crate::nitsche_parameters() };
                 let joint = ContactJoint::uniform(vec![BOTTOM], Vec::new(), law, parameters);
                 let contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 1e-3 });
                 let n = disc.dofs.n_free;
@@ -337,7 +337,7 @@ fn the_estimator_vanishes_at_the_exact_stick_and_slip_solutions() {
             for order in [1, 2] {
                 let problem = problem(4, order, a, b, shear);
                 let disc = problem.discretise();
-                let joint = ContactJoint::uniform(vec![BOTTOM], Vec::new(), law, NitscheParameters::default());
+                let joint = ContactJoint::uniform(vec![BOTTOM], Vec::new(), law, crate::nitsche_parameters());
                 let settings =
                     Continuation { delta: 0.0, delta_start: 1e-2, newton: NewtonOptions::default(), path: None };
                 let solution = solve_by_continuation(&problem, &disc, &joint, &settings).expect("Newton converges");
@@ -554,8 +554,12 @@ fn solve_manufactured(n: usize, order: usize) -> (f64, f64, f64, f64) {
         mesh,
     };
     let disc = problem.discretise();
-    let joint =
-        ContactJoint::uniform(vec![BOTTOM], Vec::new(), JointLaw::Coulomb { friction: m::F }, Default::default());
+    let joint = ContactJoint::uniform(
+        vec![BOTTOM],
+        Vec::new(),
+        JointLaw::Coulomb { friction: m::F },
+        crate::nitsche_parameters(),
+    );
     let settings = Continuation { delta: 0.0, delta_start: 0.1, newton: NewtonOptions::default(), path: None };
     let solution =
         solve_by_continuation(&problem, &disc, &joint, &settings).unwrap_or_else(|e| panic!("n = {n} P{order}: {e}"));
@@ -637,7 +641,7 @@ fn the_face_integrals_are_exact_where_both_projections_are_smoothed() {
         for order in [1, 2] {
             let problem = problem(4, order, 0.05, 0.01, 0.015);
             let disc = problem.discretise();
-            let parameters = NitscheParameters { gamma0: 1.0, ..Default::default() };
+            let parameters = NitscheParameters { gamma0: 1.0, ..crate::nitsche_parameters() };
             let joint = ContactJoint::uniform(vec![BOTTOM], Vec::new(), law, parameters);
             let mut contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 1.0 });
             let mut rng = Rng::new(17);

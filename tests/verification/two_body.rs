@@ -15,7 +15,7 @@ use std::sync::Arc;
 
 /// The joint between the blocks of [`two_blocks`], the upper block's side the slave.
 pub(crate) fn joint(theta: f64) -> ContactJoint {
-    let parameters = NitscheParameters { theta, ..Default::default() };
+    let parameters = NitscheParameters { theta, ..crate::nitsche_parameters() };
     ContactJoint::uniform(vec![JOINT], vec![JOINT_LOWER], JointLaw::Frictionless, parameters)
 }
 
@@ -203,7 +203,7 @@ fn two_body_stick_and_slip_are_exact() {
                 };
                 let x = solve_at(
                     &problem,
-                    &ContactJoint::uniform(vec![JOINT], vec![JOINT_LOWER], law, Default::default()),
+                    &ContactJoint::uniform(vec![JOINT], vec![JOINT_LOWER], law, crate::nitsche_parameters()),
                     0.0,
                 );
                 let u = problem.displacement(&problem.discretise(), &x);
@@ -350,7 +350,7 @@ fn a_very_stiff_foundation_tends_to_the_rigid_one() {
             body_force: BodyForce::None,
             mesh,
         };
-        let joint = ContactJoint::frictionless(vec![BOTTOM], NitscheParameters::default());
+        let joint = ContactJoint::frictionless(vec![BOTTOM], crate::nitsche_parameters());
         problem.displacement(&problem.discretise(), &solve(&problem, &joint))
     };
     let (mut compliance, mut difference) = (Vec::new(), Vec::new());
@@ -424,7 +424,7 @@ fn a_closed_sticking_joint_tends_to_the_bonded_interface() {
         for gamma0 in [1e2, 1e3, 1e4] {
             let mut problem = problem(two_blocks(n, n, ny, 0.5, order));
             problem.materials = materials(&problem.mesh, lower, upper);
-            let parameters = NitscheParameters { gamma0, ..Default::default() };
+            let parameters = NitscheParameters { gamma0, ..crate::nitsche_parameters() };
             let joint =
                 ContactJoint::uniform(vec![JOINT], vec![JOINT_LOWER], JointLaw::Tresca { threshold: 1.0 }, parameters);
             let disc = problem.discretise();

@@ -70,7 +70,7 @@ fn disk_on_block() -> (Problem, ContactJoint) {
         body_force: BodyForce::None,
         mesh,
     };
-    let joint = ContactJoint::uniform(vec![block_top], vec![arc], JointLaw::Frictionless, NitscheParameters::default());
+    let joint = ContactJoint::uniform(vec![block_top], vec![arc], JointLaw::Frictionless, crate::nitsche_parameters());
     (problem, joint)
 }
 

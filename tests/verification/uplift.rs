@@ -49,7 +49,7 @@ fn uniform_uplift_lowers_the_contact_pressure_by_exactly_p_u() {
                     mesh,
                 };
                 let disc = problem.discretise();
-                let parameters = NitscheParameters { theta, ..Default::default() };
+                let parameters = NitscheParameters { theta, ..crate::nitsche_parameters() };
                 let joint =
                     ContactJoint::uniform(vec![BOTTOM], Vec::new(), law, parameters).with_uplift(uplift.clone());
                 let settings =

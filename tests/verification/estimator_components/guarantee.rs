@@ -112,7 +112,7 @@ fn damped_and_perturbed_contact_iterates_are_refused_or_bounded() {
     for order in [1, 2] {
         let problem = v3::problem(unit_square(8, order));
         let disc = problem.discretise();
-        let joint = ContactJoint::frictionless(vec![BOTTOM], NitscheParameters::default());
+        let joint = ContactJoint::frictionless(vec![BOTTOM], crate::nitsche_parameters());
         let warm = Continuation { delta: 1e-2, delta_start: 0.1, newton: NewtonOptions::default(), path: None };
         let x0 = solve_by_continuation(&problem, &disc, &joint, &warm).unwrap().x;
         let contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: DELTA });

@@ -22,7 +22,7 @@ struct NewtonRow {
 fn v3_newton_rows(order: usize, delta: f64, warm_delta: Option<f64>, max_steps: usize) -> Vec<NewtonRow> {
     let problem = v3::problem(unit_square(8, order));
     let disc = problem.discretise();
-    let parameters = NitscheParameters::default();
+    let parameters = crate::nitsche_parameters();
     let joint = ContactJoint::frictionless(vec![BOTTOM], parameters);
     let x0 = match warm_delta {
         None => vec![0.0; disc.dofs.n_free],

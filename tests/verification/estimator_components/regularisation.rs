@@ -19,7 +19,7 @@ fn regularisation_sweep(name: &str, problem: &Problem, deltas: &[f64]) -> Vec<f6
     let mut reg = Vec::new();
     println!("{name} P{order}:  delta  steps  eta_reg     eta_disc    eta_flux    eta_lin     eta_tot     dual        I_eff  worst");
     for &delta in deltas {
-        let joint = ContactJoint::frictionless(vec![BOTTOM], NitscheParameters::default());
+        let joint = ContactJoint::frictionless(vec![BOTTOM], crate::nitsche_parameters());
         let settings = Continuation { delta, delta_start: 0.1, newton: NewtonOptions::default(), path: None };
         let run = solve_with_contact(problem, &disc, &joint, &settings);
         let (e, steps) = (evaluate(problem, &run.u, run.state(), &[BOTTOM], Some(1)), run.newton_steps);

@@ -70,7 +70,7 @@ fn tampered_reconstruction_fails_the_checks() {
     // V3: a patch on the Neumann side and the σ_h2/σ_h3 split on Γ_C
     let problem = v3::problem(unit_square(4, 2));
     let disc = problem.discretise();
-    let joint = ContactJoint::frictionless(vec![BOTTOM], NitscheParameters::default());
+    let joint = ContactJoint::frictionless(vec![BOTTOM], crate::nitsche_parameters());
     let settings = Continuation { delta: 1e-3, delta_start: 0.1, newton: NewtonOptions::default(), path: None };
     let run = solve_with_contact(&problem, &disc, &joint, &settings);
     let state =
