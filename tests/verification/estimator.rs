@@ -2,7 +2,6 @@
 
 use crate::common;
 
-use damfem::contact::nitsche::NitscheParameters;
 use damfem::contact::{solve_by_continuation, ContactJoint, ContactSolution, Continuation, Linearisation};
 use damfem::elasticity::{Displacement, Problem};
 use damfem::estimate::checks::check;

@@ -25,7 +25,6 @@
 //! (b/L ≈ 0.02), far below the 1 % of the check.
 
 use super::hertz::{fit_profile, moment_half_width, Sample};
-use damfem::contact::nitsche::NitscheParameters;
 use damfem::contact::projection::{negative_part, Smoothing};
 use damfem::contact::{solve_by_continuation, ContactJoint, ContactSolution, Continuation, JointLaw, Linearisation};
 use damfem::elasticity::{BodyForce, Dirichlet, Discretisation, Material, Problem};

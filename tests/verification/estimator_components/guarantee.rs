@@ -4,7 +4,6 @@
 
 use super::support::*;
 
-use damfem::contact::nitsche::NitscheParameters;
 use damfem::contact::projection::Smoothing;
 use damfem::contact::{solve_by_continuation, ContactJoint, ContactProblem, Continuation, Linearisation};
 use damfem::elasticity::{Discretisation, Problem};

@@ -3,7 +3,6 @@
 
 use super::support::*;
 
-use damfem::contact::nitsche::NitscheParameters;
 use damfem::contact::projection::Smoothing;
 use damfem::contact::{solve_by_continuation, ContactJoint, ContactProblem, Continuation};
 use damfem::mesh::structured::{unit_square, BOTTOM};

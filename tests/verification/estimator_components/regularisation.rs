@@ -3,7 +3,6 @@
 use super::support::*;
 use crate::common;
 
-use damfem::contact::nitsche::NitscheParameters;
 use damfem::contact::{ContactJoint, Continuation};
 use damfem::elasticity::{BodyForce, Material, Problem};
 use damfem::mesh::structured::{unit_square, BOTTOM, TOP};

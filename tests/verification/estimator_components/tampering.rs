@@ -2,7 +2,6 @@
 
 use super::support::*;
 
-use damfem::contact::nitsche::NitscheParameters;
 use damfem::contact::projection::Smoothing;
 use damfem::contact::{ContactJoint, Continuation, Linearisation};
 use damfem::elasticity::Displacement;
