@@ -13,8 +13,9 @@
 //! files and outputs go into DIR/seed_<seed>/ with `--keep`, else into a temporary directory
 //! removed at the end). Prints one row per case and a closing summary: the share of cases with
 //! a result where they hold or a verdict where they do not (either within 2 % of FS = 1), the
-//! largest FS error of the results with c = 0, the median and largest Newton steps, and each
-//! case that went wrong with its exit code and message.
+//! largest FS error of the results with c = 0, the median and largest Newton steps (the most
+//! on one mesh, and summed over the levels of nested iteration), and each case that went wrong
+//! with its exit code and message.
 
 use anyhow::{bail, Context, Result};
 use damfem::verify::battery::{cases, header, row, run, summary, Record};

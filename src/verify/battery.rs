@@ -598,7 +598,8 @@ impl Outcome {
 }
 
 /// What a run of `damfem solve` gave: its outcome, exit code, the message of a failed run,
-/// and from `summary.json` the Newton steps (of every level), FS_LE, N, T, U, the contact
+/// and from `summary.json` the Newton steps (summed over the levels of nested iteration, and
+/// the most on one mesh), FS_LE, N, T, U, the contact
 /// length, the crack and the resultant's distance from the heel; the wall time \[s\].
 #[derive(Debug, Clone, PartialEq)]
 pub struct Run {
@@ -606,6 +607,7 @@ pub struct Run {
     pub code: Option<i32>,
     pub message: String,
     pub newton_steps: Option<u64>,
+    pub newton_steps_per_mesh: Option<u64>,
     pub safety_factor: Option<f64>,
     pub normal: Option<f64>,
     pub tangential: Option<f64>,
@@ -666,7 +668,8 @@ pub fn run_with(damfem: &Path, case: &DamCase, dir: &Path, extra: &[&str]) -> st
     let c = &json["contact"];
     let curve = &c["curves"][0];
     let either = |key: &str| c[key].as_f64().or_else(|| curve[key].as_f64());
-    let coarse = c["coarse"].as_array().map_or(0, |l| l.iter().filter_map(|s| s["newton_steps"].as_u64()).sum());
+    let coarse: Vec<u64> =
+        c["coarse"].as_array().map_or(Vec::new(), |l| l.iter().filter_map(|s| s["newton_steps"].as_u64()).collect());
     let safety_factor = either("sliding_safety_factor");
     // a result without its safety factor is an error of the run
     let (outcome, message) = match (outcome, safety_factor) {
@@ -677,7 +680,8 @@ pub fn run_with(damfem: &Path, case: &DamCase, dir: &Path, extra: &[&str]) -> st
         outcome,
         code,
         message,
-        newton_steps: c["newton_steps"].as_u64().map(|n| n + coarse),
+        newton_steps: c["newton_steps"].as_u64().map(|n| n + coarse.iter().sum::<u64>()),
+        newton_steps_per_mesh: c["newton_steps"].as_u64().map(|n| coarse.iter().fold(n, |m, &k| m.max(k))),
         safety_factor,
         normal: either("normal_force"),
         tangential: either("tangential_force"),
@@ -842,19 +846,23 @@ fn seeds(records: &[Record], pick: impl Fn(&Record) -> bool) -> String {
 }
 
 /// The closing summary: the share of cases with a result or a correct verdict, the largest
-/// FS error of the c = 0 results, the median and largest Newton steps, the largest errors of
-/// N, T, U and s_R, the seeds of the results whose crack did not settle, and each case that
-/// went wrong with its exit code and message.
+/// FS error of the c = 0 results, the median and largest Newton steps (the most on one mesh,
+/// and summed over the levels of nested iteration), the largest errors of N, T, U and s_R, the
+/// seeds of the results whose crack did not settle, and each case that went wrong with its
+/// exit code and message.
 pub fn summary(records: &[Record]) -> String {
     let agreeing = records.iter().filter(|r| r.agrees()).count();
-    let mut steps: Vec<u64> = records.iter().filter_map(|r| r.run.newton_steps).collect();
-    steps.sort_unstable();
-    let count = |n: Option<&u64>| n.map_or("–".to_string(), |n| n.to_string());
+    let median_and_largest = |steps: fn(&Run) -> Option<u64>| {
+        let mut steps: Vec<u64> = records.iter().filter_map(|r| steps(&r.run)).collect();
+        steps.sort_unstable();
+        let count = |n: Option<&u64>| n.map_or("–".to_string(), |n| n.to_string());
+        format!("median {}, largest {}", count(steps.get(steps.len() / 2)), count(steps.last()))
+    };
     let unsettled = seeds(records, Record::unsettled);
     let mut text = format!(
         "{agreeing} of {} cases ({:.1} %) with a result where they hold or a verdict where they do not\n\
          largest |FS_LE − FS|/FS of the c = 0 results: {:.2e}\n\
-         Newton steps of the results: median {}, largest {}\n\
+         Newton steps of the results on one mesh: {}; summed over the levels: {}\n\
          largest |N_h − N|/N, |T_h − T|/|T|, |U_h − U(s_c)|/U, |s_R − s_N(s_c)|/L of the results: \
          {:.2e}, {:.2e}, {:.2e}, {:.2e}\n\
          results whose crack did not settle (open length ≠ s_c by more than 10⁻³ L): seeds [{}]\n\
@@ -862,8 +870,8 @@ pub fn summary(records: &[Record]) -> String {
         records.len(),
         100.0 * agreeing as f64 / records.len().max(1) as f64,
         largest(records, |r| r.error().filter(|_| r.case.cohesion == 0.0)),
-        count(steps.get(steps.len() / 2)),
-        count(steps.last()),
+        median_and_largest(|r| r.newton_steps_per_mesh),
+        median_and_largest(|r| r.newton_steps),
         largest(records, |r| r.force_errors().map(|e| e.0)),
         largest(records, |r| r.force_errors().map(|e| e.1)),
         largest(records, Record::uplift_error),
