@@ -10,7 +10,7 @@ use crate::contact::{
 use crate::elasticity::{Discretisation, Problem, Refined};
 use crate::estimate::estimators::GlobalEstimators;
 use crate::estimate::{estimate_displacement, Estimate};
-use crate::solve::{newton_until, Iterate, NewtonError, NewtonOptions};
+use crate::solve::{newton_until, Iterate, NewtonError, NewtonOptions, NewtonReport};
 use serde::Serialize;
 use std::time::Instant;
 
@@ -308,6 +308,44 @@ pub enum Stopping {
     Residual,
 }
 
+/// The last estimated iterate of a Newton run, with its estimate.
+type Estimated = (Vec<f64>, Result<(Estimate, GlobalEstimators), AdaptError>);
+
+/// Newton on `contact` from `x`, stopped under (S_lin) where `stopping` asks it: a full step
+/// that contracted and whose estimate the `trend` finds promising is estimated (its refinement
+/// pair, which the returned iterate will be), and Newton stops where η_lin is small. Returns
+/// the run and the last estimated iterate; the estimates are counted in `count`.
+fn newton_stopped(
+    contact: &ContactProblem,
+    x: &[f64],
+    newton: &NewtonOptions,
+    settings: &AdaptSettings,
+    stopping: Stopping,
+    trend: &mut Option<Trend>,
+    count: &mut EstimateCount,
+) -> (Result<NewtonReport, NewtonError>, Option<Estimated>) {
+    let (problem, disc, smoothing) = (contact.problem, contact.disc, contact.smoothing);
+    let mut latest = None;
+    let attempt = newton_until(contact, x.to_vec(), newton, |it: &Iterate| {
+        // the full step of a damped one is estimated as any other, when promising
+        let contracted = it.last.full() && (it.probe || it.residual <= 0.5 * it.last.residual);
+        let promising = trend.is_none_or(|t| t.promising(it.residual, settings.gamma_lin));
+        if stopping == Stopping::Residual || !contracted || !promising {
+            return false;
+        }
+        let state = Linearisation::new(problem, disc, &contact.nitsche, smoothing, it.x_prev);
+        let (x, lo) = it.refined().map_or((it.x, None), |(x, lo)| (&x[..], Some(&lo[..])));
+        let e = estimate_timed(problem, disc, (x, lo), &state, count);
+        let stop = e.as_ref().map_or(true, |(_, g)| linearisation_small(g, settings.gamma_lin));
+        if let Ok((_, g)) = &e {
+            *trend = Trend::new(g, it.residual).or(*trend);
+        }
+        latest = Some((x.to_vec(), e));
+        stop
+    });
+    (attempt, latest)
+}
+
 /// The loop of [`contact_level`] on `contact` from `run`, Newton stopped as `stopping` says.
 fn solve_level<'a>(
     mut contact: ContactProblem<'a>,
@@ -330,27 +368,9 @@ fn solve_level<'a>(
     loop {
         contact.set_delta(delta);
         let smoothing = contact.smoothing;
-        let mut latest = None;
         let mut inside = EstimateCount::default();
         let clock = Instant::now();
-        let attempt = newton_until(&contact, x.clone(), newton, |it: &Iterate| {
-            // the full step of a damped one is estimated as any other, when promising
-            let contracted = it.last.full() && (it.probe || it.residual <= 0.5 * it.last.residual);
-            let promising = trend.is_none_or(|t| t.promising(it.residual, settings.gamma_lin));
-            if stopping == Stopping::Residual || !contracted || !promising {
-                return false;
-            }
-            let state = Linearisation::new(problem, disc, &contact.nitsche, smoothing, it.x_prev);
-            // the pair of the refinement round, which the returned iterate will be
-            let (x, lo) = it.refined().map_or((it.x, None), |(x, lo)| (&x[..], Some(&lo[..])));
-            let e = estimate_timed(problem, disc, (x, lo), &state, &mut inside);
-            let stop = e.as_ref().map_or(true, |(_, g)| linearisation_small(g, settings.gamma_lin));
-            if let Ok((_, g)) = &e {
-                trend = Trend::new(g, it.residual).or(trend);
-            }
-            latest = Some((x.to_vec(), e));
-            stop
-        });
+        let (attempt, latest) = newton_stopped(&contact, &x, newton, settings, stopping, &mut trend, &mut inside);
         solve_seconds += clock.elapsed().as_secs_f64() - inside.seconds;
         estimates.n += inside.n;
         estimates.seconds += inside.seconds;

@@ -300,10 +300,8 @@ pub fn newton_until(
     let mut x_prev = x.clone();
     let (mut residual, mut trial_residual) = (vec![0.0; pattern.n()], vec![0.0; pattern.n()]);
     let mut jacobian = vec![0.0; pattern.nnz()];
-    let mut history = Vec::new();
-    let mut seconds = NewtonTimings::default();
-    let mut polished = false;
-    let mut factors_of_last_step = None;
+    let (mut history, mut seconds) = (Vec::new(), NewtonTimings::default());
+    let (mut polished, mut factors_of_last_step) = (false, None);
     let (mut stalled, mut frozen) = (0, false);
     // the smallest ‖F‖ so far and the iterates since: the natural test may let steps cycle
     let (mut best, mut since_best) = (f64::INFINITY, 0);
@@ -323,19 +321,16 @@ pub fn newton_until(
         let full_step = history.last().filter(|it| it.full()).and(factors_of_last_step.as_ref());
         let refine = || refinement(system, &x, &x_prev, full_step?);
         let refined = OnceCell::new();
-        let accepted = due
-            && history.last().is_some_and(|last| {
-                let it = Iterate {
-                    x: &x,
-                    x_prev: &x_prev,
-                    last,
-                    probe: false,
-                    residual: r,
-                    refined: &refined,
-                    refine: &refine,
-                };
-                stop(&it)
-            });
+        let it = |last| Iterate {
+            x: &x,
+            x_prev: &x_prev,
+            last,
+            probe: false,
+            residual: r,
+            refined: &refined,
+            refine: &refine,
+        };
+        let accepted = due && history.last().is_some_and(|last| stop(&it(last)));
         // a converged iterate should solve the linearised problem of its step, which the
         // estimator's bound assumes: after a damped step, one full step more (once), and after
         // a frozen step always
@@ -351,25 +346,9 @@ pub fn newton_until(
         if step == options.max_iter || r > DIVERGED * best {
             break;
         }
-        let clock = Instant::now();
-        let solve_error = |source| NewtonError::Solve { step, source };
         // the polishing step takes the exact Jacobian
         let frozen_step = frozen && !(due && converged) && system.frozen_jacobian(&x, &mut jacobian);
-        let factors = linear.factor(pattern, &jacobian).map_err(solve_error)?;
-        seconds.factor += clock.elapsed().as_secs_f64();
-        let clock = Instant::now();
-        let minus_r: Vec<f64> = residual.iter().map(|v| -v).collect();
-        let mut delta = factors.solve(&minus_r).map_err(solve_error)?;
-        // one step of iterative refinement: the step then solves J Δ = −F to round-off
-        pattern.multiply(&jacobian, &delta, &mut trial);
-        let defect: Vec<f64> = minus_r.iter().zip(&trial).map(|(b, jd)| b - jd).collect();
-        for (d, c) in delta.iter_mut().zip(factors.solve(&defect).map_err(solve_error)?) {
-            *d += c;
-        }
-        seconds.solve += clock.elapsed().as_secs_f64();
-        if !delta.iter().all(|v| v.is_finite()) {
-            return Err(NewtonError::NonFinite { step });
-        }
+        let (factors, delta) = direction(&linear, pattern, &jacobian, &residual, &mut trial, &mut seconds, step)?;
         let clock = Instant::now();
         let (t, r_full) = if due && converged {
             (1.0, None)
@@ -384,21 +363,8 @@ pub fn newton_until(
         // the stopping rule may take it (the factors of an exact step only: a frozen step has none)
         let offered = t < 1.0 && step + 1 >= options.min_steps;
         if let (Some(r_full), Some(factors), true) = (r_full, &factors_of_last_step, offered) {
-            let full: Vec<f64> = x.iter().zip(&delta).map(|(x, d)| x + d).collect();
             let last = Iteration { residual: r, increment: norm(&delta), step: 1.0, frozen: false };
-            let refine = || refinement(system, &full, &x, factors);
-            let refined = OnceCell::new();
-            let it = Iterate {
-                x: &full,
-                x_prev: &x,
-                last: &last,
-                probe: true,
-                residual: r_full,
-                refined: &refined,
-                refine: &refine,
-            };
-            if stop(&it) {
-                let (full, lo) = returned(&full, refined.into_inner().unwrap_or_else(refine));
+            if let Some((full, lo)) = probe_full_step(system, &x, &delta, factors, &last, r_full, &mut stop) {
                 history.push(last);
                 return Ok(NewtonReport {
                     x: full,
@@ -411,15 +377,7 @@ pub fn newton_until(
                 });
             }
         }
-        // a softening law's exact steps stall where the Newton model holds only over tiny
-        // steps; the frozen Jacobian's steps go on until one is full
-        if frozen_step {
-            frozen = t < 1.0;
-            stalled = 0;
-        } else {
-            stalled = if t < STALLED_STEP { stalled + 1 } else { 0 };
-            frozen = stalled >= STALLED_STEPS;
-        }
+        (stalled, frozen) = stall(frozen_step, t, stalled);
         x_prev.copy_from_slice(&x);
         for (xi, di) in x.iter_mut().zip(&delta) {
             *xi += t * di;
@@ -430,6 +388,67 @@ pub fn newton_until(
 }
 
 /// The iterate Newton returns and its refinement: the `refined` pair if there is one, else x.
+/// The count of successive steps cut below `STALLED_STEP` and whether the next step takes the
+/// frozen Jacobian, after a step of length t: a softening law's exact steps stall where the
+/// Newton model holds only over tiny steps; the frozen Jacobian's steps go on until one is full.
+fn stall(frozen_step: bool, t: f64, stalled: usize) -> (usize, bool) {
+    match frozen_step {
+        true => (0, t < 1.0),
+        false => {
+            let stalled = if t < STALLED_STEP { stalled + 1 } else { 0 };
+            (stalled, stalled >= STALLED_STEPS)
+        }
+    }
+}
+
+/// The Newton direction Δ of J Δ = −F at the iterate of Newton step `step`, with the factors
+/// of J: one step of iterative refinement makes Δ solve it to round-off.
+fn direction<'a>(
+    linear: &'a Linear,
+    pattern: &SparsePattern,
+    jacobian: &[f64],
+    residual: &[f64],
+    product: &mut [f64],
+    seconds: &mut NewtonTimings,
+    step: usize,
+) -> Result<(Factors<'a>, Vec<f64>), NewtonError> {
+    let solve_error = |source| NewtonError::Solve { step, source };
+    let clock = Instant::now();
+    let factors = linear.factor(pattern, jacobian).map_err(solve_error)?;
+    seconds.factor += clock.elapsed().as_secs_f64();
+    let clock = Instant::now();
+    let minus_r: Vec<f64> = residual.iter().map(|v| -v).collect();
+    let mut delta = factors.solve(&minus_r).map_err(solve_error)?;
+    pattern.multiply(jacobian, &delta, product);
+    let defect: Vec<f64> = minus_r.iter().zip(product.iter()).map(|(b, jd)| b - jd).collect();
+    for (d, c) in delta.iter_mut().zip(factors.solve(&defect).map_err(solve_error)?) {
+        *d += c;
+    }
+    seconds.solve += clock.elapsed().as_secs_f64();
+    match delta.iter().all(|v| v.is_finite()) {
+        true => Ok((factors, delta)),
+        false => Err(NewtonError::NonFinite { step }),
+    }
+}
+
+/// The full step x + Δ offered to the stopping rule where the line search cut it (it solves
+/// the linearised problem at x): x + Δ and its refinement pair if `stop` takes it.
+fn probe_full_step(
+    system: &impl NonlinearSystem,
+    x: &[f64],
+    delta: &[f64],
+    factors: &Factors,
+    last: &Iteration,
+    r_full: f64,
+    stop: &mut impl FnMut(&Iterate) -> bool,
+) -> Option<(Vec<f64>, Option<Vec<f64>>)> {
+    let full: Vec<f64> = x.iter().zip(delta).map(|(x, d)| x + d).collect();
+    let refine = || refinement(system, &full, x, factors);
+    let refined = OnceCell::new();
+    let it = Iterate { x: &full, x_prev: x, last, probe: true, residual: r_full, refined: &refined, refine: &refine };
+    stop(&it).then(|| returned(&full, refined.into_inner().unwrap_or_else(refine)))
+}
+
 fn returned(x: &[f64], refined: Option<Pair>) -> (Vec<f64>, Option<Vec<f64>>) {
     match refined {
         Some((x, lo)) => (x, Some(lo)),
