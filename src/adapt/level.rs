@@ -346,6 +346,96 @@ fn newton_stopped(
     (attempt, latest)
 }
 
+/// A level's last converged Newton run: its δ, iterate and estimate.
+type Solved = (f64, Vec<f64>, Estimate);
+
+/// What [`solve_level`] does after a Newton run that failed: its stopping rule, the restarts
+/// at a larger δ since its last converged run, and that run.
+struct Retry<'r> {
+    stopping: &'r mut Stopping,
+    retries: &'r mut usize,
+    solved: &'r mut Option<Solved>,
+}
+
+impl Retry<'_> {
+    /// After the run that `failed` at `delta` from `x`: None to run again, at the same δ under
+    /// (S_lin) where a run to the residual tolerance stalled (it may stop on an iterate the
+    /// crawl of a softening law never leaves, docs/method.md §5.3), or from the same iterate
+    /// at a smoother δ: once halfway (geometrically) back to a δ_s solved on this level, else
+    /// at ρ_δ δ, up to MAX_RETRIES times in a row; the estimate at δ_s where the level ends
+    /// there after the second failure (δ and x set back), or the error.
+    fn after(
+        self,
+        failed: NewtonError,
+        delta: &mut f64,
+        x: &mut Vec<f64>,
+        rho_delta: f64,
+    ) -> Result<Option<Estimate>, AdaptError> {
+        if *self.stopping == Stopping::Residual && matches!(failed, NewtonError::NotConverged { .. }) {
+            *self.stopping = Stopping::Linearisation;
+            return Ok(None);
+        }
+        *self.retries += 1;
+        match self.solved.take() {
+            Some(s) if *self.retries == 1 => {
+                *delta = (s.0 * *delta).sqrt();
+                *self.solved = Some(s);
+                Ok(None)
+            }
+            Some((at, solution, estimate)) => {
+                (*delta, *x) = (at, solution);
+                Ok(Some(estimate))
+            }
+            None if *self.retries <= MAX_RETRIES => {
+                *delta *= rho_delta;
+                Ok(None)
+            }
+            None => Err(AdaptError::Newton { delta: *delta, source: failed }),
+        }
+    }
+}
+
+/// The crack fixed point of a level: the δ at which the cracks were last settled and how, the
+/// crack solves so far, and the level's Newton stages.
+struct CrackState<'r> {
+    settled: &'r mut Option<(f64, Cracks)>,
+    solves: &'r mut usize,
+    stages: &'r mut Vec<Stage>,
+}
+
+impl CrackState<'_> {
+    /// With a crack filled by the reservoir, its fixed point at the δ of `contact`, once per δ:
+    /// the cracks where `x` settles them (none without such a crack), None where a crack moved
+    /// (the level goes on from the new solution, left in `x`, so that its last iterate is
+    /// estimated; a crack settled by its bracket stays: it would not settle again).
+    fn settle(
+        self,
+        contact: &mut ContactProblem,
+        x: &mut Vec<f64>,
+        newton: &NewtonOptions,
+    ) -> Result<Option<Cracks>, AdaptError> {
+        if !contact.nitsche.uplift.iter().any(|up| up.diagram.rule.follows_crack()) {
+            return Ok(Some(Vec::new()));
+        }
+        let delta = contact.smoothing.delta;
+        let found = match self.settled.clone().filter(|(at, _)| *at == delta) {
+            Some((_, found)) => found,
+            None => {
+                let (solution, more, found) = settle_crack(contact, std::mem::take(x), newton)?;
+                *self.solves += more.len();
+                (*x, *self.settled) = (solution, Some((delta, found.clone())));
+                if !more.is_empty() {
+                    self.stages.extend(more);
+                    return Ok(None);
+                }
+                found
+            }
+        };
+        let iterations = *self.solves + 1;
+        Ok(Some(found.into_iter().map(|c| c.map(|c| Crack { iterations, ..c })).collect()))
+    }
+}
+
 /// The loop of [`contact_level`] on `contact` from `run`, Newton stopped as `stopping` says.
 fn solve_level<'a>(
     mut contact: ContactProblem<'a>,
@@ -361,10 +451,7 @@ fn solve_level<'a>(
     // the restarts at a larger δ since the last converged run, and the Newton steps of the
     // runs they discarded
     let (mut crack_solves, mut retries, mut discarded_steps) = (0, 0, 0);
-    // this level's last converged Newton run: its δ, iterate and estimate
-    let mut solved: Option<(f64, Vec<f64>, Estimate)> = None;
-    // the δ at which the cracks were last settled, and how
-    let mut settled: Option<(f64, Cracks)> = None;
+    let (mut solved, mut settled): (Option<Solved>, Option<(f64, Cracks)>) = (None, None);
     loop {
         contact.set_delta(delta);
         let smoothing = contact.smoothing;
@@ -375,10 +462,9 @@ fn solve_level<'a>(
         estimates.n += inside.n;
         estimates.seconds += inside.seconds;
         // a Newton run that stalls at δ (steps cut short by the line search where the law is
-        // steep in P_γ, docs/method.md §1.10) starts again from the same iterate at a smoother
-        // δ: once halfway (geometrically) back to a δ_s solved on this level, after which the
-        // level ends at δ_s (its estimate bounds the error too, η_reg above its share), else at
-        // ρ_δ δ, up to MAX_RETRIES times in a row; (S_reg) then brings δ down
+        // steep in P_γ, docs/method.md §1.10) starts again ([`Retry::after`]); a level that
+        // ends at a δ_s solved before has its estimate, which bounds the error too (η_reg above
+        // its share); (S_reg) then brings δ down
         let estimate = match attempt {
             Ok(report) => {
                 let (estimate, global) = match latest {
@@ -410,53 +496,18 @@ fn solve_level<'a>(
                     NewtonError::NotConverged { history, .. } => history.len(),
                     NewtonError::NonFinite { step } | NewtonError::Solve { step, .. } => *step,
                 };
-                // a run to the residual tolerance that stalls goes on, at the same δ and from
-                // the same iterate, under (S_lin), which may stop on an iterate the crawl of a
-                // softening law never leaves (docs/method.md §5.3)
-                if stopping == Stopping::Residual && matches!(failed, NewtonError::NotConverged { .. }) {
-                    stopping = Stopping::Linearisation;
-                    continue;
-                }
-                retries += 1;
-                match solved.take() {
-                    Some(s) if retries == 1 => {
-                        delta = (s.0 * delta).sqrt();
-                        solved = Some(s);
-                        continue;
-                    }
-                    Some((at, solution, estimate)) => {
-                        (delta, x) = (at, solution);
+                let retry = Retry { stopping: &mut stopping, retries: &mut retries, solved: &mut solved };
+                match retry.after(failed, &mut delta, &mut x, settings.rho_delta)? {
+                    Some(estimate) => {
                         contact.set_delta(delta);
                         estimate
                     }
-                    None if retries <= MAX_RETRIES => {
-                        delta *= settings.rho_delta;
-                        continue;
-                    }
-                    None => return Err(AdaptError::Newton { delta, source: failed }),
+                    None => continue,
                 }
             }
         };
-        // with the crack filled by the reservoir: its fixed point at this δ, once; if it
-        // moved, the level goes on from the new solution, so that the last iterate is
-        // estimated (a crack settled by its bracket stays: it would not settle again)
-        let mut cracks = Vec::new();
-        if contact.nitsche.uplift.iter().any(|up| up.diagram.rule.follows_crack()) {
-            let found = match settled.clone().filter(|(at, _)| *at == delta) {
-                Some((_, found)) => found,
-                None => {
-                    let (solution, more, found) = settle_crack(&mut contact, x, newton)?;
-                    crack_solves += more.len();
-                    (x, settled) = (solution, Some((delta, found.clone())));
-                    if !more.is_empty() {
-                        stages.extend(more);
-                        continue;
-                    }
-                    found
-                }
-            };
-            cracks = found.into_iter().map(|c| c.map(|c| Crack { iterations: crack_solves + 1, ..c })).collect();
-        }
+        let crack = CrackState { settled: &mut settled, solves: &mut crack_solves, stages: &mut stages };
+        let Some(cracks) = crack.settle(&mut contact, &mut x, newton)? else { continue };
         let n_lin = discarded_steps + stages.iter().map(|s| s.report.iterations.len()).sum::<usize>();
         return Ok(Level {
             solution: Solution::Contact(Box::new(contact.solution(x, stages, cracks))),
