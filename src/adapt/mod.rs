@@ -365,10 +365,8 @@ pub fn run(
         seconds.mesh = clock.elapsed().as_secs_f64();
         let (problem, mut joint) = model.problem(mesh)?;
         // the cracks filled by the reservoir start where the previous mesh left them
-        if let Some(j) = joint.as_mut() {
-            for (up, crack) in j.uplift.iter_mut().zip(&cracks) {
-                up.diagram.crack = crack.map_or(up.diagram.crack, |c| c.length);
-            }
+        for (up, crack) in joint.iter_mut().flat_map(|j| j.uplift.iter_mut()).zip(&cracks) {
+            up.diagram.crack = crack.map_or(up.diagram.crack, |c| c.length);
         }
         let clock = Instant::now();
         let disc = problem.discretise();
@@ -384,26 +382,7 @@ pub fn run(
         seconds.transfer = clock.elapsed().as_secs_f64();
         let mut level = match &joint {
             None => level::linear_level(&problem, &disc)?,
-            Some(joint) => {
-                let start = kept.map_or_else(
-                    || StartDelta::FirstIterate {
-                        load_scale: problem.stress_scale(&disc.topology),
-                        path: model.load_path(),
-                    },
-                    |(delta, trend)| StartDelta::Kept(delta, trend),
-                );
-                let stopping = if last { Stopping::Residual } else { Stopping::Linearisation };
-                level::contact_level(
-                    &problem,
-                    &disc,
-                    joint,
-                    &model.newton(),
-                    settings,
-                    ((x0, slip_origin), start),
-                    stopping,
-                )
-                .map_err(|e| if last { unfinished(e) } else { e })?
-            }
+            Some(joint) => contact_level(settings, model, (&problem, &disc, joint), (x0, slip_origin), kept, last)?,
         };
         // a mesh that turns out to be the last reports the iterate of Newton finished to its
         // residual tolerance, and the tolerance counts as met only on that iterate's estimate
@@ -431,31 +410,13 @@ pub fn run(
         }
         kept = contact.map(|c| (c.smoothing.delta, level.trend));
         cracks = contact.map_or_else(Vec::new, |c| c.cracks.clone());
-        let line = model.joint_line(&problem);
-        seconds.solve = level.solve_seconds;
-        seconds.estimate = level.estimate_seconds;
+        (seconds.solve, seconds.estimate) = (level.solve_seconds, level.estimate_seconds);
         let record = StepRecord {
-            step,
-            cells: problem.mesh.n_cells(),
-            unknowns: disc.dofs.n_free,
-            eta,
-            stress_norm: stress,
-            delta: contact.map(|c| c.smoothing.delta),
-            n_reg: level.n_reg,
-            n_lin: level.n_lin,
-            finish: level.finish,
-            newton_stalled: level.stalled_before_tolerance,
-            regularisation_balanced: contact.map(|_| level::regularisation_small(&eta, settings.gamma_reg)),
-            n_est: level.n_est,
-            equilibration: level.estimate.equilibration.worst(problem.mesh.order),
-            i_eff: None,
-            i_eff_reference_converged: None,
-            crack_length: contact.zip(line).map(|(c, line)| c.crack_from_heel(&line)),
-            resultant: contact.zip(line).and_then(|(c, line)| resultant(c, &line)),
             stall,
             cell_limit,
             seconds,
             elapsed: start.elapsed().as_secs_f64(),
+            ..StepRecord::of_level(step, (&problem, &disc), &level, (eta, stress), settings, model.joint_line(&problem))
         };
         on_step(&Step {
             record: &record,
@@ -476,6 +437,71 @@ pub fn run(
         previous = Some((CarriedState { mesh: problem.mesh, u, slip_origin }, sizes));
     }
     Ok(history)
+}
+
+/// The contact level of a step on `problem` with its `joint`, from `start` (the previous
+/// mesh's solution carried over, and the slip origin) at the δ and trend `kept` from it (the
+/// first mesh starts from the scene's load path); Newton to the residual tolerance at once on
+/// the `last` mesh.
+fn contact_level<'a>(
+    settings: &AdaptSettings,
+    model: &dyn Model,
+    (problem, disc, joint): (&'a Problem, &'a Discretisation, &ContactJoint),
+    start: (Vec<f64>, Option<Vec<f64>>),
+    kept: Option<(f64, Option<level::Trend>)>,
+    last: bool,
+) -> Result<Level<'a>, AdaptError> {
+    let delta = kept.map_or_else(
+        || StartDelta::FirstIterate { load_scale: problem.stress_scale(&disc.topology), path: model.load_path() },
+        |(delta, trend)| StartDelta::Kept(delta, trend),
+    );
+    let stopping = if last { Stopping::Residual } else { Stopping::Linearisation };
+    level::contact_level(problem, disc, joint, &model.newton(), settings, (start, delta), stopping).map_err(|e| {
+        if last {
+            unfinished(e)
+        } else {
+            e
+        }
+    })
+}
+
+impl StepRecord {
+    /// The record of mesh `step` from its solved `level` and its global estimators and ‖σ_h‖
+    /// (`measures`), the joint's crack and resultant read on `line`; no stall, cell limit or
+    /// times.
+    fn of_level(
+        step: usize,
+        (problem, disc): (&Problem, &Discretisation),
+        level: &Level,
+        (eta, stress): (GlobalEstimators, f64),
+        settings: &AdaptSettings,
+        line: Option<JointLine>,
+    ) -> StepRecord {
+        let contact = level.solution.contact();
+        StepRecord {
+            step,
+            cells: problem.mesh.n_cells(),
+            unknowns: disc.dofs.n_free,
+            eta,
+            stress_norm: stress,
+            delta: contact.map(|c| c.smoothing.delta),
+            n_reg: level.n_reg,
+            n_lin: level.n_lin,
+            finish: level.finish,
+            newton_stalled: level.stalled_before_tolerance,
+            regularisation_balanced: contact.map(|_| level::regularisation_small(&eta, settings.gamma_reg)),
+            n_est: level.n_est,
+            equilibration: level.estimate.equilibration.worst(problem.mesh.order),
+            i_eff: None,
+            i_eff_reference_converged: None,
+            crack_length: contact.zip(line).map(|(c, line)| c.crack_from_heel(&line)),
+            resultant: contact.zip(line).and_then(|(c, line)| resultant(c, &line)),
+            stall: None,
+            cell_limit: None,
+            seconds: PhaseTimes::default(),
+            elapsed: 0.0,
+        }
+    }
 }
 
 /// A Newton failure on the last mesh, where Newton runs to the residual tolerance, as

@@ -385,7 +385,7 @@ fn joint_holds_body(problem: &Problem, nitsche: &Nitsche) -> bool {
 }
 
 /// The dofs of face k ([`Nitsche::face_dofs`]) and the displacement there.
-pub(super) fn local(
+pub(crate) fn local(
     mesh: &Mesh,
     nitsche: &Nitsche,
     k: usize,

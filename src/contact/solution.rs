@@ -2,7 +2,6 @@
 //! carries, the coarse solves that started it, and the solution of a problem with or without Γ_C.
 
 use super::nitsche::Nitsche;
-use super::problem::local;
 use super::projection::Smoothing;
 use super::{open_from_heel, Cracks, FaceState, JointLine, Linearisation, PathPoint, Stage};
 use crate::elasticity::{Discretisation, Displacement, Problem, Refined};
@@ -166,42 +165,6 @@ impl ContactSolution {
     /// The length of `line` open at the heel ([`open_from_heel`]).
     pub fn crack_from_heel(&self, line: &JointLine) -> f64 {
         open_from_heel(&self.faces_on(line), line)
-    }
-
-    /// The mean effective normal stress σ'^n = q(P_γ) = −p_c \[Pa\] (tension positive) of the
-    /// solved equations over the part of `line` at the distances `window` = \[s₀, s₁\] from the
-    /// heel, integrated exactly on pieces split at the kinks of p_c and at s₀, s₁.
-    pub fn mean_normal_stress(
-        &self,
-        problem: &Problem,
-        disc: &Discretisation,
-        line: &JointLine,
-        window: [f64; 2],
-    ) -> f64 {
-        let u_full = disc.dofs.expand(&self.x);
-        let mut dofs = Vec::new();
-        let mut integral = 0.0;
-        for k in (0..self.nitsche.faces.len()).filter(|&k| self.on_line(k, line)) {
-            let [d0, d1] = [0.0, 1.0].map(|t| line.distance(self.nitsche.position(k, t)));
-            // the window's ends in the face parameter t: s(t) = d0 + t (d1 − d0)
-            let [a, b] = window.map(|s| (s - d0) / (d1 - d0));
-            let (lo, hi) = (a.min(b).max(0.0), a.max(b).min(1.0));
-            if lo >= hi {
-                continue;
-            }
-            let u = local(&problem.mesh, &self.nitsche, k, &u_full, &mut dofs);
-            let mut cuts = self.nitsche.kinks(k, &u, self.smoothing);
-            cuts.extend([lo, hi]);
-            cuts.sort_by(f64::total_cmp);
-            integral += self
-                .nitsche
-                .split_rule(k, &cuts)
-                .into_iter()
-                .filter(|&(t, _)| t > lo && t < hi)
-                .map(|(t, w)| self.smoothing.value(self.nitsche.p_gamma(k, &self.nitsche.point(k, t), &u)) * w)
-                .sum::<f64>();
-        }
-        integral / (window[1] - window[0])
     }
 
     /// With friction, the total length of the closed part that sticks.

@@ -11,9 +11,10 @@ use super::output::{drain_note, Units, UNITS};
 use super::settings::{self, Setting};
 use crate::adapt::{AdaptError, Step};
 use crate::contact::{ContactError, ContactJoint, ContactSolution, JointLine};
-use crate::elasticity::{Discretisation, Problem};
+use crate::elasticity::Problem;
 use crate::io::atomic::write_output;
 use crate::io::plot::write_linear_figure;
+use crate::safety::base::base_stresses;
 use crate::safety::check::{checks, verdict, FiniteElements};
 use crate::safety::classical::classical;
 use crate::safety::criteria::Requirements;
@@ -24,7 +25,7 @@ use crate::solve::NewtonOptions;
 use anyhow::{Context, Result};
 use report::{
     base_figure, combination_rows, combinations_markdown, joint_csv, joint_rows, plane_drains, table, text_columns,
-    text_table, write_files, BaseStresses, Report, StepRow,
+    text_table, write_files, Report, StepRow,
 };
 use serde::Serialize;
 use std::path::Path;
@@ -431,22 +432,4 @@ fn average_length(given: Option<f64>, line: &JointLine) -> Result<f64> {
         0.5 * line.length
     );
     Ok(length)
-}
-
-/// The mean σ'^n over `length` at the heel and at the toe.
-fn base_stresses(
-    solution: &ContactSolution,
-    problem: &Problem,
-    disc: &Discretisation,
-    line: &JointLine,
-    length: f64,
-) -> BaseStresses {
-    let mean = |window| solution.mean_normal_stress(problem, disc, line, window);
-    let tip = solution.crack_from_heel(line).min(line.length - length);
-    BaseStresses {
-        length,
-        heel: mean([0.0, length]),
-        toe: mean([line.length - length, line.length]),
-        heel_closed: mean([tip, tip + length]),
-    }
 }

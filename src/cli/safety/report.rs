@@ -8,6 +8,7 @@ use crate::cli::output::Units;
 use crate::contact::{ContactSolution, CrackRule, JointLine};
 use crate::io::atomic::write_output;
 use crate::io::plot::{Figure, Mark, Series};
+use crate::safety::base::BaseStresses;
 use crate::safety::check::{Check, Verdict};
 use crate::safety::classical::Classical;
 use crate::safety::criteria::Requirements;
@@ -27,18 +28,6 @@ pub(super) struct StepRow {
     pub(super) crack_length: f64,
     pub(super) resultant_position: Option<f64>,
     pub(super) sliding_safety_factor: Option<f64>,
-}
-
-/// The mean effective normal stress σ'^n \[Pa\] (tension positive) over `length` \[m\] at the heel
-/// and at the toe.
-#[derive(Serialize)]
-pub(super) struct BaseStresses {
-    pub(super) length: f64,
-    pub(super) heel: f64,
-    pub(super) toe: f64,
-    /// The mean over `length` from the end of the closed part at the heel (the crack tip; the
-    /// heel itself without a crack), to compare with beam theory beyond a crack.
-    pub(super) heel_closed: f64,
 }
 
 /// What `safety.json` records.
