@@ -204,8 +204,8 @@ fn scene_a_p2_adaptive_run_stays_equilibrated() {
 /// at the last step ‖F_lin(x + lo)‖ ≤ 0.1 ‖F_lin(x)‖ over the free rows, both in difference form
 /// (measured: 4.6·10⁻¹⁵ against 1.0·10⁻¹³ for P2, 1.5·10⁻¹⁵ against 2.4·10⁻¹³ for P1, with
 /// loads of order 1).
-/// Parameters: geo/hertz.toml at γ₀ = 100 (at the default γ₀ = 10 the γ₀-weighted bound of the
-/// last mesh stays below 10⁻¹²), size factor 2, default adaptive settings; P2 five steps, P1
+/// Parameters: geo/hertz.toml (γ₀ = 100: at γ₀ = 10 the γ₀-weighted bound of the last mesh
+/// stays below 10⁻¹²), size factor 2, default adaptive settings; P2 five steps, P1
 /// five steps (to about 72 000 unknowns).
 #[test]
 fn hertz_adaptive_runs_are_equilibrated_to_round_off() {
@@ -213,7 +213,6 @@ fn hertz_adaptive_runs_are_equilibrated_to_round_off() {
         let mut scene = Scene::load(Path::new("geo/hertz.toml")).expect("scene");
         scene.mesh.order = order;
         scene.mesh.size_factor = 2.0;
-        scene.contact.gamma0 = 100.0;
         let mut mesher = scene.mesher(Refinement::Adaptive);
         let settings = AdaptSettings { steps: 5, ..Default::default() };
         let (mut worst, mut bound, mut residuals) = (Vec::new(), 0.0, [0.0; 2]);
