@@ -2,6 +2,7 @@
 //! remeshing, and the tutorial example.
 
 mod adapt;
+mod bad_input;
 mod battery;
 mod bound;
 mod cli;
