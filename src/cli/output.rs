@@ -7,6 +7,7 @@ use crate::elasticity::kernels::{principal, von_mises};
 use crate::elasticity::{Discretisation, Problem};
 use crate::estimate::estimators::{GlobalEstimators, NAMES};
 use crate::estimate::Estimate;
+use crate::geometry::norm;
 use crate::io::atomic::Provisional;
 use crate::io::vtu::{write_boundary_vtu, write_mesh_vtu, Field};
 use crate::mesh::Mesh;
@@ -360,7 +361,7 @@ impl<T> Summary<T> {
             unknowns: problem.n_dofs(),
             free_unknowns: disc.dofs.n_free,
             matrix_nonzeros: disc.pattern.nnz(),
-            max_displacement: u.iter().map(|v| v[0].hypot(v[1])).fold(0.0, f64::max),
+            max_displacement: u.iter().map(|&v| norm(v)).fold(0.0, f64::max),
             max_von_mises: von_mises(sigma[peak]),
             max_von_mises_at: problem.mesh.cell_centroid(peak),
             max_von_mises_note: SINGULAR_MAXIMUM,

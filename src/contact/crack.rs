@@ -39,10 +39,12 @@ impl Crack {
 /// together. With g(s_c) = open − s_c, the open length at the diagram's heel of the solution
 /// less the crack it was solved with: s_c ← open at first, then the secant step
 /// s_c − g (s_c − s_prev)/(g − g_prev) while g keeps its sign (the plain update creeps when
-/// the open length follows the crack closely), and once g has taken both signs, false
-/// position inside the bracket of the last crack of each sign, or its midpoint where the
-/// bracket has not halved since the last such step (safeguarded bisection: the open length may
-/// jump across the fixed point). Every diagram not yet settled is updated so, then Newton
+/// the open length follows the crack closely), and once g has taken both signs, inside the
+/// bracket of the last crack of each sign: that secant step where the last two cracks lie on
+/// one side and it stays inside (false position from the far end creeps where g bends at its
+/// root), else false position, or the midpoint where the bracket has not halved since the last
+/// false position (safeguarded bisection: the open length may jump across the fixed point); a
+/// bracket that closes on the drain line solves once just short of it. Every diagram not yet settled is updated so, then Newton
 /// solves again from the last solution, until each has |g| ≤ [`Crack::TOLERANCE`] L or its
 /// bracket that narrow. A crack that moves clears the brackets of the others: their g changes
 /// with it.
@@ -162,6 +164,7 @@ impl CrackSearch {
         }
         // the secant step only where it moves s_c the way g points: where |g| grows with the
         // crack (the crack feeds itself) it points back, to cracks whose g has the same sign
+        let same_side = self.previous.is_some_and(|(_, g_prev)| (g_prev > 0.0) == (g > 0.0));
         let secant = self
             .previous
             .filter(|&(_, g_prev)| g_prev != g)
@@ -169,7 +172,9 @@ impl CrackSearch {
             .filter(|s| s.is_finite() && (s - crack) * g > 0.0);
         self.previous = Some((crack, g));
         Err(match bracket {
-            Some(_) => self.within(),
+            // inside the bracket, the secant of two cracks on one side where it stays inside:
+            // false position from a far end creeps where g bends at its root
+            Some([a, b]) => secant.filter(|&s| same_side && a < s && s < b).unwrap_or_else(|| self.within()),
             None => secant.unwrap_or(open).clamp(0.0, length),
         })
     }

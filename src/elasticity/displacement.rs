@@ -6,6 +6,8 @@
 //! and whatever reads the strain takes the nodal differences of the pair,
 //! (hi_k − hi_0) + (lo_k − lo_0), exact to ε |u_k − u_0|.
 
+use crate::geometry::norm;
+
 /// Nodal displacements u_h = hi + lo: `hi` the double values, `lo` a correction below their
 /// rounding, or None for a plain double u_h.
 #[derive(Debug, Clone)]
@@ -41,7 +43,7 @@ impl Displacement {
 
     /// The largest nodal |u_h| of `nodes`.
     pub fn size(&self, nodes: &[usize]) -> f64 {
-        nodes.iter().map(|&n| self.hi[n][0].hypot(self.hi[n][1])).fold(0.0, f64::max)
+        nodes.iter().map(|&n| norm(self.hi[n])).fold(0.0, f64::max)
     }
 }
 

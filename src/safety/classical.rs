@@ -52,7 +52,7 @@
 use crate::contact::{ContactJoint, CrackRule, JointLaw, JointLine, Uplift};
 use crate::elasticity::problem::traction_rule;
 use crate::elasticity::{BodyForce, Problem, Traction};
-use crate::geometry::{dot, sub, Segment};
+use crate::geometry::{distance, dot, sub, Segment};
 use crate::mesh::Topology;
 use serde::Serialize;
 
@@ -345,7 +345,7 @@ pub fn plane_of<'j>(
 /// Whether two joint lines share their heel and length (to 10⁻⁹ of the length).
 fn same_line(a: &JointLine, b: &JointLine) -> bool {
     let tol = 1e-9 * b.length;
-    (a.heel[0] - b.heel[0]).hypot(a.heel[1] - b.heel[1]) <= tol && (a.length - b.length).abs() <= tol
+    distance(a.heel, b.heel) <= tol && (a.length - b.length).abs() <= tol
 }
 
 /// The gravity method's answer on one section (module docs).

@@ -4,6 +4,7 @@
 use super::sections::{ContactSection, ProjectionKind, Role, UpliftSection};
 use super::{Scene, SceneError};
 use crate::elasticity::material::MAX_DENSITY;
+use crate::geometry::norm;
 
 impl ContactSection {
     /// The first friction key out of range, as "key = value must …".
@@ -75,7 +76,7 @@ impl Scene {
         if ![1.0, 0.0, -1.0].contains(&c.theta) {
             return Err(self.invalid(format!("contact.theta = {} must be 1, 0 or -1", c.theta)));
         }
-        if let Some(nu) = c.direction.filter(|nu| !(nu[0].hypot(nu[1]) > 0.0 && nu.iter().all(|x| x.is_finite()))) {
+        if let Some(nu) = c.direction.filter(|nu| !(norm(*nu) > 0.0 && nu.iter().all(|x| x.is_finite()))) {
             return Err(self.invalid(format!("contact.direction = {nu:?} must be a non-zero vector")));
         }
         c.check_law().map_err(|message| self.invalid(message))?;

@@ -8,6 +8,7 @@ use crate::contact::{continuation, ContactJoint, ContactProblem, JointLaw};
 use crate::elasticity::stress::cell_mean_stress;
 use crate::elasticity::Problem;
 use crate::fem::transfer::interpolate;
+use crate::geometry::{distance, norm};
 use crate::io::atomic::write_output;
 use crate::solve::condition::condition_1;
 use crate::solve::{Cholesky, NewtonError, NewtonOptions, NonlinearSystem, SparseLu};
@@ -133,9 +134,8 @@ impl Row {
     pub fn compare(&mut self, reference: Option<&Answer>, tolerance: Tolerance) {
         self.tolerance = Some(tolerance);
         let (Some(s), Some(r)) = (&self.solution, reference) else { return };
-        let scale = r.probes.iter().map(|p| p[0].hypot(p[1])).fold(0.0, f64::max);
-        let probe =
-            s.probes.iter().zip(&r.probes).map(|(a, b)| (a[0] - b[0]).hypot(a[1] - b[1]) / scale).fold(0.0, f64::max);
+        let scale = r.probes.iter().map(|&p| norm(p)).fold(0.0, f64::max);
+        let probe = s.probes.iter().zip(&r.probes).map(|(&a, &b)| distance(a, b) / scale).fold(0.0, f64::max);
         let du = probe.max((s.max_u - r.max_u).abs() / r.max_u);
         self.du = Some(du);
         self.dl = match (s.contact_length, r.contact_length) {
@@ -166,7 +166,7 @@ fn answer_of(problem: &Problem, u: Vec<[f64; 2]>, length: f64, probes: &[[f64; 2
     let points: Vec<[f64; 2]> = probes.iter().map(|p| [p[0] / length, p[1] / length]).collect();
     Answer {
         probes: interpolate(&problem.mesh, &u, &points),
-        max_u: u.iter().map(|v| v[0].hypot(v[1])).fold(0.0, f64::max),
+        max_u: u.iter().map(|&v| norm(v)).fold(0.0, f64::max),
         u,
         contact_length: None,
         contact_face: None,

@@ -2,6 +2,7 @@
 //! exact N, T and s_N of the module's doc.
 
 use super::*;
+use crate::geometry::{distance, sub};
 
 /// γ_w.
 pub(super) fn gamma_w() -> f64 {
@@ -16,7 +17,7 @@ fn cross(a: [f64; 2], b: [f64; 2]) -> f64 {
 /// The water on the segment p → q of a counter-clockwise outline, of outward normal
 /// n = (q − p)^⊥ / |q − p|: the force −∫ γ_w (level − y)₊ n ds and its moment about the origin.
 pub(super) fn water(p: [f64; 2], q: [f64; 2], level: f64) -> ([f64; 2], f64) {
-    let (d, length) = ([q[0] - p[0], q[1] - p[1]], (q[0] - p[0]).hypot(q[1] - p[1]));
+    let (d, length) = (sub(q, p), distance(p, q));
     let n = [d[1] / length, -d[0] / length];
     let point = |t: f64| [p[0] + t * d[0], p[1] + t * d[1]];
     let pressure = |t: f64| gamma_w() * (level - point(t)[1]).max(0.0);
