@@ -44,10 +44,10 @@ impl Crack {
 /// one side and it stays inside (false position from the far end creeps where g bends at its
 /// root), else false position, or the midpoint where the bracket has not halved since the last
 /// false position (safeguarded bisection: the open length may jump across the fixed point); a
-/// bracket that closes on the drain line solves once just short of it. Every diagram not yet settled is updated so, then Newton
-/// solves again from the last solution, until each has |g| ≤ [`Crack::TOLERANCE`] L or its
-/// bracket that narrow. A crack that moves clears the brackets of the others: their g changes
-/// with it.
+/// bracket that closes on the drain line solves once just short of it. Every diagram not yet
+/// settled is updated so, then Newton solves again from the last solution, until each has
+/// |g| ≤ [`Crack::TOLERANCE`] L or its bracket that narrow. A crack that moves clears the
+/// brackets of the others: their g changes with it.
 /// Returns the solution, the Newton stages of the new solves (none if `x` already settles
 /// them), and the crack of each diagram (None where it is not filled).
 pub fn settle_crack(

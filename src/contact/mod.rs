@@ -43,7 +43,7 @@ pub use joint::{ContactJoint, CurveLaw, CurveUplift};
 pub use law::JointLaw;
 pub use line::JointLine;
 pub use path::{LoadPath, NoEquilibrium, PathPoint};
-pub(crate) use problem::local as local_displacement;
+pub(crate) use problem::local_displacement;
 pub use problem::{lifts_off, open_from_heel, ContactProblem, FaceState, Linearisation};
 pub use solution::{CoarseSolve, CoarseTimings, ContactSolution, JointForces, Solution};
 pub use uplift::{CrackRule, Uplift};

@@ -255,7 +255,7 @@ impl<'a> ContactProblem<'a> {
         let (mut r_local, mut j_local, mut dofs) = (vec![0.0; n], vec![0.0; n * n], Vec::new());
         let free = &self.disc.dofs.free;
         for k in 0..self.nitsche.faces.len() {
-            let u = local(&self.problem.mesh, &self.nitsche, k, &u_full, &mut dofs);
+            let u = local_displacement(&self.problem.mesh, &self.nitsche, k, &u_full, &mut dofs);
             let want_j = jacobian.is_some();
             let j = want_j.then_some(&mut j_local[..]);
             self.nitsche.face_terms(k, &u, self.smoothing, frozen, &mut r_local, j);
@@ -282,7 +282,7 @@ impl<'a> ContactProblem<'a> {
         let mut dofs = Vec::new();
         (0..self.nitsche.faces.len())
             .map(|k| {
-                let u = local(&self.problem.mesh, &self.nitsche, k, &u_full, &mut dofs);
+                let u = local_displacement(&self.problem.mesh, &self.nitsche, k, &u_full, &mut dofs);
                 face_state(&self.nitsche, self.smoothing, k, &u)
             })
             .collect()
@@ -296,7 +296,7 @@ impl<'a> ContactProblem<'a> {
         let mut dofs = Vec::new();
         (0..self.nitsche.faces.len())
             .flat_map(|k| {
-                let u = local(&self.problem.mesh, &self.nitsche, k, &u_full, &mut dofs);
+                let u = local_displacement(&self.problem.mesh, &self.nitsche, k, &u_full, &mut dofs);
                 let points = self.nitsche.quadrature(k, &u, self.smoothing);
                 points.into_iter().map(move |(s, _)| self.nitsche.p_gamma(k, &self.nitsche.point(k, s), &u).abs())
             })
@@ -385,7 +385,7 @@ fn joint_holds_body(problem: &Problem, nitsche: &Nitsche) -> bool {
 }
 
 /// The dofs of face k ([`Nitsche::face_dofs`]) and the displacement there.
-pub(crate) fn local(
+pub(crate) fn local_displacement(
     mesh: &Mesh,
     nitsche: &Nitsche,
     k: usize,

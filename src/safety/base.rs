@@ -47,22 +47,22 @@ pub fn mean_normal_stress(
     line: &JointLine,
     window: [f64; 2],
 ) -> f64 {
+    let (nitsche, smoothing) = (&solution.nitsche, solution.smoothing);
     let u_full = disc.dofs.expand(&solution.x);
     let mut dofs = Vec::new();
     let mut integral = 0.0;
-    for k in (0..solution.nitsche.faces.len()).filter(|&k| solution.on_line(k, line)) {
-        let [d0, d1] = [0.0, 1.0].map(|t| line.distance(solution.nitsche.position(k, t)));
+    for k in (0..nitsche.faces.len()).filter(|&k| solution.on_line(k, line)) {
+        let [d0, d1] = [0.0, 1.0].map(|t| line.distance(nitsche.position(k, t)));
         // the window's ends in the face parameter t: s(t) = d0 + t (d1 − d0)
         let [a, b] = window.map(|s| (s - d0) / (d1 - d0));
         let (lo, hi) = (a.min(b).max(0.0), a.max(b).min(1.0));
         if lo >= hi {
             continue;
         }
-        let u = local_displacement(&problem.mesh, &solution.nitsche, k, &u_full, &mut dofs);
-        let mut cuts = solution.nitsche.kinks(k, &u, solution.smoothing);
+        let u = local_displacement(&problem.mesh, nitsche, k, &u_full, &mut dofs);
+        let mut cuts = nitsche.kinks(k, &u, smoothing);
         cuts.extend([lo, hi]);
         cuts.sort_by(f64::total_cmp);
-        let (nitsche, smoothing) = (&solution.nitsche, solution.smoothing);
         integral += (nitsche.split_rule(k, &cuts).into_iter())
             .filter(|&(t, _)| t > lo && t < hi)
             .map(|(t, w)| smoothing.value(nitsche.p_gamma(k, &nitsche.point(k, t), &u)) * w)

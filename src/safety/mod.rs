@@ -6,7 +6,8 @@
 //! alone. [`criteria`] holds the requirements of each category of load combination, which
 //! both answers are checked against. [`strength`] is the strength reduction: FS_SR, the finite
 //! elements' own sliding factor. The room is 2D: the joint is a line (`contact::JointLine`),
-//! its resultant a point on it, its [`base`] stresses means over windows of it; the 3D issue makes it a plane and a point on it.
+//! its resultant a point on it, its [`base`] stresses means over windows of it; the 3D issue
+//! makes it a plane, a point on it and areas of it.
 
 pub mod base;
 pub mod check;

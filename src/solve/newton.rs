@@ -387,7 +387,6 @@ pub fn newton_until(
     Err(NewtonError::NotConverged { history, scale })
 }
 
-/// The iterate Newton returns and its refinement: the `refined` pair if there is one, else x.
 /// The count of successive steps cut below `STALLED_STEP` and whether the next step takes the
 /// frozen Jacobian, after a step of length t: a softening law's exact steps stall where the
 /// Newton model holds only over tiny steps; the frozen Jacobian's steps go on until one is full.
@@ -449,6 +448,7 @@ fn probe_full_step(
     stop(&it).then(|| returned(&full, refined.into_inner().unwrap_or_else(refine)))
 }
 
+/// The iterate Newton returns and its refinement: the `refined` pair if there is one, else x.
 fn returned(x: &[f64], refined: Option<Pair>) -> (Vec<f64>, Option<Vec<f64>>) {
     match refined {
         Some((x, lo)) => (x, Some(lo)),
