@@ -28,23 +28,32 @@ struct Options {
     keep: Option<PathBuf>,
 }
 
-fn options() -> Result<Options> {
+/// The usage line.
+const USAGE: &str = "usage: dam_battery [--cases N (200)] [--seed S (1)] [--keep DIR]";
+
+fn options() -> Result<Option<Options>> {
     let mut options = Options { cases: 200, seed: 1, keep: None };
     let mut args = std::env::args().skip(1);
     while let Some(flag) = args.next() {
-        let value = args.next().with_context(|| format!("{flag} needs a value"))?;
+        if flag == "--help" || flag == "-h" {
+            return Ok(None);
+        }
+        let value = args.next().with_context(|| format!("{flag} needs a value; {USAGE}"))?;
         match flag.as_str() {
             "--cases" => options.cases = value.parse()?,
             "--seed" => options.seed = value.parse()?,
             "--keep" => options.keep = Some(value.into()),
-            _ => bail!("unknown option {flag}: use --cases N, --seed S, --keep DIR"),
+            _ => bail!("unknown option {flag}; {USAGE}"),
         }
     }
-    Ok(options)
+    Ok(Some(options))
 }
 
 fn main() -> Result<()> {
-    let options = options()?;
+    let Some(options) = options()? else {
+        println!("{USAGE}");
+        return Ok(());
+    };
     let binary = std::env::var_os("DAMFEM")
         .map(PathBuf::from)
         .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/release/damfem"));

@@ -5,7 +5,7 @@ use super::{AdaptError, AdaptSettings};
 use crate::contact::path::follow;
 use crate::contact::projection::Smoothing;
 use crate::contact::{
-    settle_crack, ContactJoint, ContactProblem, Crack, Cracks, Linearisation, LoadPath, Solution, Stage,
+    newton_steps, settle_crack, ContactJoint, ContactProblem, Crack, Cracks, Linearisation, LoadPath, Solution, Stage,
 };
 use crate::elasticity::{Discretisation, Problem, Refined};
 use crate::estimate::estimators::GlobalEstimators;
@@ -221,7 +221,7 @@ pub fn contact_level<'a>(
     let mut contact = ContactProblem::new(problem, disc, joint, Smoothing { delta });
     contact.set_slip_origin(slip_origin.as_deref());
     let clock = Instant::now();
-    let mut stages = Vec::new();
+    let (mut stages, mut discarded_steps) = (Vec::new(), 0);
     let (x, delta, trend) = match start {
         StartDelta::Kept(_, trend) => (x0, delta, trend),
         // the end of the load path at its δ, which the level goes on from
@@ -230,6 +230,7 @@ pub fn contact_level<'a>(
             let deltas = (PATH_DELTA * load_scale, delta);
             let followed = follow(&mut contact, deltas, x0, newton, path.trace, &[])?;
             stages.extend(followed.stages);
+            discarded_steps = followed.discarded_steps;
             (followed.x, PATH_DELTA * load_scale, None)
         }
         StartDelta::FirstIterate { load_scale, path: None } => {
@@ -239,7 +240,7 @@ pub fn contact_level<'a>(
             (x1, delta0, None)
         }
     };
-    let run = Run { x, delta, trend, stages, solve_seconds: clock.elapsed().as_secs_f64() };
+    let run = Run { x, delta, trend, stages, discarded_steps, solve_seconds: clock.elapsed().as_secs_f64() };
     let level = solve_level(contact, newton, settings, run, stopping)?;
     let finish = (stopping == Stopping::Residual && !level.stalled_before_tolerance).then_some(Finish::FROM_START);
     Ok(Level { finish, ..level })
@@ -259,7 +260,8 @@ impl<'a> Level<'a> {
     pub fn finish(mut self, newton: &NewtonOptions, settings: &AdaptSettings) -> Result<Level<'a>, AdaptError> {
         let Some(contact) = self.system.take() else { return Ok(self) };
         let x = self.solution.x().to_vec();
-        let run = Run { x, delta: contact.smoothing.delta, trend: self.trend, stages: Vec::new(), solve_seconds: 0.0 };
+        let delta = contact.smoothing.delta;
+        let run = Run { x, delta, trend: self.trend, stages: Vec::new(), discarded_steps: 0, solve_seconds: 0.0 };
         let mut finished =
             solve_level(contact, newton, settings, run, Stopping::Residual).map_err(super::unfinished)?;
         finished.finish = (!finished.stalled_before_tolerance).then(|| Finish {
@@ -290,12 +292,14 @@ impl<'a> Level<'a> {
 }
 
 /// Where [`solve_level`] starts: the iterate, δ, the trend of the last estimate, and the
-/// Newton stages already run on the level with their wall time \[s\].
+/// Newton stages already run on the level (and the steps of the attempts it discarded) with
+/// their wall time \[s\].
 struct Run {
     x: Vec<f64>,
     delta: f64,
     trend: Option<Trend>,
     stages: Vec<Stage>,
+    discarded_steps: usize,
     solve_seconds: f64,
 }
 
@@ -421,7 +425,8 @@ impl CrackState<'_> {
         let found = match self.settled.clone().filter(|(at, _)| *at == delta) {
             Some((_, found)) => found,
             None => {
-                let (solution, more, found) = settle_crack(contact, std::mem::take(x), newton)?;
+                let mut more = Vec::new();
+                let (solution, found) = settle_crack(contact, std::mem::take(x), newton, &mut more)?;
                 *self.solves += more.len();
                 (*x, *self.settled) = (solution, Some((delta, found.clone())));
                 if !more.is_empty() {
@@ -446,11 +451,11 @@ fn solve_level<'a>(
 ) -> Result<Level<'a>, AdaptError> {
     let asked = stopping;
     let (problem, disc) = (contact.problem, contact.disc);
-    let Run { mut x, mut delta, mut trend, mut stages, mut solve_seconds } = run;
+    let Run { mut x, mut delta, mut trend, mut stages, mut discarded_steps, mut solve_seconds } = run;
     let (mut estimates, mut n_reg) = (EstimateCount::default(), 0);
-    // the restarts at a larger δ since the last converged run, and the Newton steps of the
-    // runs they discarded
-    let (mut crack_solves, mut retries, mut discarded_steps) = (0, 0, 0);
+    // the crack solves, and the restarts at a larger δ since the last converged run (whose
+    // discarded Newton steps count to N_lin)
+    let (mut crack_solves, mut retries) = (0, 0);
     let (mut solved, mut settled): (Option<Solved>, Option<(f64, Cracks)>) = (None, None);
     loop {
         contact.set_delta(delta);
@@ -492,10 +497,7 @@ fn solve_level<'a>(
                 estimate
             }
             Err(failed) => {
-                discarded_steps += match &failed {
-                    NewtonError::NotConverged { history, .. } => history.len(),
-                    NewtonError::NonFinite { step } | NewtonError::Solve { step, .. } => *step,
-                };
+                discarded_steps += failed.steps();
                 let retry = Retry { stopping: &mut stopping, retries: &mut retries, solved: &mut solved };
                 match retry.after(failed, &mut delta, &mut x, settings.rho_delta)? {
                     Some(estimate) => {
@@ -508,7 +510,7 @@ fn solve_level<'a>(
         };
         let crack = CrackState { settled: &mut settled, solves: &mut crack_solves, stages: &mut stages };
         let Some(cracks) = crack.settle(&mut contact, &mut x, newton)? else { continue };
-        let n_lin = discarded_steps + stages.iter().map(|s| s.report.iterations.len()).sum::<usize>();
+        let n_lin = discarded_steps + newton_steps(&stages);
         return Ok(Level {
             solution: Solution::Contact(Box::new(contact.solution(x, stages, cracks))),
             estimate,

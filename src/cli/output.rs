@@ -240,7 +240,11 @@ pub struct ContactSummary {
     /// Length of the zone where P_γ(u_h) < 0, and its bounding box [[x, y], [x, y]].
     pub contact_length: f64,
     contact_extent: Option<[[f64; 2]; 2]>,
+    /// Newton steps in all on this mesh: those of `stages` and the discarded ones.
     newton_steps: usize,
+    /// Newton steps of the attempts that failed and were discarded (load steps of the path
+    /// that were halved).
+    discarded_newton_steps: usize,
     /// Newton steps at each δ of the continuation path.
     stages: Vec<(f64, usize)>,
     /// Nested iteration: the unknowns and Newton steps of each coarser mesh whose solution
@@ -410,6 +414,7 @@ impl ContactSummary {
             contact_length: c.contact_length(),
             contact_extent: extent,
             newton_steps: c.newton_steps(),
+            discarded_newton_steps: c.discarded_steps,
             stages: c.stages.iter().map(|st| (st.delta, st.report.iterations.len())).collect(),
             coarse: c.coarse.clone(),
             load_path: c.path.clone(),

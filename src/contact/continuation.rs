@@ -16,6 +16,11 @@ pub struct Stage {
     pub report: NewtonReport,
 }
 
+/// The Newton steps of `stages`.
+pub fn newton_steps(stages: &[Stage]) -> usize {
+    stages.iter().map(|s| s.report.iterations.len()).sum()
+}
+
 /// Newton along the path δ_k = max(delta, delta_start / 10^k), each stage starting from the
 /// previous solution; for delta = 0 the path jumps to 0 after eight decades. A direct solve
 /// at a tiny δ from a poor initial guess moves the active set one face per step; the path
@@ -31,6 +36,18 @@ pub fn continuation(
     x0: Vec<f64>,
     options: &NewtonOptions,
 ) -> Result<(Vec<f64>, Vec<Stage>), NewtonError> {
+    continuation_counted(contact, (delta, delta_start), x0, options, &mut 0)
+}
+
+/// [`continuation`], the Newton steps of a first stage from rest that failed added to
+/// `discarded`.
+pub fn continuation_counted(
+    contact: &mut ContactProblem,
+    (delta, delta_start): (f64, f64),
+    x0: Vec<f64>,
+    options: &NewtonOptions,
+    discarded: &mut usize,
+) -> Result<(Vec<f64>, Vec<Stage>), NewtonError> {
     let mut stages: Vec<Stage> = Vec::new();
     let from_rest = x0.iter().all(|&v| v == 0.0);
     let mut x = x0;
@@ -38,7 +55,8 @@ pub fn continuation(
     loop {
         contact.set_delta(current);
         let report = match newton(contact, x, options) {
-            Err(_) if from_rest && stages.is_empty() => {
+            Err(failed) if from_rest && stages.is_empty() => {
+                *discarded += failed.steps();
                 let closed = contact.fully_active_start()?;
                 newton(contact, closed, options)?
             }
@@ -126,19 +144,16 @@ pub fn solve_system_along(
         let deltas = (settings.delta, settings.delta_start);
         let followed = path::follow(&mut contact, deltas, x0, &settings.newton, path.trace, schedule)?;
         let solution = contact.solution(followed.x, followed.stages, followed.cracks);
-        return Ok(ContactSolution { path: followed.path, ..solution });
+        return Ok(ContactSolution { path: followed.path, discarded_steps: followed.discarded_steps, ..solution });
     }
-    let (x, mut stages) = continuation(&mut contact, settings.delta, settings.delta_start, x0, &settings.newton)?;
+    let (deltas, mut discarded_steps) = ((settings.delta, settings.delta_start), 0);
+    let (x, mut stages) = continuation_counted(&mut contact, deltas, x0, &settings.newton, &mut discarded_steps)?;
     let (x, cracks) = match joint.uplift.iter().any(|up| up.diagram.rule.follows_crack()) {
-        true => {
-            let (x, more, cracks) = settle_crack(&mut contact, x, &settings.newton)?;
-            stages.extend(more);
-            (x, cracks)
-        }
+        true => settle_crack(&mut contact, x, &settings.newton, &mut stages)?,
         false => (x, Vec::new()),
     };
     contact.lift_off(&x, 1.0)?;
-    Ok(contact.solution(x, stages, cracks))
+    Ok(ContactSolution { discarded_steps, ..contact.solution(x, stages, cracks) })
 }
 
 /// Nested iteration (docs/solver.md §4): Newton on each level of `coarse` (coarser meshes
@@ -174,21 +189,24 @@ pub fn nested_start(
         };
         let start = clock.elapsed().as_secs_f64();
         let clock = Instant::now();
-        let (x, stages) = match (settings.path, &previous) {
+        let (x, stages, discarded) = match (settings.path, &previous) {
             (Some(path), None) => {
                 contact.stage_loads(path.weight);
                 let deltas = (settings.delta, delta_start);
                 let followed = path::follow(&mut contact, deltas, x0, &settings.newton, path.trace, &[])?;
                 cracks = followed.cracks;
-                (followed.x, followed.stages)
+                (followed.x, followed.stages, followed.discarded_steps)
             }
             _ => {
                 contact.set_cracks(&cracks);
-                continuation(&mut contact, settings.delta, delta_start, x0, &settings.newton)?
+                let mut discarded = 0;
+                let deltas = (settings.delta, delta_start);
+                let (x, stages) = continuation_counted(&mut contact, deltas, x0, &settings.newton, &mut discarded)?;
+                (x, stages, discarded)
             }
         };
         let newton = clock.elapsed().as_secs_f64();
-        let newton_steps = stages.iter().map(|s| s.report.iterations.len()).sum();
+        let newton_steps = newton_steps(&stages) + discarded;
         let seconds = CoarseTimings { mesh, assemble, start, newton };
         solves.push(CoarseSolve { order: level.mesh.order, unknowns: level_disc.dofs.n_free, newton_steps, seconds });
         let u = level.displacement(&level_disc, &x);

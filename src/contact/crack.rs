@@ -48,14 +48,16 @@ impl Crack {
 /// settled is updated so, then Newton solves again from the last solution, until each has
 /// |g| ≤ [`Crack::TOLERANCE`] L or its bracket that narrow. A crack that moves clears the
 /// brackets of the others: their g changes with it.
-/// Returns the solution, the Newton stages of the new solves (none if `x` already settles
-/// them), and the crack of each diagram (None where it is not filled).
+/// Returns the solution and the crack of each diagram (None where it is not filled); the
+/// Newton stages of the new solves (none if `x` already settles them) go to `stages`, those
+/// of a search that fails too.
 pub fn settle_crack(
     contact: &mut ContactProblem,
     x: Vec<f64>,
     options: &NewtonOptions,
-) -> Result<(Vec<f64>, Vec<Stage>, Cracks), ContactError> {
-    settle_crack_to(contact, x, options, Crack::TOLERANCE)
+    stages: &mut Vec<Stage>,
+) -> Result<(Vec<f64>, Cracks), ContactError> {
+    settle_crack_to(contact, x, options, Crack::TOLERANCE, stages)
 }
 
 /// [`settle_crack`] to |g| ≤ `tolerance` L.
@@ -64,8 +66,8 @@ pub fn settle_crack_to(
     mut x: Vec<f64>,
     options: &NewtonOptions,
     tolerance: f64,
-) -> Result<(Vec<f64>, Vec<Stage>, Cracks), ContactError> {
-    let mut stages: Vec<Stage> = Vec::new();
+    stages: &mut Vec<Stage>,
+) -> Result<(Vec<f64>, Cracks), ContactError> {
     let mut searches: Vec<CrackSearch> = (contact.nitsche.uplift.iter())
         .map(|up| CrackSearch { tolerance, drains: up.diagram.drains.map(|d| d.distance), ..Default::default() })
         .collect();
@@ -95,7 +97,7 @@ pub fn settle_crack_to(
             }
         }
         if next.iter().all(Option::is_none) {
-            return Ok((x, stages, cracks));
+            return Ok((x, cracks));
         }
         // a crack that moves changes the open length of the others: the signs of g they
         // recorded before no longer bracket their fixed point

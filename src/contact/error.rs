@@ -37,11 +37,21 @@ pub enum ContactError {
     #[error(
         "the load path stopped at λ = {load_factor:.4} of the loads that follow the self-weight, where the joint \
          neither slides, lifts off nor cracks through (crack {crack}, contact length {contact:.3} m, FS_LE {fs}): no \
-         converged state beyond it with load steps down to {min_step:.1e}; the last step's solve: {source}",
+         converged state beyond it with load steps down to {min_step:.1e}; the last step's solve: {last}",
         crack = state.crack.map_or("none".to_string(), |c| format!("{c:.3} m")),
         contact = state.contact_length,
         fs = state.sliding_safety_factor.map_or("none".to_string(), |f| format!("{f:.3}")),
         min_step = path::MIN_STEP,
     )]
-    PathStalled { load_factor: f64, state: PathPoint, source: Box<ContactError> },
+    PathStalled { load_factor: f64, state: PathPoint, last: Box<ContactError> },
+}
+
+impl ContactError {
+    /// The Newton steps of the run that failed (0 where no Newton run failed).
+    pub fn newton_steps(&self) -> usize {
+        match self {
+            ContactError::Newton(failed) => failed.steps(),
+            _ => 0,
+        }
+    }
 }

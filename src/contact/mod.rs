@@ -34,8 +34,8 @@ mod solution;
 pub mod uplift;
 
 pub use continuation::{
-    continuation, nested_start, solve_by_continuation, solve_from, solve_system_along, solve_system_from, CarriedState,
-    CoarseLevel, Continuation, NestedStart, Stage,
+    continuation, continuation_counted, nested_start, newton_steps, solve_by_continuation, solve_from,
+    solve_system_along, solve_system_from, CarriedState, CoarseLevel, Continuation, NestedStart, Stage,
 };
 pub use crack::{settle_crack, settle_crack_to, Crack, Cracks};
 pub use error::ContactError;

@@ -313,7 +313,8 @@ impl<'a> ContactProblem<'a> {
         let lo = stages.last().filter(|s| s.report.x == x).and_then(|s| s.report.lo.clone());
         let (smoothing, nitsche) = (self.smoothing, self.nitsche.clone());
         let path = Vec::new();
-        ContactSolution { x, lo, x_prev, smoothing, stages, faces, nitsche, cracks, coarse: Vec::new(), path }
+        let (coarse, discarded_steps) = (Vec::new(), 0);
+        ContactSolution { x, lo, x_prev, smoothing, stages, faces, nitsche, cracks, coarse, path, discarded_steps }
     }
 
     /// The length open at the heel of each uplift diagram for `x`, over the faces of its curves

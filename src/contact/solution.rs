@@ -32,6 +32,9 @@ pub struct ContactSolution {
     pub coarse: Vec<CoarseSolve>,
     /// The converged states of the load path that led to it (empty: none followed).
     pub path: Vec<PathPoint>,
+    /// The Newton steps of the attempts that failed on the way (load steps of the path that
+    /// were halved), which `stages` do not hold.
+    pub discarded_steps: usize,
 }
 
 /// A solve of nested iteration on a coarser level: its element degree, unknowns, Newton steps
@@ -74,9 +77,10 @@ impl ContactSolution {
         parts.into_iter().map(|(facet, states)| (facet, FaceState::merged(states))).collect()
     }
 
-    /// Total number of Newton steps over all stages.
+    /// The Newton steps of the solve on this mesh: over all stages, and those of the attempts
+    /// that failed.
     pub fn newton_steps(&self) -> usize {
-        self.stages.iter().map(|s| s.report.iterations.len()).sum()
+        super::newton_steps(&self.stages) + self.discarded_steps
     }
 
     /// Total length of the contact zone {P_γ(u_h) < 0}.

@@ -93,10 +93,12 @@ impl Scene {
             let mut contact = contact;
             contact.set_cracks(&cracks);
             contact.set_slip_origin(slip_origin.as_deref());
-            if let Ok(solution) = solve_system_from(contact, joint, &at_delta, x0) {
-                return Ok(ContactSolution { coarse: solves, ..solution });
-            }
-            return solve_by_continuation(problem, disc, joint, settings);
+            let failed = match solve_system_from(contact, joint, &at_delta, x0) {
+                Ok(solution) => return Ok(ContactSolution { coarse: solves, ..solution }),
+                Err(failed) => failed.newton_steps(),
+            };
+            let solution = solve_by_continuation(problem, disc, joint, settings)?;
+            return Ok(ContactSolution { discarded_steps: solution.discarded_steps + failed, ..solution });
         }
         // a coarse level's path that ended at λ* gives this mesh the load factors it reached
         let schedule: Vec<f64> = match &nested {

@@ -16,7 +16,8 @@
 //! full. A run that gets there by a damped or frozen step takes one exact full step more,
 //! so that the iterate it returns solves the linearised problem of its last step (what the
 //! estimator's bound assumes). A run whose ‖F‖ rises to 10³ times its smallest stops
-//! there, as one that runs out of iterations. Where the line search cuts an exact step, the
+//! there, as one that runs out of iterations, and so does one whose ‖F‖ has not halved in
+//! [`NewtonOptions::patience`] steps. Where the line search cuts an exact step, the
 //! full step x_k + Δ, which solves the linearised problem all the same, is shown to the
 //! stopping rule ([`Iterate::probe`]) before Newton goes on from the damped iterate. Running
 //! out of iterations is an error that carries the whole history: never a silent wrong answer.
@@ -124,6 +125,9 @@ pub struct NewtonOptions {
     pub max_halvings: usize,
     /// A step is halved while it multiplies the residual norm by more than this factor.
     pub max_growth: f64,
+    /// A run whose ‖F‖ has not halved in this many steps stops, as one that runs out of
+    /// iterations (None: it runs on to `max_iter`).
+    pub patience: Option<usize>,
     /// Called with k and ‖F(x_k)‖ / scale at every iterate x_k, x_0 included (progress).
     #[serde(skip)]
     pub trace: Option<fn(usize, f64)>,
@@ -131,7 +135,8 @@ pub struct NewtonOptions {
 
 impl Default for NewtonOptions {
     fn default() -> Self {
-        NewtonOptions { max_iter: 50, rtol: 1e-10, min_steps: 1, max_halvings: 20, max_growth: 2.0, trace: None }
+        let (max_iter, rtol, min_steps, max_halvings, max_growth) = (50, 1e-10, 1, 20, 2.0);
+        NewtonOptions { max_iter, rtol, min_steps, max_halvings, max_growth, patience: None, trace: None }
     }
 }
 
@@ -216,6 +221,16 @@ pub enum NewtonError {
     NonFinite { step: usize },
     #[error("Newton step {step}: {source}")]
     Solve { step: usize, source: SolveError },
+}
+
+impl NewtonError {
+    /// The Newton steps the run took before it stopped.
+    pub fn steps(&self) -> usize {
+        match self {
+            NewtonError::NotConverged { history, .. } => history.len(),
+            NewtonError::NonFinite { step } | NewtonError::Solve { step, .. } => *step,
+        }
+    }
 }
 
 /// Whether the residual at the end of `history` is larger than at its start.
@@ -305,6 +320,8 @@ pub fn newton_until(
     let (mut stalled, mut frozen) = (0, false);
     // the smallest ‖F‖ so far and the iterates since: the natural test may let steps cycle
     let (mut best, mut since_best) = (f64::INFINITY, 0);
+    // the last ‖F‖ that halved the one before it, and its step
+    let mut halved = (f64::INFINITY, 0);
     for step in 0..=options.max_iter {
         let clock = Instant::now();
         system.evaluate(&x, &mut residual, Some(&mut jacobian));
@@ -343,7 +360,11 @@ pub fn newton_until(
             return Ok(NewtonReport { x, x_prev, lo, iterations: history, residual: r, scale, seconds });
         }
         polished |= due && converged;
-        if step == options.max_iter || r > DIVERGED * best {
+        if r <= 0.5 * halved.0 {
+            halved = (r, step);
+        }
+        let stale = options.patience.is_some_and(|p| step - halved.1 >= p);
+        if step == options.max_iter || r > DIVERGED * best || stale {
             break;
         }
         // the polishing step takes the exact Jacobian

@@ -242,7 +242,7 @@ pub fn contact_row(row: &mut Row, problem: &Problem, tags: &[i32], knobs: Knobs,
         Ok((x, stages)) => {
             let last = &stages.last().expect("at least one stage").report;
             let rel = last.residual / last.scale;
-            row.iterations = Some(stages.iter().map(|s| s.report.iterations.len()).sum());
+            row.iterations = Some(crate::contact::newton_steps(&stages));
             row.rel_residual = Some(rel);
             if rel <= options.rtol {
                 row.status = Status::Converged;

@@ -15,7 +15,9 @@ const SEED: u64 = 1;
 // Goal: every case gives a result or the verdict that the dam does not hold; a verdict only
 // where FS < 1 and a result only where FS ≥ 1 (within 2 % of FS = 1 either); on the results
 // with c = 0, |FS_LE − FS| ≤ 10⁻⁴ FS: the joint's forces balance the loads; every filled
-// crack at its fixed point (open length = s_c within 10⁻³ L), or stopped at the drain line.
+// crack at its fixed point (open length = s_c within 10⁻³ L), or stopped at the drain line;
+// every result's Newton steps add up (summary.json's total = its stages + the discarded
+// attempts = the steps of its load path's states, `damfem::verify::battery::run`).
 // Parameters: P1 and P2 as drawn, gmsh's sizes H/12 in the dam and H/48 at the heel and the
 // toe, times 0.5 at P1 (a few thousand unknowns each).
 #[test]

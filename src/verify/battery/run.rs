@@ -103,9 +103,11 @@ pub fn run_with(damfem: &Path, case: &DamCase, dir: &Path, extra: &[&str]) -> st
     let coarse: Vec<u64> =
         c["coarse"].as_array().map_or(Vec::new(), |l| l.iter().filter_map(|s| s["newton_steps"].as_u64()).collect());
     let safety_factor = either("sliding_safety_factor");
-    // a result without its safety factor is an error of the run
-    let (outcome, message) = match (outcome, safety_factor) {
-        (Outcome::Result, None) => (Outcome::Error, "exit 0 without sliding_safety_factor in summary.json".into()),
+    // a result without its safety factor, or whose Newton steps do not add up, is an error of
+    // the run
+    let (outcome, message) = match (outcome, safety_factor, steps_add_up(c)) {
+        (Outcome::Result, None, _) => (Outcome::Error, "exit 0 without sliding_safety_factor in summary.json".into()),
+        (Outcome::Result, _, Err(why)) => (Outcome::Error, why),
         _ => (outcome, message),
     };
     Ok(Run {
@@ -130,4 +132,24 @@ pub fn run_with(damfem: &Path, case: &DamCase, dir: &Path, extra: &[&str]) -> st
             .map(|v| [v[0], v[1]]),
         seconds,
     })
+}
+
+/// Whether the Newton steps of the `contact` section of a summary.json add up: `newton_steps`
+/// = Σ `stages` + `discarded_newton_steps`, and, where the load path ran on this mesh,
+/// = Σ of its states' steps.
+fn steps_add_up(c: &serde_json::Value) -> Result<(), String> {
+    let total = c["newton_steps"].as_u64().unwrap_or(0);
+    let sum = |list: &serde_json::Value, of: &dyn Fn(&serde_json::Value) -> Option<u64>| {
+        list.as_array().map_or(0, |l| l.iter().filter_map(of).sum::<u64>())
+    };
+    let stages = sum(&c["stages"], &|s| s[1].as_u64());
+    let discarded = c["discarded_newton_steps"].as_u64().unwrap_or(0);
+    let path = sum(&c["load_path"], &|p| p["newton_steps"].as_u64());
+    if stages + discarded != total {
+        return Err(format!("newton_steps {total} ≠ Σ stages {stages} + discarded {discarded} in summary.json"));
+    }
+    if path != 0 && path != total {
+        return Err(format!("newton_steps {total} ≠ Σ load_path newton_steps {path} in summary.json"));
+    }
+    Ok(())
 }
