@@ -338,7 +338,7 @@ fn patch_faces(ctx: &Context, a: usize, cells: &[usize], cases: usize) -> (Vec<P
                 continue;
             }
             seen.push(e);
-            let (va, vb) = ((i + 1) % 3, (i + 2) % 3);
+            let [va, vb] = mesh.cell_type().facets()[i];
             let (pa, pb) = (mesh.points[vertices[va]], mesh.points[vertices[vb]]);
             let length = crate::geometry::distance(pa, pb);
             let normal = outward(pa, pb, mesh.points[vertices[i]]);

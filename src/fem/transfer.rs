@@ -15,7 +15,7 @@
 //! the distance from `p` to the buckets not yet searched.
 
 use super::lagrange;
-use crate::geometry::{bounding_box, dot, sub};
+use crate::geometry::{bounding_box, dot, sub, CellType};
 use crate::mesh::Mesh;
 use rayon::prelude::*;
 
@@ -323,8 +323,7 @@ fn nearest_point(v: [[f64; 2]; 3], p: [f64; 2]) -> (f64, [f64; 2]) {
     if l.iter().all(|&l| l >= 0.0) {
         return (0.0, [l[1], l[2]]);
     }
-    let on_edge = |i: usize| {
-        let j = (i + 1) % 3;
+    let on_edge = |&[i, j]: &[usize; 2]| {
         let (e, d) = (sub(v[j], v[i]), sub(p, v[i]));
         let t = (dot(d, e) / dot(e, e)).clamp(0.0, 1.0);
         let r = [d[0] - t * e[0], d[1] - t * e[1]];
@@ -333,7 +332,7 @@ fn nearest_point(v: [[f64; 2]; 3], p: [f64; 2]) -> (f64, [f64; 2]) {
         l[j] = t;
         (dot(r, r), [l[1], l[2]])
     };
-    [on_edge(0), on_edge(1), on_edge(2)].into_iter().min_by(|a, b| a.0.total_cmp(&b.0)).unwrap()
+    (CellType::Triangle.edges().iter().map(on_edge)).min_by(|a, b| a.0.total_cmp(&b.0)).expect("three edges")
 }
 
 /// Squared distance from `p` to the box `[lo, hi]`.

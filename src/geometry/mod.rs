@@ -1,15 +1,18 @@
 //! The geometry that every layer shares: the dimension [`D`], points and vectors as
 //! `[f64; D]` with their arithmetic, the affine map of a cell ([`AffineMap`]), the straight
-//! facet ([`Segment`]), the frame of a facet's normal and one bounding box.
+//! facet ([`Segment`]), the frame of a facet's normal, one bounding box, and the reference
+//! cell's vertex, edge and facet tables ([`CellType`]).
 //!
 //! The domain is plane (plane strain), D = 2. Where the 3D issue needs a dimension as a
 //! parameter it becomes `const D: usize` there; a facet is then a triangle and its frame has
 //! two tangents.
 
 mod affine;
+mod cell;
 mod segment;
 
 pub use affine::AffineMap;
+pub use cell::CellType;
 pub use segment::Segment;
 
 /// The dimension of the domain.

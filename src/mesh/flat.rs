@@ -16,6 +16,7 @@
 
 use super::topology::NONE;
 use super::{Mesh, Topology};
+use crate::geometry::CellType;
 
 /// Flips every cell of zero area with its neighbour across its longest edge (the chord), in
 /// rounds until none is left; P2 cells get the midpoint of the new edge bd, and the chord's
@@ -86,7 +87,7 @@ fn flip(mesh: &mut Mesh, c: usize, n: usize, [a, c1]: [usize; 2], b: usize) {
 fn midpoint(cell: &[usize], p: usize, q: usize) -> usize {
     let i = |v: usize| cell[..3].iter().position(|&w| w == v).expect("a vertex of the cell");
     let (i, j) = (i(p), i(q));
-    cell[3 + if (i + 1) % 3 == j { i } else { j }]
+    cell[3 + CellType::Triangle.edge_between(i, j)]
 }
 
 /// Renumbers the nodes in order of first use by a cell, dropping those no cell uses.

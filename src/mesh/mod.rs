@@ -15,7 +15,7 @@ pub mod topology;
 
 pub use topology::Topology;
 
-use crate::geometry::distance;
+use crate::geometry::{distance, CellType};
 
 /// A named physical group of gmsh: `dim` 2 for material regions, 1 for boundary curves.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -161,7 +161,12 @@ impl Mesh {
     /// Diameter h_T of cell `c` (its longest edge).
     pub fn cell_diameter(&self, c: usize) -> f64 {
         let v = self.cell_vertices(c);
-        (0..3).map(|i| distance(v[i], v[(i + 1) % 3])).fold(0.0, f64::max)
+        self.cell_type().edges().iter().map(|&[i, j]| distance(v[i], v[j])).fold(0.0, f64::max)
+    }
+
+    /// The shape of its cells.
+    pub fn cell_type(&self) -> CellType {
+        CellType::Triangle
     }
 
     /// Length of boundary facet `f`.

@@ -1,8 +1,8 @@
 //! Cell ↔ edge ↔ vertex adjacency and vertex patches.
 //!
 //! Edges are numbered once per mesh. Edge `e` joins vertex nodes `edges[e] = [a, b]` with
-//! a < b. Local edge i of a cell is opposite local vertex i, i.e. it joins local vertices
-//! (i+1) mod 3 and (i+2) mod 3. The patch ω_a of a vertex a is the set of cells that share it.
+//! a < b. Local edge i of a cell is its facet i ([`CellType::facets`](crate::geometry::CellType::facets)),
+//! opposite local vertex i. The patch ω_a of a vertex a is the set of cells that share it.
 
 use super::Mesh;
 use rayon::prelude::*;
@@ -33,10 +33,11 @@ impl Topology {
     /// Builds the adjacency of `mesh`. Panics if a boundary facet is not a cell edge.
     pub fn new(mesh: &Mesh) -> Self {
         // every (edge key, cell, local edge), sorted by key: equal keys are one edge
+        let facets = mesh.cell_type().facets();
         let mut half: Vec<([usize; 2], usize, usize)> = (0..mesh.n_cells())
             .flat_map(|c| {
                 let v = &mesh.cell(c)[..3];
-                (0..3).map(move |i| (sorted([v[(i + 1) % 3], v[(i + 2) % 3]]), c, i))
+                facets.iter().enumerate().map(move |(i, &[a, b])| (sorted([v[a], v[b]]), c, i))
             })
             .collect();
         // the keys are distinct: the same order on any number of threads

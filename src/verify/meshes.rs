@@ -40,8 +40,8 @@ pub fn quality(mesh: &Mesh) -> (f64, f64) {
     for c in 0..mesh.n_cells() {
         let v = mesh.cell_vertices(c);
         min_area = min_area.min(mesh.cell_area(c));
-        for i in 0..3 {
-            let (a, b, d) = (v[i], v[(i + 1) % 3], v[(i + 2) % 3]);
+        for (i, &[j, k]) in mesh.cell_type().facets().iter().enumerate() {
+            let (a, b, d) = (v[i], v[j], v[k]);
             let (e, f) = (sub(b, a), sub(d, a));
             let cos = dot(e, f) / (norm(e) * norm(f));
             min_angle = min_angle.min(cos.clamp(-1.0, 1.0).acos().to_degrees());

@@ -98,11 +98,12 @@ pub fn bisect(refined: &Refinement, marked: &[bool]) -> Refinement {
     assert_eq!(mesh.order, 1, "bisection works on degree-1 meshes");
     let mut points = mesh.points.clone();
     let mut midpoints = Midpoints::new();
+    let facets = mesh.cell_type().facets();
     let longest_first = |c: usize| {
         let n = mesh.cell(c);
-        let length = |i: usize| crate::geometry::distance(mesh.points[n[(i + 1) % 3]], mesh.points[n[(i + 2) % 3]]);
+        let length = |i: usize| crate::geometry::distance(mesh.points[n[facets[i][0]]], mesh.points[n[facets[i][1]]]);
         let i = (0..3).fold(0, |best, i| if length(i) > length(best) { i } else { best });
-        [n[i], n[(i + 1) % 3], n[(i + 2) % 3]]
+        [n[i], n[facets[i][0]], n[facets[i][1]]]
     };
     let mut cells: Vec<([usize; 3], usize, bool)> =
         (0..mesh.n_cells()).map(|c| (longest_first(c), refined.cell_parents[c], marked[c])).collect();

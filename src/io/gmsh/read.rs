@@ -47,10 +47,11 @@ pub(super) fn mesh(source: &Path, meshed: bool) -> Result<Mesh, GmshError> {
 /// An edge where counter-clockwise cells overlap: shared by more than two cells, or by two
 /// that run along it in the same direction (so lie on the same side of it).
 fn folded_edge(mesh: &Mesh) -> Option<[[f64; 2]; 2]> {
+    let edges = mesh.cell_type().edges();
     let mut directed: Vec<([usize; 2], bool)> = (0..mesh.n_cells())
         .flat_map(|c| {
             let v = &mesh.cell(c)[..3];
-            (0..3).map(move |i| (v[i], v[(i + 1) % 3]))
+            edges.iter().map(move |&[i, j]| (v[i], v[j]))
         })
         .map(|(a, b)| ([a.min(b), a.max(b)], a < b))
         .collect();
