@@ -46,7 +46,7 @@ const STEP_ITERATIONS: usize = 60;
 /// A Newton solve of a load step longer than [`CONTROLLED_STEP`] whose ‖F‖ has not halved in
 /// this many steps fails: the path halves its load step rather than wait for it (the shorter
 /// steps near a limit may need their 60).
-const PATIENCE: usize = 10;
+pub const PATIENCE: usize = 10;
 /// A load step whose first solve opens the crack that the reservoir fills by more than this
 /// share of its joint fails at once, unless it is at most [`CONTROLLED_STEP`]: the crack's
 /// solves converge only from nearby cracks, and beyond λ* they run on for hundreds of Newton
