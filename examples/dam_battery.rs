@@ -11,14 +11,16 @@
 //! by the environment variable DAMFEM), then `cargo run --release --example dam_battery [--
 //! --cases N --seed S --keep DIR]` from the crate root (defaults: 200 cases, seed 1; the cases'
 //! files and outputs go into DIR/seed_<seed>/ with `--keep`, else into a temporary directory
-//! removed at the end). Prints one row per case and a closing summary: the share of cases with
+//! removed at the end; with `--strength-reduction` each case runs `damfem solve
+//! --strength-reduction`, and the summary gives the largest distance of FS from FS_SR's
+//! bracket of the c = 0 results). Prints one row per case and a closing summary: the share of cases with
 //! a result where they hold or a verdict where they do not (either within 2 % of FS = 1), the
 //! largest FS error of the results with c = 0, the median and largest Newton steps (the most
 //! on one mesh, and summed over the levels of nested iteration), and each case that went wrong
 //! with its exit code and message.
 
 use anyhow::{bail, Context, Result};
-use damfem::verify::battery::{cases, header, row, run, summary, Record};
+use damfem::verify::battery::{cases, header, row, run_with, summary, Record};
 use std::path::PathBuf;
 
 /// The options: cases, seed, and the directory to keep.
@@ -26,17 +28,23 @@ struct Options {
     cases: usize,
     seed: u64,
     keep: Option<PathBuf>,
+    strength_reduction: bool,
 }
 
 /// The usage line.
-const USAGE: &str = "usage: dam_battery [--cases N (200)] [--seed S (1)] [--keep DIR]";
+const USAGE: &str = "usage: dam_battery [--cases N (200)] [--seed S (1)] [--keep DIR] [--strength-reduction]";
 
 fn options() -> Result<Option<Options>> {
-    let mut options = Options { cases: 200, seed: 1, keep: None };
+    let mut options = Options { cases: 200, seed: 1, keep: None, strength_reduction: false };
     let mut args = std::env::args().skip(1);
     while let Some(flag) = args.next() {
-        if flag == "--help" || flag == "-h" {
-            return Ok(None);
+        match flag.as_str() {
+            "--help" | "-h" => return Ok(None),
+            "--strength-reduction" => {
+                options.strength_reduction = true;
+                continue;
+            }
+            _ => {}
         }
         let value = args.next().with_context(|| format!("{flag} needs a value; {USAGE}"))?;
         match flag.as_str() {
@@ -65,7 +73,9 @@ fn main() -> Result<()> {
     println!("{}", header());
     let mut records = Vec::new();
     for case in cases(options.seed, options.cases) {
-        let record = Record::new(case.clone(), run(&binary, &case, &root.join(format!("seed_{}", case.seed)))?);
+        let dir = root.join(format!("seed_{}", case.seed));
+        let extra: &[&str] = if options.strength_reduction { &["--strength-reduction"] } else { &[] };
+        let record = Record::new(case.clone(), run_with(&binary, &case, &dir, extra)?);
         println!("{}", row(&record));
         records.push(record);
     }

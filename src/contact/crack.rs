@@ -39,7 +39,9 @@ impl Crack {
 /// together. With g(s_c) = open − s_c, the open length at the diagram's heel of the solution
 /// less the crack it was solved with: s_c ← open at first, then the secant step
 /// s_c − g (s_c − s_prev)/(g − g_prev) while g keeps its sign (the plain update creeps when
-/// the open length follows the crack closely), and once g has taken both signs, inside the
+/// the open length follows the crack closely), moving s_c by at most 2^(k − 1) |g| after k
+/// updates of one sign (the secant's root may lie far beyond the fixed point, where the joint
+/// has no equilibrium), and once g has taken both signs, inside the
 /// bracket of the last crack of each sign: that secant step where the last two cracks lie on
 /// one side and it stays inside (false position from the far end creeps where g bends at its
 /// root), else false position, or the midpoint where the bracket has not halved since the last
@@ -135,6 +137,8 @@ struct CrackSearch {
     drains: Option<f64>,
     /// Whether the crack just short of the drains was solved since the bracket was last cleared.
     probed: bool,
+    /// The updates in a row whose g kept the sign of the one before.
+    kept_sign: i32,
 }
 
 impl CrackSearch {
@@ -167,6 +171,7 @@ impl CrackSearch {
         // the secant step only where it moves s_c the way g points: where |g| grows with the
         // crack (the crack feeds itself) it points back, to cracks whose g has the same sign
         let same_side = self.previous.is_some_and(|(_, g_prev)| (g_prev > 0.0) == (g > 0.0));
+        self.kept_sign = if same_side { self.kept_sign + 1 } else { 0 };
         let secant = self
             .previous
             .filter(|&(_, g_prev)| g_prev != g)
@@ -177,8 +182,20 @@ impl CrackSearch {
             // inside the bracket, the secant of two cracks on one side where it stays inside:
             // false position from a far end creeps where g bends at its root
             Some([a, b]) => secant.filter(|&s| same_side && a < s && s < b).unwrap_or_else(|| self.within()),
-            None => secant.unwrap_or(open).clamp(0.0, length),
+            None => secant
+                .map(|s| crack + (s - crack).clamp(-self.reach(g), self.reach(g)))
+                .unwrap_or(open)
+                .clamp(0.0, length),
         })
+    }
+
+    /// How far the secant step may move s_c before a bracket: 2^(k − 1) |g| after k updates
+    /// whose g kept its sign, so |g| (the plain update's step) at first. Where g falls slowly
+    /// the secant's root lies far beyond the fixed point, where the joint may have no
+    /// equilibrium (battery case 91: from 4.77 m to 23.7 m, the fixed point at 8.67 m); where
+    /// it creeps, the reach doubles until the secant takes over.
+    fn reach(&self, g: f64) -> f64 {
+        2f64.powi(self.kept_sign - 1) * g.abs()
     }
 
     /// The next crack inside the bracket: false position
@@ -223,6 +240,24 @@ mod tests {
         let next = search.record(17.53, 19.53, 40.0).unwrap_err();
         let secant = 17.53 - 2.0 * (17.53 - 5.67) / (2.0 - 11.86);
         assert!((next - secant).abs() < 1e-12 && next > 19.53, "{next} against {secant}");
+    }
+
+    // A crack whose g falls slowly. Source: battery case of seed 91 (`damfem::verify::battery`,
+    // its coarse level at λ = 1), whose open lengths were 4.7718 m with s_c = 0, 8.5787 m with
+    // s_c = 4.7718 m and 8.6870 m with s_c = 8.5787 m; the fixed point lies at 8.6708 m.
+    // Goal: the secant through the first two points has its root at 23.7 m, where the joint
+    // had no equilibrium; the search must move by at most |g| (the plain update) after one
+    // update of g's sign, and take the secant once it fits in twice |g|.
+    // Parameters: a joint of 44.88 m.
+    #[test]
+    fn a_crack_whose_g_falls_slowly_stays_within_reach() {
+        let mut search = CrackSearch { tolerance: super::Crack::TOLERANCE, ..Default::default() };
+        assert_eq!(search.record(0.0, 4.7718, 44.88), Err(4.7718));
+        let next = search.record(4.7718, 8.5787, 44.88).unwrap_err();
+        assert!((next - 8.5787).abs() < 1e-12, "{next}: the secant's root is at 23.7 m");
+        let next = search.record(8.5787, 8.6870, 44.88).unwrap_err();
+        let secant = 8.5787 - 0.1083 * (8.5787 - 4.7718) / (0.1083 - 3.8069);
+        assert!((next - secant).abs() < 1e-9 && (next - 8.6708).abs() < 0.02, "{next} against {secant}");
     }
 
     // A crack that jumps at the drain line. Source: battery case of seed 63

@@ -2,7 +2,7 @@
 //! `damfem` binary, against the exact limit equilibrium of each section.
 
 use super::support::TempDir;
-use damfem::verify::battery::{cases, header, row, run, run_with, summary, DamCase, Record};
+use damfem::verify::battery::{cases, header, row, run, run_with, summary, DamCase, Record, STRENGTH_GAP};
 use std::path::Path;
 
 /// The seed of the battery, that of `cargo run --release --example dam_battery`.
@@ -56,13 +56,8 @@ fn the_strength_reduction_finds_the_limit_equilibrium_of_dams_on_rock() {
         let case = DamCase::new(seed);
         let outcome = run_with(damfem, &case, &tmp.0.join(format!("seed_{seed}")), &["--strength-reduction"]).unwrap();
         let record = Record::new(case, outcome);
-        let [held, failed] = record.run.strength.unwrap_or_else(|| panic!("seed {seed}: {}", record.run.message));
-        let fs = record.exact;
-        let gap = [held, failed].map(|k| (k - fs).abs() / fs).into_iter().fold(f64::INFINITY, f64::min);
-        assert!(
-            (held <= fs && fs <= failed) || gap <= 5e-3,
-            "seed {seed}: FS_SR in [{held}, {failed}] against FS = {fs}"
-        );
+        let gap = record.strength_gap().unwrap_or_else(|| panic!("seed {seed}: {}", record.run.message));
+        assert!(gap <= STRENGTH_GAP, "seed {seed}: FS_SR in {:?} against FS = {}", record.run.strength, record.exact);
     }
 }
 

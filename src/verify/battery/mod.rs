@@ -64,7 +64,7 @@ mod statics;
 mod tests;
 
 pub use draw::cases;
-pub use record::{header, row, summary, Record};
+pub use record::{header, row, summary, Record, STRENGTH_GAP};
 pub use run::{run, run_with, Outcome, Run};
 
 /// Gravity \[m/s²\] and the densities of water and concrete \[kg/m³\].

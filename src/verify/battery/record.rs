@@ -42,6 +42,14 @@ impl Record {
         ))
     }
 
+    /// How far FS lies outside FS_SR's bracket \[held, failed\], relative to FS (0 inside it);
+    /// None without a bracket.
+    pub fn strength_gap(&self) -> Option<f64> {
+        let [held, failed] = self.run.strength?;
+        let fs = self.exact;
+        Some(if held <= fs && fs <= failed { 0.0 } else { (held - fs).abs().min((failed - fs).abs()) / fs })
+    }
+
     /// Whether the case holds exactly.
     pub fn holds(&self) -> bool {
         self.exact >= 1.0
@@ -138,6 +146,9 @@ fn largest(records: &[Record], f: impl Fn(&Record) -> Option<f64>) -> f64 {
     records.iter().filter_map(f).fold(0.0, f64::max)
 }
 
+/// FS_SR's bracket must hold the exact FS of a c = 0 case within this share of it.
+pub const STRENGTH_GAP: f64 = 5e-3;
+
 /// The seeds of the `records` that `pick`, comma-separated.
 fn seeds(records: &[Record], pick: impl Fn(&Record) -> bool) -> String {
     records.iter().filter(|r| pick(r)).map(|r| r.case.seed.to_string()).collect::<Vec<_>>().join(", ")
@@ -177,6 +188,17 @@ pub fn summary(records: &[Record]) -> String {
         unsettled,
         seeds(records, |r| r.run.at_drains),
     );
+    if records.iter().any(|r| r.run.strength.is_some()) {
+        let c0 = |r: &Record| r.case.cohesion == 0.0;
+        writeln!(
+            text,
+            "largest distance of FS from FS_SR's bracket, relative to FS, of the c = 0 results: {:.2e}; over \
+             {STRENGTH_GAP:.1e}: seeds [{}]",
+            largest(records, |r| r.strength_gap().filter(|_| c0(r))),
+            seeds(records, |r| c0(r) && r.strength_gap().is_some_and(|g| g > STRENGTH_GAP)),
+        )
+        .unwrap();
+    }
     for r in records.iter().filter(|r| !r.agrees()) {
         writeln!(
             text,
