@@ -97,6 +97,6 @@ fn joint_sides(mesh: &Mesh, joints: &[String]) -> Vec<i32> {
     };
     let tags: Vec<i32> = mesh.groups.iter().filter(|g| g.dim == 1 && is_joint(&g.name)).map(|g| g.tag).collect();
     let topology = Topology::new(mesh);
-    let sides: BTreeSet<i32> = mesh.facets_tagged(&tags).map(|f| mesh.cell_tags[topology.facet_cell(f)]).collect();
+    let sides: BTreeSet<i32> = mesh.facets_tagged(&tags).map(|f| mesh.cell_tags[topology.tagged_cell(f)]).collect();
     sides.into_iter().collect()
 }

@@ -161,11 +161,6 @@ impl ContactSolution {
         (self.faces.iter().enumerate()).filter(|&(k, _)| self.on_line(k, line)).map(|(_, f)| *f).collect()
     }
 
-    /// The forces on the faces on `line` ([`ContactSolution::forces`]).
-    pub fn forces_on(&self, line: &JointLine) -> JointForces {
-        self.forces(|k| self.on_line(k, line))
-    }
-
     /// The length of `line` open at the heel ([`open_from_heel`]).
     pub fn crack_from_heel(&self, line: &JointLine) -> f64 {
         open_from_heel(&self.faces_on(line), line)

@@ -291,28 +291,28 @@ struct Traces<'a> {
 impl<'a> Traces<'a> {
     fn new(problem: &'a Problem, topology: &'a Topology, rec: &'a Reconstruction) -> Self {
         let mut t = Traces { problem, topology, rec, scale: 0.0 };
-        t.scale = (0..topology.n_edges())
+        t.scale = (0..topology.n_facets())
             .into_par_iter()
-            .map(|e| t.norm(e, topology.edge_cells[e][0], |_| [0.0; 2]))
+            .map(|e| t.norm(e, topology.facet_cells[e][0], |_| [0.0; 2]))
             .reduce(|| f64::MIN_POSITIVE, f64::max);
         t
     }
 
-    /// Points of edge e: (s, weight · |F|) and the physical ends.
+    /// Points of facet e: (s, weight · |F|) and the physical ends.
     fn rule(&self, e: usize) -> (Vec<(f64, f64)>, [[f64; 2]; 2]) {
         let mesh = &self.problem.mesh;
-        let [a, b] = self.topology.edges[e];
+        let [a, b] = self.topology.facets[e];
         let ends = [mesh.points[a], mesh.points[b]];
         let length = crate::geometry::distance(ends[0], ends[1]);
         let rule = gauss_segment_cached(mesh.order + 2);
         (rule.points.iter().zip(&rule.weights).map(|(&s, &w)| (s, w * length)).collect(), ends)
     }
 
-    /// σ_h n_e (n_e the normal of the edge's ends a → b, rotated clockwise) of cell c, with
+    /// σ_h n_e (n_e the normal of the facet's ends a → b, rotated clockwise) of cell c, with
     /// the coefficients `sigma` of σ_h there, at s.
     fn trace(&self, e: usize, c: usize, sigma: &[f64], s: f64) -> [f64; 2] {
         let mesh = &self.problem.mesh;
-        let [a, b] = self.topology.edges[e];
+        let [a, b] = self.topology.facets[e];
         let (pa, pb) = (mesh.points[a], mesh.points[b]);
         let length = crate::geometry::distance(pa, pb);
         let n = [(pb[1] - pa[1]) / length, -(pb[0] - pa[0]) / length];
@@ -320,7 +320,7 @@ impl<'a> Traces<'a> {
         [t[0] * n[0] + t[1] * n[1], t[2] * n[0] + t[3] * n[1]]
     }
 
-    /// ‖σ_h n − g‖_F on edge e from cell c, for a field g(s).
+    /// ‖σ_h n − g‖_F on facet e from cell c, for a field g(s).
     fn norm(&self, e: usize, c: usize, g: impl Fn(f64) -> [f64; 2]) -> f64 {
         let (rule, _) = self.rule(e);
         let sigma = self.rec.total(c);
@@ -338,18 +338,18 @@ impl<'a> Traces<'a> {
         Worst { value: worst.value / self.scale, at: worst.at }
     }
 
-    /// The midpoint of edge e.
+    /// The midpoint of facet e.
     fn midpoint(&self, e: usize) -> [f64; 2] {
-        let [a, b] = self.topology.edges[e].map(|n| self.problem.mesh.points[n]);
+        let [a, b] = self.topology.facets[e].map(|n| self.problem.mesh.points[n]);
         Segment::new(a, b).point(0.5)
     }
 
     fn continuity(&self) -> Worst {
-        (0..self.topology.n_edges())
+        (0..self.topology.n_facets())
             .into_par_iter()
-            .filter(|&e| self.topology.edge_cells[e][1] != NONE)
+            .filter(|&e| self.topology.facet_cells[e][1] != NONE)
             .map(|e| {
-                let [c1, c2] = self.topology.edge_cells[e];
+                let [c1, c2] = self.topology.facet_cells[e];
                 let sigma = self.rec.total(c2);
                 Worst::default().max(self.norm(e, c1, |s| self.trace(e, c2, &sigma, s)), self.midpoint(e))
             })
@@ -367,8 +367,8 @@ impl<'a> Traces<'a> {
             if fixed {
                 continue;
             }
-            let e = self.topology.facet_edges[f];
-            let c = self.topology.facet_cell(f);
+            let e = self.topology.tagged_facet[f];
+            let c = self.topology.tagged_cell(f);
             let (_, ends) = self.rule(e);
             let length = crate::geometry::distance(ends[0], ends[1]);
             let rule: Vec<(f64, f64)> =

@@ -222,7 +222,7 @@ fn neumann(problem: &Problem, topology: &Topology) -> Vec<f64> {
             if polynomial_on_face(&bc.traction, ends) {
                 continue;
             }
-            let c = topology.facet_cell(f);
+            let c = topology.tagged_cell(f);
             let (h_t, area, h_f) = (mesh.cell_diameter(c), mesh.cell_area(c).abs(), mesh.facet_length(f));
             let trace_constant = (h_t * h_t / area / PI * (1.0 / PI + 1.0)).sqrt();
             let normal = topology.outward_normal(mesh, f);

@@ -23,8 +23,8 @@ use std::collections::HashMap;
 
 /// A facet of Γ_C, on the slave side or on the master side of a joint.
 pub struct ContactFacet {
-    /// Its edge in the topology and the cell that owns it.
-    pub edge: usize,
+    /// Its index among the topology's facets, and the cell that owns it.
+    pub index: usize,
     pub cell: usize,
     /// Its end nodes; the facet parameter r ∈ [0, 1] runs from the first to the second.
     pub ends: [usize; 2],
@@ -57,7 +57,7 @@ pub fn contact_facets(mesh: &Mesh, topology: &Topology, state: &Linearisation) -
     let mut facets: Vec<ContactFacet> = Vec::new();
     let mut index: HashMap<usize, usize> = HashMap::new();
     let mut add = |facet: ContactFacet, piece: Piece| {
-        let k = *index.entry(facet.edge).or_insert_with(|| {
+        let k = *index.entry(facet.index).or_insert_with(|| {
             facets.push(facet);
             facets.len() - 1
         });
@@ -65,14 +65,14 @@ pub fn contact_facets(mesh: &Mesh, topology: &Topology, state: &Linearisation) -
     };
     for (k, face) in state.nitsche.faces.iter().enumerate() {
         let ends = mesh.facet(face.facet);
-        let slave = new_facet(mesh, topology.facet_edges[face.facet], face.cell, [ends[0], ends[1]]);
+        let slave = new_facet(mesh, topology.tagged_facet[face.facet], face.cell, [ends[0], ends[1]]);
         let r = face.ends.map(|xi| parameter(mesh, face.cell, slave.ends, xi));
         let Some(opposite) = &face.opposite else {
             add(slave, Piece { face: k, r, sign: 1.0, dy_dx: 1.0 });
             continue;
         };
         let ends = mesh.facet(opposite.facet);
-        let master = new_facet(mesh, topology.facet_edges[opposite.facet], opposite.cell, [ends[0], ends[1]]);
+        let master = new_facet(mesh, topology.tagged_facet[opposite.facet], opposite.cell, [ends[0], ends[1]]);
         let r_master = opposite.ends.map(|xi| parameter(mesh, opposite.cell, master.ends, xi));
         let dy_dx = (r_master[1] - r_master[0]).abs() * master.length / face.length;
         add(slave, Piece { face: k, r, sign: 1.0, dy_dx: 1.0 });
@@ -96,11 +96,11 @@ pub fn sampled_facets(mesh: &Mesh, topology: &Topology, state: &Linearisation, u
         .collect()
 }
 
-fn new_facet(mesh: &Mesh, edge: usize, cell: usize, ends: [usize; 2]) -> ContactFacet {
+fn new_facet(mesh: &Mesh, index: usize, cell: usize, ends: [usize; 2]) -> ContactFacet {
     let (a, b) = (mesh.points[ends[0]], mesh.points[ends[1]]);
     let inside = mesh.cell(cell)[..3].iter().find(|&&v| v != ends[0] && v != ends[1]).map(|&v| mesh.points[v]);
     let normal = Segment::new(a, b).outward_normal(inside.expect("a triangle has a vertex off each edge"));
-    ContactFacet { edge, cell, ends, length: distance(a, b), normal, pieces: Vec::new() }
+    ContactFacet { index, cell, ends, length: distance(a, b), normal, pieces: Vec::new() }
 }
 
 /// The facet parameter of the reference point ξ of `cell` on the facet with nodes `ends`,

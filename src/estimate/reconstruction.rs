@@ -111,8 +111,8 @@ struct Context<'a> {
     integrals: Vec<CellIntegrals>,
     /// The volume data of every cell for each of its vertices, from [`volume_data`].
     volume: Vec<Vec<f64>>,
-    /// Role of every edge (Free for interior edges).
-    edge_role: Vec<Role>,
+    /// Role of every facet (Free for interior facets).
+    facet_role: Vec<Role>,
     /// Right-hand sides of the patches that touch Γ_C: 3 with Γ_C, else 1.
     cases: usize,
 }
@@ -148,9 +148,9 @@ pub(crate) fn reconstruct_sampled(
     let order = mesh.order;
     let maps: Vec<AffineMap> = (0..mesh.n_cells()).map(|c| AffineMap::new(mesh.cell_vertices(c))).collect();
     let integrals = maps.par_iter().map(|m| cell_integrals(order, m)).collect();
-    let edge_role = edge_roles(problem, topology, facets);
+    let facet_role = facet_roles(problem, topology, facets);
     let cases = if contact { 3 } else { 1 };
-    let mut ctx = Context { problem, topology, u, facets, maps, integrals, volume: Vec::new(), edge_role, cases };
+    let mut ctx = Context { problem, topology, u, facets, maps, integrals, volume: Vec::new(), facet_role, cases };
     let volume = (0..mesh.n_cells()).into_par_iter().map(|c| volume_data(&ctx, c)).collect();
     ctx.volume = volume;
     let results: Vec<_> = (0..topology.vertices.len())
@@ -189,12 +189,12 @@ pub(crate) fn reconstruct_sampled(
     Ok(Reconstruction { order, n_basis: nb, sigma, compatibility, compatibility_at })
 }
 
-/// Role of every edge.
-fn edge_roles(problem: &Problem, topology: &Topology, facets: &[SampledFacet]) -> Vec<Role> {
+/// Role of every facet.
+fn facet_roles(problem: &Problem, topology: &Topology, facets: &[SampledFacet]) -> Vec<Role> {
     let mesh = &problem.mesh;
-    let mut role = vec![Role::Free; topology.n_edges()];
+    let mut role = vec![Role::Free; topology.n_facets()];
     for f in 0..mesh.n_facets() {
-        let e = topology.facet_edges[f];
+        let e = topology.tagged_facet[f];
         let tag = mesh.facet_tags[f];
         if let Some(bc) = problem.dirichlet.iter().find(|bc| bc.tag == tag) {
             role[e] = Role::Dirichlet(bc.fix);
@@ -203,7 +203,7 @@ fn edge_roles(problem: &Problem, topology: &Topology, facets: &[SampledFacet]) -
         }
     }
     for (k, sampled) in facets.iter().enumerate() {
-        role[sampled.facet.edge] = Role::Contact(k);
+        role[sampled.facet.index] = Role::Contact(k);
     }
     role
 }
@@ -262,9 +262,10 @@ fn patch_input<'a>(ctx: &'a Context, k: usize) -> PatchInput<'a> {
 /// patch and so do their patch solutions.
 fn patch_cases(ctx: &Context, a: usize, cells: &[usize]) -> usize {
     let mesh = &ctx.problem.mesh;
-    // edge i of a cell is opposite to its vertex i
+    // facet i of a cell is opposite to its vertex i
     let on_contact = cells.iter().any(|&c| {
-        (0..3).any(|i| mesh.cell(c)[i] != a && matches!(ctx.edge_role[ctx.topology.cell_edges[c][i]], Role::Contact(_)))
+        (0..3)
+            .any(|i| mesh.cell(c)[i] != a && matches!(ctx.facet_role[ctx.topology.cell_facets[c][i]], Role::Contact(_)))
     });
     if on_contact {
         ctx.cases
@@ -333,7 +334,7 @@ fn patch_faces(ctx: &Context, a: usize, cells: &[usize], cases: usize) -> (Vec<P
     for (t, &c) in cells.iter().enumerate() {
         let vertices = &mesh.cell(c)[..3];
         for i in 0..3 {
-            let e = ctx.topology.cell_edges[c][i];
+            let e = ctx.topology.cell_facets[c][i];
             if seen.contains(&e) {
                 continue;
             }
@@ -343,7 +344,7 @@ fn patch_faces(ctx: &Context, a: usize, cells: &[usize], cases: usize) -> (Vec<P
             let length = crate::geometry::distance(pa, pb);
             let normal = outward(pa, pb, mesh.points[vertices[i]]);
             let contains_a = vertices[i] != a;
-            let other = ctx.topology.edge_cells[e].into_iter().find(|&o| o != c && o != NONE);
+            let other = ctx.topology.facet_cells[e].into_iter().find(|&o| o != c && o != NONE);
             let moments0 = edge_moments(mesh.order, va, vb);
             let nodes = [pa, pb, [0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1])]];
             let (t2, kind, moments1) = match other.and_then(|o| cells.iter().position(|&x| x == o)) {
@@ -357,7 +358,7 @@ fn patch_faces(ctx: &Context, a: usize, cells: &[usize], cases: usize) -> (Vec<P
                     let ends = [vertices[va], vertices[vb]];
                     match boundary_trace(ctx, e, a, ends, normal, cases) {
                         Some(kind) => {
-                            if let Role::Dirichlet(fix) = ctx.edge_role[e] {
+                            if let Role::Dirichlet(fix) = ctx.facet_role[e] {
                                 fixed.push(([pa, pb], fix));
                             }
                             (0, kind, &[] as &[f64])
@@ -398,7 +399,7 @@ fn boundary_trace(
 ) -> Option<FaceKind> {
     let order = ctx.problem.mesh.order;
     let mut data = vec![vec![0.0; 2 * (order + 1)]; cases];
-    let active = match ctx.edge_role[e] {
+    let active = match ctx.facet_role[e] {
         Role::Dirichlet(fix) if fix == [true; 2] => return None,
         Role::Dirichlet(fix) => [!fix[0], !fix[1]],
         Role::Neumann(i) => {

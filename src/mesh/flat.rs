@@ -33,12 +33,12 @@ pub fn flip_flat_cells(mesh: &mut Mesh) -> Result<usize, [f64; 2]> {
         let before = flips;
         for c in flat {
             let Some((chord, b)) = chord(mesh, &topology, c) else { continue };
-            let [p, q] = topology.edge_cells[chord];
+            let [p, q] = topology.facet_cells[chord];
             let n = if p == c { q } else { p };
             if n == NONE || touched[c] || touched[n] || mesh.cell_area(n) == 0.0 {
                 continue;
             }
-            flip(mesh, c, n, topology.edges[chord], b);
+            flip(mesh, c, n, topology.facets[chord], b);
             touched[c] = true;
             touched[n] = true;
             flips += 1;
@@ -57,10 +57,10 @@ pub fn flip_flat_cells(mesh: &mut Mesh) -> Result<usize, [f64; 2]> {
 /// strictly between the edge's ends.
 fn chord(mesh: &Mesh, topology: &Topology, c: usize) -> Option<(usize, usize)> {
     let length =
-        |e: usize| crate::geometry::distance(mesh.points[topology.edges[e][0]], mesh.points[topology.edges[e][1]]);
-    let edges = topology.cell_edges[c];
+        |e: usize| crate::geometry::distance(mesh.points[topology.facets[e][0]], mesh.points[topology.facets[e][1]]);
+    let edges = topology.cell_facets[c];
     let chord = edges.into_iter().max_by(|&e, &f| length(e).total_cmp(&length(f)))?;
-    let b = *mesh.cell(c)[..3].iter().find(|v| !topology.edges[chord].contains(v))?;
+    let b = *mesh.cell(c)[..3].iter().find(|v| !topology.facets[chord].contains(v))?;
     edges.iter().all(|&e| length(e) > 0.0).then_some((chord, b))
 }
 

@@ -42,7 +42,7 @@ pub fn sides(mesh: &Mesh, topology: &Topology, curve: i32) -> Result<[i32; 2], S
     // the surface and length of each segment that bounds one cell
     let mut one_sided: Vec<(i32, f64)> = Vec::new();
     for f in mesh.facets_tagged(&[curve]) {
-        let [a, b] = topology.edge_cells[topology.facet_edges[f]];
+        let [a, b] = topology.facet_cells[topology.tagged_facet[f]];
         if b == NONE {
             one_sided.push((mesh.cell_tags[a], mesh.facet_length(f)));
             continue;
@@ -94,13 +94,13 @@ pub fn split(mesh: &mut Mesh, curve: i32, slave_surface: i32) -> Result<Interfac
     let pair = sides(mesh, &topology, curve)?;
     let master_surface = if pair[0] == slave_surface { pair[1] } else { pair[0] };
     let joint_facets: Vec<usize> = mesh.facets_tagged(&[curve]).collect();
-    let joint_edges: BTreeSet<usize> = joint_facets.iter().map(|&f| topology.facet_edges[f]).collect();
+    let joint_edges: BTreeSet<usize> = joint_facets.iter().map(|&f| topology.tagged_facet[f]).collect();
     let is_slave = |c: usize| c != NONE && mesh.cell_tags[c] == slave_surface;
     // a vertex on an edge off the joint between a slave cell and another cell stays bonded
     let mut bonded = BTreeSet::new();
-    for (e, &[a, b]) in topology.edge_cells.iter().enumerate() {
+    for (e, &[a, b]) in topology.facet_cells.iter().enumerate() {
         if b != NONE && is_slave(a) != is_slave(b) && !joint_edges.contains(&e) {
-            bonded.extend(topology.edges[e]);
+            bonded.extend(topology.facets[e]);
         }
     }
     let mut side = vec![[false; 2]; mesh.n_points()];
@@ -125,7 +125,7 @@ pub fn split(mesh: &mut Mesh, curve: i32, slave_surface: i32) -> Result<Interfac
     let npf = mesh.nodes_per_facet();
     let master_curve = mesh.groups.iter().map(|g| g.tag).max().unwrap_or(0).max(curve) + 1;
     for f in 0..mesh.n_facets() {
-        let [a, b] = topology.edge_cells[topology.facet_edges[f]];
+        let [a, b] = topology.facet_cells[topology.tagged_facet[f]];
         if mesh.facet_tags[f] == curve && b == NONE && !is_slave(a) {
             mesh.facet_tags[f] = master_curve;
         } else if (mesh.facet_tags[f] != curve || b == NONE) && (is_slave(a) || is_slave(b)) {
@@ -135,7 +135,7 @@ pub fn split(mesh: &mut Mesh, curve: i32, slave_surface: i32) -> Result<Interfac
     let name = format!("{}:{}", group_name(mesh, 1, curve), group_name(mesh, 2, master_surface));
     mesh.groups.push(PhysicalGroup { dim: 1, tag: master_curve, name });
     // a segment between two cells becomes the master's facet and a copy on the slave's nodes
-    for &f in joint_facets.iter().filter(|&&f| topology.edge_cells[topology.facet_edges[f]][1] != NONE) {
+    for &f in joint_facets.iter().filter(|&&f| topology.facet_cells[topology.tagged_facet[f]][1] != NONE) {
         let mut slave: Vec<usize> = mesh.facet(f).to_vec();
         renumber(&mut slave);
         mesh.facet_tags[f] = master_curve;
@@ -189,15 +189,15 @@ pub fn merge_sides(parts: &[(Mesh, Vec<i32>)], joints: &[i32]) -> Result<Mesh, S
             }
             merged.cell_tags.push(mesh.cell_tags[c]);
         }
-        let on_joint: BTreeSet<usize> = mesh.facets_tagged(joints).map(|f| topology.facet_edges[f]).collect();
-        for (e, &[a, b]) in topology.edge_cells.iter().enumerate() {
+        let on_joint: BTreeSet<usize> = mesh.facets_tagged(joints).map(|f| topology.tagged_facet[f]).collect();
+        for (e, &[a, b]) in topology.facet_cells.iter().enumerate() {
             if kept(a) != kept(b) && (b == NONE || on_joint.contains(&e)) {
-                let [p, q] = topology.edges[e].map(|n| node(n, &mut merged));
+                let [p, q] = topology.facets[e].map(|n| node(n, &mut merged));
                 boundary.insert([p.min(q), p.max(q)]);
             }
         }
         for f in 0..mesh.n_facets() {
-            if topology.edge_cells[topology.facet_edges[f]].iter().any(|&c| kept(c)) {
+            if topology.facet_cells[topology.tagged_facet[f]].iter().any(|&c| kept(c)) {
                 let nodes: Vec<usize> = mesh.facet(f).iter().map(|&n| node(n, &mut merged)).collect();
                 let mut key = nodes.clone();
                 key.sort_unstable();
@@ -209,8 +209,8 @@ pub fn merge_sides(parts: &[(Mesh, Vec<i32>)], joints: &[i32]) -> Result<Mesh, S
         }
     }
     let topology = Topology::new(&merged);
-    for (e, &[a, b]) in topology.edges.iter().enumerate() {
-        if topology.is_boundary_edge(e) && !boundary.contains(&[a.min(b), a.max(b)]) {
+    for (e, &[a, b]) in topology.facets.iter().enumerate() {
+        if topology.is_boundary_facet(e) && !boundary.contains(&[a.min(b), a.max(b)]) {
             let [x, y] = merged.points[a];
             return Err(format!(
                 "the meshes of the bodies do not match at ({x:.6}, {y:.6}), off the joints: gmsh meshed a curve \
@@ -255,11 +255,11 @@ mod tests {
             mesh.cell_tags[c] = if mesh.cell_centroid(c)[1] > 0.5 { 2 } else { 1 };
         }
         let topology = Topology::new(&mesh);
-        for (e, &[a, b]) in topology.edges.iter().enumerate() {
+        for (e, &[a, b]) in topology.facets.iter().enumerate() {
             let (pa, pb) = (mesh.points[a], mesh.points[b]);
             let on_cut = pa[1] == 0.5 && pb[1] == 0.5 && !(bonded && pa[0].max(pb[0]) > 1.0 - 0.5 / n as f64);
             if on_cut {
-                let c = topology.edge_cells[e][0];
+                let c = topology.facet_cells[e][0];
                 let mid = mesh.cell(c)[3..].iter().copied().find(|&m| {
                     let p = mesh.points[m];
                     (p[0] - 0.5 * (pa[0] + pb[0])).abs() < 1e-12 && p[1] == 0.5
@@ -285,15 +285,15 @@ mod tests {
             assert_eq!(mesh.n_points() - before, (n + 1) + if order == 2 { n } else { 0 });
             let topology = Topology::new(&mesh);
             for f in mesh.facets_tagged(&[interface.slave_curve, interface.master_curve]) {
-                assert!(topology.is_boundary_edge(topology.facet_edges[f]));
-                let side = mesh.cell_tags[topology.facet_cell(f)];
+                assert!(topology.is_boundary_facet(topology.tagged_facet[f]));
+                let side = mesh.cell_tags[topology.tagged_cell(f)];
                 let expected = if mesh.facet_tags[f] == 5 { 2 } else { 1 };
                 assert_eq!(side, expected);
                 let normal = topology.outward_normal(&mesh, f);
                 assert_eq!(normal, if side == 2 { [0.0, -1.0] } else { [0.0, 1.0] });
             }
             // the two sides of a 4 × 4 square cut in two: the boundary is two closed loops
-            let boundary = (0..topology.n_edges()).filter(|&e| topology.is_boundary_edge(e)).count();
+            let boundary = (0..topology.n_facets()).filter(|&e| topology.is_boundary_facet(e)).count();
             assert_eq!(boundary, 4 * n + 2 * n);
         }
     }
@@ -330,11 +330,11 @@ mod tests {
             assert_eq!(mesh.facets_tagged(&[interface.master_curve]).count(), 4);
             let topology = Topology::new(&mesh);
             for f in mesh.facets_tagged(&[5, interface.master_curve]) {
-                let side = mesh.cell_tags[topology.facet_cell(f)];
+                let side = mesh.cell_tags[topology.tagged_cell(f)];
                 assert_eq!(side, if mesh.facet_tags[f] == 5 { 2 } else { 1 });
             }
             // two closed loops: 4 + 4 + 2·2 … edges of the lower half, 6 + 6 + 2·3 of the upper
-            let boundary = (0..topology.n_edges()).filter(|&e| topology.is_boundary_edge(e)).count();
+            let boundary = (0..topology.n_facets()).filter(|&e| topology.is_boundary_facet(e)).count();
             assert_eq!(boundary, (4 + 4 + 2 * 2) + (6 + 6 + 2 * 3));
         }
         // with a bonded end, the two meshes of the bonded segment differ: refused

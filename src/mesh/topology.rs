@@ -1,26 +1,30 @@
-//! Cell ↔ edge ↔ vertex adjacency and vertex patches.
+//! Cell ↔ facet ↔ vertex adjacency and vertex patches.
 //!
-//! Edges are numbered once per mesh. Edge `e` joins vertex nodes `edges[e] = [a, b]` with
-//! a < b. Local edge i of a cell is its facet i ([`CellType::facets`](crate::geometry::CellType::facets)),
-//! opposite local vertex i. The patch ω_a of a vertex a is the set of cells that share it.
+//! Facets (where fluxes cross, contact faces lie and patches end) are numbered once per mesh.
+//! Facet `e` has vertex nodes `facets[e] = [a, b]` with a < b; local facet i of a cell is
+//! [`CellType::facets`](crate::geometry::CellType::facets)\[i\], opposite local vertex i. The
+//! mesh's own facets ([`Mesh::facet`]: the line elements of its physical curves) map to these
+//! by [`Topology::tagged_facet`]. The edges, where P2's midpoint nodes sit, are the facets in
+//! 2D; a tetrahedral mesh keeps them apart. The patch ω_a of a vertex a is the set of cells
+//! that share it.
 
 use super::Mesh;
 use rayon::prelude::*;
 
-/// Marker for "no neighbour" in [`Topology::edge_cells`].
+/// Marker for "no neighbour" in [`Topology::facet_cells`].
 pub const NONE: usize = usize::MAX;
 
 /// Adjacency of a [`Mesh`].
 #[derive(Debug, Clone)]
 pub struct Topology {
-    /// Vertex node pairs of every edge, smaller index first.
-    pub edges: Vec<[usize; 2]>,
-    /// Edges of each cell; local edge i is opposite local vertex i.
-    pub cell_edges: Vec<[usize; 3]>,
-    /// The one or two cells sharing each edge (second is [`NONE`] on the boundary).
-    pub edge_cells: Vec<[usize; 2]>,
-    /// Edge of each boundary facet.
-    pub facet_edges: Vec<usize>,
+    /// Vertex nodes of every facet, smaller index first.
+    pub facets: Vec<[usize; 2]>,
+    /// Facets of each cell; local facet i is opposite local vertex i.
+    pub cell_facets: Vec<[usize; 3]>,
+    /// The one or two cells sharing each facet (second is [`NONE`] on the boundary).
+    pub facet_cells: Vec<[usize; 2]>,
+    /// The facet of each of the mesh's facets ([`Mesh::facet`]).
+    pub tagged_facet: Vec<usize>,
     /// Vertex nodes (nodes that are a corner of some cell), in increasing order.
     pub vertices: Vec<usize>,
     /// CSR offsets into `patch_cells`, one range per entry of `vertices`.
@@ -30,43 +34,48 @@ pub struct Topology {
 }
 
 impl Topology {
-    /// Builds the adjacency of `mesh`. Panics if a boundary facet is not a cell edge.
+    /// Builds the adjacency of `mesh`. Panics if one of the mesh's facets is not a cell's.
     pub fn new(mesh: &Mesh) -> Self {
-        // every (edge key, cell, local edge), sorted by key: equal keys are one edge
-        let facets = mesh.cell_type().facets();
+        // every (facet key, cell, local facet), sorted by key: equal keys are one facet
+        let local = mesh.cell_type().facets();
         let mut half: Vec<([usize; 2], usize, usize)> = (0..mesh.n_cells())
             .flat_map(|c| {
                 let v = &mesh.cell(c)[..3];
-                facets.iter().enumerate().map(move |(i, &[a, b])| (sorted([v[a], v[b]]), c, i))
+                local.iter().enumerate().map(move |(i, &[a, b])| (sorted([v[a], v[b]]), c, i))
             })
             .collect();
         // the keys are distinct: the same order on any number of threads
         half.par_sort_unstable();
-        let mut edges: Vec<[usize; 2]> = Vec::with_capacity(half.len() / 2 + 1);
-        let mut edge_cells: Vec<[usize; 2]> = Vec::with_capacity(half.len() / 2 + 1);
-        let mut cell_edges = vec![[0; 3]; mesh.n_cells()];
+        let mut facets: Vec<[usize; 2]> = Vec::with_capacity(half.len() / 2 + 1);
+        let mut facet_cells: Vec<[usize; 2]> = Vec::with_capacity(half.len() / 2 + 1);
+        let mut cell_facets = vec![[0; 3]; mesh.n_cells()];
         for (key, c, i) in half {
-            if edges.last() == Some(&key) {
-                edge_cells.last_mut().expect("edge just pushed")[1] = c;
+            if facets.last() == Some(&key) {
+                facet_cells.last_mut().expect("facet just pushed")[1] = c;
             } else {
-                edges.push(key);
-                edge_cells.push([c, NONE]);
+                facets.push(key);
+                facet_cells.push([c, NONE]);
             }
-            cell_edges[c][i] = edges.len() - 1;
+            cell_facets[c][i] = facets.len() - 1;
         }
-        let facet_edges = (0..mesh.n_facets())
+        let tagged_facet = (0..mesh.n_facets())
             .into_par_iter()
             .map(|f| {
                 let n = mesh.facet(f);
-                edges.binary_search(&sorted([n[0], n[1]])).expect("boundary facet is not a cell edge")
+                facets.binary_search(&sorted([n[0], n[1]])).expect("a facet of the mesh is not a cell's")
             })
             .collect();
         let (vertices, patch_offsets, patch_cells) = patches(mesh);
-        Topology { edges, cell_edges, edge_cells, facet_edges, vertices, patch_offsets, patch_cells }
+        Topology { facets, cell_facets, facet_cells, tagged_facet, vertices, patch_offsets, patch_cells }
     }
 
+    pub fn n_facets(&self) -> usize {
+        self.facets.len()
+    }
+
+    /// The number of edges, where P2's midpoint nodes sit: in 2D, each edge is a facet.
     pub fn n_edges(&self) -> usize {
-        self.edges.len()
+        self.facets.len()
     }
 
     /// Cells of the patch of the `k`-th vertex (`self.vertices[k]`).
@@ -74,21 +83,21 @@ impl Topology {
         &self.patch_cells[self.patch_offsets[k]..self.patch_offsets[k + 1]]
     }
 
-    /// True if edge `e` lies on the boundary (has one cell).
-    pub fn is_boundary_edge(&self, e: usize) -> bool {
-        self.edge_cells[e][1] == NONE
+    /// True if facet `e` lies on the boundary (has one cell).
+    pub fn is_boundary_facet(&self, e: usize) -> bool {
+        self.facet_cells[e][1] == NONE
     }
 
-    /// The cell owning boundary facet `f`.
-    pub fn facet_cell(&self, f: usize) -> usize {
-        self.edge_cells[self.facet_edges[f]][0]
+    /// The cell owning the mesh's facet `f` (the first of two on an interior curve).
+    pub fn tagged_cell(&self, f: usize) -> usize {
+        self.facet_cells[self.tagged_facet[f]][0]
     }
 
-    /// Outward unit normal of boundary facet `f`: perpendicular to the facet, pointing away
+    /// Outward unit normal of the mesh's facet `f`: perpendicular to the facet, pointing away
     /// from the vertex of the owning cell that is not on the facet.
     pub fn outward_normal(&self, mesh: &Mesh, f: usize) -> [f64; 2] {
         let nodes = mesh.facet(f);
-        let opposite = mesh.cell(self.facet_cell(f))[..3]
+        let opposite = mesh.cell(self.tagged_cell(f))[..3]
             .iter()
             .find(|&&v| v != nodes[0] && v != nodes[1])
             .map(|&v| mesh.points[v])
@@ -137,9 +146,9 @@ mod tests {
     fn euler_and_patches() {
         let mesh = unit_square(3, 2);
         let topo = Topology::new(&mesh);
-        let (v, e, c) = (topo.vertices.len(), topo.n_edges(), mesh.n_cells());
+        let (v, e, c) = (topo.vertices.len(), topo.n_facets(), mesh.n_cells());
         assert_eq!(v as i64 - e as i64 + c as i64, 1); // Euler characteristic of a disk
-        let boundary = (0..e).filter(|&k| topo.is_boundary_edge(k)).count();
+        let boundary = (0..e).filter(|&k| topo.is_boundary_facet(k)).count();
         assert_eq!(boundary, mesh.n_facets());
         assert_eq!(topo.patch_cells.len(), 3 * c);
         // the centre vertex (1,1)/3 of a 3×3 grid lies in 6 cells

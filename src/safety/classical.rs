@@ -191,7 +191,7 @@ pub fn section(problem: &Problem, joint: &ContactJoint, line: &JointLine) -> Res
     };
     let bodies = bodies_apart(problem, &topology, line);
     let resting: Vec<usize> =
-        faces.iter().map(|&f| topology.facet_cell(f)).filter(|&c| above(c)).map(|c| bodies[c]).collect();
+        faces.iter().map(|&f| topology.tagged_cell(f)).filter(|&c| above(c)).map(|c| bodies[c]).collect();
     if resting.is_empty() {
         return Err("no face of the joint on the sliding plane has a body above it".into());
     }
@@ -212,7 +212,7 @@ fn bodies_apart(problem: &Problem, topology: &Topology, line: &JointLine) -> Vec
         }
         k
     }
-    for (edge, cells) in topology.edges.iter().zip(&topology.edge_cells) {
+    for (edge, cells) in topology.facets.iter().zip(&topology.facet_cells) {
         let on_line = edge.iter().all(|&n| line.holds(mesh.points[n]));
         if cells[1] != crate::mesh::topology::NONE && !on_line {
             let (a, b) = (root(&mut parent, cells[0]), root(&mut parent, cells[1]));
@@ -296,7 +296,7 @@ fn traction_loads(problem: &Problem, base: &Base, cells: &[bool]) -> Vec<Load> {
     let hydrodynamic = kinds.iter().position(|&k| k == LoadKind::Hydrodynamic).expect("a kind");
     for bc in &problem.neumann {
         let faces = mesh.facets_tagged(std::slice::from_ref(&bc.tag));
-        for f in faces.filter(|&f| cells[topology.facet_cell(f)]) {
+        for f in faces.filter(|&f| cells[topology.tagged_cell(f)]) {
             let n = topology.outward_normal(mesh, f);
             let ends = [mesh.points[mesh.facet(f)[0]], mesh.points[mesh.facet(f)[1]]];
             let segment = Segment::new(ends[0], ends[1]);

@@ -60,12 +60,18 @@ impl Resultant {
     }
 }
 
+/// The forces on the faces of `solution` on the straight joint `line`
+/// ([`ContactSolution::forces`]): its contact length, N, T and FS_LE along it.
+pub fn forces_on(solution: &ContactSolution, line: &JointLine) -> JointForces {
+    solution.forces(|k| solution.on_line(k, line))
+}
+
 /// The resultant of the traction of the faces of `solution` on the straight joint `line`
 /// (docs/method.md §1.9); None when nothing presses on the joint.
 pub fn resultant(solution: &ContactSolution, line: &JointLine) -> Option<Resultant> {
     let faces = solution.faces_on(line);
     let moment = faces.iter().fold([0.0; 2], |m, f| [m[0] + f.pressure_moment[0], m[1] + f.pressure_moment[1]]);
-    let JointForces { normal_force, tangential_force, .. } = solution.forces_on(line);
+    let JointForces { normal_force, tangential_force, .. } = forces_on(solution, line);
     let uplift = faces.iter().map(|f| f.uplift * f.length).sum();
     Resultant::new(line, [normal_force, tangential_force, uplift], moment)
 }

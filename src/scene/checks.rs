@@ -261,11 +261,11 @@ impl Scene {
         let mut seen: BTreeMap<usize, (&str, Role)> = BTreeMap::new();
         for f in 0..mesh.n_facets() {
             let Some(&(name, role)) = role_of.get(&mesh.facet_tags[f]) else { continue };
-            let edge = topology.facet_edges[f];
-            if role == Role::Contact && topology.edge_cells[edge][1] != NONE {
-                return Err(self.interior_contact(mesh, name, topology.edge_cells[edge]));
+            let e = topology.tagged_facet[f];
+            if role == Role::Contact && topology.facet_cells[e][1] != NONE {
+                return Err(self.interior_contact(mesh, name, topology.facet_cells[e]));
             }
-            match seen.insert(edge, (name, role)) {
+            match seen.insert(e, (name, role)) {
                 Some((other, other_role)) if other_role != role => {
                     return Err(self.invalid(format!(
                         "physical curves '{other}' ({}) and '{name}' ({}) share a segment but have different roles; \
@@ -372,7 +372,7 @@ impl Scene {
         let roled: Vec<i32> = self.roles(mesh)?.iter().map(|(t, _, _)| *t).collect();
         // a joint's two sides, `<curve>` and `<curve>:<surface>` once split
         let joint = |name: &str| self.joints.keys().any(|j| name.split(':').next() == Some(j.as_str()));
-        let on_boundary = |f: usize| topology.is_boundary_edge(topology.facet_edges[f]);
+        let on_boundary = |f: usize| topology.is_boundary_facet(topology.tagged_facet[f]);
         let mut warnings: Vec<String> = mesh
             .groups
             .iter()
@@ -380,13 +380,13 @@ impl Scene {
             .filter(|g| (0..mesh.n_facets()).any(|f| mesh.facet_tags[f] == g.tag && on_boundary(f)))
             .map(|g| format!("boundary curve '{}' has no role: it is taken as free (traction-free)", g.name))
             .collect();
-        let mut tagged = vec![false; topology.n_edges()];
-        for &e in &topology.facet_edges {
+        let mut tagged = vec![false; topology.n_facets()];
+        for &e in &topology.tagged_facet {
             tagged[e] = true;
         }
-        let untagged: f64 = (0..topology.n_edges())
-            .filter(|&e| topology.is_boundary_edge(e) && !tagged[e])
-            .map(|e| crate::geometry::distance(mesh.points[topology.edges[e][0]], mesh.points[topology.edges[e][1]]))
+        let untagged: f64 = (0..topology.n_facets())
+            .filter(|&e| topology.is_boundary_facet(e) && !tagged[e])
+            .map(|e| crate::geometry::distance(mesh.points[topology.facets[e][0]], mesh.points[topology.facets[e][1]]))
             .sum();
         if untagged > 0.0 {
             warnings.push(format!(

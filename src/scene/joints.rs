@@ -194,7 +194,7 @@ impl Scene {
             };
             let supports: Vec<([f64; 2], [f64; 2])> = facets
                 .iter()
-                .filter(|&&(f, _)| body[topology.facet_cell(f)] == b)
+                .filter(|&&(f, _)| body[topology.tagged_cell(f)] == b)
                 .flat_map(|&(f, friction)| {
                     let nu = topology.outward_normal(mesh, f);
                     let directions = if friction { vec![nu, tangent(nu)] } else { vec![nu] };

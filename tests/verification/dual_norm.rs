@@ -426,7 +426,7 @@ fn v3_contact_defect(problem: &Problem, u_h: &[[f64; 2]], gamma0: f64) -> f64 {
     let mut phi = [0.0; 6];
     let mut sum = 0.0;
     for f in (0..mesh.n_facets()).filter(|&f| mesh.facet_tags[f] == BOTTOM) {
-        let cell = topology.facet_cell(f);
+        let cell = topology.tagged_cell(f);
         let map = AffineMap::new(mesh.cell_vertices(cell));
         let u: Vec<[f64; 2]> = mesh.cell(cell).iter().map(|&n| u_h[n]).collect();
         let (lambda, mu) = problem.materials[cell].lame();

@@ -18,7 +18,7 @@ use crate::safety::base::base_stresses;
 use crate::safety::check::{checks, verdict, FiniteElements};
 use crate::safety::classical::classical;
 use crate::safety::criteria::Requirements;
-use crate::safety::resultant::resultant;
+use crate::safety::resultant::{forces_on, resultant};
 use crate::safety::strength::{reduce_strength, StrengthReduction, STRENGTH_TOLERANCE};
 use crate::scene::Scene;
 use crate::solve::NewtonOptions;
@@ -248,7 +248,7 @@ fn analyse(
             eta_relative: r.eta.tot / r.stress_norm,
             crack_length: c.crack_from_heel(&line),
             resultant_position: resultant(c, &line).map(|f| f.position),
-            sliding_safety_factor: c.forces_on(&line).sliding_safety_factor,
+            sliding_safety_factor: forces_on(c, &line).sliding_safety_factor,
         });
         let joint = step.joint.context("the step has no joint")?;
         last = Some((step.problem.clone(), joint.clone(), c.clone()));
@@ -260,6 +260,7 @@ fn analyse(
     let disc = problem.discretise();
     // the sliding plane's curves: their friction alone gives FS_SR a strength to divide
     let plane = solution.curves_on(&line);
+    let forces = forces_on(&solution, &line);
     let (strength, note) = match joint.has_friction_on(&plane) {
         false => (None, Some(FRICTIONLESS.to_string())),
         true => {
@@ -272,7 +273,7 @@ fn analyse(
                 )?
                 .0;
             let unbounded = (!sr.failed.is_finite()).then(|| format!("{} {:.0}", UNBOUNDED, sr.held));
-            let fs_le = solution.forces_on(&line).sliding_safety_factor;
+            let fs_le = forces.sliding_safety_factor;
             (Some(sr), unbounded.or_else(|| outside_note(fs_le?, &sr)))
         }
     };
@@ -295,14 +296,14 @@ fn analyse(
         best_step: run.best.clone(),
         newton_stalled: record.newton_stalled,
         joint_line: line,
-        contact_length: solution.forces_on(&line).contact_length,
+        contact_length: forces.contact_length,
         crack_length: solution.crack_from_heel(&line),
         crack_rule: (solution.nitsche.uplift.iter())
             .find(|up| up.curves.iter().any(|&c| plane[c]))
             .map(|up| up.diagram.rule),
         resultant: resultant(&solution, &line),
         base_stresses: base_stresses(&solution, &problem, &disc, &line, average),
-        sliding_safety_factor: solution.forces_on(&line).sliding_safety_factor,
+        sliding_safety_factor: forces.sliding_safety_factor,
         strength_reduction: strength,
         safety_factor_note: note,
         crack_note: plane_crack_note(&solution, &plane),

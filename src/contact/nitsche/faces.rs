@@ -85,7 +85,7 @@ pub(super) fn face(
     curve: usize,
     parameters: &NitscheParameters,
 ) -> ContactFace {
-    let cell = topology.facet_cell(f);
+    let cell = topology.tagged_cell(f);
     let nodes = mesh.facet(f);
     let length = mesh.facet_length(f);
     let (lambda, mu) = materials[cell].lame();

@@ -186,8 +186,10 @@ impl Nitsche {
                 None => faces.extend(slave(curve)),
                 // each slave curve faces its own master curve
                 Some(master) => {
-                    let master: Vec<(usize, usize)> =
-                        mesh.facets_tagged(std::slice::from_ref(master)).map(|f| (f, topology.facet_cell(f))).collect();
+                    let master: Vec<(usize, usize)> = mesh
+                        .facets_tagged(std::slice::from_ref(master))
+                        .map(|f| (f, topology.tagged_cell(f)))
+                        .collect();
                     faces.extend(slave(curve).flat_map(|face| pieces(mesh, topology, &face, &master)));
                 }
             }

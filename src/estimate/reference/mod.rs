@@ -425,7 +425,7 @@ impl ContactFaces {
                 face_sides.push(Side { facet: opposite.facet, ends, sign: -1.0 });
             }
             for side in &face_sides {
-                facet_of_gamma[side.facet] = Some((coarse.facet_length(side.facet), topology.facet_cell(side.facet)));
+                facet_of_gamma[side.facet] = Some((coarse.facet_length(side.facet), topology.tagged_cell(side.facet)));
             }
             let mut dofs = Vec::new();
             nitsche.face_dofs(coarse, k, &mut dofs);

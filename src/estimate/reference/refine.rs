@@ -231,7 +231,7 @@ mod tests {
             assert_eq!(&fine.points[..coarse.n_points()], &coarse.points[..]);
             // a conforming mesh: every boundary facet is a cell edge, and Euler's formula holds
             let topo = Topology::new(fine);
-            let boundary = (0..topo.n_edges()).filter(|&e| topo.is_boundary_edge(e)).count();
+            let boundary = (0..topo.n_facets()).filter(|&e| topo.is_boundary_facet(e)).count();
             assert_eq!(boundary, fine.n_facets());
             let euler = topo.vertices.len() as i64 - topo.n_edges() as i64 + fine.n_cells() as i64;
             assert_eq!(euler, 1);
@@ -315,7 +315,7 @@ mod tests {
         assert!(fine.n_cells() < 8 * coarse.n_cells(), "{} cells: not local", fine.n_cells());
         assert!((area(fine) - 6.0).abs() < 1e-13);
         let topo = Topology::new(fine);
-        let boundary = (0..topo.n_edges()).filter(|&e| topo.is_boundary_edge(e)).count();
+        let boundary = (0..topo.n_facets()).filter(|&e| topo.is_boundary_facet(e)).count();
         assert_eq!(boundary, fine.n_facets(), "a hanging node");
         let euler = topo.vertices.len() as i64 - topo.n_edges() as i64 + fine.n_cells() as i64;
         assert_eq!(euler, 1);
