@@ -33,6 +33,7 @@ use crate::elasticity::{nodal, Discretisation, Problem};
 use crate::estimate::estimators::{stress_norm, GlobalEstimators};
 use crate::estimate::Estimate;
 use crate::estimate::EstimateError;
+use crate::geometry::Point;
 use crate::mesh::Mesh;
 use crate::safety::resultant::{resultant, Resultant};
 use crate::solve::{NewtonError, NewtonOptions, SolveError};
@@ -284,7 +285,7 @@ pub struct Stall {
     pub cells: usize,
     pub share: f64,
     /// Centre of the one with the largest η_T.
-    pub at: [f64; 2],
+    pub at: Point,
 }
 
 impl std::fmt::Display for Stall {

@@ -13,6 +13,7 @@ use crate::contact::{ContactJoint, JointLine, LoadPath, PathPoint};
 use crate::elasticity::stress::cell_mean_stress;
 use crate::elasticity::Problem;
 use crate::estimate::reference::{effectivity, Effectivity};
+use crate::geometry::Vector;
 use crate::io::atomic::{write_output, Provisional};
 use crate::io::pvd::write_pvd;
 use crate::mesh::Mesh;
@@ -417,7 +418,7 @@ impl StepWriter<'_> {
     }
 
     /// η_tot of `step` against the sharp reference of its residual.
-    fn reference(&self, step: &Step, u: &[[f64; 2]]) -> Result<Effectivity> {
+    fn reference(&self, step: &Step, u: &[Vector]) -> Result<Effectivity> {
         let solved = step.joint.zip(step.contact).map(|(j, c)| j.as_solved(c));
         Ok(effectivity(step.problem, u, solved.as_ref(), step.record.eta.tot)?)
     }

@@ -3,6 +3,7 @@
 
 use super::common::Input;
 use crate::contact::{ContactJoint, Uplift};
+use crate::geometry::Vector;
 use crate::mesh::Mesh;
 use crate::scene::{CrackKind, Scene, UpliftSection};
 use anyhow::{Context, Result};
@@ -108,7 +109,7 @@ fn water_lines(case: &str, scene: &Scene, mesh: &Mesh, joint: Option<&ContactJoi
 
 /// The heads and crack rule (under the acceleration `a`) of the uplift `table`, the drain line
 /// of its `diagram` and p_u at the heel, the drains and the toe, with the crack closed.
-fn uplift_line(table: Option<&UpliftSection>, diagram: &Uplift, a: [f64; 2]) -> String {
+fn uplift_line(table: Option<&UpliftSection>, diagram: &Uplift, a: Vector) -> String {
     let line = &diagram.line;
     let at = |what: &str, s: f64| {
         let x = line.point(s);

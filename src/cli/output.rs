@@ -7,7 +7,7 @@ use crate::elasticity::kernels::{principal, von_mises};
 use crate::elasticity::{Discretisation, Problem};
 use crate::estimate::estimators::{GlobalEstimators, NAMES};
 use crate::estimate::Estimate;
-use crate::geometry::norm;
+use crate::geometry::{norm, Point, Vector};
 use crate::io::atomic::Provisional;
 use crate::io::vtu::{write_boundary_vtu, write_mesh_vtu, Field};
 use crate::mesh::Mesh;
@@ -25,7 +25,7 @@ const SIGMA_H: [&str; 4] = ["sigma_h_xx", "sigma_h_xy", "sigma_h_yx", "sigma_h_y
 pub struct Results<'a> {
     pub problem: &'a Problem,
     /// Nodal displacements.
-    pub u: &'a [[f64; 2]],
+    pub u: &'a [Vector],
     /// Cell means of σ(u_h) [xx, yy, xy, zz].
     pub sigma: &'a [[f64; 4]],
     pub contact: Option<&'a ContactSolution>,
@@ -212,7 +212,7 @@ pub struct Summary<T> {
     max_displacement: f64,
     max_von_mises: f64,
     /// The centroid of the cell of `max_von_mises`, and what that value is worth.
-    max_von_mises_at: [f64; 2],
+    max_von_mises_at: Point,
     max_von_mises_note: &'static str,
     min_principal_stress: f64,
     max_principal_stress: f64,
@@ -239,7 +239,7 @@ pub struct ContactSummary {
     stress_scale: f64,
     /// Length of the zone where P_γ(u_h) < 0, and its bounding box [[x, y], [x, y]].
     pub contact_length: f64,
-    contact_extent: Option<[[f64; 2]; 2]>,
+    contact_extent: Option<[Point; 2]>,
     /// Newton steps in all on this mesh: those of `stages` and the discarded ones.
     newton_steps: usize,
     /// Newton steps of the attempts that failed and were discarded (load steps of the path
@@ -401,7 +401,7 @@ impl ContactSummary {
         let in_contact = c.nitsche.faces.iter().zip(&c.faces).filter(|(_, state)| state.contact_length > 0.0);
         let extent = in_contact.flat_map(|(face, _)| mesh.facet(face.facet)[..2].iter().map(|&n| mesh.points[n])).fold(
             None,
-            |b: Option<[[f64; 2]; 2]>, p| {
+            |b: Option<[Point; 2]>, p| {
                 let [lo, hi] = b.unwrap_or([p, p]);
                 Some([[lo[0].min(p[0]), lo[1].min(p[1])], [hi[0].max(p[0]), hi[1].max(p[1])]])
             },

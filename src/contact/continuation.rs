@@ -5,6 +5,7 @@ use super::projection::Smoothing;
 use super::{path, settle_crack, CoarseSolve, CoarseTimings, ContactError, ContactJoint, ContactProblem};
 use super::{ContactSolution, Cracks, LoadPath};
 use crate::elasticity::{nodal, Discretisation, Problem};
+use crate::geometry::Vector;
 use crate::mesh::Mesh;
 use crate::solve::{newton, NewtonError, NewtonOptions, NewtonReport};
 use std::time::Instant;
@@ -224,14 +225,14 @@ pub fn nested_start(
 /// measures slip from (None: rest), as carried to another mesh.
 pub struct CarriedState {
     pub mesh: Mesh,
-    pub u: Vec<[f64; 2]>,
-    pub slip_origin: Option<Vec<[f64; 2]>>,
+    pub u: Vec<Vector>,
+    pub slip_origin: Option<Vec<Vector>>,
 }
 
 impl CarriedState {
     /// The free unknowns of both interpolated at the nodes of `problem`.
     pub fn onto(&self, problem: &Problem, disc: &Discretisation) -> (Vec<f64>, Option<Vec<f64>>) {
-        let at = |u: &[[f64; 2]]| problem.interpolated(disc, &self.mesh, u);
+        let at = |u: &[Vector]| problem.interpolated(disc, &self.mesh, u);
         (at(&self.u), self.slip_origin.as_deref().map(at))
     }
 }

@@ -24,6 +24,7 @@
 //! none of these is a numerical failure, not a verdict.
 
 use super::{continuation_counted, newton_steps, settle_crack_to, ContactError, ContactProblem, Crack, Cracks, Stage};
+use crate::geometry::Vector;
 use crate::solve::NewtonOptions;
 use serde::Serialize;
 
@@ -63,7 +64,7 @@ pub const LIFT_OFF: f64 = 0.02;
 #[derive(Debug, Clone, Copy)]
 pub struct LoadPath {
     /// The body force per unit mass of the self-weight, (0, −g) \[m/s²\].
-    pub weight: [f64; 2],
+    pub weight: Vector,
     /// Called with every converged state (progress).
     pub trace: Option<fn(&PathPoint)>,
 }

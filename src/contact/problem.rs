@@ -7,6 +7,7 @@ use super::{path, ContactError, ContactJoint, ContactSolution, Cracks, JointLine
 use crate::elasticity::{BodyForce, Discretisation, Problem, Refined};
 use crate::fem::dofs::FIXED;
 use crate::fem::sparse::{LinearSystem, SparsePattern};
+use crate::geometry::{Point, Vector};
 use crate::mesh::Mesh;
 use crate::solve::{newton_until, LayerSchur, NewtonError, NewtonOptions, NonlinearSystem};
 use std::sync::OnceLock;
@@ -70,7 +71,7 @@ pub struct FaceState {
     /// smoothed closed indicator of docs/method.md §1.7 (the closed length at δ = 0).
     pub cohesive_length: f64,
     /// The ends of the closed part of F (from its first closed point to its last), if any.
-    pub closed: Option<[[f64; 2]; 2]>,
+    pub closed: Option<[Point; 2]>,
 }
 
 impl FaceState {
@@ -142,7 +143,7 @@ impl<'a> ContactProblem<'a> {
 
     /// Makes the loads those of the load path at λ = 1, b_w assembled from the self-weight
     /// `weight` per unit mass alone (with the Dirichlet data).
-    pub fn stage_loads(&mut self, weight: [f64; 2]) {
+    pub fn stage_loads(&mut self, weight: Vector) {
         let alone =
             Problem { neumann: Vec::new(), body_force: BodyForce::Acceleration(weight), ..self.problem.clone() };
         let weight = alone.assemble_on(self.disc, self.pattern()).rhs;
@@ -349,7 +350,7 @@ impl<'a> ContactProblem<'a> {
 /// The length of the joint open at the heel: the distance from the heel of the nearest closed
 /// point (the whole joint if none is closed).
 pub fn open_from_heel(faces: &[FaceState], line: &JointLine) -> f64 {
-    let nearest = |[a, b]: [[f64; 2]; 2]| line.distance(a).min(line.distance(b));
+    let nearest = |[a, b]: [Point; 2]| line.distance(a).min(line.distance(b));
     faces.iter().filter_map(|f| f.closed.map(nearest)).fold(line.length, f64::min).max(0.0)
 }
 
@@ -486,7 +487,7 @@ impl NonlinearSystem for ContactProblem<'_> {
         let prev = problem.displacement(disc, x_prev);
         let mut residual: Vec<f64> = problem.residual(disc, &u).iter().map(|r| -r).collect();
         let (mut r_local, mut dofs) = (vec![0.0; self.nitsche.n_local()], Vec::new());
-        let at = |nodes: &[[f64; 2]], dofs: &[usize]| dofs.iter().map(|&g| nodes[g / 2][g % 2]).collect::<Vec<f64>>();
+        let at = |nodes: &[Vector], dofs: &[usize]| dofs.iter().map(|&g| nodes[g / 2][g % 2]).collect::<Vec<f64>>();
         for k in 0..self.nitsche.faces.len() {
             self.nitsche.face_dofs(&problem.mesh, k, &mut dofs);
             let (hi, lo, hi_prev) = (at(&u.hi, &dofs), at(lo_nodes, &dofs), at(&prev, &dofs));
@@ -520,7 +521,7 @@ pub struct Linearisation<'a> {
     pub nitsche: &'a Nitsche,
     pub smoothing: Smoothing,
     /// u^{k−1} at the nodes.
-    pub u_prev: Vec<[f64; 2]>,
+    pub u_prev: Vec<Vector>,
 }
 
 impl<'a> Linearisation<'a> {

@@ -37,6 +37,7 @@
 //! conditions; the joint carries the total traction (σ'^n − p_u) ν + σ^t τ.
 
 use super::line::JointLine;
+use crate::geometry::Point;
 
 /// Drains in the joint: the distance s_d from the heel \[m\] and their efficiency E ∈ [0, 1].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -89,7 +90,7 @@ struct Piece {
 
 impl Uplift {
     /// The distance s from the heel of the point x of the joint.
-    pub fn distance(&self, x: [f64; 2]) -> f64 {
+    pub fn distance(&self, x: Point) -> f64 {
         self.line.distance(x)
     }
 

@@ -6,37 +6,37 @@
 //! and whatever reads the strain takes the nodal differences of the pair,
 //! (hi_k − hi_0) + (lo_k − lo_0), exact to ε |u_k − u_0|.
 
-use crate::geometry::norm;
+use crate::geometry::{norm, sub, Vector};
 
 /// Nodal displacements u_h = hi + lo: `hi` the double values, `lo` a correction below their
 /// rounding, or None for a plain double u_h.
 #[derive(Debug, Clone)]
 pub struct Displacement {
-    pub hi: Vec<[f64; 2]>,
-    pub lo: Option<Vec<[f64; 2]>>,
+    pub hi: Vec<Vector>,
+    pub lo: Option<Vec<Vector>>,
 }
 
-impl From<Vec<[f64; 2]>> for Displacement {
+impl From<Vec<Vector>> for Displacement {
     /// A plain double u_h.
-    fn from(hi: Vec<[f64; 2]>) -> Self {
+    fn from(hi: Vec<Vector>) -> Self {
         Displacement { hi, lo: None }
     }
 }
 
 impl Displacement {
     /// The value at node n, rounded to double.
-    pub fn value(&self, n: usize) -> [f64; 2] {
+    pub fn value(&self, n: usize) -> Vector {
         let lo = self.lo.as_ref().map_or([0.0; 2], |lo| lo[n]);
         [self.hi[n][0] + lo[0], self.hi[n][1] + lo[1]]
     }
 
     /// u_k − u_0 for the nodes k of `nodes` (0 at the first), into `out`: the differences of
     /// `hi` (exact between nearby values) plus those of `lo`.
-    pub fn relative(&self, nodes: &[usize], out: &mut Vec<[f64; 2]>) {
+    pub fn relative(&self, nodes: &[usize], out: &mut Vec<Vector>) {
         let (hi, n0) = (&self.hi, nodes[0]);
         out.clear();
         out.extend(nodes.iter().map(|&n| {
-            let lo = self.lo.as_ref().map_or([0.0; 2], |lo| [lo[n][0] - lo[n0][0], lo[n][1] - lo[n0][1]]);
+            let lo = self.lo.as_ref().map_or([0.0; 2], |lo| sub(lo[n], lo[n0]));
             [(hi[n][0] - hi[n0][0]) + lo[0], (hi[n][1] - hi[n0][1]) + lo[1]]
         }));
     }

@@ -5,15 +5,14 @@
 
 use crate::fem::lagrange;
 use crate::fem::tabulate::Tabulation;
-use crate::geometry::AffineMap;
-use crate::geometry::Segment;
+use crate::geometry::{AffineMap, Point, Segment, Vector, D};
 
 /// Element stiffness K_{2i+a, 2j+b} = ∫_T ε(φ_i e_a) : C ε(φ_j e_b), row-major in `k`: with
 /// D_kl = ∫_T ∂_k φ_i ∂_l φ_j, the 2 × 2 block of nodes (i, j) is
 /// λ D_ab + μ (δ_ab (D_00 + D_11) + D_ba). Computed for j ≥ i and mirrored, so K is exactly
 /// symmetric. `tab` must integrate degree 2(p−1) exactly; `grads` is scratch of length
 /// n_points × n_basis.
-pub fn stiffness(map: &AffineMap, tab: &Tabulation, lambda: f64, mu: f64, grads: &mut [[f64; 2]], k: &mut [f64]) {
+pub fn stiffness(map: &AffineMap, tab: &Tabulation, lambda: f64, mu: f64, grads: &mut [Vector], k: &mut [f64]) {
     let nb = tab.n_basis;
     let n = 2 * nb;
     for (g, &gr) in grads.iter_mut().zip(&tab.gradients) {
@@ -47,7 +46,7 @@ pub fn stiffness(map: &AffineMap, tab: &Tabulation, lambda: f64, mu: f64, grads:
 
 /// Element load F_{2i+a} = f_a |det J| m_i of a body force f constant on the cell, with
 /// `integrals` m_i = ∫_T̂ φ̂_i ([`Tabulation::integrals`]).
-pub fn constant_body_load(map: &AffineMap, integrals: &[f64], f: [f64; 2], out: &mut [f64]) {
+pub fn constant_body_load(map: &AffineMap, integrals: &[f64], f: Vector, out: &mut [f64]) {
     let det = map.det.abs();
     for (i, &m) in integrals.iter().enumerate() {
         out[2 * i] = f[0] * (m * det);
@@ -56,7 +55,7 @@ pub fn constant_body_load(map: &AffineMap, integrals: &[f64], f: [f64; 2], out: 
 }
 
 /// Element load F_{2i+a} = ∫_T f_a φ_i for a body force `f(x)`.
-pub fn body_load(map: &AffineMap, tab: &Tabulation, f: impl Fn([f64; 2]) -> [f64; 2], out: &mut [f64]) {
+pub fn body_load(map: &AffineMap, tab: &Tabulation, f: impl Fn(Point) -> Vector, out: &mut [f64]) {
     let nb = tab.n_basis;
     out[..2 * nb].fill(0.0);
     for q in 0..tab.n_points() {
@@ -73,10 +72,10 @@ pub fn body_load(map: &AffineMap, tab: &Tabulation, f: impl Fn([f64; 2]) -> [f64
 /// nodes are ordered (a, b, midpoint), with a rule (s, weight) on [0, 1]. `phi` is scratch of
 /// length order + 1.
 pub fn traction_load(
-    ends: [[f64; 2]; 2],
+    ends: [Point; 2],
     order: usize,
     rule: &[(f64, f64)],
-    g: impl Fn([f64; 2]) -> [f64; 2],
+    g: impl Fn(Point) -> Vector,
     phi: &mut [f64],
     out: &mut [f64],
 ) {
@@ -103,17 +102,17 @@ pub fn traction_load(
 pub fn displacement_gradient(
     map: &AffineMap,
     order: usize,
-    xi: [f64; 2],
-    u: &[[f64; 2]],
-    grads: &mut [[f64; 2]],
-) -> [[f64; 2]; 2] {
+    xi: Point,
+    u: &[Vector],
+    grads: &mut [Vector],
+) -> [Vector; D] {
     lagrange::gradients(order, xi, grads);
     let mut g = [[0.0; 2]; 2];
     for (gr, ui) in grads.iter().zip(u).skip(1) {
         let d = map.physical_gradient(*gr);
-        for a in 0..2 {
+        for a in 0..D {
             let du = ui[a] - u[0][a];
-            for b in 0..2 {
+            for b in 0..D {
                 g[a][b] += du * d[b];
             }
         }
@@ -123,7 +122,7 @@ pub fn displacement_gradient(
 
 /// Plane-strain stress σ = λ tr ε I + 2μ ε from a displacement gradient, as
 /// [σ_xx, σ_yy, σ_xy, σ_zz] with σ_zz = λ tr ε.
-pub fn stress(grad_u: [[f64; 2]; 2], lambda: f64, mu: f64) -> [f64; 4] {
+pub fn stress(grad_u: [Vector; D], lambda: f64, mu: f64) -> [f64; 4] {
     let tr = grad_u[0][0] + grad_u[1][1];
     let exy = 0.5 * (grad_u[0][1] + grad_u[1][0]);
     [lambda * tr + 2.0 * mu * grad_u[0][0], lambda * tr + 2.0 * mu * grad_u[1][1], 2.0 * mu * exy, lambda * tr]
@@ -145,6 +144,7 @@ pub fn principal(s: [f64; 4]) -> [f64; 2] {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::dot;
 
     #[test]
     fn stiffness_annihilates_rigid_motions() {
@@ -155,8 +155,8 @@ mod tests {
             let mut grads = vec![[0.0; 2]; tab.n_points() * nb];
             let mut k = vec![0.0; 4 * nb * nb];
             stiffness(&map, &tab, 2.0, 1.0, &mut grads, &mut k);
-            let nodes: Vec<[f64; 2]> = lagrange::reference_nodes(order).iter().map(|&x| map.to_physical(x)).collect();
-            let rigid = [|_: [f64; 2]| [1.0, 0.0], |_: [f64; 2]| [0.0, 1.0], |x: [f64; 2]| [-x[1], x[0]]];
+            let nodes: Vec<Point> = lagrange::reference_nodes(order).iter().map(|&x| map.to_physical(x)).collect();
+            let rigid = [|_: Point| [1.0, 0.0], |_: Point| [0.0, 1.0], |x: Point| [-x[1], x[0]]];
             for r in rigid {
                 let v: Vec<f64> = nodes.iter().flat_map(|&x| r(x)).collect();
                 for row in 0..2 * nb {
@@ -184,10 +184,10 @@ mod tests {
             let mut quadrature = vec![0.0; n * n];
             for q in 0..tab.n_points() {
                 let w = tab.weights[q] * map.det.abs();
-                let g: Vec<[f64; 2]> = tab.grad(q).iter().map(|&gr| map.physical_gradient(gr)).collect();
+                let g: Vec<Vector> = tab.grad(q).iter().map(|&gr| map.physical_gradient(gr)).collect();
                 for (r, s) in (0..n).flat_map(|r| (0..n).map(move |s| (r, s))) {
                     let (gi, gj, a, b) = (g[r / 2], g[s / 2], r % 2, s % 2);
-                    let delta = if a == b { gi[0] * gj[0] + gi[1] * gj[1] } else { 0.0 };
+                    let delta = if a == b { dot(gi, gj) } else { 0.0 };
                     quadrature[r * n + s] += (lambda * gi[a] * gj[b] + mu * (delta + gi[b] * gj[a])) * w;
                 }
             }

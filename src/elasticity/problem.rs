@@ -16,15 +16,14 @@ use crate::fem::quadrature::{gauss_segment_cached, split_rule, Rule1d};
 use crate::fem::sparse::{vector_dofs, LinearSystem, Local, SparsePattern};
 use crate::fem::tabulate::Tabulation;
 use crate::fem::transfer::interpolate_by_tag;
-use crate::geometry::AffineMap;
-use crate::geometry::{bounding_box, distance, norm};
+use crate::geometry::{bounding_box, distance, norm, AffineMap, Point, Vector, D};
 use crate::mesh::{Mesh, Topology};
 use crate::solve::{two_sum, Cholesky, SolveError};
 use rayon::prelude::*;
 use std::sync::Arc;
 
 /// A vector field x ↦ v(x).
-pub type VectorFn = Arc<dyn Fn([f64; 2]) -> [f64; 2] + Send + Sync>;
+pub type VectorFn = Arc<dyn Fn(Point) -> Vector + Send + Sync>;
 
 /// Prescribed displacement on the facets tagged `tag`, for the components marked in `fix`.
 #[derive(Clone)]
@@ -38,7 +37,7 @@ pub struct Dirichlet {
 #[derive(Clone)]
 pub enum Traction {
     /// A constant vector \[Pa\].
-    Constant([f64; 2]),
+    Constant(Vector),
     /// Water pressure p = ρ_w g (H_w − y)₊ acting along −n (g points along −y).
     Hydrostatic { density: f64, gravity: f64, level: f64 },
     /// The water pressure of `Hydrostatic` with Westergaard's added pressure of a horizontal
@@ -63,7 +62,7 @@ pub enum Traction {
 impl Traction {
     /// Parameters s ∈ (0, 1) of the segment a → b where g_N has a kink: the water level of
     /// a hydrostatic pressure. Quadrature on a facet is split there.
-    pub fn kinks(&self, [a, b]: [[f64; 2]; 2]) -> Vec<f64> {
+    pub fn kinks(&self, [a, b]: [Point; 2]) -> Vec<f64> {
         let at_level = |level: f64| {
             let s = (level - a[1]) / (b[1] - a[1]);
             (b[1] != a[1] && s > 0.0 && s < 1.0).then_some(s)
@@ -92,7 +91,7 @@ impl Traction {
     }
 
     /// g_N at point x of a facet with outward normal n.
-    pub fn at(&self, x: [f64; 2], n: [f64; 2]) -> [f64; 2] {
+    pub fn at(&self, x: Point, n: Vector) -> Vector {
         match self {
             Traction::Constant(t) => *t,
             Traction::Hydrostatic { density, gravity, level } => {
@@ -116,7 +115,7 @@ impl Traction {
 
     /// Westergaard's added pressure of g_N at x, −(7/8) a_n cos θ ρ_w g √(H z) n, cos θ = |n_x|
     /// (0 for the other tractions).
-    pub fn hydrodynamic(&self, x: [f64; 2], n: [f64; 2]) -> [f64; 2] {
+    pub fn hydrodynamic(&self, x: Point, n: Vector) -> Vector {
         match self {
             Traction::Westergaard { density, gravity, level, depth, acceleration } => {
                 let z = (level - x[1]).max(0.0);
@@ -152,7 +151,7 @@ pub enum BodyForce {
     None,
     /// f = ρ a with the density of each material: self-weight for a = (0, −g), plus a
     /// pseudo-static acceleration.
-    Acceleration([f64; 2]),
+    Acceleration(Vector),
     Field(VectorFn),
 }
 
@@ -177,7 +176,7 @@ pub fn load_degree(order: usize) -> usize {
 /// The rule (s, weight) on [0, 1] for tractions (g_N, v)_F on the facet with end points
 /// `ends`: p + 4 Gauss points on each piece between the kinks of g_N. The estimator uses the
 /// same rule.
-pub fn traction_rule(traction: &Traction, ends: [[f64; 2]; 2], order: usize) -> Vec<(f64, f64)> {
+pub fn traction_rule(traction: &Traction, ends: [Point; 2], order: usize) -> Vec<(f64, f64)> {
     let gauss = gauss_segment_cached(order + 4);
     match traction.westergaard_level() {
         Some(level) => graded_at_surface(gauss, traction.kinks(ends), ends, level),
@@ -188,7 +187,7 @@ pub fn traction_rule(traction: &Traction, ends: [[f64; 2]; 2], order: usize) -> 
 /// The rule of [`split_rule`], but on a wet piece whose shallow end e lies at the water surface
 /// (√z there) in s = e + (f − e) u², f the deep end: √z ∝ u, so the integrand is a
 /// polynomial in u, which the p + 4 Gauss points in u integrate exactly for p ≤ 2.
-fn graded_at_surface(gauss: &Rule1d, mut cuts: Vec<f64>, ends: [[f64; 2]; 2], level: f64) -> Vec<(f64, f64)> {
+fn graded_at_surface(gauss: &Rule1d, mut cuts: Vec<f64>, ends: [Point; 2], level: f64) -> Vec<(f64, f64)> {
     let depth = |s: f64| level - (ends[0][1] + s * (ends[1][1] - ends[0][1]));
     cuts.extend([0.0, 1.0]);
     cuts.sort_by(f64::total_cmp);
@@ -256,7 +255,7 @@ impl CellKernel {
 
 impl Problem {
     /// The body force f(x) [N/m³] at the point `x` of cell `c`.
-    pub fn body_force_at(&self, c: usize, x: [f64; 2]) -> [f64; 2] {
+    pub fn body_force_at(&self, c: usize, x: Point) -> Vector {
         match &self.body_force {
             BodyForce::None => [0.0; 2],
             BodyForce::Acceleration(a) => a.map(|a| self.materials[c].density * a),
@@ -303,7 +302,7 @@ impl Problem {
             for f in (0..self.mesh.n_facets()).filter(|&f| self.mesh.facet_tags[f] == bc.tag) {
                 for &n in self.mesh.facet(f) {
                     let g = (bc.value)(self.mesh.points[n]);
-                    constraints.extend((0..2).filter(|&a| bc.fix[a]).map(|a| (2 * n + a, g[a])));
+                    constraints.extend((0..D).filter(|&a| bc.fix[a]).map(|a| (2 * n + a, g[a])));
                 }
             }
         }
@@ -418,7 +417,7 @@ impl Problem {
 
     /// The resultant of the loads, ∫_Ω f + ∫_{Γ_N} g_N \[N/m\]: the sum of the load vector's
     /// components (the basis is a partition of unity).
-    pub fn load_resultant(&self, topology: &Topology) -> [f64; 2] {
+    pub fn load_resultant(&self, topology: &Topology) -> Vector {
         let mut resultant = [0.0; 2];
         let mut add = |load: &[f64]| load.iter().enumerate().for_each(|(i, v)| resultant[i % 2] += v);
         if !matches!(self.body_force, BodyForce::None) {
@@ -462,18 +461,18 @@ impl Problem {
     /// `supports` (point, unit normal) leave free, if any, in words. The functionals
     /// r ↦ r_a(x_n) of the constrained dofs and r ↦ r(x)·n of the supports must span the
     /// 3-dimensional space of rigid motions: their Gram matrix must be nonsingular.
-    pub fn free_rigid_motion(&self, supports: &[([f64; 2], [f64; 2])]) -> Option<String> {
+    pub fn free_rigid_motion(&self, supports: &[(Point, Vector)]) -> Option<String> {
         self.free_rigid_motion_of(&vec![true; self.mesh.n_points()], supports)
     }
 
     /// [`Problem::free_rigid_motion`] of the body of the nodes marked in `body`: its Dirichlet
     /// nodes and the `supports` (which the caller takes on that body).
-    pub fn free_rigid_motion_of(&self, body: &[bool], supports: &[([f64; 2], [f64; 2])]) -> Option<String> {
+    pub fn free_rigid_motion_of(&self, body: &[bool], supports: &[(Point, Vector)]) -> Option<String> {
         let mesh = &self.mesh;
-        let points: Vec<[f64; 2]> = (0..mesh.n_points()).filter(|&k| body[k]).map(|k| mesh.points[k]).collect();
+        let points: Vec<Point> = (0..mesh.n_points()).filter(|&k| body[k]).map(|k| mesh.points[k]).collect();
         let n = points.len() as f64;
         let centre = points.iter().fold([0.0; 2], |c, p| [c[0] + p[0] / n, c[1] + p[1] / n]);
-        let size = points.iter().map(|p| crate::geometry::distance(*p, centre)).fold(f64::MIN_POSITIVE, f64::max);
+        let size = points.iter().map(|p| distance(*p, centre)).fold(f64::MIN_POSITIVE, f64::max);
         let fixed = self.dirichlet.iter().flat_map(|bc| {
             let facets = (0..mesh.n_facets()).filter(move |&f| mesh.facet_tags[f] == bc.tag);
             facets.flat_map(|f| mesh.facet(f).iter()).filter(|&&node| body[node]).flat_map(move |&node| {
@@ -491,7 +490,7 @@ impl Problem {
     }
 
     /// Nodal displacements from the free unknowns.
-    pub fn displacement(&self, disc: &Discretisation, x: &[f64]) -> Vec<[f64; 2]> {
+    pub fn displacement(&self, disc: &Discretisation, x: &[f64]) -> Vec<Vector> {
         nodal(&disc.dofs.expand(x))
     }
 
@@ -499,7 +498,7 @@ impl Problem {
     /// problem's mesh (its Dirichlet values are this problem's), each node from the cells of
     /// `old` with the physical surface of its own cells: the two copies of a node on a joint
     /// between two bodies take the values of their own sides.
-    pub fn interpolated(&self, disc: &Discretisation, old: &Mesh, u: &[[f64; 2]]) -> Vec<f64> {
+    pub fn interpolated(&self, disc: &Discretisation, old: &Mesh, u: &[Vector]) -> Vec<f64> {
         let mesh = &self.mesh;
         let mut tags = vec![0; mesh.n_points()];
         for c in 0..mesh.n_cells() {
@@ -519,6 +518,6 @@ impl Problem {
 }
 
 /// The nodal displacements of the values `u_full` of every dof (2i + a).
-pub fn nodal(u_full: &[f64]) -> Vec<[f64; 2]> {
+pub fn nodal(u_full: &[f64]) -> Vec<Vector> {
     u_full.chunks_exact(2).map(|u| [u[0], u[1]]).collect()
 }

@@ -1,6 +1,7 @@
 //! Rigid motions of the plane, r(x) = (a_x − b p_y, a_y + b p_x) with p = (x − x₀)/L, and the
 //! constraints r ↦ r(x)·d that hold them (fixed displacement components, normal supports).
 
+use crate::geometry::{Point, Vector};
 use nalgebra::{Matrix3, Vector3};
 
 /// The rigid motions (a_x, a_y, b) that the functionals r ↦ r(x)·d of `constraints`
@@ -8,11 +9,7 @@ use nalgebra::{Matrix3, Vector3};
 /// Gram matrix Σ v vᵀ, v = (d_x, d_y, −p_y d_x + p_x d_y), whose eigenvalues are round-off,
 /// ≤ 10⁻¹⁰ (1 + the largest). Points are scaled by the `origin` x₀ and `size` L, so b is a
 /// rotation per unit of L.
-pub fn free_motions(
-    constraints: impl IntoIterator<Item = ([f64; 2], [f64; 2])>,
-    origin: [f64; 2],
-    size: f64,
-) -> Vec<[f64; 3]> {
+pub fn free_motions(constraints: impl IntoIterator<Item = (Point, Vector)>, origin: Point, size: f64) -> Vec<[f64; 3]> {
     let mut gram = Matrix3::<f64>::zeros();
     for (x, d) in constraints {
         let (px, py) = ((x[0] - origin[0]) / size, (x[1] - origin[1]) / size);

@@ -3,11 +3,11 @@
 use super::kernels::{displacement_gradient, stress};
 use super::problem::Problem;
 use crate::fem::lagrange;
-use crate::geometry::AffineMap;
+use crate::geometry::{AffineMap, Vector};
 
 /// Cell mean of σ(u_h) as [σ_xx, σ_yy, σ_xy, σ_zz]. For p ≤ 2, σ(u_h) is affine on each
 /// cell, so its mean is its value at the centroid.
-pub fn cell_mean_stress(problem: &Problem, u: &[[f64; 2]]) -> Vec<[f64; 4]> {
+pub fn cell_mean_stress(problem: &Problem, u: &[Vector]) -> Vec<[f64; 4]> {
     let mesh = &problem.mesh;
     let mut grads = vec![[0.0; 2]; lagrange::n_basis(mesh.order)];
     let mut nodal = Vec::with_capacity(grads.len());

@@ -13,7 +13,7 @@
 
 use crate::fem::lagrange;
 use crate::fem::quadrature::{gauss_segment_cached, triangle_cached};
-use crate::geometry::AffineMap;
+use crate::geometry::{AffineMap, Point, Vector};
 use std::sync::OnceLock;
 
 /// Number of stress components.
@@ -25,7 +25,7 @@ pub fn n_lower(order: usize) -> usize {
 }
 
 /// The P_{p−1} basis at reference point ξ: the constant 1 for p = 1, Lagrange P1 for p = 2.
-pub fn lower_values(order: usize, xi: [f64; 2], out: &mut [f64]) {
+pub fn lower_values(order: usize, xi: Point, out: &mut [f64]) {
     if order == 1 {
         out[0] = 1.0;
     } else {
@@ -35,7 +35,7 @@ pub fn lower_values(order: usize, xi: [f64; 2], out: &mut [f64]) {
 
 /// Reference nodes of the P_{p−1} basis (the centroid for p = 1): a P1 field z is
 /// z = Σ_m z(x_m) ψ_m for p = 2, and Π⁰z = z(centroid) for p = 1.
-pub fn lower_nodes(order: usize) -> &'static [[f64; 2]] {
+pub fn lower_nodes(order: usize) -> &'static [Point] {
     if order == 1 {
         &[[1.0 / 3.0, 1.0 / 3.0]]
     } else {
@@ -133,7 +133,7 @@ fn quadrature_integrals(order: usize, map: &AffineMap) -> CellIntegrals {
 
 /// ∫_F φ_k q_m over the edge from reference point `a` to `b` of a cell, with q_m the
 /// Lagrange P_p basis of the edge (ends, then midpoint), at `[m · n_basis + k]`.
-pub fn face_moments(order: usize, a: [f64; 2], b: [f64; 2], length: f64) -> Vec<f64> {
+pub fn face_moments(order: usize, a: Point, b: Point, length: f64) -> Vec<f64> {
     let nb = lagrange::n_basis(order);
     let rule = gauss_segment_cached(order + 2);
     let (mut phi, mut q) = ([0.0; 6], [0.0; 3]);
@@ -165,7 +165,7 @@ pub fn edge_moments(order: usize, a: usize, b: usize) -> &'static [f64] {
 
 /// The stress with coefficients `s` (layout of the module doc) at reference point ξ, as
 /// [τ_xx, τ_xy, τ_yx, τ_yy].
-pub fn evaluate(order: usize, s: &[f64], xi: [f64; 2]) -> [f64; 4] {
+pub fn evaluate(order: usize, s: &[f64], xi: Point) -> [f64; 4] {
     let nb = lagrange::n_basis(order);
     let mut phi = [0.0; 6];
     lagrange::values(order, xi, &mut phi[..nb]);
@@ -177,7 +177,7 @@ pub fn evaluate(order: usize, s: &[f64], xi: [f64; 2]) -> [f64; 4] {
 }
 
 /// Row-wise divergence ∇·τ at reference point ξ of the cell mapped by `map`.
-pub fn divergence(order: usize, map: &AffineMap, s: &[f64], xi: [f64; 2]) -> [f64; 2] {
+pub fn divergence(order: usize, map: &AffineMap, s: &[f64], xi: Point) -> Vector {
     let nb = lagrange::n_basis(order);
     let mut grad = [[0.0; 2]; 6];
     lagrange::gradients(order, xi, &mut grad[..nb]);

@@ -15,9 +15,7 @@ use crate::elasticity::stress::cell_mean_stress;
 use crate::elasticity::{Displacement, Problem};
 use crate::fem::lagrange;
 use crate::fem::quadrature::{gauss_segment_cached, triangle_cached};
-use crate::geometry::dot;
-use crate::geometry::AffineMap;
-use crate::geometry::Segment;
+use crate::geometry::{distance, dot, AffineMap, Point, Segment, Vector, D};
 use crate::mesh::topology::NONE;
 use crate::mesh::Topology;
 use rayon::prelude::*;
@@ -42,7 +40,7 @@ pub struct Equilibration {
     /// Where each condition above is violated most: a cell centroid, an edge midpoint or a
     /// patch vertex, in the order of the fields.
     #[serde(skip)]
-    pub at: [[f64; 2]; 6],
+    pub at: [Point; 6],
 }
 
 /// The condition of each [`Equilibration`] field, in their order.
@@ -59,11 +57,11 @@ const CONDITIONS: [&str; 6] = [
 #[derive(Debug, Clone, Copy, Default)]
 struct Worst {
     value: f64,
-    at: [f64; 2],
+    at: Point,
 }
 
 impl Worst {
-    fn max(self, value: f64, at: [f64; 2]) -> Worst {
+    fn max(self, value: f64, at: Point) -> Worst {
         if value > self.value {
             Worst { value, at }
         } else {
@@ -84,7 +82,7 @@ pub struct Violation {
     pub condition: &'static str,
     /// Relative size of the violation.
     pub value: f64,
-    pub at: [f64; 2],
+    pub at: Point,
 }
 
 impl Equilibration {
@@ -192,12 +190,6 @@ pub fn representation_bound(problem: &Problem, u: &Displacement, contact: Option
     resolution * defect / stress.max(f64::MIN_POSITIVE)
 }
 
-/// The centroid of cell c.
-fn centroid(problem: &Problem, c: usize) -> [f64; 2] {
-    let v = problem.mesh.cell_vertices(c);
-    [(v[0][0] + v[1][0] + v[2][0]) / 3.0, (v[0][1] + v[1][1] + v[2][1]) / 3.0]
-}
-
 /// The divergence check, ‖∇·σ_h + Π^{p−1} f‖_T relative to the scale of the terms, and the
 /// weak-symmetry check, max_T |(σ_h, ψ_m J)_T| / (‖σ_h‖_T ‖ψ_m‖_T), cell by cell in parallel.
 fn cell_checks(problem: &Problem, rec: &Reconstruction) -> (Worst, Worst) {
@@ -209,7 +201,7 @@ fn cell_checks(problem: &Problem, rec: &Reconstruction) -> (Worst, Worst) {
             let ints = afw::cell_integrals(problem.mesh.order, &map);
             let sigma = rec.total(c);
             let (defect, scale) = divergence(problem, c, &map, &ints, &sigma);
-            let at = centroid(problem, c);
+            let at = problem.mesh.cell_centroid(c);
             (Worst::default().max(defect, at), scale, Worst::default().max(weak_symmetry(problem, &ints, &sigma), at))
         })
         .reduce(identity, |a, b| (a.0.larger(b.0), a.1.max(b.1), a.2.larger(b.2)));
@@ -224,14 +216,14 @@ fn divergence(problem: &Problem, c: usize, map: &AffineMap, ints: &afw::CellInte
     let nl = afw::n_lower(order);
     let rule = triangle_cached(volume_degree(problem));
     let gram = nalgebra::DMatrix::from_row_slice(nl, nl, &ints.lower_gram).cholesky().expect("positive definite");
-    let f = |x: [f64; 2]| problem.body_force_at(c, x);
+    let f = |x: Point| problem.body_force_at(c, x);
     let mut psi = [0.0; 3];
     let mut moments = [nalgebra::DVector::zeros(nl), nalgebra::DVector::zeros(nl)];
     let (mut defect, mut size, mut norm_sigma) = (0.0, 0.0, 0.0);
     for (&xi, &w) in rule.points.iter().zip(&rule.weights) {
         afw::lower_values(order, xi, &mut psi[..nl]);
         let fx = f(map.to_physical(xi));
-        for i in 0..2 {
+        for i in 0..D {
             for m in 0..nl {
                 moments[i][m] += fx[i] * psi[m] * w * map.det.abs();
             }
@@ -243,7 +235,7 @@ fn divergence(problem: &Problem, c: usize, map: &AffineMap, ints: &afw::CellInte
         let div = afw::divergence(order, map, sigma, xi);
         let t = afw::evaluate(order, sigma, xi);
         let w = w * map.det.abs();
-        for i in 0..2 {
+        for i in 0..D {
             let pf: f64 = (0..nl).map(|m| alpha[i][m] * psi[m]).sum();
             defect += (div[i] + pf).powi(2) * w;
             size += pf * pf * w;
@@ -299,29 +291,29 @@ impl<'a> Traces<'a> {
     }
 
     /// Points of facet e: (s, weight · |F|) and the physical ends.
-    fn rule(&self, e: usize) -> (Vec<(f64, f64)>, [[f64; 2]; 2]) {
+    fn rule(&self, e: usize) -> (Vec<(f64, f64)>, [Point; 2]) {
         let mesh = &self.problem.mesh;
         let [a, b] = self.topology.facets[e];
         let ends = [mesh.points[a], mesh.points[b]];
-        let length = crate::geometry::distance(ends[0], ends[1]);
+        let length = distance(ends[0], ends[1]);
         let rule = gauss_segment_cached(mesh.order + 2);
         (rule.points.iter().zip(&rule.weights).map(|(&s, &w)| (s, w * length)).collect(), ends)
     }
 
     /// σ_h n_e (n_e the normal of the facet's ends a → b, rotated clockwise) of cell c, with
     /// the coefficients `sigma` of σ_h there, at s.
-    fn trace(&self, e: usize, c: usize, sigma: &[f64], s: f64) -> [f64; 2] {
+    fn trace(&self, e: usize, c: usize, sigma: &[f64], s: f64) -> Vector {
         let mesh = &self.problem.mesh;
         let [a, b] = self.topology.facets[e];
         let (pa, pb) = (mesh.points[a], mesh.points[b]);
-        let length = crate::geometry::distance(pa, pb);
+        let length = distance(pa, pb);
         let n = [(pb[1] - pa[1]) / length, -(pb[0] - pa[0]) / length];
         let t = afw::evaluate(mesh.order, sigma, reference_point(mesh.cell(c), a, b, s));
         [t[0] * n[0] + t[1] * n[1], t[2] * n[0] + t[3] * n[1]]
     }
 
     /// ‖σ_h n − g‖_F on facet e from cell c, for a field g(s).
-    fn norm(&self, e: usize, c: usize, g: impl Fn(f64) -> [f64; 2]) -> f64 {
+    fn norm(&self, e: usize, c: usize, g: impl Fn(f64) -> Vector) -> f64 {
         let (rule, _) = self.rule(e);
         let sigma = self.rec.total(c);
         rule.iter()
@@ -339,7 +331,7 @@ impl<'a> Traces<'a> {
     }
 
     /// The midpoint of facet e.
-    fn midpoint(&self, e: usize) -> [f64; 2] {
+    fn midpoint(&self, e: usize) -> Point {
         let [a, b] = self.topology.facets[e].map(|n| self.problem.mesh.points[n]);
         Segment::new(a, b).point(0.5)
     }
@@ -370,7 +362,7 @@ impl<'a> Traces<'a> {
             let e = self.topology.tagged_facet[f];
             let c = self.topology.tagged_cell(f);
             let (_, ends) = self.rule(e);
-            let length = crate::geometry::distance(ends[0], ends[1]);
+            let length = distance(ends[0], ends[1]);
             let rule: Vec<(f64, f64)> =
                 traction_rule(&bc.traction, ends, mesh.order).into_iter().map(|(s, w)| (s, w * length)).collect();
             let normal = self.topology.outward_normal(mesh, f);
@@ -381,7 +373,7 @@ impl<'a> Traces<'a> {
             let sign = if dot(own, normal) > 0.0 { 1.0 } else { -1.0 };
             let sigma = self.rec.total(c);
             let mut defect = 0.0;
-            for i in 0..2 {
+            for i in 0..D {
                 let w: Vec<f64> = rule.iter().map(|&(s, _)| sign * self.trace(e, c, &sigma, s)[i]).collect();
                 let g: Vec<f64> = rule
                     .iter()
@@ -398,7 +390,7 @@ impl<'a> Traces<'a> {
 /// Reference coordinates of the point x_a + s (x_b − x_a) of the edge (a, b) of a cell with
 /// the nodes `cell`, from the reference vertices of a and b: exact, where J⁻¹(x − x₀) loses
 /// ε |x| / h_T relative to a cell of size h_T far from the origin.
-fn reference_point(cell: &[usize], a: usize, b: usize, s: f64) -> [f64; 2] {
+fn reference_point(cell: &[usize], a: usize, b: usize, s: f64) -> Point {
     let (xa, xb) = (lagrange::reference_vertex(cell, a), lagrange::reference_vertex(cell, b));
     [xa[0] + s * (xb[0] - xa[0]), xa[1] + s * (xb[1] - xa[1])]
 }
@@ -413,7 +405,7 @@ fn contact_traces(problem: &Problem, rec: &Reconstruction, facets: &[SampledFace
         let projection = FaceProjection::new(mesh.order, &rule);
         for i in 0..3 {
             let mut defect = 0.0;
-            for j in 0..2 {
+            for j in 0..D {
                 let w: Vec<f64> = samples
                     .iter()
                     .map(|p| {

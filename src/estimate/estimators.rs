@@ -23,8 +23,7 @@ use crate::elasticity::kernels::{displacement_gradient, stress};
 use crate::elasticity::{BodyForce, Displacement, Problem, Traction};
 use crate::fem::lagrange;
 use crate::fem::quadrature::{gauss_segment_cached, split_rule, triangle_cached};
-use crate::geometry::AffineMap;
-use crate::geometry::Segment;
+use crate::geometry::{AffineMap, Point, Segment, Vector, D};
 use crate::mesh::Topology;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -173,7 +172,7 @@ fn oscillation(problem: &Problem) -> Vec<f64> {
             let gram =
                 nalgebra::DMatrix::from_row_slice(nl, nl, &ints.lower_gram).cholesky().expect("positive definite");
             let mut psi = [0.0; 3];
-            let samples: Vec<([f64; 2], [f64; 3], f64)> = rule
+            let samples: Vec<(Vector, [f64; 3], f64)> = rule
                 .points
                 .iter()
                 .zip(&rule.weights)
@@ -183,7 +182,7 @@ fn oscillation(problem: &Problem) -> Vec<f64> {
                 })
                 .collect();
             let mut error = 0.0;
-            for i in 0..2 {
+            for i in 0..D {
                 let moments =
                     nalgebra::DVector::from_fn(nl, |m, _| samples.iter().map(|(fx, p, w)| fx[i] * p[m] * w).sum());
                 let alpha = gram.solve(&moments);
@@ -198,7 +197,7 @@ fn oscillation(problem: &Problem) -> Vec<f64> {
 }
 
 /// Whether a traction is a polynomial of degree ≤ p on the face with end points `ends`.
-fn polynomial_on_face(traction: &Traction, ends: [[f64; 2]; 2]) -> bool {
+fn polynomial_on_face(traction: &Traction, ends: [Point; 2]) -> bool {
     match traction {
         Traction::Constant(_) => true,
         Traction::Hydrostatic { level, .. } | Traction::Silt { level, .. } => {
@@ -229,9 +228,9 @@ fn neumann(problem: &Problem, topology: &Topology) -> Vec<f64> {
             let points: Vec<(f64, f64)> =
                 split_rule(rule, bc.traction.kinks(ends)).into_iter().map(|(s, w)| (s, w * h_f)).collect();
             let projection = FaceProjection::new(mesh.order, &points);
-            let g: Vec<[f64; 2]> =
+            let g: Vec<Vector> =
                 points.iter().map(|&(s, _)| bc.traction.at(Segment::new(ends[0], ends[1]).point(s), normal)).collect();
-            let error = (0..2)
+            let error = (0..D)
                 .map(|i| projection.oscillation(&g.iter().map(|v| v[i]).collect::<Vec<_>>()).powi(2))
                 .sum::<f64>()
                 .sqrt();
@@ -252,14 +251,14 @@ fn contact_facet_terms(problem: &Problem, rec: &Reconstruction, facets: &[Sample
         let t1 = |j: usize| samples.iter().map(|p| p.t[0][j]).collect::<Vec<_>>();
         e.disc[facet.cell] += root_h * projection.oscillation(&t1(0)).hypot(projection.oscillation(&t1(1)));
         for (i, eta) in [(1, &mut e.reg), (2, &mut e.lin)] {
-            let traction: Vec<[f64; 2]> = samples
+            let traction: Vec<Vector> = samples
                 .iter()
                 .map(|p| {
                     let t = afw::evaluate(mesh.order, rec.cell(i, facet.cell), facet.reference_point(mesh, p.r));
                     [t[0] * facet.normal[0] + t[1] * facet.normal[1], t[2] * facet.normal[0] + t[3] * facet.normal[1]]
                 })
                 .collect();
-            let norm = (0..2)
+            let norm = (0..D)
                 .map(|j| projection.norm(&traction.iter().map(|v| v[j]).collect::<Vec<_>>()).powi(2))
                 .sum::<f64>()
                 .sqrt();

@@ -16,7 +16,7 @@ use crate::contact::Linearisation;
 use crate::elasticity::Displacement;
 use crate::fem::lagrange::reference_vertex;
 use crate::fem::quadrature::gauss_segment_cached;
-use crate::geometry::{distance, dot, sub, Segment};
+use crate::geometry::{distance, dot, sub, Point, Segment, Vector};
 use crate::mesh::{Mesh, Topology};
 use rayon::prelude::*;
 use std::collections::HashMap;
@@ -30,7 +30,7 @@ pub struct ContactFacet {
     pub ends: [usize; 2],
     /// |F| and the outward unit normal of `cell`.
     pub length: f64,
-    pub normal: [f64; 2],
+    pub normal: Vector,
     pieces: Vec<Piece>,
 }
 
@@ -48,7 +48,7 @@ struct Piece {
 pub struct Sample {
     pub r: f64,
     pub weight: f64,
-    pub t: [[f64; 2]; 3],
+    pub t: [Vector; 3],
 }
 
 /// The facets of Γ_C of `state`: one per contact face on a rigid foundation; on a joint, the
@@ -105,7 +105,7 @@ fn new_facet(mesh: &Mesh, index: usize, cell: usize, ends: [usize; 2]) -> Contac
 
 /// The facet parameter of the reference point ξ of `cell` on the facet with nodes `ends`,
 /// taken in reference coordinates (exact for ξ on the facet, with no rounding of |x|).
-fn parameter(mesh: &Mesh, cell: usize, ends: [usize; 2], xi: [f64; 2]) -> f64 {
+fn parameter(mesh: &Mesh, cell: usize, ends: [usize; 2], xi: Point) -> f64 {
     let [a, b] = ends.map(|n| reference_vertex(mesh.cell(cell), n));
     let d = sub(b, a);
     dot(sub(xi, a), d) / dot(d, d)
@@ -113,13 +113,13 @@ fn parameter(mesh: &Mesh, cell: usize, ends: [usize; 2], xi: [f64; 2]) -> f64 {
 
 impl ContactFacet {
     /// The reference point of `cell` at facet parameter r.
-    pub fn reference_point(&self, mesh: &Mesh, r: f64) -> [f64; 2] {
+    pub fn reference_point(&self, mesh: &Mesh, r: f64) -> Point {
         let [a, b] = self.ends.map(|n| reference_vertex(mesh.cell(self.cell), n));
         Segment::new(a, b).point(r)
     }
 
     /// The physical midpoint, where a violation on the facet is reported.
-    pub fn midpoint(&self, mesh: &Mesh) -> [f64; 2] {
+    pub fn midpoint(&self, mesh: &Mesh) -> Point {
         Segment::new(mesh.points[self.ends[0]], mesh.points[self.ends[1]]).point(0.5)
     }
 
@@ -174,7 +174,7 @@ fn uncovered(mut intervals: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
 /// `u` and `u_prev` of its cells and the increment `step` = u − u_prev: the exact traction, the
 /// smoothing's part and the linearisation's part, t₁ + t₂ + t₃ the traction of the Newton step
 /// (docs/method.md §4.3).
-fn tractions(c: &Linearisation, k: usize, s: f64, [u, u_prev, step]: [&FaceDisplacement; 3]) -> [[f64; 2]; 3] {
+fn tractions(c: &Linearisation, k: usize, s: f64, [u, u_prev, step]: [&FaceDisplacement; 3]) -> [Vector; 3] {
     let point = c.nitsche.point(k, s);
     let exact = c.nitsche.traction(k, &point, u, Smoothing::NONE);
     let regularised = c.nitsche.traction(k, &point, u, c.smoothing);

@@ -24,7 +24,7 @@ use crate::elasticity::rigid;
 use crate::elasticity::{Displacement, Problem, Traction};
 use crate::fem::lagrange;
 use crate::fem::quadrature::triangle_cached;
-use crate::geometry::AffineMap;
+use crate::geometry::{distance, AffineMap, Point, Segment, Vector, D};
 use crate::mesh::topology::NONE;
 use crate::mesh::{Mesh, Topology};
 use rayon::prelude::*;
@@ -39,7 +39,7 @@ pub struct Reconstruction {
     /// (after the p = 1 rotation correction), relative to the largest of its terms.
     pub compatibility: f64,
     /// The vertex of the patch where that residual is largest.
-    pub compatibility_at: [f64; 2],
+    pub compatibility_at: Point,
 }
 
 impl Reconstruction {
@@ -166,7 +166,7 @@ pub(crate) fn reconstruct_sampled(
     let nb = lagrange::n_basis(order);
     let n = COMPONENTS * nb;
     let mut sigma = [vec![0.0; mesh.n_cells() * n], vec![0.0; mesh.n_cells() * n], vec![0.0; mesh.n_cells() * n]];
-    let (mut defect, mut scale, mut compatibility_at): (f64, f64, [f64; 2]) = (0.0, 0.0, [0.0; 2]);
+    let (mut defect, mut scale, mut compatibility_at): (f64, f64, Point) = (0.0, 0.0, [0.0; 2]);
     for (k, solution) in results.into_iter().enumerate() {
         if solution.compatibility.0 > defect {
             (defect, compatibility_at) = (solution.compatibility.0, mesh.points[topology.vertices[k]]);
@@ -209,12 +209,12 @@ fn facet_roles(problem: &Problem, topology: &Topology, facets: &[SampledFacet]) 
 }
 
 /// ψ_a (barycentric coordinate of local vertex `ia`) at reference point ξ.
-fn hat(ia: usize, xi: [f64; 2]) -> f64 {
+fn hat(ia: usize, xi: Point) -> f64 {
     [1.0 - xi[0] - xi[1], xi[0], xi[1]][ia]
 }
 
 /// Reference gradient of the barycentric coordinate of local vertex `ia`.
-fn hat_gradient(ia: usize) -> [f64; 2] {
+fn hat_gradient(ia: usize) -> Vector {
     [[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]][ia]
 }
 
@@ -291,7 +291,7 @@ fn volume_data(ctx: &Context, c: usize) -> Vec<f64> {
     let (lambda, mu) = material.lame();
     let mut nodal = Vec::new();
     ctx.u.relative(mesh.cell(c), &mut nodal);
-    let grad_hat: [[f64; 2]; 3] = std::array::from_fn(|ia| map.physical_gradient(hat_gradient(ia)));
+    let grad_hat: [Vector; 3] = std::array::from_fn(|ia| map.physical_gradient(hat_gradient(ia)));
     let rule = triangle_cached(volume_degree(ctx.problem));
     let (mut phi, mut psi, mut grads) = ([0.0; 6], [0.0; 3], [[0.0; 2]; 6]);
     let mut out = vec![0.0; 3 * (wt + wd)];
@@ -310,7 +310,7 @@ fn volume_data(ctx: &Context, c: usize) -> Vec<f64> {
                     target[cc * nb + kk] += h * sigma[cc] * phi[kk] * w; // (ψ_a σ(u_h), φ_k E_c)
                 }
             }
-            for i in 0..2 {
+            for i in 0..D {
                 let g = -h * f[i] + sigma[2 * i] * grad_hat[ia][0] + sigma[2 * i + 1] * grad_hat[ia][1]; // g_a,i
                 for m in 0..nl {
                     divergence[m * 2 + i] += g * psi[m] * w;
@@ -322,7 +322,7 @@ fn volume_data(ctx: &Context, c: usize) -> Vec<f64> {
 }
 
 /// A Dirichlet face of a patch: its end points and its fixed components.
-type FixedFace = ([[f64; 2]; 2], [bool; 2]);
+type FixedFace = ([Point; 2], [bool; 2]);
 
 /// The faces of the patch with `cases` right-hand sides and the (face end points, fixed
 /// components) of its Dirichlet faces.
@@ -341,8 +341,8 @@ fn patch_faces(ctx: &Context, a: usize, cells: &[usize], cases: usize) -> (Vec<P
             seen.push(e);
             let [va, vb] = mesh.cell_type().facets()[i];
             let (pa, pb) = (mesh.points[vertices[va]], mesh.points[vertices[vb]]);
-            let length = crate::geometry::distance(pa, pb);
-            let normal = outward(pa, pb, mesh.points[vertices[i]]);
+            let length = distance(pa, pb);
+            let normal = Segment::new(pa, pb).outward_normal(mesh.points[vertices[i]]);
             let contains_a = vertices[i] != a;
             let other = ctx.topology.facet_cells[e].into_iter().find(|&o| o != c && o != NONE);
             let moments0 = edge_moments(mesh.order, va, vb);
@@ -376,17 +376,6 @@ fn patch_faces(ctx: &Context, a: usize, cells: &[usize], cases: usize) -> (Vec<P
     (faces, fixed)
 }
 
-/// Unit normal of the segment a → b pointing away from `inside`.
-fn outward(a: [f64; 2], b: [f64; 2], inside: [f64; 2]) -> [f64; 2] {
-    let length = crate::geometry::distance(a, b);
-    let n = [(b[1] - a[1]) / length, -(b[0] - a[0]) / length];
-    if (inside[0] - a[0]) * n[0] + (inside[1] - a[1]) * n[1] > 0.0 {
-        [-n[0], -n[1]]
-    } else {
-        n
-    }
-}
-
 /// The trace condition of a boundary face containing a with `cases` right-hand sides (None:
 /// Dirichlet in both components).
 fn boundary_trace(
@@ -394,7 +383,7 @@ fn boundary_trace(
     e: usize,
     a: usize,
     ends: [usize; 2],
-    normal: [f64; 2],
+    normal: Vector,
     cases: usize,
 ) -> Option<FaceKind> {
     let order = ctx.problem.mesh.order;
@@ -416,10 +405,10 @@ fn boundary_trace(
 }
 
 /// ∫_F ψ_a g_N,i q_m for a traction on the face with ends A, B (parameter s from A to B).
-fn traction_moments(ctx: &Context, traction: &Traction, a: usize, ends: [usize; 2], normal: [f64; 2], out: &mut [f64]) {
+fn traction_moments(ctx: &Context, traction: &Traction, a: usize, ends: [usize; 2], normal: Vector, out: &mut [f64]) {
     let mesh = &ctx.problem.mesh;
     let (pa, pb) = (mesh.points[ends[0]], mesh.points[ends[1]]);
-    let length = crate::geometry::distance(pa, pb);
+    let length = distance(pa, pb);
     let mut q = [0.0; 3];
     for (s, w) in traction_rule(traction, [pa, pb], mesh.order) {
         let x = [pa[0] + s * (pb[0] - pa[0]), pa[1] + s * (pb[1] - pa[1])];
@@ -427,7 +416,7 @@ fn traction_moments(ctx: &Context, traction: &Traction, a: usize, ends: [usize; 
         let g = traction.at(x, normal);
         lagrange::segment_values(mesh.order, s, &mut q);
         for m in 0..=mesh.order {
-            for i in 0..2 {
+            for i in 0..D {
                 out[m * 2 + i] += psi * g[i] * q[m] * w * length;
             }
         }
@@ -448,7 +437,7 @@ fn contact_moments(ctx: &Context, k: usize, a: usize, ends: [usize; 2], data: &m
         lagrange::segment_values(mesh.order, s, &mut q);
         for (case, out) in data.iter_mut().enumerate() {
             for m in 0..=mesh.order {
-                for i in 0..2 {
+                for i in 0..D {
                     out[m * 2 + i] += psi * t[case][i] * q[m] * sample.weight;
                 }
             }
@@ -458,7 +447,7 @@ fn contact_moments(ctx: &Context, k: usize, a: usize, ends: [usize; 2], data: &m
 
 /// Rigid motions z(x) = (a_x − b y, a_y + b x) (x relative to `origin`) that vanish in the
 /// fixed components of the given Dirichlet faces.
-fn free_rigid_motions(fixed: &[FixedFace], origin: [f64; 2], size: f64) -> Vec<[f64; 3]> {
+fn free_rigid_motions(fixed: &[FixedFace], origin: Point, size: f64) -> Vec<[f64; 3]> {
     let constraints = fixed.iter().flat_map(|(ends, fix)| {
         let directions = [[1.0, 0.0], [0.0, 1.0]].into_iter().zip(*fix).filter(|(_, f)| *f);
         ends.iter().flat_map(move |&x| directions.clone().map(move |(d, _)| (x, d)))

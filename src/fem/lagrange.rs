@@ -12,14 +12,16 @@
 //! All evaluators write into caller-owned buffers of length at least [`n_basis`] and never
 //! allocate.
 
+use crate::geometry::{Point, Vector};
+
 /// Edges `(i, j)` carrying the P2 midpoint nodes 3, 4, 5.
 const EDGES: [(usize, usize); 3] = [(0, 1), (1, 2), (2, 0)];
 
 /// Reference gradients of the barycentric coordinates `λ0, λ1, λ2`.
-const GRAD_LAMBDA: [[f64; 2]; 3] = [[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]];
+const GRAD_LAMBDA: [Vector; 3] = [[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]];
 
 #[rustfmt::skip]
-const NODES_P2: [[f64; 2]; 6] = [
+const NODES_P2: [Point; 6] = [
     [0.0, 0.0], [1.0, 0.0], [0.0, 1.0],
     [0.5, 0.0], [0.5, 0.5], [0.0, 0.5],
 ];
@@ -34,22 +36,22 @@ pub fn n_basis(order: usize) -> usize {
 }
 
 /// Reference coordinates of the nodes, in basis order.
-pub fn reference_nodes(order: usize) -> &'static [[f64; 2]] {
+pub fn reference_nodes(order: usize) -> &'static [Point] {
     &NODES_P2[..n_basis(order)]
 }
 
 /// The reference coordinates of vertex `node` of the cell with nodes `cell`.
-pub fn reference_vertex(cell: &[usize], node: usize) -> [f64; 2] {
+pub fn reference_vertex(cell: &[usize], node: usize) -> Point {
     reference_nodes(1)[cell[..3].iter().position(|&v| v == node).expect("the vertex belongs to the cell")]
 }
 
 /// Barycentric coordinates `[1 − ξ − η, ξ, η]`.
-fn barycentric(xi: [f64; 2]) -> [f64; 3] {
+fn barycentric(xi: Point) -> [f64; 3] {
     [1.0 - xi[0] - xi[1], xi[0], xi[1]]
 }
 
 /// Basis values `φᵢ(ξ)` written to `out[..n_basis(order)]`.
-pub fn values(order: usize, xi: [f64; 2], out: &mut [f64]) {
+pub fn values(order: usize, xi: Point, out: &mut [f64]) {
     let l = barycentric(xi);
     match order {
         1 => out[..3].copy_from_slice(&l),
@@ -68,7 +70,7 @@ pub fn values(order: usize, xi: [f64; 2], out: &mut [f64]) {
 /// Reference gradients `∇̂φᵢ(ξ)` written to `out[..n_basis(order)]`.
 ///
 /// P2: vertex `(4λᵢ − 1) ∇λᵢ`, midpoint `4 (λⱼ ∇λᵢ + λᵢ ∇λⱼ)`.
-pub fn gradients(order: usize, xi: [f64; 2], out: &mut [[f64; 2]]) {
+pub fn gradients(order: usize, xi: Point, out: &mut [Vector]) {
     let g = GRAD_LAMBDA;
     match order {
         1 => out[..3].copy_from_slice(&g),
@@ -119,7 +121,7 @@ mod tests {
 
     #[test]
     fn p2_reproduces_quadratics() {
-        let f = |x: [f64; 2]| 1.0 + 2.0 * x[0] - x[1] + 3.0 * x[0] * x[1] - x[0] * x[0];
+        let f = |x: Point| 1.0 + 2.0 * x[0] - x[1] + 3.0 * x[0] * x[1] - x[0] * x[0];
         let xi = [0.21, 0.43];
         let mut phi = [0.0; 6];
         values(2, xi, &mut phi);

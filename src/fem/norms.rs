@@ -1,7 +1,7 @@
 //! Error norms of a vector Lagrange field against an exact solution.
 
 use super::tabulate::Tabulation;
-use crate::geometry::AffineMap;
+use crate::geometry::{AffineMap, Point, Vector, D};
 use crate::mesh::Mesh;
 
 /// L² norm and H¹ seminorm of u − u_h, with u_h given by its nodal values `u_h[node]`:
@@ -10,9 +10,9 @@ use crate::mesh::Mesh;
 /// Integrals use a rule exact to degree 2p + 4.
 pub fn errors(
     mesh: &Mesh,
-    u_h: &[[f64; 2]],
-    u: impl Fn([f64; 2]) -> [f64; 2],
-    grad_u: impl Fn([f64; 2]) -> [[f64; 2]; 2],
+    u_h: &[Vector],
+    u: impl Fn(Point) -> Vector,
+    grad_u: impl Fn(Point) -> [Vector; D],
 ) -> (f64, f64) {
     let tab = Tabulation::new(mesh.order, 2 * mesh.order + 4);
     let mut l2 = 0.0;
@@ -26,15 +26,15 @@ pub fn errors(
             let (mut v, mut g) = ([0.0; 2], [[0.0; 2]; 2]);
             for (i, &n) in nodes.iter().enumerate() {
                 let grad = map.physical_gradient(tab.grad(q)[i]);
-                for a in 0..2 {
+                for a in 0..D {
                     v[a] += tab.phi(q)[i] * u_h[n][a];
-                    for b in 0..2 {
+                    for b in 0..D {
                         g[a][b] += grad[b] * u_h[n][a];
                     }
                 }
             }
             let (ue, ge) = (u(x), grad_u(x));
-            l2 += w * (0..2).map(|a| (ue[a] - v[a]).powi(2)).sum::<f64>();
+            l2 += w * (0..D).map(|a| (ue[a] - v[a]).powi(2)).sum::<f64>();
             h1 += w * (0..4).map(|k| (ge[k / 2][k % 2] - g[k / 2][k % 2]).powi(2)).sum::<f64>();
         }
     }

@@ -10,6 +10,7 @@
 //!   polynomial of total degree `≤ d` (in fact `≤ 2n − 2`). Weights sum to `1/2`.
 //! * [`triangle_cached`]`(d)`: the same rule, built once per degree and shared.
 
+use crate::geometry::Point;
 use std::f64::consts::PI;
 use std::sync::OnceLock;
 
@@ -26,7 +27,7 @@ pub struct Rule1d {
 /// Rule on the reference triangle: `∫_T̂ f ≈ Σ wᵢ f(ξᵢ)`, exact for total degree `≤ degree`.
 #[derive(Debug, Clone)]
 pub struct TriangleRule {
-    pub points: Vec<[f64; 2]>,
+    pub points: Vec<Point>,
     pub weights: Vec<f64>,
     /// Polynomial degree requested (and guaranteed to be integrated exactly).
     pub degree: usize,

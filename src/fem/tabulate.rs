@@ -3,6 +3,7 @@
 //! Tabulating once per (degree, rule) keeps the element loops free of basis evaluations.
 
 use super::{lagrange, quadrature};
+use crate::geometry::{Point, Vector};
 
 /// Values and reference gradients of the P_order basis at the points of a rule.
 #[derive(Debug, Clone)]
@@ -11,12 +12,12 @@ pub struct Tabulation {
     /// Number of basis functions.
     pub n_basis: usize,
     /// Reference points and weights (weights sum to 1/2).
-    pub points: Vec<[f64; 2]>,
+    pub points: Vec<Point>,
     pub weights: Vec<f64>,
     /// φ_i(ξ_q) at `values[q * n_basis + i]`.
     pub values: Vec<f64>,
     /// ∇̂φ_i(ξ_q) at `gradients[q * n_basis + i]`.
-    pub gradients: Vec<[f64; 2]>,
+    pub gradients: Vec<Vector>,
 }
 
 impl Tabulation {
@@ -49,7 +50,7 @@ impl Tabulation {
     }
 
     /// Reference gradients at point q.
-    pub fn grad(&self, q: usize) -> &[[f64; 2]] {
+    pub fn grad(&self, q: usize) -> &[Vector] {
         &self.gradients[q * self.n_basis..(q + 1) * self.n_basis]
     }
 }

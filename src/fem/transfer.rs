@@ -15,7 +15,7 @@
 //! the distance from `p` to the buckets not yet searched.
 
 use super::lagrange;
-use crate::geometry::{bounding_box, dot, sub, CellType};
+use crate::geometry::{bounding_box, dot, sub, CellType, Point, Vector, D};
 use crate::mesh::Mesh;
 use rayon::prelude::*;
 
@@ -32,16 +32,16 @@ const MAX_DEPTH: usize = 6;
 /// bucket `(i, j)` is `[lo₀ + i h₀, lo₀ + (i + 1) h₀] × [lo₁ + j h₁, lo₁ + (j + 1) h₁]`.
 #[derive(Debug, Clone, Copy)]
 struct Grid {
-    lo: [f64; 2],
-    hi: [f64; 2],
+    lo: Point,
+    hi: Point,
     h: [f64; 2],
     shape: [usize; 2],
 }
 
 impl Grid {
     /// Grid over the box `[lo, hi]` with about `n` buckets of about `√(|B| / n)` square.
-    fn new(lo: [f64; 2], hi: [f64; 2], n: usize) -> Self {
-        let extent = [hi[0] - lo[0], hi[1] - lo[1]];
+    fn new(lo: Point, hi: Point, n: usize) -> Self {
+        let extent = sub(hi, lo);
         let side = (extent[0] * extent[1] / n as f64).sqrt();
         assert!(side > 0.0, "mesh with a degenerate bounding box {lo:?}, {hi:?}");
         let shape = extent.map(|e| ((e / side).ceil() as usize).max(1));
@@ -60,7 +60,7 @@ impl Grid {
     }
 
     /// The bucket `(i, j)` holding `p`, clamped to the grid.
-    fn bucket_of(&self, p: [f64; 2]) -> [usize; 2] {
+    fn bucket_of(&self, p: Point) -> [usize; 2] {
         [0, 1].map(|k| ((p[k] - self.lo[k]) / self.h[k]).floor().clamp(0.0, (self.shape[k] - 1) as f64) as usize)
     }
 
@@ -76,7 +76,7 @@ impl Grid {
     }
 
     /// Buckets meeting the box `[lo, hi]`.
-    fn buckets_meeting(self, [lo, hi]: [[f64; 2]; 2]) -> impl Iterator<Item = usize> {
+    fn buckets_meeting(self, [lo, hi]: [Point; 2]) -> impl Iterator<Item = usize> {
         let ([i0, j0], [i1, j1]) = (self.bucket_of(lo), self.bucket_of(hi));
         (j0..=j1).flat_map(move |j| (i0..=i1).map(move |i| self.index([i, j])))
     }
@@ -95,9 +95,9 @@ impl Grid {
 
     /// Squared distance from `p` to the buckets farther than `r` from `centre` (∞ if none):
     /// the minimum over the strips of the grid left, right, below and above the searched square.
-    fn unsearched_distance2(&self, p: [f64; 2], centre: [usize; 2], r: usize) -> f64 {
+    fn unsearched_distance2(&self, p: Point, centre: [usize; 2], r: usize) -> f64 {
         let mut d2 = f64::INFINITY;
-        for k in 0..2 {
+        for k in 0..D {
             let (first, last) = (centre[k].saturating_sub(r), (centre[k] + r).min(self.shape[k] - 1));
             let mut strip = |a: usize, b: usize| {
                 let mut corners = [self.lo, self.hi];
@@ -140,12 +140,12 @@ struct Buckets {
 impl Buckets {
     /// Lists `cells` (bounding boxes `boxes[c]`) by bucket of `grid`, then splits the crowded
     /// buckets, up to `depth` levels.
-    fn new(grid: Grid, cells: &[usize], boxes: &[[[f64; 2]; 2]], depth: usize) -> Self {
+    fn new(grid: Grid, cells: &[usize], boxes: &[[Point; 2]], depth: usize) -> Self {
         Self::lists(grid, cells, boxes).refined(boxes, depth)
     }
 
     /// These buckets with their crowded buckets split, up to `depth` levels.
-    fn refined(mut self, boxes: &[[[f64; 2]; 2]], depth: usize) -> Self {
+    fn refined(mut self, boxes: &[[Point; 2]], depth: usize) -> Self {
         if depth > 0 {
             let finer = (0..self.grid.len())
                 .filter(|&b| self.list(b).len() > CROWDED)
@@ -157,7 +157,7 @@ impl Buckets {
     }
 
     /// Compressed rows of the buckets of `grid` meeting the bounding box of each of `cells`.
-    fn lists(grid: Grid, cells: &[usize], boxes: &[[[f64; 2]; 2]]) -> Self {
+    fn lists(grid: Grid, cells: &[usize], boxes: &[[Point; 2]]) -> Self {
         let mut start = vec![0; grid.len() + 1];
         for b in cells.iter().flat_map(|&c| grid.buckets_meeting(boxes[c])) {
             start[b + 1] += 1;
@@ -178,7 +178,7 @@ impl Buckets {
 
     /// A finer grid over bucket `b` with as many buckets as the `L` cells `b` lists, if its longest
     /// list is at most `3L/4` and it lists at most `16 L` entries (not so when many cells cover `b`).
-    fn split(&self, b: usize, boxes: &[[[f64; 2]; 2]], depth: usize) -> Option<Self> {
+    fn split(&self, b: usize, boxes: &[[Point; 2]], depth: usize) -> Option<Self> {
         let list = self.list(b);
         let finer = Self::lists(Grid::over_bucket(&self.grid, b, list.len()), list, boxes);
         let helps = 4 * finer.longest() <= 3 * list.len() && finer.cells.len() <= 16 * list.len();
@@ -195,7 +195,7 @@ impl Buckets {
     }
 
     /// The list of the finest bucket holding `p`: it holds every cell whose bounding box holds `p`.
-    fn holding(&self, p: [f64; 2]) -> &[usize] {
+    fn holding(&self, p: Point) -> &[usize] {
         let b = self.grid.index(self.grid.bucket_of(p));
         match self.finer.binary_search_by_key(&b, |f| f.0) {
             Ok(k) => self.finer[k].1.holding(p),
@@ -221,7 +221,7 @@ impl<'a> Locator<'a> {
     /// Buckets for the given `cells` of `mesh` only: points are located among them.
     pub fn of_cells(mesh: &'a Mesh, cells: &[usize]) -> Self {
         assert!(!cells.is_empty(), "cannot locate points in a mesh without cells");
-        let boxes: Vec<[[f64; 2]; 2]> = (0..mesh.n_cells()).map(|c| bounding_box(mesh.cell_vertices(c))).collect();
+        let boxes: Vec<[Point; 2]> = (0..mesh.n_cells()).map(|c| bounding_box(mesh.cell_vertices(c))).collect();
         let [lo, hi] = bounding_box(cells.iter().flat_map(|&c| boxes[c]));
         Self { mesh, buckets: Buckets::new(Grid::new(lo, hi, cells.len()), cells, &boxes, MAX_DEPTH) }
     }
@@ -229,7 +229,7 @@ impl<'a> Locator<'a> {
     /// The cell holding `p` and the reference coordinates ξ of p in it. A point outside the mesh
     /// (a curved boundary meshed by different chords, round-off) gets the nearest cell, with ξ
     /// moved to the point of that cell nearest to `p` (ξ in the reference triangle).
-    pub fn locate(&self, p: [f64; 2]) -> (usize, [f64; 2]) {
+    pub fn locate(&self, p: Point) -> (usize, Point) {
         let holding = self.buckets.holding(p).iter().find_map(|&c| {
             let l = barycentric(self.mesh.cell_vertices(c), p);
             l.iter().all(|&l| l >= -TOL).then_some((c, [l[1], l[2]]))
@@ -239,7 +239,7 @@ impl<'a> Locator<'a> {
 
     /// The cell nearest to `p` and ξ of its point nearest to `p`, searched by rings of buckets of
     /// the coarsest grid around the bucket of `p` until no unsearched bucket can hold a nearer cell.
-    fn nearest(&self, p: [f64; 2]) -> (usize, [f64; 2]) {
+    fn nearest(&self, p: Point) -> (usize, Point) {
         let (grid, centre) = (&self.buckets.grid, self.buckets.grid.bucket_of(p));
         let mut best = (f64::INFINITY, 0, [1.0 / 3.0; 2]);
         for r in 0.. {
@@ -261,7 +261,7 @@ impl<'a> Locator<'a> {
 
 /// Values at `points` of the finite element field with nodal values `values` (one per node of
 /// `mesh`, its order's Lagrange basis).
-pub fn interpolate(mesh: &Mesh, values: &[[f64; 2]], points: &[[f64; 2]]) -> Vec<[f64; 2]> {
+pub fn interpolate(mesh: &Mesh, values: &[Vector], points: &[Point]) -> Vec<Vector> {
     assert_eq!(values.len(), mesh.n_points(), "one value per node of the mesh");
     let locator = Locator::new(mesh);
     points
@@ -277,7 +277,7 @@ pub fn interpolate(mesh: &Mesh, values: &[[f64; 2]], points: &[[f64; 2]]) -> Vec
 /// cells of `mesh` with its own physical surface tag `tags[i]` (among all cells if `mesh` has
 /// none of that tag). A point on a joint between two bodies lies in cells of both sides, whose
 /// displacements differ by the jump: it takes the value of its own side.
-pub fn interpolate_by_tag(mesh: &Mesh, values: &[[f64; 2]], points: &[[f64; 2]], tags: &[i32]) -> Vec<[f64; 2]> {
+pub fn interpolate_by_tag(mesh: &Mesh, values: &[Vector], points: &[Point], tags: &[i32]) -> Vec<Vector> {
     assert_eq!(values.len(), mesh.n_points(), "one value per node of the mesh");
     assert_eq!(points.len(), tags.len(), "one tag per point");
     let mut by_tag: Vec<(i32, Vec<usize>)> = Vec::new();
@@ -302,14 +302,14 @@ pub fn interpolate_by_tag(mesh: &Mesh, values: &[[f64; 2]], points: &[[f64; 2]],
 }
 
 /// `u(F_c(ξ)) = Σᵢ u_{nᵢ} φ̂ᵢ(ξ)` over the nodes `nᵢ` of cell `c`.
-fn evaluate(mesh: &Mesh, values: &[[f64; 2]], c: usize, xi: [f64; 2]) -> [f64; 2] {
+fn evaluate(mesh: &Mesh, values: &[Vector], c: usize, xi: Point) -> Vector {
     let mut phi = [0.0; 6];
     lagrange::values(mesh.order, xi, &mut phi);
     mesh.cell(c).iter().zip(phi).fold([0.0; 2], |u, (&n, f)| [u[0] + f * values[n][0], u[1] + f * values[n][1]])
 }
 
 /// Barycentric coordinates of `p` in the triangle `v`: `(λ₁, λ₂) = J⁻¹ (p − v₀)`, `λ₀ = 1 − λ₁ − λ₂`.
-fn barycentric(v: [[f64; 2]; 3], p: [f64; 2]) -> [f64; 3] {
+fn barycentric(v: [Point; 3], p: Point) -> [f64; 3] {
     let (a, b, d) = (sub(v[1], v[0]), sub(v[2], v[0]), sub(p, v[0]));
     let det = a[0] * b[1] - a[1] * b[0];
     let (l1, l2) = ((d[0] * b[1] - d[1] * b[0]) / det, (a[0] * d[1] - a[1] * d[0]) / det);
@@ -318,7 +318,7 @@ fn barycentric(v: [[f64; 2]; 3], p: [f64; 2]) -> [f64; 3] {
 
 /// Squared distance from `p` to the triangle `v`, and ξ of the triangle's point nearest to `p`:
 /// `p` itself inside, else the projection `vᵢ + t (vⱼ − vᵢ)`, `t ∈ [0, 1]`, on the nearest edge.
-fn nearest_point(v: [[f64; 2]; 3], p: [f64; 2]) -> (f64, [f64; 2]) {
+fn nearest_point(v: [Point; 3], p: Point) -> (f64, Point) {
     let l = barycentric(v, p);
     if l.iter().all(|&l| l >= 0.0) {
         return (0.0, [l[1], l[2]]);
@@ -336,8 +336,8 @@ fn nearest_point(v: [[f64; 2]; 3], p: [f64; 2]) -> (f64, [f64; 2]) {
 }
 
 /// Squared distance from `p` to the box `[lo, hi]`.
-fn box_distance2(p: [f64; 2], [lo, hi]: [[f64; 2]; 2]) -> f64 {
-    (0..2).map(|k| (lo[k] - p[k]).max(p[k] - hi[k]).max(0.0).powi(2)).sum()
+fn box_distance2(p: Point, [lo, hi]: [Point; 2]) -> f64 {
+    (0..D).map(|k| (lo[k] - p[k]).max(p[k] - hi[k]).max(0.0).powi(2)).sum()
 }
 
 #[cfg(test)]
@@ -360,9 +360,9 @@ mod tests {
             mesh.points.extend(&upper.points);
             mesh.cell_nodes.extend(upper.cell_nodes.iter().map(|n| n + offset));
             mesh.cell_tags.extend(vec![2; upper.n_cells()]);
-            let values: Vec<[f64; 2]> =
+            let values: Vec<Vector> =
                 (0..mesh.n_points()).map(|n| if n < offset { [0.0; 2] } else { [1.0, 2.0] }).collect();
-            let points: Vec<[f64; 2]> = [0.0, 0.3, 0.5, 1.0].iter().flat_map(|&x| [[x, 1.0], [x, 1.0]]).collect();
+            let points: Vec<Point> = [0.0, 0.3, 0.5, 1.0].iter().flat_map(|&x| [[x, 1.0], [x, 1.0]]).collect();
             let tags: Vec<i32> = (0..points.len()).map(|i| 1 + (i % 2) as i32).collect();
             for (u, tag) in interpolate_by_tag(&mesh, &values, &points, &tags).into_iter().zip(&tags) {
                 assert_eq!(u, if *tag == 1 { [0.0; 2] } else { [1.0, 2.0] }, "P{order}, tag {tag}");

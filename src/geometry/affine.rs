@@ -4,11 +4,13 @@
 //! gradients are `∇φ = J⁻ᵀ ∇̂φ̂` and `dx = |det J| dξ`.
 //! Segment: `x(s) = a + s (b − a)` for `s ∈ [0, 1]`, `ds_phys = |b − a| ds`.
 
+use super::{Point, Vector};
+
 /// Affine map of the reference triangle `(0,0), (1,0), (0,1)` onto a physical triangle.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AffineMap {
     /// Image of the reference origin (vertex 0).
-    pub origin: [f64; 2],
+    pub origin: Point,
     /// `J[r][c] = ∂x_r / ∂ξ_c`.
     pub jacobian: [[f64; 2]; 2],
     /// `det J` (positive for counter-clockwise vertices).
@@ -19,7 +21,7 @@ pub struct AffineMap {
 
 impl AffineMap {
     /// Map sending the reference vertices to `v[0], v[1], v[2]`. Panics on a degenerate triangle.
-    pub fn new(v: [[f64; 2]; 3]) -> Self {
+    pub fn new(v: [Point; 3]) -> Self {
         let j = [[v[1][0] - v[0][0], v[2][0] - v[0][0]], [v[1][1] - v[0][1], v[2][1] - v[0][1]]];
         let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
         assert!(det != 0.0, "degenerate triangle {v:?}");
@@ -28,13 +30,13 @@ impl AffineMap {
     }
 
     /// `x = origin + J ξ`.
-    pub fn to_physical(&self, xi: [f64; 2]) -> [f64; 2] {
+    pub fn to_physical(&self, xi: Point) -> Point {
         let j = &self.jacobian;
         [self.origin[0] + j[0][0] * xi[0] + j[0][1] * xi[1], self.origin[1] + j[1][0] * xi[0] + j[1][1] * xi[1]]
     }
 
     /// `∇φ = J⁻ᵀ ∇̂φ̂`.
-    pub fn physical_gradient(&self, ref_grad: [f64; 2]) -> [f64; 2] {
+    pub fn physical_gradient(&self, ref_grad: Vector) -> Vector {
         let m = &self.inv_t;
         [m[0][0] * ref_grad[0] + m[0][1] * ref_grad[1], m[1][0] * ref_grad[0] + m[1][1] * ref_grad[1]]
     }

@@ -1,36 +1,38 @@
 //! Straight segments: the boundary facets and cell edges of a mesh (also in reference
 //! coordinates).
 
+use super::{distance, dot, sub, Point, Vector};
+
 /// The segment from `a` to `b`, parametrised over [0, 1] by x(s) = a + s (b − a).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Segment {
-    pub a: [f64; 2],
-    pub b: [f64; 2],
+    pub a: Point,
+    pub b: Point,
 }
 
 impl Segment {
-    pub fn new(a: [f64; 2], b: [f64; 2]) -> Self {
+    pub fn new(a: Point, b: Point) -> Self {
         Self { a, b }
     }
 
     /// `x(s) = a + s (b − a)`.
-    pub fn point(&self, s: f64) -> [f64; 2] {
+    pub fn point(&self, s: f64) -> Point {
         [self.a[0] + s * (self.b[0] - self.a[0]), self.a[1] + s * (self.b[1] - self.a[1])]
     }
 
     /// `|b − a|`.
     pub fn length(&self) -> f64 {
-        (self.b[0] - self.a[0]).hypot(self.b[1] - self.a[1])
+        distance(self.a, self.b)
     }
 
     /// Unit tangent `t = (b − a) / |b − a|`.
-    pub fn tangent(&self) -> [f64; 2] {
-        let l = self.length();
-        [(self.b[0] - self.a[0]) / l, (self.b[1] - self.a[1]) / l]
+    pub fn tangent(&self) -> Vector {
+        let (d, l) = (sub(self.b, self.a), self.length());
+        [d[0] / l, d[1] / l]
     }
 
     /// The unit normal (t_y, −t_x): the tangent turned clockwise.
-    pub fn normal(&self) -> [f64; 2] {
+    pub fn normal(&self) -> Vector {
         let t = self.tangent();
         [t[1], -t[0]]
     }
@@ -38,10 +40,9 @@ impl Segment {
     /// Unit normal pointing away from `inside` (any point of the cell not on the segment,
     /// e.g. its centroid or opposite vertex): `(t_y, −t_x)`, flipped if needed. For an edge
     /// `vᵢ → vᵢ₊₁` of a counter-clockwise cell no flip occurs.
-    pub fn outward_normal(&self, inside: [f64; 2]) -> [f64; 2] {
+    pub fn outward_normal(&self, inside: Point) -> Vector {
         let n = self.normal();
-        let d = [inside[0] - self.a[0], inside[1] - self.a[1]];
-        if n[0] * d[0] + n[1] * d[1] > 0.0 {
+        if dot(n, sub(inside, self.a)) > 0.0 {
             [-n[0], -n[1]]
         } else {
             n

@@ -16,6 +16,7 @@
 
 use super::atomic::{write_output, OutputError};
 use super::pvd::escape;
+use crate::geometry::Vector;
 use crate::mesh::Mesh;
 use std::path::Path;
 use vtkio::model::{
@@ -41,7 +42,7 @@ impl Field {
     }
 
     /// A plane vector per point or cell, stored with z = 0 so ParaView can warp by it.
-    pub fn vector(name: impl Into<String>, unit: &'static str, values: Vec<[f64; 2]>) -> Self {
+    pub fn vector(name: impl Into<String>, unit: &'static str, values: Vec<Vector>) -> Self {
         let values = values.iter().flat_map(|v| [v[0], v[1], 0.0]).collect();
         Field { name: name.into(), unit, components: 3, values }
     }

@@ -16,14 +16,14 @@
 
 use super::topology::NONE;
 use super::{Mesh, Topology};
-use crate::geometry::CellType;
+use crate::geometry::{CellType, Point};
 
 /// Flips every cell of zero area with its neighbour across its longest edge (the chord), in
 /// rounds until none is left; P2 cells get the midpoint of the new edge bd, and the chord's
 /// midpoint is dropped (nodes are renumbered in order of first use by a cell). Returns the
 /// number of flips, or Err with a vertex of a flat cell that cannot be flipped (two of its
 /// vertices coincide, or its chord is on the boundary or faces another flat cell).
-pub fn flip_flat_cells(mesh: &mut Mesh) -> Result<usize, [f64; 2]> {
+pub fn flip_flat_cells(mesh: &mut Mesh) -> Result<usize, Point> {
     let mut flips = 0;
     loop {
         let flat: Vec<usize> = (0..mesh.n_cells()).filter(|&c| mesh.cell_area(c) == 0.0).collect();

@@ -2,6 +2,7 @@
 //! of the vertices of a degree-2 mesh.
 
 use super::Mesh;
+use crate::geometry::Point;
 use std::collections::HashMap;
 
 /// Midpoint nodes created on demand, one per unordered node pair.
@@ -26,7 +27,7 @@ impl Midpoints {
     }
 
     /// The node at the middle of a–b, appended to `points` on first request.
-    pub fn get(&mut self, a: usize, b: usize, points: &mut Vec<[f64; 2]>) -> usize {
+    pub fn get(&mut self, a: usize, b: usize, points: &mut Vec<Point>) -> usize {
         *self.index.entry((a.min(b), a.max(b))).or_insert_with(|| {
             let (pa, pb) = (points[a], points[b]);
             points.push([0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1])]);

@@ -15,7 +15,7 @@ pub mod topology;
 
 pub use topology::Topology;
 
-use crate::geometry::{distance, CellType};
+use crate::geometry::{distance, CellType, Point};
 
 /// A named physical group of gmsh: `dim` 2 for material regions, 1 for boundary curves.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -29,7 +29,7 @@ pub struct PhysicalGroup {
 #[derive(Debug, Clone)]
 pub struct Mesh {
     /// Coordinates of every node (vertices and, for degree 2, edge midpoints).
-    pub points: Vec<[f64; 2]>,
+    pub points: Vec<Point>,
     /// Polynomial degree of the geometry and of the Lagrange space built on it.
     pub order: usize,
     /// Cell connectivity, `nodes_per_cell()` entries per cell.
@@ -131,13 +131,13 @@ impl Mesh {
     }
 
     /// Vertex coordinates of cell `c`.
-    pub fn cell_vertices(&self, c: usize) -> [[f64; 2]; 3] {
+    pub fn cell_vertices(&self, c: usize) -> [Point; 3] {
         let n = self.cell(c);
         [self.points[n[0]], self.points[n[1]], self.points[n[2]]]
     }
 
     /// Centroid of cell `c`: the mean of its vertices.
-    pub fn cell_centroid(&self, c: usize) -> [f64; 2] {
+    pub fn cell_centroid(&self, c: usize) -> Point {
         let [a, b, d] = self.cell_vertices(c);
         [(a[0] + b[0] + d[0]) / 3.0, (a[1] + b[1] + d[1]) / 3.0]
     }

@@ -5,6 +5,7 @@
 //! curves `bottom` (1), `right` (2), `top` (3), `left` (4).
 
 use super::{Mesh, PhysicalGroup};
+use crate::geometry::Point;
 use std::collections::HashMap;
 
 /// Physical curve tags of the four sides.
@@ -17,7 +18,7 @@ pub const LEFT: i32 = 4;
 pub fn rectangle(x0: f64, x1: f64, y0: f64, y1: f64, nx: usize, ny: usize, order: usize) -> Mesh {
     assert!(order == 1 || order == 2, "order must be 1 or 2");
     let vertex = |i: usize, j: usize| j * (nx + 1) + i;
-    let mut points: Vec<[f64; 2]> = (0..=ny)
+    let mut points: Vec<Point> = (0..=ny)
         .flat_map(|j| {
             (0..=nx).map(move |i| {
                 let s = i as f64 / nx as f64;
@@ -27,7 +28,7 @@ pub fn rectangle(x0: f64, x1: f64, y0: f64, y1: f64, nx: usize, ny: usize, order
         })
         .collect();
     let mut midpoints: HashMap<(usize, usize), usize> = HashMap::new();
-    let mut midpoint = |a: usize, b: usize, points: &mut Vec<[f64; 2]>| {
+    let mut midpoint = |a: usize, b: usize, points: &mut Vec<Point>| {
         let key = (a.min(b), a.max(b));
         *midpoints.entry(key).or_insert_with(|| {
             let (pa, pb) = (points[a], points[b]);
@@ -36,7 +37,7 @@ pub fn rectangle(x0: f64, x1: f64, y0: f64, y1: f64, nx: usize, ny: usize, order
         })
     };
     let mut cell_nodes = Vec::new();
-    let mut triangle = |a: usize, b: usize, c: usize, points: &mut Vec<[f64; 2]>| {
+    let mut triangle = |a: usize, b: usize, c: usize, points: &mut Vec<Point>| {
         cell_nodes.extend([a, b, c]);
         if order == 2 {
             let m = [midpoint(a, b, points), midpoint(b, c, points), midpoint(c, a, points)];

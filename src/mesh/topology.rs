@@ -9,6 +9,7 @@
 //! that share it.
 
 use super::Mesh;
+use crate::geometry::{Segment, Vector};
 use rayon::prelude::*;
 
 /// Marker for "no neighbour" in [`Topology::facet_cells`].
@@ -95,14 +96,14 @@ impl Topology {
 
     /// Outward unit normal of the mesh's facet `f`: perpendicular to the facet, pointing away
     /// from the vertex of the owning cell that is not on the facet.
-    pub fn outward_normal(&self, mesh: &Mesh, f: usize) -> [f64; 2] {
+    pub fn outward_normal(&self, mesh: &Mesh, f: usize) -> Vector {
         let nodes = mesh.facet(f);
         let opposite = mesh.cell(self.tagged_cell(f))[..3]
             .iter()
             .find(|&&v| v != nodes[0] && v != nodes[1])
             .map(|&v| mesh.points[v])
             .expect("a triangle has a vertex off each edge");
-        crate::geometry::Segment::new(mesh.points[nodes[0]], mesh.points[nodes[1]]).outward_normal(opposite)
+        Segment::new(mesh.points[nodes[0]], mesh.points[nodes[1]]).outward_normal(opposite)
     }
 }
 

@@ -52,7 +52,7 @@
 use crate::contact::{ContactJoint, CrackRule, JointLaw, JointLine, Uplift};
 use crate::elasticity::problem::traction_rule;
 use crate::elasticity::{BodyForce, Problem, Traction};
-use crate::geometry::{distance, dot, sub, Segment};
+use crate::geometry::{distance, dot, sub, Point, Segment, Vector};
 use crate::mesh::Topology;
 use serde::Serialize;
 
@@ -147,17 +147,17 @@ impl Sums {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Base {
     pub line: JointLine,
-    pub normal: [f64; 2],
+    pub normal: Vector,
 }
 
 impl Base {
     /// The toe.
-    pub fn toe(&self) -> [f64; 2] {
+    pub fn toe(&self) -> Point {
         self.line.point(self.line.length)
     }
 
     /// Adds the force `f` at `x` to `sums`: V, V d, H, H h.
-    fn add(&self, sums: &mut Sums, f: [f64; 2], x: [f64; 2]) {
+    fn add(&self, sums: &mut Sums, f: Vector, x: Point) {
         let (tau, nu, toe) = (self.line.along, self.normal, self.toe());
         let r = sub(x, toe);
         let (v, h) = (dot(f, nu), dot(f, tau));
@@ -185,10 +185,7 @@ pub fn section(problem: &Problem, joint: &ContactJoint, line: &JointLine) -> Res
     let normal = if tx > 0.0 { [ty, -tx] } else { [-ty, tx] };
     let sides: Vec<i32> = joint.tags.iter().chain(&joint.masters).copied().collect();
     let faces: Vec<usize> = mesh.facets_tagged(&sides).filter(|&f| on_line(f)).collect();
-    let above = |c: usize| {
-        let (x, h) = (mesh.cell_centroid(c), line.heel);
-        (x[0] - h[0]) * normal[0] + (x[1] - h[1]) * normal[1] < 0.0
-    };
+    let above = |c: usize| dot(sub(mesh.cell_centroid(c), line.heel), normal) < 0.0;
     let bodies = bodies_apart(problem, &topology, line);
     let resting: Vec<usize> =
         faces.iter().map(|&f| topology.tagged_cell(f)).filter(|&c| above(c)).map(|c| bodies[c]).collect();
@@ -239,7 +236,7 @@ pub fn section_loads(
     base: &Base,
     cells: &[bool],
     gravity: f64,
-    acceleration: [f64; 2],
+    acceleration: Vector,
 ) -> Result<Vec<Load>, String> {
     let [a_x, a_y] = acceleration;
     match problem.body_force {
@@ -266,9 +263,9 @@ pub fn section_loads(
 }
 
 /// The kind of the traction `t` on a face of outward normal n.
-fn kind_of(t: &Traction, n: [f64; 2], base: &Base) -> LoadKind {
-    let along = n[0] * base.line.along[0] + n[1] * base.line.along[1];
-    let down = n[0] * base.normal[0] + n[1] * base.normal[1];
+fn kind_of(t: &Traction, n: Vector, base: &Base) -> LoadKind {
+    let along = dot(n, base.line.along);
+    let down = dot(n, base.normal);
     match t {
         Traction::Silt { .. } => LoadKind::Silt,
         Traction::Ice { .. } => LoadKind::Ice,
@@ -510,7 +507,7 @@ pub fn classical(
     joint: &ContactJoint,
     line: &JointLine,
     gravity: f64,
-    acceleration: [f64; 2],
+    acceleration: Vector,
 ) -> Result<Classical, String> {
     let Section { base, cells, plane } = section(problem, joint, line)?;
     let loads = section_loads(problem, &base, &cells, gravity, acceleration)?;

@@ -13,6 +13,7 @@
 //! which CADAM also applies.
 
 use crate::contact::{ContactSolution, JointForces, JointLine};
+use crate::geometry::Point;
 use serde::Serialize;
 
 /// The resultant of the joint traction on a straight joint.
@@ -26,7 +27,7 @@ pub struct Resultant {
     /// U = ∫ p_u ds \[N/m\] (0 without uplift).
     pub uplift_force: f64,
     /// The point x_R where N acts.
-    pub point: [f64; 2],
+    pub point: Point,
     /// Its distance s_R from the heel \[m\].
     pub position: f64,
     /// e = s_R − L/2 \[m\], positive towards the toe.

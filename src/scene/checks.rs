@@ -9,6 +9,7 @@ use super::validate::too_dense;
 use super::{BoundarySection, ContactSection, Fix, ProjectionKind, Role, Scene, SceneError, UpliftSection};
 use crate::contact::ContactJoint;
 use crate::elasticity::material::MAX_DENSITY;
+use crate::geometry::Point;
 use crate::mesh::topology::NONE;
 use crate::mesh::{Mesh, Topology};
 use std::collections::{BTreeMap, HashMap};
@@ -185,7 +186,7 @@ impl Scene {
 
     /// The reservoir at the joint's `heel`: the highest level of the hydrostatic loads on the
     /// curves through it, with its key.
-    fn reservoir_at(&self, mesh: &Mesh, heel: [f64; 2]) -> Option<(String, f64)> {
+    fn reservoir_at(&self, mesh: &Mesh, heel: Point) -> Option<(String, f64)> {
         let through = |tag| mesh.facets_tagged(&[tag]).any(|f| mesh.facet(f).iter().any(|&n| mesh.points[n] == heel));
         (self.boundary.iter())
             .filter_map(|(name, b)| Some((name, b.hydrostatic?.level, mesh.group(1, name)?.tag)))
@@ -201,7 +202,7 @@ impl Scene {
         mesh: &Mesh,
         table: &str,
         up: &UpliftSection,
-        heel: [f64; 2],
+        heel: Point,
     ) -> Result<(), SceneError> {
         match self.reservoir_at(mesh, heel) {
             Some((key, level)) if up.headwater <= heel[1] && level > heel[1] => Err(self.invalid(format!(

@@ -6,7 +6,7 @@ use super::{Role, Scene, SceneError, UpliftSection};
 use crate::contact::nitsche::NitscheParameters;
 use crate::contact::{ContactJoint, CurveLaw, JointLaw};
 use crate::elasticity::Problem;
-use crate::geometry::tangent;
+use crate::geometry::{tangent, Point, Vector};
 use crate::mesh::interface::{self, Interface};
 use crate::mesh::{Mesh, Topology};
 use serde::Deserialize;
@@ -192,7 +192,7 @@ impl Scene {
                     .for_each(|c| mesh.cell(c).iter().for_each(|&n| nodes[n] = true));
                 nodes
             };
-            let supports: Vec<([f64; 2], [f64; 2])> = facets
+            let supports: Vec<(Point, Vector)> = facets
                 .iter()
                 .filter(|&&(f, _)| body[topology.tagged_cell(f)] == b)
                 .flat_map(|&(f, friction)| {

@@ -8,7 +8,7 @@ use crate::contact::nitsche::{Gap, NitscheParameters};
 use crate::contact::uplift::{Drains, Uplift};
 use crate::contact::{ContactJoint, CurveUplift, JointLine, LoadPath};
 use crate::elasticity::{Dirichlet, Material, Neumann, Problem, Traction};
-use crate::geometry::{distance, dot, norm, tangent};
+use crate::geometry::{distance, dot, norm, sub, tangent, Point, Vector};
 use crate::mesh::{Mesh, Topology};
 use crate::solve::NewtonOptions;
 use std::collections::BTreeMap;
@@ -204,7 +204,7 @@ impl Scene {
 
     /// The heel that the scene gives the sliding plane: `[uplift] heel`, else that of the
     /// uplift table of the `[safety] joint` curve, else of the first joint that gives one.
-    fn heel(&self) -> Option<[f64; 2]> {
+    fn heel(&self) -> Option<Point> {
         let own = |name: &String| self.joints.get(name).and_then(|j| j.uplift.as_ref()).and_then(|up| up.heel);
         let joints = || self.joints.values().filter_map(|j| j.uplift.as_ref().and_then(|up| up.heel));
         (self.uplift.as_ref().and_then(|up| up.heel)).or_else(|| match &self.safety.joint {
@@ -218,8 +218,8 @@ impl Scene {
     fn straight_joint(
         &self,
         problem: &Problem,
-        facets: &[(usize, [f64; 2])],
-        heel: Option<[f64; 2]>,
+        facets: &[(usize, Vector)],
+        heel: Option<Point>,
     ) -> Result<JointLine, String> {
         let mesh = &problem.mesh;
         let Some(&(_, nu)) = facets.first() else { return Err("there is no contact curve".into()) };
@@ -227,17 +227,17 @@ impl Scene {
             return Err("not on one straight line".into());
         }
         let along = tangent(nu);
-        let ends: Vec<[f64; 2]> =
+        let ends: Vec<Point> =
             facets.iter().flat_map(|&(f, _)| mesh.facet(f)[..2].iter().map(|&n| mesh.points[n])).collect();
-        let at = |x: &[f64; 2]| dot(*x, along);
+        let at = |x: &Point| dot(*x, along);
         let first = *ends.iter().min_by(|a, b| at(a).total_cmp(&at(b))).expect("a joint has faces");
         let last = *ends.iter().max_by(|a, b| at(a).total_cmp(&at(b))).expect("a joint has faces");
         // parallel joints (a lift joint above the dam's base) are not one line
-        let offset = |x: &[f64; 2]| (x[0] - first[0]) * nu[0] + (x[1] - first[1]) * nu[1];
+        let offset = |x: &Point| dot(sub(*x, first), nu);
         if ends.iter().any(|x| offset(x).abs() > 1e-9 * distance(first, last)) {
             return Err("not on one straight line".into());
         }
-        let water: Vec<[f64; 2]> = problem
+        let water: Vec<Point> = problem
             .neumann
             .iter()
             .filter(|bc| {
@@ -247,7 +247,7 @@ impl Scene {
             .flat_map(|bc| mesh.facets_tagged(&[bc.tag]).flat_map(|f| mesh.facet(f).to_vec()).collect::<Vec<_>>())
             .map(|n| mesh.points[n])
             .collect();
-        let near = |end: [f64; 2], to: &[[f64; 2]]| to.iter().map(|&x| distance(x, end)).fold(f64::INFINITY, f64::min);
+        let near = |end: Point, to: &[Point]| to.iter().map(|&x| distance(x, end)).fold(f64::INFINITY, f64::min);
         let heel_first = match heel {
             Some(h) => distance(first, h) <= distance(last, h),
             None if water.is_empty() => {
@@ -265,7 +265,7 @@ impl Scene {
         problem: &Problem,
         topology: &Topology,
         joint: &ContactJoint,
-        facets: &[(usize, [f64; 2])],
+        facets: &[(usize, Vector)],
     ) -> Result<Vec<CurveUplift>, SceneError> {
         if let Some(up) = &self.uplift {
             let curves = if self.joints.is_empty() { "the contact curves are" } else { "the joint curves are" };
@@ -290,7 +290,7 @@ impl Scene {
     fn uplift_diagram(
         &self,
         problem: &Problem,
-        facets: &[(usize, [f64; 2])],
+        facets: &[(usize, Vector)],
         up: &UpliftSection,
         (table, d): (&str, usize),
         curves: &str,
@@ -386,7 +386,7 @@ impl Scene {
         problem: &Problem,
         topology: &Topology,
         joint: &ContactJoint,
-        facets: &[(usize, [f64; 2])],
+        facets: &[(usize, Vector)],
     ) -> Result<(), SceneError> {
         let nu = self.nitsche_parameters().direction.unwrap_or(facets[0].1);
         if facets.iter().any(|(_, n)| distance(nu, *n) > 1e-9) {
@@ -441,10 +441,10 @@ impl Model for Scene {
 /// both.
 fn contact_supports(
     mesh: &Mesh,
-    facets: &[(usize, [f64; 2])],
-    direction: Option<[f64; 2]>,
+    facets: &[(usize, Vector)],
+    direction: Option<Vector>,
     friction: bool,
-) -> Vec<([f64; 2], [f64; 2])> {
+) -> Vec<(Point, Vector)> {
     facets
         .iter()
         .flat_map(|&(f, normal)| {
@@ -456,13 +456,13 @@ fn contact_supports(
 }
 
 /// Tag of a contact facet whose outward normal n has ν·n ≤ 0, if any.
-fn facing_away(mesh: &Mesh, facets: &[(usize, [f64; 2])], direction: Option<[f64; 2]>) -> Option<i32> {
+fn facing_away(mesh: &Mesh, facets: &[(usize, Vector)], direction: Option<Vector>) -> Option<i32> {
     let nu = direction?;
     facets.iter().find(|(_, n)| dot(*n, nu) <= 0.0).map(|&(f, _)| mesh.facet_tags[f])
 }
 
 /// The facets of the contact curves (tags) with their outward normals.
-fn contact_facets(mesh: &Mesh, topology: &Topology, tags: &[i32]) -> Vec<(usize, [f64; 2])> {
+fn contact_facets(mesh: &Mesh, topology: &Topology, tags: &[i32]) -> Vec<(usize, Vector)> {
     mesh.facets_tagged(tags).map(|f| (f, topology.outward_normal(mesh, f))).collect()
 }
 

@@ -5,6 +5,7 @@ use crate::contact::nitsche::NitscheParameters;
 use crate::contact::uplift::CrackRule;
 use crate::contact::JointLaw;
 use crate::elasticity::{BodyForce, Traction};
+use crate::geometry::{Point, Vector};
 use serde::Deserialize;
 use std::path::PathBuf;
 
@@ -73,9 +74,9 @@ pub struct BoundarySection {
     pub fix: Fix,
     /// Dirichlet: prescribed displacement \[m\] (default 0).
     #[serde(default)]
-    pub value: [f64; 2],
+    pub value: Vector,
     /// Neumann: constant traction \[Pa\].
-    pub traction: Option<[f64; 2]>,
+    pub traction: Option<Vector>,
     /// Neumann: hydrostatic water pressure.
     pub hydrostatic: Option<Hydrostatic>,
     /// Neumann: silt against the face, beside the water.
@@ -151,7 +152,7 @@ pub struct UpliftSection {
     pub crack: Option<CrackKind>,
     /// A point at the heel (the upstream end of the joint); none: the end nearest a curve with
     /// a hydrostatic load.
-    pub heel: Option<[f64; 2]>,
+    pub heel: Option<Point>,
 }
 
 /// Drains: distance from the heel \[m\] and efficiency in [0, 1].
@@ -181,7 +182,7 @@ pub enum CrackKind {
 
 impl UpliftSection {
     /// The crack's rule under the acceleration `a` \[g\]: the key's, or its default.
-    pub fn crack_kind(&self, a: [f64; 2]) -> CrackKind {
+    pub fn crack_kind(&self, a: Vector) -> CrackKind {
         let seismic = a != [0.0; 2];
         match self.crack.unwrap_or(if seismic { CrackKind::Unchanged } else { CrackKind::Full }) {
             CrackKind::Unchanged | CrackKind::Dry if !seismic => CrackKind::Full,
@@ -191,7 +192,7 @@ impl UpliftSection {
 
     /// The crack's rule under the acceleration `a`, with s₀ = `prior` the crack of the state
     /// before the earthquake.
-    pub fn crack_rule(&self, a: [f64; 2], prior: f64) -> CrackRule {
+    pub fn crack_rule(&self, a: Vector, prior: f64) -> CrackRule {
         match self.crack_kind(a) {
             CrackKind::Full => CrackRule::Filled,
             CrackKind::Unchanged => CrackRule::Kept { prior },
@@ -209,7 +210,7 @@ pub struct LoadSection {
     pub gravity: f64,
     /// A pseudo-static acceleration (a_x, a_y) in units of g: the body force becomes
     /// ρ g (a_x, a_y − 1).
-    pub acceleration: [f64; 2],
+    pub acceleration: Vector,
     /// Westergaard's added pressure (7/8) a_x cos²θ ρ_w g √(H z) on the reservoir's curves (the
     /// hydrostatic curves of the highest level) under a horizontal acceleration; default: on
     /// when a_x ≠ 0.
@@ -252,10 +253,10 @@ pub struct ContactSection {
     /// Constant normal gap g₀ \[m\] to the foundation (u^n ≤ g).
     pub gap: f64,
     /// Gradient of an affine gap g(x) = g₀ + ∇g · x.
-    pub gap_gradient: [f64; 2],
+    pub gap_gradient: Vector,
     /// Normal of a flat foundation, pointing from the body into it: the direction ν of u·ν ≤ g
     /// and of the contact traction. Default: the outward normal of each contact face.
-    pub direction: Option<[f64; 2]>,
+    pub direction: Option<Vector>,
     /// Coulomb friction coefficient F = tan φ (0: frictionless).
     pub friction: f64,
     /// Cohesion c \[Pa\] of a Mohr–Coulomb joint, on its closed part.

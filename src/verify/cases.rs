@@ -9,6 +9,7 @@ use super::units::rescale;
 use super::v3;
 use crate::elasticity::Problem;
 use crate::fem::norms::errors;
+use crate::geometry::Point;
 use crate::io::gmsh::{mesh_geo, MeshOptions};
 use crate::mesh::structured::{unit_square, BOTTOM};
 use crate::mesh::Mesh;
@@ -18,9 +19,9 @@ use std::path::{Path, PathBuf};
 
 /// Probe points of the dams: upstream and downstream crest corners, heel, a point of the
 /// contact base (Scene A) or the toe (Scene B), and an interior point; and of V3.
-const PROBES_A: [[f64; 2]; 5] = [[0.0, 50.0], [5.0, 50.0], [0.0, 0.0], [16.0, 0.0], [20.0, 20.0]];
-const PROBES_B: [[f64; 2]; 5] = [[0.0, 50.0], [5.0, 50.0], [0.0, 0.0], [40.0, 0.0], [20.0, -25.0]];
-const PROBES_V3: [[f64; 2]; 5] = [[1.0, 1.0], [0.5, 1.0], [1.0, 0.0], [0.75, 0.0], [0.25, 0.5]];
+const PROBES_A: [Point; 5] = [[0.0, 50.0], [5.0, 50.0], [0.0, 0.0], [16.0, 0.0], [20.0, 20.0]];
+const PROBES_B: [Point; 5] = [[0.0, 50.0], [5.0, 50.0], [0.0, 0.0], [40.0, 0.0], [20.0, -25.0]];
+const PROBES_V3: [Point; 5] = [[1.0, 1.0], [0.5, 1.0], [1.0, 0.0], [0.75, 0.0], [0.25, 0.5]];
 
 /// Seed of the mesh distortion.
 const SEED: u64 = 20240611;
@@ -86,7 +87,7 @@ impl Model {
         }
     }
 
-    fn probes(&self) -> &'static [[f64; 2]] {
+    fn probes(&self) -> &'static [Point] {
         match self {
             Model::Dam { .. } => &PROBES_A,
             Model::V3 { .. } => &PROBES_V3,

@@ -2,7 +2,7 @@
 
 use super::rng::Rng;
 use crate::estimate::reference::refine::{bisect, Refinement};
-use crate::geometry::{dot, norm, sub};
+use crate::geometry::{dot, norm, sub, Point};
 use crate::mesh::Mesh;
 
 /// Moves every interior vertex by a random vector of length up to `fraction · h` (uniform
@@ -54,7 +54,7 @@ pub fn quality(mesh: &Mesh) -> (f64, f64) {
 /// of `point` until its smallest cell is `ratio` times smaller than its largest: a
 /// shape-regular mesh graded by `ratio` towards `point`, like those of the adaptive loop.
 /// On a mesh with dyadic vertices, every vertex stays dyadic.
-pub fn graded(mesh: &Mesh, point: [f64; 2], ratio: f64) -> Mesh {
+pub fn graded(mesh: &Mesh, point: Point, ratio: f64) -> Mesh {
     let diameters = |m: &Mesh| (0..m.n_cells()).map(|c| m.cell_diameter(c)).collect::<Vec<_>>();
     let largest = diameters(mesh).into_iter().fold(0.0, f64::max);
     let mut current = Refinement {

@@ -8,7 +8,7 @@ use crate::contact::{continuation, ContactJoint, ContactProblem, JointLaw};
 use crate::elasticity::stress::cell_mean_stress;
 use crate::elasticity::Problem;
 use crate::fem::transfer::interpolate;
-use crate::geometry::{distance, norm};
+use crate::geometry::{distance, norm, Point, Vector};
 use crate::io::atomic::write_output;
 use crate::solve::condition::condition_1;
 use crate::solve::{Cholesky, NewtonError, NewtonOptions, NonlinearSystem, SparseLu};
@@ -56,9 +56,9 @@ pub struct Tolerance {
 #[derive(Debug, Clone)]
 pub struct Answer {
     /// Nodal displacements.
-    pub u: Vec<[f64; 2]>,
+    pub u: Vec<Vector>,
     /// u at the probe points (of the cell nearest to a probe outside the mesh).
-    pub probes: Vec<[f64; 2]>,
+    pub probes: Vec<Vector>,
     pub max_u: f64,
     pub contact_length: Option<f64>,
     /// Length of the longest contact face.
@@ -151,7 +151,7 @@ impl Row {
 }
 
 /// The first non-finite entry of u or of the cell stresses, if any.
-fn nonfinite_fields(problem: &Problem, u: &[[f64; 2]]) -> Option<String> {
+fn nonfinite_fields(problem: &Problem, u: &[Vector]) -> Option<String> {
     if let Some(n) = u.iter().position(|v| !(v[0].is_finite() && v[1].is_finite())) {
         return Some(format!("u at node {n} = {:?}", u[n]));
     }
@@ -160,10 +160,10 @@ fn nonfinite_fields(problem: &Problem, u: &[[f64; 2]]) -> Option<String> {
 }
 
 /// The solution in the original units (displacements times `length`), with its checks.
-fn answer_of(problem: &Problem, u: Vec<[f64; 2]>, length: f64, probes: &[[f64; 2]]) -> Answer {
+fn answer_of(problem: &Problem, u: Vec<Vector>, length: f64, probes: &[Point]) -> Answer {
     let nonfinite = nonfinite_fields(problem, &u);
-    let u: Vec<[f64; 2]> = u.into_iter().map(|v| [v[0] * length, v[1] * length]).collect();
-    let points: Vec<[f64; 2]> = probes.iter().map(|p| [p[0] / length, p[1] / length]).collect();
+    let u: Vec<Vector> = u.into_iter().map(|v| [v[0] * length, v[1] * length]).collect();
+    let points: Vec<Point> = probes.iter().map(|p| [p[0] / length, p[1] / length]).collect();
     Answer {
         probes: interpolate(&problem.mesh, &u, &points),
         max_u: u.iter().map(|&v| norm(v)).fold(0.0, f64::max),
@@ -227,7 +227,7 @@ fn describe_error(error: &NewtonError) -> (Option<usize>, Option<f64>, Option<f6
 
 /// Solves the contact problem on the facets `tags` of `problem`; `length` scales the
 /// displacement back to the original units.
-pub fn contact_row(row: &mut Row, problem: &Problem, tags: &[i32], knobs: Knobs, length: f64, probes: &[[f64; 2]]) {
+pub fn contact_row(row: &mut Row, problem: &Problem, tags: &[i32], knobs: Knobs, length: f64, probes: &[Point]) {
     let disc = problem.discretise();
     row.dofs = disc.dofs.n_free;
     let scale = problem.stress_scale(&disc.topology);
@@ -294,7 +294,7 @@ pub fn contact_row(row: &mut Row, problem: &Problem, tags: &[i32], knobs: Knobs,
 
 /// Linear solve of `problem` by sparse Cholesky, checked by its residual and by an LU
 /// solve of the same system; returns the LU answer as the reference.
-pub fn linear_row(row: &mut Row, problem: &Problem, probes: &[[f64; 2]]) -> Option<Answer> {
+pub fn linear_row(row: &mut Row, problem: &Problem, probes: &[Point]) -> Option<Answer> {
     let disc = problem.discretise();
     row.dofs = disc.dofs.n_free;
     let system = problem.assemble(&disc);

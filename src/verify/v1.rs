@@ -3,6 +3,7 @@
 //! Dirichlet data u on the four sides of the structured square (tags 1–4).
 
 use crate::elasticity::{BodyForce, Dirichlet, Material, Problem};
+use crate::geometry::{Point, Vector, D};
 use crate::mesh::Mesh;
 use std::f64::consts::PI;
 use std::sync::Arc;
@@ -10,12 +11,12 @@ use std::sync::Arc;
 pub const MU: f64 = 1.0;
 pub const LAMBDA: f64 = 1.0;
 
-pub fn exact(x: [f64; 2]) -> [f64; 2] {
+pub fn exact(x: Point) -> Vector {
     let (px, py) = (PI * x[0], PI * x[1]);
     [px.sin() * py.cos() + x[0] * x[0] / (2.0 * LAMBDA), -px.cos() * py.sin() + x[1] * x[1] / (2.0 * LAMBDA)]
 }
 
-pub fn exact_gradient(x: [f64; 2]) -> [[f64; 2]; 2] {
+pub fn exact_gradient(x: Point) -> [Vector; D] {
     let (px, py) = (PI * x[0], PI * x[1]);
     [
         [PI * px.cos() * py.cos() + x[0] / LAMBDA, -PI * px.sin() * py.sin()],
@@ -24,7 +25,7 @@ pub fn exact_gradient(x: [f64; 2]) -> [[f64; 2]; 2] {
 }
 
 /// f = (2μπ² sin πx cos πy − 2μ/λ − 1, −2μπ² cos πx sin πy − 2μ/λ − 1).
-pub fn body_force(x: [f64; 2]) -> [f64; 2] {
+pub fn body_force(x: Point) -> Vector {
     let (px, py) = (PI * x[0], PI * x[1]);
     let c = 2.0 * MU / LAMBDA + 1.0;
     [2.0 * MU * PI * PI * px.sin() * py.cos() - c, -2.0 * MU * PI * PI * px.cos() * py.sin() - c]

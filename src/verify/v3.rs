@@ -4,6 +4,7 @@
 //! ψ = (x − ½)₊⁴, φ = (½ − x)₊³, u = (−y ψ', ψ − y φ).
 
 use crate::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};
+use crate::geometry::{Point, Vector, D};
 use crate::mesh::structured::{LEFT, RIGHT, TOP};
 use crate::mesh::Mesh;
 use std::sync::Arc;
@@ -23,24 +24,24 @@ pub fn phi(x: f64) -> [f64; 3] {
     [t.powi(3), -3.0 * t * t, 6.0 * t]
 }
 
-pub fn u(p: [f64; 2]) -> [f64; 2] {
+pub fn u(p: Point) -> Vector {
     let (s, f) = (psi(p[0]), phi(p[0]));
     [-p[1] * s[1], s[0] - p[1] * f[0]]
 }
 
-pub fn grad_u(p: [f64; 2]) -> [[f64; 2]; 2] {
+pub fn grad_u(p: Point) -> [Vector; D] {
     let (s, f) = (psi(p[0]), phi(p[0]));
     [[-p[1] * s[2], -s[1]], [s[1] - p[1] * f[1], -f[0]]]
 }
 
 /// [σ_xx, σ_yy, σ_xy].
-pub fn sigma(p: [f64; 2]) -> [f64; 3] {
+pub fn sigma(p: Point) -> [f64; 3] {
     let (s, f, y) = (psi(p[0]), phi(p[0]), p[1]);
     let c = 2.0 * MU + LAMBDA;
     [-c * y * s[2] - LAMBDA * f[0], -c * f[0] - LAMBDA * y * s[2], -MU * y * f[1]]
 }
 
-pub fn f(p: [f64; 2]) -> [f64; 2] {
+pub fn f(p: Point) -> Vector {
     let (s, f, y) = (psi(p[0]), phi(p[0]), p[1]);
     [(2.0 * MU + LAMBDA) * y * s[3] + (LAMBDA + MU) * f[1], MU * y * f[2] + LAMBDA * s[2]]
 }

@@ -6,6 +6,7 @@ use super::{Combination, Outcome, STALLED};
 use crate::cli::adapt::BestStep;
 use crate::cli::output::Units;
 use crate::contact::{ContactSolution, CrackRule, JointLine};
+use crate::geometry::Point;
 use crate::io::atomic::write_output;
 use crate::io::plot::{Figure, Mark, Series};
 use crate::safety::base::BaseStresses;
@@ -251,7 +252,7 @@ pub(super) fn best_sentence(b: &BestStep, r: &Report) -> String {
 /// One contact face along the joint: its midpoint x, its distance s from the heel, and the
 /// face means of σ'^n = −p_c, σ^n = σ'^n − p_u, σ^t and p_u \[Pa\], and its status.
 pub(super) struct JointRow {
-    pub(super) x: [f64; 2],
+    pub(super) x: Point,
     pub(super) s: f64,
     pub(super) effective: f64,
     pub(super) total: f64,

@@ -4,7 +4,7 @@
 use super::{ContactFace, NitscheParameters, Opposite};
 use crate::elasticity::Material;
 use crate::fem::lagrange;
-use crate::geometry::{distance, dot, sub, AffineMap, Segment};
+use crate::geometry::{distance, dot, sub, AffineMap, Point, Segment};
 use crate::mesh::{Mesh, Topology};
 
 /// The pieces of the slave face `face` that face one master facet each (`master`: facet and
@@ -36,7 +36,7 @@ pub(super) fn pieces(
         if det.abs() <= 1e-12 * distance(c, d) {
             continue;
         }
-        let solve = |x: [f64; 2]| {
+        let solve = |x: Point| {
             let rhs = sub(c, x);
             let t = (-rhs[0] * e[1] + rhs[1] * e[0]) / det;
             let r = (nu[0] * rhs[1] - nu[1] * rhs[0]) / det;

@@ -41,8 +41,7 @@ use super::{ContactJoint, CurveLaw};
 use crate::elasticity::Material;
 use crate::fem::lagrange;
 use crate::fem::sparse::vector_dofs;
-use crate::geometry::AffineMap;
-use crate::geometry::{dot, tangent, Segment};
+use crate::geometry::{dot, sub, tangent, AffineMap, Point, Segment, Vector, D};
 use crate::mesh::{Mesh, Topology};
 use crate::solve::two_sum;
 
@@ -50,11 +49,11 @@ use crate::solve::two_sum;
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Gap {
     pub constant: f64,
-    pub gradient: [f64; 2],
+    pub gradient: Vector,
 }
 
 impl Gap {
-    pub fn at(&self, x: [f64; 2]) -> f64 {
+    pub fn at(&self, x: Point) -> f64 {
         self.constant + self.gradient[0] * x[0] + self.gradient[1] * x[1]
     }
 }
@@ -69,7 +68,7 @@ pub struct NitscheParameters {
     pub gap: Gap,
     /// Prescribed contact direction ν (unit, from the body into the foundation); `None`: the
     /// outward normal of each face.
-    pub direction: Option<[f64; 2]>,
+    pub direction: Option<Vector>,
 }
 
 impl NitscheParameters {
@@ -96,10 +95,10 @@ pub struct ContactFace {
     pub curve: usize,
     pub map: AffineMap,
     /// Reference coordinates (in the cell) of the face's end points.
-    pub ends: [[f64; 2]; 2],
-    pub normal: [f64; 2],
+    pub ends: [Point; 2],
+    pub normal: Vector,
     /// Contact direction ν: the prescribed one or `normal`.
-    pub direction: [f64; 2],
+    pub direction: Vector,
     pub length: f64,
     /// γ = γ₀ E / h_F.
     pub gamma: f64,
@@ -118,12 +117,12 @@ pub struct Opposite {
     pub facet: usize,
     pub cell: usize,
     pub map: AffineMap,
-    pub ends: [[f64; 2]; 2],
+    pub ends: [Point; 2],
 }
 
 /// Shape data of the cell basis at one point of a face.
 pub struct FacePoint {
-    pub x: [f64; 2],
+    pub x: Point,
     /// g − g₀, the gap at the point less its value g₀ at the face's origin
     /// ([`Nitsche::gap_origin`]): ∇g·(x − x₀), with (y − x)·ν − (y₀ − x₀)·ν on a joint.
     pub gap: f64,
@@ -270,7 +269,7 @@ impl Nitsche {
     }
 
     /// The physical point at parameter s ∈ [0, 1] of face `k`.
-    pub fn position(&self, k: usize, s: f64) -> [f64; 2] {
+    pub fn position(&self, k: usize, s: f64) -> Point {
         let face = &self.faces[k];
         face.map.to_physical(Segment::new(face.ends[0], face.ends[1]).point(s))
     }
@@ -286,13 +285,13 @@ impl Nitsche {
         lagrange::gradients(self.order, xi, &mut grads[..nb]);
         let n = face.normal;
         // σ^d(φ e_a) = (σ(φ e_a)n)·d = λ ∂_a φ (n·d) + μ((∇φ·n) d_a + (∇φ·d) n_a) and (φ e_a)·d
-        let along = |d: [f64; 2]| {
+        let along = |d: Vector| {
             let n_d = dot(n, d);
             let (mut sigma, mut value) = (vec![0.0; 2 * nb], vec![0.0; 2 * nb]);
             for i in 0..nb {
                 let g = face.map.physical_gradient(grads[i]);
                 let (gn, gd) = (dot(g, n), dot(g, d));
-                for a in 0..2 {
+                for a in 0..D {
                     sigma[2 * i + a] = face.lambda * g[a] * n_d + face.mu * (gn * d[a] + gd * n[a]);
                     value[2 * i + a] = phi[i] * d[a];
                 }
@@ -320,7 +319,7 @@ impl Nitsche {
             sigma_t.resize(4 * nb, 0.0);
             // g = (y − x)·ν, from the two cells' origins: (y₀ − x₀)·ν is in g₀
             let [y, x] = [linear(&opposite.map, eta), offset];
-            gap += (y[0] - x[0]) * nu[0] + (y[1] - x[1]) * nu[1];
+            gap += dot(sub(y, x), nu);
         }
         FacePoint { x: face.map.to_physical(xi), gap, sigma_n, u_n, sigma_t, u_t }
     }
@@ -332,7 +331,7 @@ impl Nitsche {
         let (x0, nu) = (face.map.origin, face.direction);
         let apart = face.opposite.as_ref().map_or(0.0, |o| {
             let y0 = o.map.origin;
-            (y0[0] - x0[0]) * nu[0] + (y0[1] - x0[1]) * nu[1]
+            dot(sub(y0, x0), nu)
         });
         self.parameters(k).gap.at(x0) + apart
     }
@@ -363,11 +362,11 @@ impl Nitsche {
             })
             .collect();
         let nu = self.faces[k].direction;
-        let jump = |d: [f64; 2], offset: f64| {
+        let jump = |d: Vector, offset: f64| {
             let mut terms = vec![-offset];
             // the slave's first node, then minus the master's
             for (first, sign) in (0..hi.len()).step_by(block).zip([1.0, -1.0]) {
-                for a in 0..2 {
+                for a in 0..D {
                     let product = sign * hi[first + a] * d[a];
                     terms.extend([
                         product,
@@ -408,7 +407,7 @@ impl Nitsche {
     }
 
     /// The uplift p_u of face `k`'s curve at a point x of it (0 without uplift there).
-    pub fn uplift_at(&self, k: usize, x: [f64; 2]) -> f64 {
+    pub fn uplift_at(&self, k: usize, x: Point) -> f64 {
         self.diagram(k).map_or(0.0, |up| up.pressure(up.distance(x), up.crack))
     }
 
@@ -440,7 +439,7 @@ impl Nitsche {
 
     /// The Γ_C traction t = (q(P_γ(u_h)) − p_u) ν + Π_S(P^t_γ(u_h)) τ at a face point, with q
     /// the smoothing (`Smoothing::NONE`: the exact traction).
-    pub fn traction(&self, k: usize, point: &FacePoint, u: &FaceDisplacement, smoothing: Smoothing) -> [f64; 2] {
+    pub fn traction(&self, k: usize, point: &FacePoint, u: &FaceDisplacement, smoothing: Smoothing) -> Vector {
         let normal = smoothing.value(self.p_gamma(k, point, u)) - self.uplift_at(k, point.x);
         let tangential = if self.law(k).has_friction() { self.tangential(k, point, u, smoothing).value } else { 0.0 };
         self.along(k, normal, tangential)
@@ -456,7 +455,7 @@ impl Nitsche {
         u_prev: &FaceDisplacement,
         step: &FaceDisplacement,
         smoothing: Smoothing,
-    ) -> [f64; 2] {
+    ) -> Vector {
         let [normal, tangential] = self.linearised(k, point, u_prev, step, smoothing);
         self.along(k, normal - self.uplift_at(k, point.x), tangential)
     }
@@ -483,14 +482,14 @@ impl Nitsche {
     }
 
     /// t_n ν + t_t τ on face k, τ = (−ν_y, ν_x).
-    fn along(&self, k: usize, normal: f64, tangential: f64) -> [f64; 2] {
+    fn along(&self, k: usize, normal: f64, tangential: f64) -> Vector {
         let nu = self.faces[k].direction;
         [normal * nu[0] - tangential * nu[1], normal * nu[1] + tangential * nu[0]]
     }
 }
 
 /// Jξ: the point of reference coordinates ξ relative to the map's origin.
-fn linear(map: &AffineMap, xi: [f64; 2]) -> [f64; 2] {
+fn linear(map: &AffineMap, xi: Point) -> Vector {
     let j = map.jacobian;
     [j[0][0] * xi[0] + j[0][1] * xi[1], j[1][0] * xi[0] + j[1][1] * xi[1]]
 }

@@ -37,6 +37,7 @@ mod compatibility;
 mod condensation;
 
 use super::afw::{CellIntegrals, COMPONENTS};
+use crate::geometry::{sub, Point, Vector, D};
 use algebra::{column, dot, from_orthonormal, Factors, MAX_WIDTH};
 use compatibility::{compatible_data, rigid_kernel};
 use condensation::Condensed;
@@ -74,9 +75,9 @@ pub struct PatchFace {
     /// |F|.
     pub length: f64,
     /// Unit normal, outward of the first cell.
-    pub normal: [f64; 2],
+    pub normal: Vector,
     /// Physical positions of the face nodes: ends, then midpoint (a node for p = 2 only).
-    pub nodes: [[f64; 2]; 3],
+    pub nodes: [Point; 3],
     pub kind: FaceKind,
 }
 
@@ -102,11 +103,11 @@ pub struct PatchInput<'a> {
     /// (g, ψ_m e_i)_T per case: `[case][(cell · n_lower + m) · 2 + i]`.
     pub divergence: Vec<Vec<f64>>,
     /// Physical positions of the P_{p−1} nodes (for Π^{p−1} z), cell by cell: n_lower per cell.
-    pub lower_nodes: Vec<[f64; 2]>,
+    pub lower_nodes: Vec<Point>,
     /// Rigid motions left free by the patch's Dirichlet faces, as coefficient triples
     /// (a_x, a_y, b) of z(x) = (a_x − b y, a_y + b x), y and x relative to `origin`.
     pub rigid: Vec<[f64; 3]>,
-    pub origin: [f64; 2],
+    pub origin: Point,
     /// Total area |ω_a|.
     pub area: f64,
     /// For p = 1: correct the symmetry datum of case 0 (the total) by c = κ J so that the
@@ -128,8 +129,8 @@ impl PatchInput<'_> {
         COMPONENTS * self.n_basis
     }
 
-    fn rigid_motion(&self, z: &[f64; 3], x: [f64; 2]) -> [f64; 2] {
-        let (px, py) = (x[0] - self.origin[0], x[1] - self.origin[1]);
+    fn rigid_motion(&self, z: &[f64; 3], x: Point) -> Vector {
+        let [px, py] = sub(x, self.origin);
         [z[0] - z[2] * py, z[1] + z[2] * px]
     }
 }
@@ -301,7 +302,7 @@ fn face_rows(input: &PatchInput) -> Vec<FaceRow> {
         }
         let active = face.active();
         for m in 0..=input.order {
-            for i in (0..2).filter(|&i| active[i]) {
+            for i in (0..D).filter(|&i| active[i]) {
                 let rhs = std::array::from_fn(|case| match &face.kind {
                     FaceKind::Trace { data, .. } if case < cases => data[case][m * 2 + i],
                     _ => 0.0,
@@ -321,7 +322,7 @@ fn face_coefficients(nb: usize, face: &PatchFace, side: usize, m: usize, out: &m
     let sign = if side == 0 { 1.0 } else { -1.0 };
     for k in 0..nb {
         let moment = sign * (face.moments[side][m * nb + k] * face.length);
-        for j in 0..2 {
+        for j in 0..D {
             out[j * nb + k] = moment * face.normal[j];
         }
     }

@@ -47,8 +47,7 @@ use crate::fem::lagrange;
 use crate::fem::quadrature::{gauss_segment, split_rule, Rule1d};
 use crate::fem::sparse::{vector_dofs, LinearSystem, Local, SparsePattern};
 use crate::fem::tabulate::Tabulation;
-use crate::geometry::AffineMap;
-use crate::geometry::{dot, sub};
+use crate::geometry::{dot, sub, AffineMap, Point, Vector, D};
 use crate::mesh::midpoints::elevate_to_p2;
 use crate::mesh::midpoints::vertex_mesh;
 use crate::mesh::{Mesh, Topology};
@@ -75,7 +74,7 @@ pub struct RieszRepresentative {
     /// The fine P2 mesh and its parents in the coarse mesh.
     pub fine: Refinement,
     /// Nodal values of r on the fine mesh.
-    pub r: Vec<[f64; 2]>,
+    pub r: Vec<Vector>,
     /// Number of scalar unknowns of the Riesz problem (both components).
     pub n_unknowns: usize,
 }
@@ -110,7 +109,7 @@ pub const MARKED_SHARE: f64 = 0.8;
 /// contains the last and the bounds increase.
 pub fn sharp_reference(
     problem: &Problem,
-    u_h: &[[f64; 2]],
+    u_h: &[Vector],
     contact: Option<&ContactJoint>,
     agreement: f64,
     max_unknowns: usize,
@@ -170,7 +169,7 @@ pub struct Effectivity {
 /// [`REFERENCE_AGREEMENT`] and [`REFERENCE_MAX_UNKNOWNS`].
 pub fn effectivity(
     problem: &Problem,
-    u_h: &[[f64; 2]],
+    u_h: &[Vector],
     contact: Option<&ContactJoint>,
     eta_tot: f64,
 ) -> Result<Effectivity, SolveError> {
@@ -223,7 +222,7 @@ fn bisect_twice(refined: &Refinement, marked: &[bool]) -> Refinement {
 /// `u_h` holds the nodal values on `problem.mesh`; `contact` is `None` without Γ_C.
 pub fn residual_dual_norm(
     problem: &Problem,
-    u_h: &[[f64; 2]],
+    u_h: &[Vector],
     contact: Option<&ContactJoint>,
     levels: usize,
 ) -> Result<f64, SolveError> {
@@ -234,7 +233,7 @@ pub fn residual_dual_norm(
 /// matrix is singular: a component that is fixed nowhere while Γ_C is empty.
 pub fn residual_riesz(
     problem: &Problem,
-    u_h: &[[f64; 2]],
+    u_h: &[Vector],
     contact: Option<&ContactJoint>,
     levels: usize,
 ) -> Result<RieszRepresentative, SolveError> {
@@ -245,7 +244,7 @@ pub fn residual_riesz(
 /// nested in `problem.mesh`.
 fn riesz_on(
     problem: &Problem,
-    u_h: &[[f64; 2]],
+    u_h: &[Vector],
     contact: Option<&ContactJoint>,
     fine: Refinement,
 ) -> Result<RieszRepresentative, SolveError> {
@@ -267,7 +266,7 @@ fn riesz_on(
     for bc in &problem.dirichlet {
         for f in (0..mesh.n_facets()).filter(|&f| mesh.facet_tags[f] == bc.tag) {
             for &n in mesh.facet(f) {
-                for a in (0..2).filter(|&a| bc.fix[a]) {
+                for a in (0..D).filter(|&a| bc.fix[a]) {
                     fixed[a][n] = true;
                 }
             }
@@ -302,25 +301,25 @@ fn riesz_on(
 }
 
 /// ξ = J⁻¹ (x − v0): reference coordinates of the physical point x in the cell of `map`.
-fn to_reference(map: &AffineMap, x: [f64; 2]) -> [f64; 2] {
-    let d = [x[0] - map.origin[0], x[1] - map.origin[1]];
+fn to_reference(map: &AffineMap, x: Point) -> Point {
+    let d = sub(x, map.origin);
     let m = &map.inv_t; // J⁻ᵀ, so (J⁻¹)_{cr} = m[r][c]
     [m[0][0] * d[0] + m[1][0] * d[1], m[0][1] * d[0] + m[1][1] * d[1]]
 }
 
 /// (f, φ_i e_a) − (σ(u_h), ∇(φ_i e_a)) for every fine node i, component a.
-fn volume_residual(problem: &Problem, u_h: &[[f64; 2]], fine: &Refinement) -> Vec<[f64; 2]> {
+fn volume_residual(problem: &Problem, u_h: &[Vector], fine: &Refinement) -> Vec<Vector> {
     let coarse = &problem.mesh;
     let p = coarse.order;
     let mesh = &fine.mesh;
     let tab = Tabulation::new(2, VOLUME_DEGREE);
-    let locals: Vec<[[f64; 2]; 6]> = (0..mesh.n_cells())
+    let locals: Vec<[Vector; 6]> = (0..mesh.n_cells())
         .into_par_iter()
         .map(|c| {
             let parent = fine.cell_parents[c];
             let map = AffineMap::new(mesh.cell_vertices(c));
             let parent_map = AffineMap::new(coarse.cell_vertices(parent));
-            let u: Vec<[f64; 2]> = coarse.cell(parent).iter().map(|&n| u_h[n]).collect();
+            let u: Vec<Vector> = coarse.cell(parent).iter().map(|&n| u_h[n]).collect();
             let material = &problem.materials[parent];
             let (lambda, mu) = material.lame();
             let mut scratch = [[0.0; 2]; 6];
@@ -340,7 +339,7 @@ fn volume_residual(problem: &Problem, u_h: &[[f64; 2]], fine: &Refinement) -> Ve
                 let f = problem.body_force_at(parent, x);
                 for (i, (phi, gr)) in tab.phi(q).iter().zip(tab.grad(q)).enumerate() {
                     let g = map.physical_gradient(*gr);
-                    for a in 0..2 {
+                    for a in 0..D {
                         local[i][a] += w * (f[a] * phi - sigma[a][0] * g[0] - sigma[a][1] * g[1]);
                     }
                 }
@@ -359,7 +358,7 @@ fn volume_residual(problem: &Problem, u_h: &[[f64; 2]], fine: &Refinement) -> Ve
 }
 
 /// Adds (g_N, φ_i e_a)_{Γ_N} on the fine Neumann facets.
-fn neumann_residual(problem: &Problem, topology: &Topology, fine: &Refinement, load: &mut [[f64; 2]]) {
+fn neumann_residual(problem: &Problem, topology: &Topology, fine: &Refinement, load: &mut [Vector]) {
     let mesh = &fine.mesh;
     let rule = gauss_segment(6);
     let mut phi = [0.0; 3];
@@ -401,7 +400,7 @@ struct ContactFaces {
 /// ends s = 0, 1 on it, and the sign of that side in the jump: + for the slave, − the master.
 struct Side {
     facet: usize,
-    ends: [[f64; 2]; 2],
+    ends: [Point; 2],
     sign: f64,
 }
 
@@ -455,7 +454,7 @@ impl ContactFaces {
     /// facing x), t(u_h) = [P_γ(u_h)]_{R⁻} ν + Π_S(P^t_γ(u_h)) τ the exact traction: each face
     /// is cut at the ends of the fine facets of both sides and at the kinks of t(u_h), and each
     /// piece integrated by 4 Gauss points.
-    fn add_residual(&self, fine: &Refinement, u_h: &[[f64; 2]], load: &mut [[f64; 2]]) {
+    fn add_residual(&self, fine: &Refinement, u_h: &[Vector], load: &mut [Vector]) {
         let mut phi = [0.0; 3];
         for (k, sides) in self.sides.iter().enumerate() {
             let u: Vec<f64> = self.face_dofs[k].iter().map(|&g| u_h[g / 2][g % 2]).collect();
@@ -532,7 +531,7 @@ impl ScalarSystem {
                 }
                 for i in 0..6 {
                     for j in 0..6 {
-                        local.matrix[2 * i * n + 2 * j] += w * (g[i][0] * g[j][0] + g[i][1] * g[j][1]);
+                        local.matrix[2 * i * n + 2 * j] += w * dot(g[i], g[j]);
                     }
                 }
             }
@@ -563,7 +562,7 @@ impl ScalarSystem {
 }
 
 /// ‖∇r‖²_T + Σ_{F ⊂ ∂T ∩ Γ_C} h_F⁻¹‖r‖²_F for every coarse cell T.
-fn cell_contributions(coarse: &Mesh, fine: &Refinement, r: &[[f64; 2]], faces: Option<&ContactFaces>) -> Vec<f64> {
+fn cell_contributions(coarse: &Mesh, fine: &Refinement, r: &[Vector], faces: Option<&ContactFaces>) -> Vec<f64> {
     let mesh = &fine.mesh;
     let mut out = vec![0.0; coarse.n_cells()];
     for (c, v) in gradient_energy(mesh, r).into_iter().enumerate() {
@@ -577,7 +576,7 @@ fn cell_contributions(coarse: &Mesh, fine: &Refinement, r: &[[f64; 2]], faces: O
             let mut sum = 0.0;
             for (i, &ni) in nodes.iter().enumerate() {
                 for (j, &nj) in nodes.iter().enumerate() {
-                    sum += m[3 * i + j] * (r[ni][0] * r[nj][0] + r[ni][1] * r[nj][1]);
+                    sum += m[3 * i + j] * dot(r[ni], r[nj]);
                 }
             }
             out[cell] += sum;
@@ -587,7 +586,7 @@ fn cell_contributions(coarse: &Mesh, fine: &Refinement, r: &[[f64; 2]], faces: O
 }
 
 /// ‖∇r‖²_T for every cell T of the degree-2 `mesh`.
-fn gradient_energy(mesh: &Mesh, r: &[[f64; 2]]) -> Vec<f64> {
+fn gradient_energy(mesh: &Mesh, r: &[Vector]) -> Vec<f64> {
     let tab = Tabulation::new(2, 2);
     (0..mesh.n_cells())
         .into_par_iter()
@@ -599,8 +598,8 @@ fn gradient_energy(mesh: &Mesh, r: &[[f64; 2]]) -> Vec<f64> {
                 let mut g = [[0.0f64; 2]; 2];
                 for (&n, gr) in nodes.iter().zip(tab.grad(q)) {
                     let d = map.physical_gradient(*gr);
-                    for a in 0..2 {
-                        for b in 0..2 {
+                    for a in 0..D {
+                        for b in 0..D {
                             g[a][b] += r[n][a] * d[b];
                         }
                     }

@@ -176,7 +176,7 @@ pub fn refine_levels(mesh: &Mesh, levels: usize) -> Refinement {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::AffineMap;
+    use crate::geometry::{sub, AffineMap};
     use crate::mesh::midpoints::{elevate_to_p2, vertex_mesh};
     use crate::mesh::structured::{rectangle, BOTTOM, LEFT, RIGHT, TOP};
     use crate::mesh::Topology;
@@ -260,7 +260,7 @@ mod tests {
             for c in 0..fine.n_cells() {
                 let x = fine.cell_centroid(c);
                 let map = AffineMap::new(coarse.cell_vertices(r.cell_parents[c]));
-                let d = [x[0] - map.origin[0], x[1] - map.origin[1]];
+                let d = sub(x, map.origin);
                 // ξ = J⁻¹ (x − v0) = (J⁻ᵀ)ᵀ (x − v0)
                 let xi =
                     [map.inv_t[0][0] * d[0] + map.inv_t[1][0] * d[1], map.inv_t[0][1] * d[0] + map.inv_t[1][1] * d[1]];

@@ -1,5 +1,6 @@
 //! Errors of the gmsh interface: each one prints as one sentence naming the file.
 
+use crate::geometry::Point;
 use std::path::PathBuf;
 
 /// Everything that can go wrong while opening, meshing, reading or writing through gmsh.
@@ -60,7 +61,7 @@ pub enum GmshError {
     /// Triangles overlap: two lie on the same side of their common edge, or an edge belongs to
     /// more than two.
     #[error("the mesh of {} is folded: triangles overlap at the edge from ({}, {}) to ({}, {})", .path.display(), .edge[0][0], .edge[0][1], .edge[1][0], .edge[1][1])]
-    Folded { path: PathBuf, edge: [[f64; 2]; 2] },
+    Folded { path: PathBuf, edge: [Point; 2] },
     /// gmsh skipped nodes or elements whose tag was already used.
     #[error("cannot open {}: {message}; every node and element needs its own tag", .path.display())]
     DuplicateTag { path: PathBuf, message: String },

@@ -18,7 +18,7 @@
 //!   [`NOTICE_AFTER`] seconds the limit is stated once on stderr.
 
 use super::{api, GmshError};
-use crate::geometry::distance;
+use crate::geometry::{distance, Point};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU32, AtomicUsize, Ordering};
 use std::sync::{Mutex, PoisonError};
@@ -179,7 +179,7 @@ pub(super) fn check_estimate(path: &Path, estimate: f64, sizes: &str) -> Result<
 /// Mean length of the curve segments of the current mesh, `None` if there is none.
 fn mean_segment_length() -> Result<Option<f64>, GmshError> {
     let (tags, coords) = api::nodes()?;
-    let xy: std::collections::HashMap<usize, [f64; 2]> =
+    let xy: std::collections::HashMap<usize, Point> =
         tags.as_slice().iter().zip(coords.as_slice().chunks_exact(3)).map(|(&t, c)| (t, [c[0], c[1]])).collect();
     let (mut total, mut count) = (0.0, 0usize);
     for (_, curve) in api::entities(1)? {

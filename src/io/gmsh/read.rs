@@ -1,6 +1,7 @@
 //! Conversion of gmsh's current mesh into a [`Mesh`].
 
 use super::{api, GmshError};
+use crate::geometry::Point;
 use crate::mesh::flat::flip_flat_cells;
 use crate::mesh::{Mesh, PhysicalGroup};
 use std::collections::HashMap;
@@ -46,7 +47,7 @@ pub(super) fn mesh(source: &Path, meshed: bool) -> Result<Mesh, GmshError> {
 
 /// An edge where counter-clockwise cells overlap: shared by more than two cells, or by two
 /// that run along it in the same direction (so lie on the same side of it).
-fn folded_edge(mesh: &Mesh) -> Option<[[f64; 2]; 2]> {
+fn folded_edge(mesh: &Mesh) -> Option<[Point; 2]> {
     let edges = mesh.cell_type().edges();
     let mut directed: Vec<([usize; 2], bool)> = (0..mesh.n_cells())
         .flat_map(|c| {
@@ -142,10 +143,10 @@ fn groups() -> Result<Vec<PhysicalGroup>, GmshError> {
 /// Compact node numbering in order of first use.
 struct Numbering {
     /// (x, y) of every gmsh node, by tag.
-    xy: HashMap<usize, [f64; 2]>,
+    xy: HashMap<usize, Point>,
     /// gmsh tag → new index.
     index: HashMap<usize, usize>,
-    points: Vec<[f64; 2]>,
+    points: Vec<Point>,
 }
 
 impl Numbering {

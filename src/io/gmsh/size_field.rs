@@ -1,6 +1,7 @@
 //! [`SizeField`]: target mesh sizes that drive gmsh's mesher through a background field.
 
 use super::{GmshError, MeshOptions, TRIANGLE_AREA};
+use crate::geometry::Point;
 use crate::mesh::Mesh;
 
 /// Target mesh sizes as a piecewise-linear field on the triangles of a previous mesh
@@ -8,7 +9,7 @@ use crate::mesh::Mesh;
 #[derive(Debug, Clone, PartialEq)]
 pub struct SizeField {
     /// Vertex coordinates.
-    pub points: Vec<[f64; 2]>,
+    pub points: Vec<Point>,
     /// Point indices of each triangle.
     pub triangles: Vec<[usize; 3]>,
     /// Target size h(xᵢ) at each point; h is linear on each triangle.

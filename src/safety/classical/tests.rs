@@ -20,7 +20,7 @@ const COHESION: f64 = 1.0e5;
 /// The triangle heel (0, 0), toe (B, 0), crest (0, H) as one P1 cell: the base (tag 1), the
 /// sloping downstream face (2) under the tailwater, the vertical upstream face (3) under the
 /// reservoir, loaded by the weight with the acceleration `a` (in g).
-fn triangle(a: [f64; 2]) -> Problem {
+fn triangle(a: Vector) -> Problem {
     let group = |tag, name: &str| PhysicalGroup { dim: 1, tag, name: name.into() };
     let mesh = Mesh {
         points: vec![[0.0, 0.0], [B, 0.0], [0.0, H]],
@@ -54,7 +54,7 @@ fn close(what: &str, got: f64, want: f64) {
 }
 
 /// The loads of the triangle by hand: (kind, V, d_V, H, h_H).
-fn hand_loads(a: [f64; 2]) -> Vec<(LoadKind, f64, f64, f64, f64)> {
+fn hand_loads(a: Vector) -> Vec<(LoadKind, f64, f64, f64, f64)> {
     let gw = RHO_W * G;
     let w = RHO_C * G * B * H / 2.0;
     // the water above the sloping face: a wedge of width b_t = B T_w / H, its centroid b_t/3

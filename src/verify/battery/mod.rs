@@ -67,6 +67,8 @@ pub use draw::cases;
 pub use record::{header, row, summary, Record, STRENGTH_GAP};
 pub use run::{run, run_with, Outcome, Run};
 
+use crate::geometry::Point;
+
 /// Gravity \[m/s²\] and the densities of water and concrete \[kg/m³\].
 const GRAVITY: f64 = 9.81;
 const RHO_WATER: f64 = 1000.0;
@@ -89,7 +91,7 @@ const SIZE_FACTOR: [f64; 2] = [0.5, 1.0];
 /// Rectangular gallery: lower-left corner, width and height \[m\].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Gallery {
-    pub corner: [f64; 2],
+    pub corner: Point,
     pub width: f64,
     pub height: f64,
 }

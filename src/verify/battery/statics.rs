@@ -2,7 +2,7 @@
 //! exact N, T and s_N of the module's doc.
 
 use super::*;
-use crate::geometry::{distance, sub};
+use crate::geometry::{distance, sub, Point, Vector};
 
 /// γ_w.
 pub(super) fn gamma_w() -> f64 {
@@ -10,13 +10,13 @@ pub(super) fn gamma_w() -> f64 {
 }
 
 /// a × b, the z component.
-fn cross(a: [f64; 2], b: [f64; 2]) -> f64 {
+fn cross(a: Vector, b: Vector) -> f64 {
     a[0] * b[1] - a[1] * b[0]
 }
 
 /// The water on the segment p → q of a counter-clockwise outline, of outward normal
 /// n = (q − p)^⊥ / |q − p|: the force −∫ γ_w (level − y)₊ n ds and its moment about the origin.
-pub(super) fn water(p: [f64; 2], q: [f64; 2], level: f64) -> ([f64; 2], f64) {
+pub(super) fn water(p: Point, q: Point, level: f64) -> (Vector, f64) {
     let (d, length) = (sub(q, p), distance(p, q));
     let n = [d[1] / length, -d[0] / length];
     let point = |t: f64| [p[0] + t * d[0], p[1] + t * d[1]];
@@ -35,7 +35,7 @@ pub(super) fn water(p: [f64; 2], q: [f64; 2], level: f64) -> ([f64; 2], f64) {
 }
 
 /// Area and centroid of a polygon (either orientation: the area is signed).
-pub(super) fn area_centroid(outline: &[[f64; 2]]) -> (f64, [f64; 2]) {
+pub(super) fn area_centroid(outline: &[Point]) -> (f64, Point) {
     let (mut area, mut cx, mut cy) = (0.0, 0.0, 0.0);
     for (i, &p) in outline.iter().enumerate() {
         let q = outline[(i + 1) % outline.len()];
@@ -54,7 +54,7 @@ impl DamCase {
     }
 
     /// The toe (B, B tan β).
-    pub fn toe(&self) -> [f64; 2] {
+    pub fn toe(&self) -> Point {
         let t = self.base_angle.tan();
         let b = (self.upstream_x() + self.crest + self.slope * self.height) / (1.0 + self.slope * t);
         [b, b * t]
@@ -67,7 +67,7 @@ impl DamCase {
 
     /// The outline counter-clockwise from the heel: heel, toe, the crest's downstream and
     /// upstream corners, and the batter's top.
-    pub fn outline(&self) -> Vec<[f64; 2]> {
+    pub fn outline(&self) -> Vec<Point> {
         let (xu, h) = (self.upstream_x(), self.height);
         let mut outline = vec![[0.0, 0.0], self.toe(), [xu + self.crest, h], [xu, h]];
         outline.extend(self.batter.map(|b| [xu, b.height]));
@@ -75,13 +75,13 @@ impl DamCase {
     }
 
     /// The gallery's corners, counter-clockwise.
-    pub(super) fn gallery_outline(g: &Gallery) -> [[f64; 2]; 4] {
+    pub(super) fn gallery_outline(g: &Gallery) -> [Point; 4] {
         let [x, y] = g.corner;
         [[x, y], [x + g.width, y], [x + g.width, y + g.height], [x, y + g.height]]
     }
 
     /// The load resultant R on the dam body and its moment M about the heel.
-    fn loads_resultant(&self) -> ([f64; 2], f64) {
+    fn loads_resultant(&self) -> (Vector, f64) {
         let outline = self.outline();
         let (area, centroid) = area_centroid(&outline);
         let hole = self.gallery.map(|g| area_centroid(&DamCase::gallery_outline(&g)));
