@@ -299,6 +299,15 @@ impl Iterate<'_> {
     }
 }
 
+/// Whether ‖F‖ = r at `step` has gone `patience` steps without halving; `halved` holds the last
+/// ‖F‖ that halved the one before it, and its step.
+fn stale(halved: &mut (f64, usize), r: f64, step: usize, patience: Option<usize>) -> bool {
+    if r <= 0.5 * halved.0 {
+        *halved = (r, step);
+    }
+    patience.is_some_and(|p| step - halved.1 >= p)
+}
+
 /// Newton that also stops when `stop` accepts an iterate. `stop` sees every iterate after
 /// the first `min_steps` steps, including the one that meets the residual tolerance, so
 /// it can record a quantity of the final iterate.
@@ -320,7 +329,6 @@ pub fn newton_until(
     let (mut stalled, mut frozen) = (0, false);
     // the smallest ‖F‖ so far and the iterates since: the natural test may let steps cycle
     let (mut best, mut since_best) = (f64::INFINITY, 0);
-    // the last ‖F‖ that halved the one before it, and its step
     let mut halved = (f64::INFINITY, 0);
     for step in 0..=options.max_iter {
         let clock = Instant::now();
@@ -360,10 +368,7 @@ pub fn newton_until(
             return Ok(NewtonReport { x, x_prev, lo, iterations: history, residual: r, scale, seconds });
         }
         polished |= due && converged;
-        if r <= 0.5 * halved.0 {
-            halved = (r, step);
-        }
-        let stale = options.patience.is_some_and(|p| step - halved.1 >= p);
+        let stale = stale(&mut halved, r, step, options.patience);
         if step == options.max_iter || r > DIVERGED * best || stale {
             break;
         }
