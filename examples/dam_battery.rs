@@ -72,9 +72,9 @@ fn main() -> Result<()> {
     let root = options.keep.clone().unwrap_or_else(|| temporary.clone());
     println!("{}", header());
     let mut records = Vec::new();
+    let extra: &[&str] = if options.strength_reduction { &["--strength-reduction"] } else { &[] };
     for case in cases(options.seed, options.cases) {
         let dir = root.join(format!("seed_{}", case.seed));
-        let extra: &[&str] = if options.strength_reduction { &["--strength-reduction"] } else { &[] };
         let record = Record::new(case.clone(), run_with(&binary, &case, &dir, extra)?);
         println!("{}", row(&record));
         records.push(record);
