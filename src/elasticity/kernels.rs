@@ -5,7 +5,7 @@
 
 use crate::fem::lagrange;
 use crate::fem::tabulate::Tabulation;
-use crate::geometry::{AffineMap, Point, Segment, Vector, D};
+use crate::geometry::{sym_grad, trace, AffineMap, Point, Segment, Tensor, Vector, D};
 
 /// Element stiffness K_{2i+a, 2j+b} = ∫_T ε(φ_i e_a) : C ε(φ_j e_b), row-major in `k`: with
 /// D_kl = ∫_T ∂_k φ_i ∂_l φ_j, the 2 × 2 block of nodes (i, j) is
@@ -99,15 +99,9 @@ pub fn traction_load(
 /// ∇u_h = Σ_k (u_k − u_0) ⊗ ∇φ_k (Σ_k ∇φ_k = 0): the differences to the first node are
 /// exact for nearby nodes, so a displacement |u| much larger than h |∇u| (a thin cell, or a
 /// cell far along a sliding base) costs no digits of the gradient.
-pub fn displacement_gradient(
-    map: &AffineMap,
-    order: usize,
-    xi: Point,
-    u: &[Vector],
-    grads: &mut [Vector],
-) -> [Vector; D] {
+pub fn displacement_gradient(map: &AffineMap, order: usize, xi: Point, u: &[Vector], grads: &mut [Vector]) -> Tensor {
     lagrange::gradients(order, xi, grads);
-    let mut g = [[0.0; 2]; 2];
+    let mut g = [[0.0; D]; D];
     for (gr, ui) in grads.iter().zip(u).skip(1) {
         let d = map.physical_gradient(*gr);
         for a in 0..D {
@@ -122,10 +116,10 @@ pub fn displacement_gradient(
 
 /// Plane-strain stress σ = λ tr ε I + 2μ ε from a displacement gradient, as
 /// [σ_xx, σ_yy, σ_xy, σ_zz] with σ_zz = λ tr ε.
-pub fn stress(grad_u: [Vector; D], lambda: f64, mu: f64) -> [f64; 4] {
-    let tr = grad_u[0][0] + grad_u[1][1];
-    let exy = 0.5 * (grad_u[0][1] + grad_u[1][0]);
-    [lambda * tr + 2.0 * mu * grad_u[0][0], lambda * tr + 2.0 * mu * grad_u[1][1], 2.0 * mu * exy, lambda * tr]
+pub fn stress(grad_u: Tensor, lambda: f64, mu: f64) -> [f64; 4] {
+    let e = sym_grad(grad_u);
+    let tr = trace(e);
+    [lambda * tr + 2.0 * mu * e[0][0], lambda * tr + 2.0 * mu * e[1][1], 2.0 * mu * e[0][1], lambda * tr]
 }
 
 /// von Mises stress √(½((σ₁−σ₂)² + (σ₂−σ₃)² + (σ₃−σ₁)²)) from [σ_xx, σ_yy, σ_xy, σ_zz].

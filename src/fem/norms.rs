@@ -1,7 +1,7 @@
 //! Error norms of a vector Lagrange field against an exact solution.
 
 use super::tabulate::Tabulation;
-use crate::geometry::{AffineMap, Point, Vector, D};
+use crate::geometry::{ddot, sub, AffineMap, Point, Tensor, Vector, D};
 use crate::mesh::Mesh;
 
 /// L² norm and H¹ seminorm of u − u_h, with u_h given by its nodal values `u_h[node]`:
@@ -12,7 +12,7 @@ pub fn errors(
     mesh: &Mesh,
     u_h: &[Vector],
     u: impl Fn(Point) -> Vector,
-    grad_u: impl Fn(Point) -> [Vector; D],
+    grad_u: impl Fn(Point) -> Tensor,
 ) -> (f64, f64) {
     let tab = Tabulation::new(mesh.order, 2 * mesh.order + 4);
     let mut l2 = 0.0;
@@ -23,7 +23,7 @@ pub fn errors(
         for q in 0..tab.n_points() {
             let x = map.to_physical(tab.points[q]);
             let w = tab.weights[q] * map.det.abs();
-            let (mut v, mut g) = ([0.0; 2], [[0.0; 2]; 2]);
+            let (mut v, mut g) = ([0.0; D], [[0.0; D]; D]);
             for (i, &n) in nodes.iter().enumerate() {
                 let grad = map.physical_gradient(tab.grad(q)[i]);
                 for a in 0..D {
@@ -35,7 +35,8 @@ pub fn errors(
             }
             let (ue, ge) = (u(x), grad_u(x));
             l2 += w * (0..D).map(|a| (ue[a] - v[a]).powi(2)).sum::<f64>();
-            h1 += w * (0..4).map(|k| (ge[k / 2][k % 2] - g[k / 2][k % 2]).powi(2)).sum::<f64>();
+            let e: Tensor = std::array::from_fn(|a| sub(ge[a], g[a]));
+            h1 += w * ddot(e, e);
         }
     }
     (l2.sqrt(), h1.sqrt())

@@ -1,7 +1,8 @@
 //! The geometry that every layer shares: the dimension [`D`], points and vectors as
 //! `[f64; D]` with their arithmetic, the affine map of a cell ([`AffineMap`]), the straight
-//! facet ([`Segment`]), the frame of a facet's normal, one bounding box, and the reference
-//! cell's vertex, edge and facet tables ([`CellType`]).
+//! facet ([`Segment`]), the frame of a facet's normal, one bounding box, second-order tensors
+//! ([`Tensor`]: ε = [`sym_grad`], [`trace`], [`ddot`]) and the reference cell's vertex, edge and
+//! facet tables ([`CellType`]).
 //!
 //! The domain is plane (plane strain), D = 2. Where the 3D issue needs a dimension as a
 //! parameter it becomes `const D: usize` there; a facet is then a triangle and its frame has
@@ -10,10 +11,12 @@
 mod affine;
 mod cell;
 mod segment;
+mod tensor;
 
 pub use affine::AffineMap;
 pub use cell::CellType;
 pub use segment::Segment;
+pub use tensor::{ddot, sym_grad, trace, Tensor};
 
 /// The dimension of the domain.
 pub const D: usize = 2;

@@ -3,7 +3,7 @@
 //! Dirichlet data u on the four sides of the structured square (tags 1–4).
 
 use crate::elasticity::{BodyForce, Dirichlet, Material, Problem};
-use crate::geometry::{Point, Vector, D};
+use crate::geometry::{Point, Tensor, Vector};
 use crate::mesh::Mesh;
 use std::f64::consts::PI;
 use std::sync::Arc;
@@ -16,7 +16,7 @@ pub fn exact(x: Point) -> Vector {
     [px.sin() * py.cos() + x[0] * x[0] / (2.0 * LAMBDA), -px.cos() * py.sin() + x[1] * x[1] / (2.0 * LAMBDA)]
 }
 
-pub fn exact_gradient(x: Point) -> [Vector; D] {
+pub fn exact_gradient(x: Point) -> Tensor {
     let (px, py) = (PI * x[0], PI * x[1]);
     [
         [PI * px.cos() * py.cos() + x[0] / LAMBDA, -PI * px.sin() * py.sin()],

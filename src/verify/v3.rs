@@ -4,7 +4,7 @@
 //! ψ = (x − ½)₊⁴, φ = (½ − x)₊³, u = (−y ψ', ψ − y φ).
 
 use crate::elasticity::{BodyForce, Dirichlet, Material, Neumann, Problem, Traction};
-use crate::geometry::{Point, Vector, D};
+use crate::geometry::{Point, Tensor, Vector};
 use crate::mesh::structured::{LEFT, RIGHT, TOP};
 use crate::mesh::Mesh;
 use std::sync::Arc;
@@ -29,7 +29,7 @@ pub fn u(p: Point) -> Vector {
     [-p[1] * s[1], s[0] - p[1] * f[0]]
 }
 
-pub fn grad_u(p: Point) -> [Vector; D] {
+pub fn grad_u(p: Point) -> Tensor {
     let (s, f) = (psi(p[0]), phi(p[0]));
     [[-p[1] * s[2], -s[1]], [s[1] - p[1] * f[1], -f[0]]]
 }

@@ -47,7 +47,7 @@ use crate::fem::lagrange;
 use crate::fem::quadrature::{gauss_segment, split_rule, Rule1d};
 use crate::fem::sparse::{vector_dofs, LinearSystem, Local, SparsePattern};
 use crate::fem::tabulate::Tabulation;
-use crate::geometry::{dot, sub, AffineMap, Point, Vector, D};
+use crate::geometry::{ddot, dot, sub, AffineMap, Point, Vector, D};
 use crate::mesh::midpoints::elevate_to_p2;
 use crate::mesh::midpoints::vertex_mesh;
 use crate::mesh::{Mesh, Topology};
@@ -595,7 +595,7 @@ fn gradient_energy(mesh: &Mesh, r: &[Vector]) -> Vec<f64> {
             let nodes = mesh.cell(c);
             let mut sum = 0.0;
             for q in 0..tab.n_points() {
-                let mut g = [[0.0f64; 2]; 2];
+                let mut g = [[0.0f64; D]; D];
                 for (&n, gr) in nodes.iter().zip(tab.grad(q)) {
                     let d = map.physical_gradient(*gr);
                     for a in 0..D {
@@ -604,9 +604,7 @@ fn gradient_energy(mesh: &Mesh, r: &[Vector]) -> Vec<f64> {
                         }
                     }
                 }
-                sum += tab.weights[q]
-                    * map.det.abs()
-                    * (g[0][0].powi(2) + g[0][1].powi(2) + g[1][0].powi(2) + g[1][1].powi(2));
+                sum += tab.weights[q] * map.det.abs() * ddot(g, g);
             }
             sum
         })
