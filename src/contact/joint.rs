@@ -1,23 +1,26 @@
 //! The description of a contact boundary: its curves, the law and Nitsche parameters of each,
 //! and the uplift diagrams along them.
 
+use super::bond::Bond;
 use super::law::JointLaw;
 use super::nitsche::{Nitsche, NitscheParameters};
 use super::uplift::Uplift;
 use super::ContactSolution;
 use crate::elasticity::{Discretisation, Problem};
 
-/// The joint law and the Nitsche parameters of one curve of Γ_C.
+/// The joint law, the bond and the Nitsche parameters of one curve of Γ_C.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CurveLaw {
     pub law: JointLaw,
+    /// The tensile strength and softening of a cohesive joint; None: no tensile strength.
+    pub bond: Option<Bond>,
     pub parameters: NitscheParameters,
 }
 
 impl CurveLaw {
-    /// This curve with its strength divided by k ([`JointLaw::reduced`]).
+    /// This curve with its strength divided by k ([`JointLaw::reduced`], [`Bond::reduced`]).
     pub fn reduced(&self, k: f64) -> CurveLaw {
-        CurveLaw { law: self.law.reduced(k), ..*self }
+        CurveLaw { law: self.law.reduced(k), bond: self.bond.map(|b| b.reduced(k)), ..*self }
     }
 }
 
@@ -51,7 +54,7 @@ impl ContactJoint {
     /// A joint on the curves `tags` (facing the curves `masters` on two bodies, or none: a rigid
     /// foundation), every curve with `law` and `parameters`.
     pub fn uniform(tags: Vec<i32>, masters: Vec<i32>, law: JointLaw, parameters: NitscheParameters) -> Self {
-        let laws = vec![CurveLaw { law, parameters }; tags.len()];
+        let laws = vec![CurveLaw { law, bond: None, parameters }; tags.len()];
         ContactJoint { tags, masters, laws, uplift: Vec::new(), slip_origin: None }
     }
 
@@ -59,6 +62,12 @@ impl ContactJoint {
     pub fn with_uplift(self, diagram: Uplift) -> Self {
         let curves = (0..self.tags.len()).collect();
         ContactJoint { uplift: vec![CurveUplift { curves, diagram }], ..self }
+    }
+
+    /// This joint with `bond` on every curve (None: no tensile strength).
+    pub fn with_bond(mut self, bond: Option<Bond>) -> Self {
+        self.laws.iter_mut().for_each(|c| c.bond = bond);
+        self
     }
 
     /// A frictionless joint on the curves `tags`.

@@ -14,8 +14,12 @@
 //! | frictionless | 0 |
 //! | Tresca | s |
 //! | Coulomb | F p_c = −F q(P^n) |
-//! | Mohr–Coulomb | c q'(P^n) − F q(P^n): cohesion on the closed part only |
+//! | Mohr–Coulomb | c b(P^n) − F q(P^n): cohesion on the intact part only |
+//!
+//! with b the intact fraction of the normal law ([`NormalLaw::intact`]): the closed indicator
+//! q'(P^n) of plain contact, 1 − o/o_c of a bond.
 
+use super::bond::NormalLaw;
 use super::projection::Smoothing;
 
 /// The law of a joint (in `summary.json`: `{"law": "coulomb", "friction": 0.84}`).
@@ -90,9 +94,9 @@ impl JointLaw {
         }
     }
 
-    /// S, dS/dP^n and dS/dP^n with the cohesion's closed indicator held fixed (−F q'(P^n) for
+    /// S, dS/dP^n and dS/dP^n with the cohesion's intact fraction held fixed (−F q'(P^n) for
     /// Mohr–Coulomb, dS/dP^n for the other laws) at the normal argument `p_n`.
-    fn threshold(&self, p_n: f64, q: Smoothing) -> (f64, f64, f64) {
+    fn threshold(&self, p_n: f64, q: Smoothing, normal: &NormalLaw) -> (f64, f64, f64) {
         match *self {
             JointLaw::Frictionless => (0.0, 0.0, 0.0),
             JointLaw::Tresca { threshold } => (threshold, 0.0, 0.0),
@@ -102,8 +106,9 @@ impl JointLaw {
             }
             JointLaw::MohrCoulomb { friction, cohesion } => {
                 let ds_frozen = -friction * q.derivative(p_n);
-                let s = cohesion * q.derivative(p_n) - friction * q.value(p_n);
-                (s, cohesion * q.second_derivative(p_n) + ds_frozen, ds_frozen)
+                let (intact, d_intact) = normal.intact(p_n, q);
+                let s = cohesion * intact - friction * q.value(p_n);
+                (s, cohesion * d_intact + ds_frozen, ds_frozen)
             }
         }
     }
@@ -114,10 +119,11 @@ impl JointLaw {
         matches!(self, JointLaw::MohrCoulomb { cohesion, .. } if *cohesion > 0.0)
     }
 
-    /// Π_S(p_t) with S at `p_n`, and its derivatives: ∂/∂p_t = 1 − q'(S − p_t) − q'(p_t + S),
-    /// ∂/∂p_n = (q'(S − p_t) − q'(p_t + S)) dS/dP^n. With [`Smoothing::CLOSED`] a frictional
-    /// joint is held closed and sticking (S = ∞): Π = p_t, the bonded interface.
-    pub fn tangential(&self, p_n: f64, p_t: f64, q: Smoothing) -> Tangential {
+    /// Π_S(p_t) with S at `p_n` (the cohesion on the intact fraction of the `normal` law), and
+    /// its derivatives: ∂/∂p_t = 1 − q'(S − p_t) − q'(p_t + S), ∂/∂p_n = (q'(S − p_t) −
+    /// q'(p_t + S)) dS/dP^n. With [`Smoothing::CLOSED`] a frictional joint is held closed and
+    /// sticking (S = ∞): Π = p_t, the bonded interface.
+    pub fn tangential(&self, p_n: f64, p_t: f64, q: Smoothing, normal: &NormalLaw) -> Tangential {
         if q == Smoothing::CLOSED && self.has_friction() {
             let (d_tangential, d_normal) = (1.0, 0.0);
             return Tangential {
@@ -128,7 +134,7 @@ impl JointLaw {
                 threshold: f64::INFINITY,
             };
         }
-        let (s, ds, ds_frozen) = self.threshold(p_n, q);
+        let (s, ds, ds_frozen) = self.threshold(p_n, q, normal);
         let (upper, lower) = (q.derivative(s - p_t), q.derivative(p_t + s));
         Tangential {
             value: p_t + q.value(s - p_t) - q.value(p_t + s),
@@ -164,17 +170,17 @@ mod tests {
         let q = Smoothing::NONE;
         let law = JointLaw::Coulomb { friction: 0.5 };
         // p_n = −2: p_c = 2, S = 1
-        assert_eq!(law.tangential(-2.0, 0.4, q).value, 0.4);
-        assert_eq!(law.tangential(-2.0, 0.4, q).d_tangential, 1.0);
-        let slip = law.tangential(-2.0, 3.0, q);
+        assert_eq!(law.tangential(-2.0, 0.4, q, &NormalLaw::CONTACT).value, 0.4);
+        assert_eq!(law.tangential(-2.0, 0.4, q, &NormalLaw::CONTACT).d_tangential, 1.0);
+        let slip = law.tangential(-2.0, 3.0, q, &NormalLaw::CONTACT);
         assert_eq!((slip.value, slip.d_tangential, slip.d_normal), (1.0, 0.0, -0.5));
-        let slip = law.tangential(-2.0, -3.0, q);
+        let slip = law.tangential(-2.0, -3.0, q, &NormalLaw::CONTACT);
         assert_eq!((slip.value, slip.d_tangential, slip.d_normal), (-1.0, 0.0, 0.5));
         // open joint: no traction
-        assert_eq!(law.tangential(1.0, 3.0, q).value, 0.0);
+        assert_eq!(law.tangential(1.0, 3.0, q, &NormalLaw::CONTACT).value, 0.0);
         let mc = JointLaw::MohrCoulomb { friction: 0.5, cohesion: 0.25 };
-        assert_eq!(mc.tangential(-2.0, 3.0, q).value, 1.25);
-        assert_eq!(mc.tangential(0.5, 3.0, q).value, 0.0);
+        assert_eq!(mc.tangential(-2.0, 3.0, q, &NormalLaw::CONTACT).value, 1.25);
+        assert_eq!(mc.tangential(0.5, 3.0, q, &NormalLaw::CONTACT).value, 0.0);
     }
 
     /// Source: docs/method.md §1.10 (the start from the closed, sticking state). Goal: with
@@ -185,7 +191,7 @@ mod tests {
     fn the_closed_state_sticks() {
         for law in LAWS {
             for (p_n, p_t) in [(-2.0, 0.4), (-2.0, 3.0), (0.5, -3.0)] {
-                let t = law.tangential(p_n, p_t, Smoothing::CLOSED);
+                let t = law.tangential(p_n, p_t, Smoothing::CLOSED, &NormalLaw::CONTACT);
                 assert_eq!((t.value, t.d_tangential, t.d_normal), (p_t, 1.0, 0.0), "{law:?} at ({p_n}, {p_t})");
             }
         }
@@ -202,7 +208,7 @@ mod tests {
             for i in -40..=40 {
                 for j in -40..=40 {
                     let (p_n, p_t) = (0.05 * i as f64 + 0.0071, 0.05 * j as f64 + 0.0123);
-                    let t = law.tangential(p_n, p_t, q);
+                    let t = law.tangential(p_n, p_t, q, &NormalLaw::CONTACT);
                     let JointLaw::MohrCoulomb { friction, cohesion } = law else {
                         assert_eq!(t.d_normal_frozen, t.d_normal, "{law:?}");
                         continue;
@@ -226,8 +232,8 @@ mod tests {
                 for i in -40..=40 {
                     for j in -40..=40 {
                         let (p_n, p_t) = (0.05 * i as f64 + 0.0071, 0.05 * j as f64 + 0.0123);
-                        let t = law.tangential(p_n, p_t, q);
-                        let exact = law.tangential(p_n, p_t, Smoothing::NONE);
+                        let t = law.tangential(p_n, p_t, q, &NormalLaw::CONTACT);
+                        let exact = law.tangential(p_n, p_t, Smoothing::NONE, &NormalLaw::CONTACT);
                         assert!(t.value.abs() <= t.threshold + 1e-15, "{law:?}: |Π_S| ≤ S");
                         if delta == 0.0 {
                             continue;
@@ -236,10 +242,12 @@ mod tests {
                         let s_change = (t.threshold - exact.threshold).abs();
                         assert!((t.value - exact.value).abs() <= delta / 2.0 + s_change + 1e-12, "{law:?}");
                         let h = 1e-7;
-                        let fd_t =
-                            (law.tangential(p_n, p_t + h, q).value - law.tangential(p_n, p_t - h, q).value) / (2.0 * h);
-                        let fd_n =
-                            (law.tangential(p_n + h, p_t, q).value - law.tangential(p_n - h, p_t, q).value) / (2.0 * h);
+                        let fd_t = (law.tangential(p_n, p_t + h, q, &NormalLaw::CONTACT).value
+                            - law.tangential(p_n, p_t - h, q, &NormalLaw::CONTACT).value)
+                            / (2.0 * h);
+                        let fd_n = (law.tangential(p_n + h, p_t, q, &NormalLaw::CONTACT).value
+                            - law.tangential(p_n - h, p_t, q, &NormalLaw::CONTACT).value)
+                            / (2.0 * h);
                         assert!((fd_t - t.d_tangential).abs() < 1e-5, "{law:?} d/dp_t at ({p_n}, {p_t})");
                         assert!((fd_n - t.d_normal).abs() < 1e-5, "{law:?} d/dp_n at ({p_n}, {p_t})");
                     }

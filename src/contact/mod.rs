@@ -20,6 +20,7 @@
 //! the continuation in δ and nested iteration in `continuation`, the solution in `solution`,
 //! the crack–uplift fixed point in `crack` and the errors in `error`.
 
+pub mod bond;
 mod continuation;
 mod crack;
 mod error;
@@ -33,6 +34,7 @@ pub mod projection;
 mod solution;
 pub mod uplift;
 
+pub use bond::{Bond, BondState, NormalLaw};
 pub use continuation::{
     continuation, continuation_counted, nested_start, newton_steps, solve_by_continuation, solve_from,
     solve_system_along, solve_system_from, CarriedState, CoarseLevel, Continuation, NestedStart, Stage,

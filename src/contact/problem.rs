@@ -2,7 +2,7 @@
 //! faces, and the linearisation an iterate hands to the estimator.
 
 use super::nitsche::{ContactFace, FaceDisplacement, Nitsche};
-use super::projection::{negative_part, Smoothing};
+use super::projection::Smoothing;
 use super::{path, ContactError, ContactJoint, ContactSolution, Cracks, JointLine, Stage};
 use crate::elasticity::{BodyForce, Discretisation, Problem, Refined};
 use crate::fem::dofs::FIXED;
@@ -72,6 +72,11 @@ pub struct FaceState {
     pub cohesive_length: f64,
     /// The ends of the closed part of F (from its first closed point to its last), if any.
     pub closed: Option<[Point; 2]>,
+    /// On a bonded joint, the mean damage (1/|F|) ∫_F o/o_c of the exact law.
+    pub damage: f64,
+    /// On a bonded joint, the lengths of F that are bonded, softening and broken
+    /// ([`BondState`], the exact law).
+    pub bond_lengths: [f64; 3],
 }
 
 impl FaceState {
@@ -92,6 +97,8 @@ impl FaceState {
             sum.cohesive_length += part.cohesive_length;
             sum.stick_length += part.stick_length;
             sum.slip_length += part.slip_length;
+            sum.damage += part.damage * w;
+            sum.bond_lengths = [0, 1, 2].map(|i| sum.bond_lengths[i] + part.bond_lengths[i]);
             sum.regularisation_error = sum.regularisation_error.max(part.regularisation_error);
             sum.pressure_moment = [0, 1].map(|i| sum.pressure_moment[i] + part.pressure_moment[i]);
             sum.closed = match (sum.closed, part.closed) {
@@ -104,7 +111,20 @@ impl FaceState {
             *mean /= length;
         }
         sum.uplift /= length;
+        sum.damage /= length;
         sum
+    }
+
+    /// On a bonded joint, the state of most of the face: 0 bonded, 1 softening, 2 broken.
+    pub fn bond_state(&self) -> f64 {
+        let [bonded, softening, broken] = self.bond_lengths;
+        if broken > bonded.max(softening) {
+            2.0
+        } else if softening > bonded {
+            1.0
+        } else {
+            0.0
+        }
     }
 
     /// 0 open, 1 closed (stick, with friction), 2 slip (more of the face slips than sticks).
@@ -408,24 +428,30 @@ fn values(mesh: &Mesh, nitsche: &Nitsche, k: usize, u_full: &[f64], dofs: &mut V
 fn face_state(nitsche: &Nitsche, smoothing: Smoothing, k: usize, u: &FaceDisplacement) -> FaceState {
     let length = nitsche.faces[k].length;
     let mut state = FaceState { length, ..Default::default() };
-    let mut cuts = nitsche.kinks(k, u, smoothing);
+    let (law, mut cuts) = (nitsche.normal_law(k), nitsche.kinks(k, u, smoothing));
+    // the joint is closed (or bonded) where P_γ is below the P at which it opens
+    let closes = law.opens_at();
     cuts.extend(nitsche.kinks(k, u, Smoothing::NONE));
     cuts.sort_by(f64::total_cmp);
     for (s, w) in nitsche.split_rule(k, &cuts) {
         let pt = nitsche.point(k, s);
         let p = nitsche.p_gamma(k, &pt, u);
         let mean = w / length;
-        // the solved normal traction q(P_γ): p_c = −q(P_γ)
-        let t_n = smoothing.value(p);
+        // the solved normal traction N(P_γ): p_c = −N(P_γ)
+        let t_n = law.value(p, smoothing);
         state.pressure -= t_n * mean;
         for (m, x) in state.pressure_moment.iter_mut().zip(pt.x) {
             *m -= x * t_n * w;
         }
-        state.cohesive_length += smoothing.derivative(p) * w;
+        state.cohesive_length += law.intact(p, smoothing).0 * w;
         let [normal, tangential] = nitsche.displacement_at(k, &pt, u);
         state.normal_displacement += normal * mean;
-        state.contact_length += if p < 0.0 { w } else { 0.0 };
-        let error = (smoothing.value(p) - negative_part(p)).abs();
+        state.contact_length += if p < closes { w } else { 0.0 };
+        if let Some(bond) = law.state(p) {
+            state.damage += law.damage(p) * mean;
+            state.bond_lengths[bond as usize] += w;
+        }
+        let error = (t_n - law.value(p, Smoothing::NONE)).abs();
         state.regularisation_error = state.regularisation_error.max(error);
         state.uplift += nitsche.uplift_at(k, pt.x) * mean;
         if nitsche.law(k).has_friction() {
@@ -433,7 +459,7 @@ fn face_state(nitsche: &Nitsche, smoothing: Smoothing, k: usize, u: &FaceDisplac
             state.slip += tangential * mean;
             let plain = nitsche.tangential(k, &pt, u, Smoothing::NONE);
             let sticks = nitsche.p_tangential(k, &pt, u).abs() < plain.threshold;
-            if p < 0.0 {
+            if p < closes {
                 *(if sticks { &mut state.stick_length } else { &mut state.slip_length }) += w;
             }
         }
@@ -441,7 +467,7 @@ fn face_state(nitsche: &Nitsche, smoothing: Smoothing, k: usize, u: &FaceDisplac
     // the pieces between the cuts are wholly open or closed
     let closed: Vec<&[f64]> = cuts
         .windows(2)
-        .filter(|w| w[1] > w[0] && nitsche.p_gamma(k, &nitsche.point(k, 0.5 * (w[0] + w[1])), u) < 0.0)
+        .filter(|w| w[1] > w[0] && nitsche.p_gamma(k, &nitsche.point(k, 0.5 * (w[0] + w[1])), u) < closes)
         .collect();
     if let (Some(first), Some(last)) = (closed.first(), closed.last()) {
         state.closed = Some([nitsche.position(k, first[0]), nitsche.position(k, last[1])]);

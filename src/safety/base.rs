@@ -65,7 +65,7 @@ pub fn mean_normal_stress(
         cuts.sort_by(f64::total_cmp);
         integral += (nitsche.split_rule(k, &cuts).into_iter())
             .filter(|&(t, _)| t > lo && t < hi)
-            .map(|(t, w)| smoothing.value(nitsche.p_gamma(k, &nitsche.point(k, t), &u)) * w)
+            .map(|(t, w)| nitsche.normal_law(k).value(nitsche.p_gamma(k, &nitsche.point(k, t), &u), smoothing) * w)
             .sum::<f64>();
     }
     integral / (window[1] - window[0])

@@ -102,6 +102,8 @@ impl Scene {
             given("friction", c.friction != d.friction, c.friction.to_string()),
             given("cohesion", c.cohesion != d.cohesion, c.cohesion.to_string()),
             c.threshold.map(|v| format!("threshold = {v}")),
+            c.tensile_strength.map(|v| format!("tensile_strength = {v}")),
+            c.fracture_energy.map(|v| format!("fracture_energy = {v}")),
             given("max_iter", c.max_iter != d.max_iter, c.max_iter.to_string()),
             given("rtol", c.rtol != d.rtol, c.rtol.to_string()),
             given("load_path", c.load_path != d.load_path, c.load_path.to_string()),

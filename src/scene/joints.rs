@@ -25,6 +25,10 @@ pub struct JointSection {
     pub cohesion: f64,
     /// Tresca threshold s \[Pa\] (exclusive with `friction` and `cohesion`).
     pub threshold: Option<f64>,
+    /// Tensile strength σ_t \[Pa\] of a cohesive joint (with `fracture_energy`).
+    pub tensile_strength: Option<f64>,
+    /// Fracture energy G_f \[N/m\] of a cohesive joint (with `tensile_strength`).
+    pub fracture_energy: Option<f64>,
     /// The physical surface on the slave side (its faces carry the quadrature); default: the
     /// side of smaller physical tag.
     pub slave: Option<String>,
@@ -40,6 +44,8 @@ impl Default for JointSection {
             friction: 0.0,
             cohesion: 0.0,
             threshold: None,
+            tensile_strength: None,
+            fracture_energy: None,
             slave: None,
             uplift: None,
         }
@@ -55,7 +61,8 @@ impl JointSection {
     /// The law and Nitsche parameters of the joint.
     pub fn curve_law(&self) -> CurveLaw {
         let parameters = NitscheParameters { gamma0: self.gamma0, theta: self.theta, ..Default::default() };
-        CurveLaw { law: self.law(), parameters }
+        let bond = super::sections::bond_of(self.tensile_strength, self.fracture_energy);
+        CurveLaw { law: self.law(), bond, parameters }
     }
 
     /// The first key out of range, as "joints.<name>.key = value must …".
@@ -66,7 +73,9 @@ impl JointSection {
         if ![1.0, 0.0, -1.0].contains(&self.theta) {
             return Err(format!("joints.{name}.theta = {} must be 1, 0 or -1", self.theta));
         }
-        super::validate::check_law(&format!("joints.{name}"), self.threshold, self.friction, self.cohesion)
+        let table = format!("joints.{name}");
+        super::validate::check_law(&table, self.threshold, self.friction, self.cohesion)?;
+        super::validate::check_bond(&table, self.tensile_strength, self.fracture_energy)
     }
 }
 
@@ -117,6 +126,8 @@ impl Scene {
             ("friction", c.friction != d.friction),
             ("cohesion", c.cohesion != d.cohesion),
             ("threshold", c.threshold.is_some()),
+            ("tensile_strength", c.tensile_strength.is_some()),
+            ("fracture_energy", c.fracture_energy.is_some()),
             ("gap", c.gap != d.gap),
             ("gap_gradient", c.gap_gradient != d.gap_gradient),
             ("direction", c.direction.is_some()),

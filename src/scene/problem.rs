@@ -4,7 +4,7 @@
 use super::sections::{BoundarySection, Fix, Role, UpliftSection};
 use super::{list, Scene, SceneError};
 use crate::adapt::{AdaptError, Model};
-use crate::contact::nitsche::{Gap, NitscheParameters};
+use crate::contact::nitsche::{Gap, Nitsche, NitscheParameters};
 use crate::contact::uplift::{Drains, Uplift};
 use crate::contact::{ContactJoint, CurveUplift, JointLine, LoadPath};
 use crate::elasticity::{Dirichlet, Material, Neumann, Problem, Traction};
@@ -91,8 +91,10 @@ impl Scene {
     /// The contact joint of the curves with role "contact" on `mesh`, if there are any.
     fn joint(&self, mesh: &Mesh) -> Result<Option<ContactJoint>, SceneError> {
         let tags = self.contact_tags(mesh)?;
-        Ok((!tags.is_empty())
-            .then(|| ContactJoint::uniform(tags, Vec::new(), self.contact.law(), self.nitsche_parameters())))
+        Ok((!tags.is_empty()).then(|| {
+            ContactJoint::uniform(tags, Vec::new(), self.contact.law(), self.nitsche_parameters())
+                .with_bond(self.contact.bond())
+        }))
     }
 
     /// The elasticity problem of this scene on `mesh` and its contact joint (None without
@@ -161,6 +163,7 @@ impl Scene {
             )));
         }
         if let Some(j) = joint.as_mut() {
+            self.check_bonds(&problem, &topology, j)?;
             j.uplift = self.uplift_diagrams(&problem, &topology, j, &facets)?;
         }
         // a joint between two bodies supports neither against a rigid motion of both
@@ -377,6 +380,39 @@ impl Scene {
         Ok(())
     }
 
+    /// A bond's law is a function of Nitsche's P_γ only where the face is stiffer than the
+    /// softening, γ o_c > σ_t (docs/method.md §1.13): else the first face that is not names
+    /// the key.
+    fn check_bonds(&self, problem: &Problem, topology: &Topology, joint: &ContactJoint) -> Result<(), SceneError> {
+        if joint.laws.iter().all(|c| c.bond.is_none()) {
+            return Ok(());
+        }
+        let nitsche = Nitsche::new(&problem.mesh, topology, &problem.materials, joint);
+        let Some(face) =
+            nitsche.faces.iter().find(|f| joint.laws[f.curve].bond.is_some_and(|b| !b.resolved_by(f.gamma)))
+        else {
+            return Ok(());
+        };
+        let bond = joint.laws[face.curve].bond.expect("found with a bond");
+        let tag = joint.tags[face.curve];
+        let name = problem.mesh.groups.iter().find(|g| g.dim == 1 && g.tag == tag).map_or("?", |g| g.name.as_str());
+        let table = if joint.masters.is_empty() { "contact".to_string() } else { format!("joints.{name}") };
+        let x = face.map.to_physical(face.ends[0]);
+        Err(self.invalid(format!(
+            "{table}.fracture_energy = {} N/m is too small for the mesh of curve '{name}': the bond softens over \
+             o_c = 2 G_f/σ_t = {:.3e} m, and its face at ({:.3}, {:.3}) of length {:.3} m holds the joint only to \
+             γ o_c = {:.3e} Pa, below {table}.tensile_strength = {:e} Pa (γ = gamma0 E / h); raise fracture_energy \
+             or gamma0, or refine the mesh along the joint",
+            bond.fracture_energy,
+            bond.critical_opening(),
+            x[0],
+            x[1],
+            face.length,
+            face.gamma * bond.critical_opening(),
+            bond.tensile_strength,
+        )))
+    }
+
     /// Without a Dirichlet condition the joint alone holds the body. On a straight joint of
     /// normal ν and tangent τ, equilibrium needs the load resultant R to press on it against
     /// the uplift force U, N = R·ν − U ≥ 0, and the joint to carry its shear, |R·τ| ≤ the
@@ -401,7 +437,9 @@ impl Scene {
         let laws = || joint.tags.iter().zip(&joint.laws);
         let friction = laws().map(|(_, c)| c.law.capacity(normal.max(0.0), 0.0)).fold(0.0, f64::max);
         let capacity = friction + laws().map(|(&tag, c)| c.law.capacity(0.0, length(tag))).sum::<f64>();
-        if normal <= 0.0 || shear.abs() > capacity {
+        // a bond holds the body in tension too, up to σ_t over its curve
+        let tension: f64 = laws().filter_map(|(&tag, c)| Some(c.bond?.tensile_strength * length(tag))).sum();
+        if normal + tension <= 0.0 || shear.abs() > capacity {
             return Err(SceneError::NoEquilibrium {
                 path: self.source.clone(),
                 message: format!(

@@ -3,7 +3,7 @@
 
 use crate::contact::nitsche::NitscheParameters;
 use crate::contact::uplift::CrackRule;
-use crate::contact::JointLaw;
+use crate::contact::{Bond, JointLaw};
 use crate::elasticity::{BodyForce, Traction};
 use crate::geometry::{Point, Vector};
 use serde::Deserialize;
@@ -263,6 +263,10 @@ pub struct ContactSection {
     pub cohesion: f64,
     /// Tresca threshold s \[Pa\] (exclusive with `friction`).
     pub threshold: Option<f64>,
+    /// Tensile strength σ_t \[Pa\] of a cohesive joint (with `fracture_energy`).
+    pub tensile_strength: Option<f64>,
+    /// Fracture energy G_f \[N/m\] of a cohesive joint (with `tensile_strength`).
+    pub fracture_energy: Option<f64>,
     /// Maximum number of Newton steps per regularisation stage.
     pub max_iter: usize,
     /// Relative residual tolerance of Newton.
@@ -277,6 +281,16 @@ impl ContactSection {
     pub fn law(&self) -> JointLaw {
         law_of(self.threshold, self.friction, self.cohesion)
     }
+
+    /// The bond of the keys `tensile_strength` and `fracture_energy` (checked: both or neither).
+    pub fn bond(&self) -> Option<Bond> {
+        bond_of(self.tensile_strength, self.fracture_energy)
+    }
+}
+
+/// The bond of the keys `tensile_strength` and `fracture_energy`, if both are given.
+pub(super) fn bond_of(tensile_strength: Option<f64>, fracture_energy: Option<f64>) -> Option<Bond> {
+    Some(Bond { tensile_strength: tensile_strength?, fracture_energy: fracture_energy? })
 }
 
 /// The joint law of the friction keys `threshold` (Tresca), `friction` and `cohesion`.
@@ -303,6 +317,8 @@ impl Default for ContactSection {
             friction: 0.0,
             cohesion: 0.0,
             threshold: None,
+            tensile_strength: None,
+            fracture_energy: None,
             max_iter: 50,
             rtol: 1e-10,
             load_path: true,

@@ -9,7 +9,8 @@ use crate::geometry::norm;
 impl ContactSection {
     /// The first friction key out of range, as "key = value must …".
     fn check_law(&self) -> Result<(), String> {
-        check_law("contact", self.threshold, self.friction, self.cohesion)
+        check_law("contact", self.threshold, self.friction, self.cohesion)?;
+        check_bond("contact", self.tensile_strength, self.fracture_energy)
     }
 }
 
@@ -48,6 +49,34 @@ pub(super) fn check_law(table: &str, threshold: Option<f64>, friction: f64, cohe
             "{table}.threshold (Tresca) and {table}.friction = {friction} or {table}.cohesion = {cohesion} are \
              exclusive: give a Tresca threshold, or a Coulomb friction coefficient with an optional cohesion"
         )),
+        _ => Ok(()),
+    }
+}
+
+/// The bond keys of the table `table`: both or neither, each positive and finite, σ_t at most
+/// [`MAX_STRENGTH`].
+pub(super) fn check_bond(
+    table: &str,
+    tensile_strength: Option<f64>,
+    fracture_energy: Option<f64>,
+) -> Result<(), String> {
+    let keys = [("tensile_strength", tensile_strength, "Pa"), ("fracture_energy", fracture_energy, "N/m")];
+    if let Some((key, Some(value), _)) = keys.iter().find(|(_, v, _)| v.is_some_and(|v| !(v.is_finite() && v > 0.0))) {
+        return Err(format!("{table}.{key} = {value} must be a positive number"));
+    }
+    match (tensile_strength, fracture_energy) {
+        (Some(t), _) if t > MAX_STRENGTH => Err(format!(
+            "{table}.tensile_strength = {t:e} Pa exceeds {MAX_STRENGTH:e} Pa, a thousand times concrete's compressive \
+             strength (it is in Pa)"
+        )),
+        (Some(_), None) | (None, Some(_)) => {
+            let (given, missing) =
+                if tensile_strength.is_some() { keys } else { [keys[1], keys[0]] }.map(|k| k.0).into();
+            Err(format!(
+                "{table}.{given} is set without {table}.{missing}: a cohesive joint needs both, its tensile strength \
+                 in Pa and its fracture energy in N/m"
+            ))
+        }
         _ => Ok(()),
     }
 }

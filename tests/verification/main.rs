@@ -5,6 +5,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod cohesive;
 mod contact;
 mod convergence;
 mod dual_norm;

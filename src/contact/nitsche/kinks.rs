@@ -19,7 +19,7 @@ impl Nitsche {
     /// P_γ is smoothed): fitted, split where they are monotone, and bisected, so that every
     /// crossing is found, two close together as well as one.
     pub fn kinks(&self, k: usize, u: &FaceDisplacement, smoothing: Smoothing) -> Vec<f64> {
-        let mut cuts = self.cuts(k, u, &smoothing.breakpoints());
+        let mut cuts = self.cuts(k, u, &self.normal_law(k).breakpoints(smoothing));
         let levels = self.law(k).breakpoints(smoothing);
         if levels.is_empty() {
             return cuts;

@@ -33,6 +33,7 @@ mod terms;
 use faces::{face, pieces};
 pub use kinks::crossings;
 
+use super::bond::NormalLaw;
 use super::law::{JointLaw, Tangential};
 use super::projection::Smoothing;
 use super::uplift::Uplift;
@@ -231,6 +232,11 @@ impl Nitsche {
         self.laws[self.faces[k].curve].law
     }
 
+    /// The normal law of face `k`: its curve's bond at the face's γ, or plain contact.
+    pub fn normal_law(&self, k: usize) -> NormalLaw {
+        NormalLaw::new(self.laws[self.faces[k].curve].bond, self.faces[k].gamma)
+    }
+
     /// The Nitsche parameters of face `k`: its curve's.
     pub fn parameters(&self, k: usize) -> &NitscheParameters {
         &self.laws[self.faces[k].curve].parameters
@@ -246,9 +252,10 @@ impl Nitsche {
         self.laws.iter().any(|c| c.law.has_friction())
     }
 
-    /// Whether some face's threshold softens as the joint opens ([`JointLaw::softens`]).
+    /// Whether some face's law softens as the joint opens: a cohesion lost
+    /// ([`JointLaw::softens`]), or a bond.
     pub fn softens(&self) -> bool {
-        self.laws.iter().any(|c| c.law.softens())
+        self.laws.iter().any(|c| c.law.softens() || c.bond.is_some())
     }
 
     /// Number of local dofs of a face: those of the owning cell, and of the master cell on a
@@ -434,13 +441,14 @@ impl Nitsche {
 
     /// The joint law's tangential traction Π_S(P^t_γ(u_h)) at a face point.
     pub fn tangential(&self, k: usize, point: &FacePoint, u: &FaceDisplacement, smoothing: Smoothing) -> Tangential {
-        self.law(k).tangential(self.p_gamma(k, point, u), self.p_tangential(k, point, u), smoothing)
+        let (p_n, p_t) = (self.p_gamma(k, point, u), self.p_tangential(k, point, u));
+        self.law(k).tangential(p_n, p_t, smoothing, &self.normal_law(k))
     }
 
-    /// The Γ_C traction t = (q(P_γ(u_h)) − p_u) ν + Π_S(P^t_γ(u_h)) τ at a face point, with q
-    /// the smoothing (`Smoothing::NONE`: the exact traction).
+    /// The Γ_C traction t = (N(P_γ(u_h)) − p_u) ν + Π_S(P^t_γ(u_h)) τ at a face point, N the
+    /// face's normal law with the smoothing q (`Smoothing::NONE`: the exact traction).
     pub fn traction(&self, k: usize, point: &FacePoint, u: &FaceDisplacement, smoothing: Smoothing) -> Vector {
-        let normal = smoothing.value(self.p_gamma(k, point, u)) - self.uplift_at(k, point.x);
+        let normal = self.normal_law(k).value(self.p_gamma(k, point, u), smoothing) - self.uplift_at(k, point.x);
         let tangential = if self.law(k).has_friction() { self.tangential(k, point, u, smoothing).value } else { 0.0 };
         self.along(k, normal, tangential)
     }
@@ -460,7 +468,7 @@ impl Nitsche {
         self.along(k, normal - self.uplift_at(k, point.x), tangential)
     }
 
-    /// [P_γ(u_prev)] + ∂[P_γ(u_prev)] P_γ'(w) and, with friction, Π(u_prev) + ∂_tΠ P^t_γ'(w) +
+    /// N(P_γ(u_prev)) + N'(P_γ(u_prev)) P_γ'(w) and, with friction, Π(u_prev) + ∂_tΠ P^t_γ'(w) +
     /// ∂_nΠ P_γ'(w) (else 0), for the increment w = `step`: the linearised projections.
     fn linearised(
         &self,
@@ -471,7 +479,8 @@ impl Nitsche {
         smoothing: Smoothing,
     ) -> [f64; 2] {
         let (p_prev, dp) = (self.p_gamma(k, point, u_prev), self.p_increment(k, point, step));
-        let normal = smoothing.value(p_prev) + smoothing.derivative(p_prev) * dp;
+        let law = self.normal_law(k);
+        let normal = law.value(p_prev, smoothing) + law.derivative(p_prev, smoothing) * dp;
         let tangential = if self.law(k).has_friction() {
             let t = self.tangential(k, point, u_prev, smoothing);
             t.value + t.d_tangential * self.t_increment(k, point, step) + t.d_normal * dp

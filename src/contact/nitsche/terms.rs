@@ -8,10 +8,10 @@ use crate::contact::projection::Smoothing;
 
 impl Nitsche {
     /// Local residual R_F(u; φ_k) and, if asked, Jacobian J_F(u; φ_l, φ_k) (row-major, k × l)
-    /// of face k with local nodal displacements `u`. With `frozen`, the Jacobian is that of the
-    /// law whose cohesion's closed indicator q'(P_γ) is held at its value at `u`
-    /// ([`Tangential::d_normal_frozen`]): a law that does not soften, for the steps of a
-    /// stalled Newton run (docs/solver.md §3).
+    /// of face k with local nodal displacements `u`. With `frozen`, the Jacobian is that of a
+    /// law that does not soften: the cohesion's intact fraction held at its value at `u`
+    /// ([`Tangential::d_normal_frozen`]) and a bond's falling slope N' < 0 taken as 0, for the
+    /// steps of a stalled Newton run (docs/solver.md §3).
     pub fn face_terms(
         &self,
         k: usize,
@@ -73,16 +73,18 @@ impl Nitsche {
                 test[i] = theta * pt.sigma_n[i] - gamma * pt.u_n[i]; // θ σ^n(v) − γ v^n
                 trial[i] = pt.sigma_n[i] - gamma * pt.u_n[i]; // σ^n(w) − γ w^n
                 residual[i] += (-theta / gamma * sigma_n_u * pt.sigma_n[i] // −(θ/γ) σ'^n(u) σ^n(v)
-                    + value * test[i] / gamma // (1/γ)[P_γ(u)](θσ^n(v) − γv^n)
+                    + value * test[i] / gamma // (1/γ) N(P_γ(u))(θσ^n(v) − γv^n)
                     + p_u * pt.u_n[i]) // p_u v^n
                     * w;
             }
             if let Some(j) = jacobian.as_deref_mut() {
-                let slope = smoothing.derivative(p);
+                // frozen: the slope of a law that does not soften, N' where it is ≥ 0, else 0
+                let slope = self.normal_law(k).derivative(p, smoothing);
+                let slope = if frozen { slope.max(0.0) } else { slope };
                 for r in 0..n {
                     for c in 0..n {
                         j[r * n + c] += (-theta / gamma * pt.sigma_n[c] * pt.sigma_n[r] // −(θ/γ) σ^n(w) σ^n(v)
-                            + slope * trial[c] * test[r] / gamma) // (1/γ) ∂[P](σ^n(w) − γw^n)(θσ^n(v) − γv^n)
+                            + slope * trial[c] * test[r] / gamma) // (1/γ) N'(P)(σ^n(w) − γw^n)(θσ^n(v) − γv^n)
                             * w;
                     }
                 }

@@ -1,0 +1,120 @@
+//! Verification of the cohesive joint: tensile strength and linear softening
+//! (docs/method.md §1.13).
+
+use damfem::contact::{solve_by_continuation, Bond, ContactJoint, ContactSolution, Continuation, JointLaw};
+use damfem::elasticity::{BodyForce, Dirichlet, Material, Problem};
+use damfem::mesh::structured::{unit_square, BOTTOM, LEFT, RIGHT, TOP};
+use damfem::solve::NewtonOptions;
+use std::sync::Arc;
+
+/// λ = μ = 1: the uniaxial stiffness of the unit block, λ + 2μ = 3, above the softening slope
+/// σ_t / o_c = 0.5 of [`BOND`], so that the pull is stable under displacement control.
+const LAMBDA: f64 = 1.0;
+const MU: f64 = 1.0;
+/// σ_t = 0.01, G_f = 10⁻⁴: o_c = 2 G_f / σ_t = 0.02.
+const BOND: Bond = Bond { tensile_strength: 0.01, fracture_energy: 1e-4 };
+
+/// The unit block on a rigid foundation through a bond at y = 0, rollers on its sides (u_x = 0)
+/// and its top pulled up by u_y = `lift`: P1 or P2 on the 4 × 4 grid.
+fn pulled_block(lift: f64, order: usize) -> Problem {
+    let mesh = unit_square(4, order);
+    let roller = |tag| Dirichlet { tag, fix: [true, false], value: Arc::new(|_| [0.0, 0.0]) };
+    Problem {
+        materials: vec![Material::from_lame(LAMBDA, MU); mesh.n_cells()],
+        dirichlet: vec![
+            Dirichlet { tag: TOP, fix: [true, true], value: Arc::new(move |_| [0.0, lift]) },
+            roller(LEFT),
+            roller(RIGHT),
+        ],
+        neumann: Vec::new(),
+        body_force: BodyForce::None,
+        mesh,
+    }
+}
+
+/// The block pulled up by `lift`, solved at δ = 0 from a δ-continuation: the solution and the
+/// joint's mean opening o and mean normal traction σ'^n.
+fn pull(lift: f64, order: usize) -> (ContactSolution, f64, f64) {
+    let problem = pulled_block(lift, order);
+    let disc = problem.discretise();
+    let joint = ContactJoint::uniform(vec![BOTTOM], Vec::new(), JointLaw::Frictionless, crate::nitsche_parameters())
+        .with_bond(Some(BOND));
+    let settings = Continuation { delta: 0.0, delta_start: 1e-3, newton: NewtonOptions::default(), path: None };
+    let solution = solve_by_continuation(&problem, &disc, &joint, &settings)
+        .unwrap_or_else(|e| panic!("P{order}, lift {lift}: {e}"));
+    // the outward normal is −e_y: u^n = −o, and the traction pulls (p_c < 0)
+    let length: f64 = solution.faces.iter().map(|f| f.length).sum();
+    let opening = -solution.faces.iter().map(|f| f.normal_displacement * f.length).sum::<f64>() / length;
+    let traction = -solution.faces.iter().map(|f| f.pressure * f.length).sum::<f64>() / length;
+    (solution, opening, traction)
+}
+
+/// The exact pull of the block by `lift` U: with the stiffness k = λ + 2μ of the unit block
+/// and σ = k (U − o) = T(o) on the joint, o = 0 while k U ≤ σ_t, o = (k U − σ_t)/(k − σ_t/o_c)
+/// while o < o_c, and o = U (σ = 0) past it.
+fn exact_pull(lift: f64) -> (f64, f64) {
+    let (k, t, oc) = (LAMBDA + 2.0 * MU, BOND.tensile_strength, BOND.critical_opening());
+    if k * lift <= t {
+        return (0.0, k * lift);
+    }
+    let o = (k * lift - t) / (k - t / oc);
+    if o < oc {
+        (o, k * (lift - o))
+    } else {
+        (lift, 0.0)
+    }
+}
+
+/// Two blocks pulled apart. Source: docs/method.md §1.13, the linear softening law σ'^n =
+/// σ_t (1 − o/o_c) with o_c = 2 G_f/σ_t, and the uniaxial pull of a unit block on it (exact in
+/// P1: u = (0, (U − o) y + o)). Goal: under displacement control, through the bonded state, the
+/// peak, the softening branch and the broken joint, every solved (o, σ'^n) lies on the law and
+/// on the exact pull to round-off, the face states say bonded, softening and broken where the
+/// exact state is, and the area under the computed force–opening curve (trapezoids through
+/// its points, the peak and the breaking point among them) equals G_f to 10⁻⁶. Parameters:
+/// λ = μ = 1, σ_t = 0.01, G_f = 10⁻⁴ (o_c = 0.02), γ₀ = 100, θ = 0, δ = 0, 4 × 4 grid, P1 and
+/// P2; U from 0 to 0.025 in 25 steps, with U = σ_t/3 (the peak) and U = o_c (broken) among them.
+#[test]
+fn two_blocks_pulled_apart_follow_the_softening_law() {
+    let (t, oc, k) = (BOND.tensile_strength, BOND.critical_opening(), LAMBDA + 2.0 * MU);
+    let mut lifts: Vec<f64> = (0..=25).map(|i| 0.001 * i as f64).collect();
+    lifts.extend([t / k, oc]);
+    lifts.sort_by(f64::total_cmp);
+    for order in [1, 2] {
+        let mut curve = Vec::new();
+        for &lift in &lifts {
+            let (solution, o, sigma) = pull(lift, order);
+            let (o_exact, sigma_exact) = exact_pull(lift);
+            println!("P{order} U = {lift:.5}: o = {o:.6e} (exact {o_exact:.6e}), σ = {sigma:.6e} (exact {sigma_exact:.6e}), {} Newton steps", solution.newton_steps());
+            assert!((o - o_exact).abs() <= 1e-12 * oc, "P{order} U = {lift}: opening {o} against {o_exact}");
+            assert!(
+                (sigma - sigma_exact).abs() <= 1e-12 * t,
+                "P{order} U = {lift}: traction {sigma} against {sigma_exact}"
+            );
+            let law = if o > 1e-12 * oc { t * (1.0 - o / oc).max(0.0) } else { sigma.min(t) };
+            assert!((sigma - law).abs() <= 1e-12 * t, "P{order} U = {lift}: off the law");
+            let [bonded, softening, broken] =
+                solution.faces.iter().fold([0.0; 3], |s, f| [0, 1, 2].map(|i| s[i] + f.bond_lengths[i]));
+            let expected = if o_exact <= 1e-15 {
+                [1.0, 0.0, 0.0]
+            } else if o_exact < oc * (1.0 - 1e-12) {
+                [0.0, 1.0, 0.0]
+            } else {
+                [0.0, 0.0, 1.0]
+            };
+            // at the peak and at the breaking point the state is a tie
+            if lift != t / k && lift != oc {
+                assert_eq!(
+                    [bonded, softening, broken].map(|l| (l * 1e9).round() / 1e9),
+                    expected,
+                    "P{order} U = {lift}"
+                );
+            }
+            curve.push((o, sigma));
+        }
+        curve.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+        let area: f64 = curve.windows(2).map(|w| 0.5 * (w[1].0 - w[0].0) * (w[0].1 + w[1].1)).sum();
+        println!("P{order}: area under the force–opening curve {area:.9e}, G_f {:.9e}", BOND.fracture_energy);
+        assert!((area - BOND.fracture_energy).abs() <= 1e-6 * BOND.fracture_energy, "P{order}: area {area}");
+    }
+}
