@@ -3,7 +3,8 @@
 
 use damfem::contact::{solve_by_continuation, Bond, ContactJoint, ContactSolution, Continuation, JointLaw};
 use damfem::elasticity::{BodyForce, Dirichlet, Material, Problem};
-use damfem::mesh::structured::{unit_square, BOTTOM, LEFT, RIGHT, TOP};
+use damfem::mesh::structured::{rectangle, unit_square, BOTTOM, LEFT, RIGHT, TOP};
+use damfem::mesh::Mesh;
 use damfem::solve::NewtonOptions;
 use std::sync::Arc;
 
@@ -14,10 +15,9 @@ const MU: f64 = 1.0;
 /// σ_t = 0.01, G_f = 10⁻⁴: o_c = 2 G_f / σ_t = 0.02.
 const BOND: Bond = Bond { tensile_strength: 0.01, fracture_energy: 1e-4 };
 
-/// The unit block on a rigid foundation through a bond at y = 0, rollers on its sides (u_x = 0)
-/// and its top pulled up by u_y = `lift`: P1 or P2 on the 4 × 4 grid.
-fn pulled_block(lift: f64, order: usize) -> Problem {
-    let mesh = unit_square(4, order);
+/// The block `mesh` on a rigid foundation through a bond at y = 0, rollers on its sides
+/// (u_x = 0) and its top pulled up by u_y = `lift`.
+fn pulled_block(mesh: Mesh, lift: f64) -> Problem {
     let roller = |tag| Dirichlet { tag, fix: [true, false], value: Arc::new(|_| [0.0, 0.0]) };
     Problem {
         materials: vec![Material::from_lame(LAMBDA, MU); mesh.n_cells()],
@@ -35,7 +35,7 @@ fn pulled_block(lift: f64, order: usize) -> Problem {
 /// The block pulled up by `lift`, solved at δ = 0 from a δ-continuation: the solution and the
 /// joint's mean opening o and mean normal traction σ'^n.
 fn pull(lift: f64, order: usize) -> (ContactSolution, f64, f64) {
-    let problem = pulled_block(lift, order);
+    let problem = pulled_block(unit_square(4, order), lift);
     let disc = problem.discretise();
     let joint = ContactJoint::uniform(vec![BOTTOM], Vec::new(), JointLaw::Frictionless, crate::nitsche_parameters())
         .with_bond(Some(BOND));
@@ -116,5 +116,107 @@ fn two_blocks_pulled_apart_follow_the_softening_law() {
         let area: f64 = curve.windows(2).map(|w| 0.5 * (w[1].0 - w[0].0) * (w[0].1 + w[1].1)).sum();
         println!("P{order}: area under the force–opening curve {area:.9e}, G_f {:.9e}", BOND.fracture_energy);
         assert!((area - BOND.fracture_energy).abs() <= 1e-6 * BOND.fracture_energy, "P{order}: area {area}");
+    }
+}
+
+/// The bound with a cohesive joint. Source: docs/method.md §5.2 with the Γ_C traction of §1.13
+/// (the bound holds for any traction law evaluated at u_h: it bounds the residual's dual norm).
+/// Goal: on a wide block pulled up unevenly, at every full Newton step of the solve, the
+/// reconstruction is equilibrated to round-off and η_tot ≥ the dual norm of the residual,
+/// computed independently by the sharp reference; the converged state has bonded, softening and
+/// broken parts. Parameters: the block (0, 4) × (0, 1) on an 8 × 2 grid, P1 and P2, with
+/// u_y = −0.01 + 0.01 x on its top, Newton from u = 0 at δ = 10⁻³, then at δ = 10⁻⁶; θ = 0,
+/// γ₀ = 100.
+#[test]
+fn eta_tot_bounds_the_residual_of_a_softening_joint() {
+    use damfem::contact::projection::Smoothing;
+    use damfem::contact::{ContactProblem, Linearisation};
+    use damfem::estimate::reference::{sharp_reference, REFERENCE_AGREEMENT, REFERENCE_MAX_UNKNOWNS};
+    use damfem::solve::newton_until;
+    for order in [1, 2] {
+        let mut problem = pulled_block(rectangle(0.0, 4.0, 0.0, 1.0, 8, 2, order), 0.0);
+        problem.dirichlet[0].value = Arc::new(|x| [0.0, -0.01 + 0.01 * x[0]]);
+        let disc = problem.discretise();
+        let joint =
+            ContactJoint::uniform(vec![BOTTOM], Vec::new(), JointLaw::Frictionless, crate::nitsche_parameters())
+                .with_bond(Some(BOND));
+        let mut contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 1e-3 });
+        let (mut x, mut rows) = (vec![0.0; disc.dofs.n_free], Vec::new());
+        for delta in [1e-3, 1e-6] {
+            contact.set_delta(delta);
+            let report = newton_until(&contact, x, &NewtonOptions::default(), |it| {
+                if it.last.step == 1.0 {
+                    let state = Linearisation::new(&problem, &disc, &contact.nitsche, contact.smoothing, it.x_prev);
+                    let e = damfem::estimate::estimate_iterate(&problem, &disc, it.x, Some(&state))
+                        .unwrap_or_else(|e| panic!("{e}"));
+                    let u = problem.displacement(&disc, it.x);
+                    let reference =
+                        sharp_reference(&problem, &u, Some(&joint), REFERENCE_AGREEMENT, REFERENCE_MAX_UNKNOWNS)
+                            .unwrap_or_else(|e| panic!("{e}"))
+                            .norm();
+                    rows.push((it.residual, e.estimators.global(), reference, e.equilibration.worst(order)));
+                }
+                false
+            })
+            .unwrap_or_else(|e| panic!("P{order}: {e}"));
+            x = report.x;
+        }
+        let faces = contact.face_states(&x);
+        let lengths = faces.iter().fold([0.0; 3], |s, f| [0, 1, 2].map(|i| s[i] + f.bond_lengths[i]));
+        println!("P{order}: bonded, softening, broken lengths {lengths:?}");
+        assert!(lengths.iter().all(|&l| l > 0.05), "P{order}: not every state is present: {lengths:?}");
+        assert!(rows.len() >= 2, "P{order}: {} full steps", rows.len());
+        for (residual, g, reference, worst) in rows {
+            println!(
+                "P{order} |F| {residual:.2e}: eta_tot {:.4e} (disc {:.2e} reg {:.2e} lin {:.2e}) reference {reference:.4e} I_eff {:.3}; worst check {worst:.1e}",
+                g.tot,
+                g.disc,
+                g.reg,
+                g.lin,
+                g.tot / reference
+            );
+            assert!(worst < 1e-10, "P{order}: equilibration {worst:e}");
+            assert!(g.tot >= reference, "P{order}: eta_tot {} below the reference {reference}", g.tot);
+        }
+    }
+}
+
+/// The limits of the bond. Source: docs/method.md §1.13: N(P) → q(P) as σ_t → 0 (|N − q| ≤
+/// σ_t), and N(P) = P wherever P ≤ σ_t, the bonded interface (the joint held closed,
+/// `Smoothing::CLOSED`). Goal: on the wide block pulled up unevenly (bonded, softening and
+/// broken parts at σ_t = 0.01), the solution with σ_t = 10⁻⁹ is that of the joint without a
+/// bond to 10⁻⁶ of max |u|, and the solution with σ_t = 10⁶ (G_f = 10⁴, o_c = 0.02) is that of
+/// the bonded interface to 10⁻¹⁰ of max |u|. Parameters: as
+/// `eta_tot_bounds_the_residual_of_a_softening_joint`, δ = 0 from a δ-continuation, P1 and P2.
+#[test]
+fn a_vanishing_bond_is_plain_contact_and_a_strong_one_a_bonded_interface() {
+    use damfem::contact::projection::Smoothing;
+    use damfem::contact::ContactProblem;
+    use damfem::solve::newton;
+    for order in [1, 2] {
+        let mut problem = pulled_block(rectangle(0.0, 4.0, 0.0, 1.0, 8, 2, order), 0.0);
+        problem.dirichlet[0].value = Arc::new(|x| [0.0, -0.01 + 0.01 * x[0]]);
+        let disc = problem.discretise();
+        let joint = |bond| {
+            ContactJoint::uniform(vec![BOTTOM], Vec::new(), JointLaw::Frictionless, crate::nitsche_parameters())
+                .with_bond(bond)
+        };
+        let settings = Continuation { delta: 0.0, delta_start: 1e-3, newton: NewtonOptions::default(), path: None };
+        let solve = |bond| {
+            solve_by_continuation(&problem, &disc, &joint(bond), &settings)
+                .unwrap_or_else(|e| panic!("P{order}: {e}"))
+                .x
+        };
+        let scale = solve(None).iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let distance = |a: &[f64], b: &[f64]| a.iter().zip(b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs())) / scale;
+        let weak = Bond { tensile_strength: 1e-9, fracture_energy: 1e-4 };
+        let to_plain = distance(&solve(Some(weak)), &solve(None));
+        let strong = Bond { tensile_strength: 1e6, fracture_energy: 1e4 };
+        let closed = ContactProblem::new(&problem, &disc, &joint(None), Smoothing::CLOSED);
+        let bonded = newton(&closed, vec![0.0; disc.dofs.n_free], &NewtonOptions::default()).expect("linear").x;
+        let to_bonded = distance(&solve(Some(strong)), &bonded);
+        println!("P{order}: σ_t = 1e-9 from plain contact {to_plain:.1e}, σ_t = 1e6 from the bonded interface {to_bonded:.1e}");
+        assert!(to_plain <= 1e-6, "P{order}: {to_plain}");
+        assert!(to_bonded <= 1e-10, "P{order}: {to_bonded}");
     }
 }
