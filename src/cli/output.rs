@@ -1,7 +1,7 @@
 //! ParaView files and summaries of one solution, shared by `solve` and `adapt`.
 
 use crate::contact::{
-    CoarseSolve, ContactSolution, Crack, CrackRule, FaceState, JointForces, JointLaw, JointLine, PathPoint,
+    Bond, CoarseSolve, ContactSolution, Crack, CrackRule, FaceState, JointForces, JointLaw, JointLine, PathPoint,
 };
 use crate::elasticity::kernels::{principal, von_mises};
 use crate::elasticity::{Discretisation, Problem};
@@ -155,9 +155,9 @@ fn estimate_fields(e: &Estimate, output: &OutputSection) -> Vec<Field> {
 /// Facet fields of Γ_C, on both sides of a joint between two bodies (the normal displacement
 /// and the slip are there the jumps [u]·ν and [u]·τ): mean pressure, mean normal displacement,
 /// status (−1 not a contact facet, 0 open, 1 closed: stick with friction, 2 slip), the
-/// regularisation error; with
-/// friction the mean tangential traction and slip; with uplift the mean pore pressure and the
-/// mean effective normal stress σ'^n = −p_c.
+/// regularisation error; with friction the mean tangential traction and slip; with a bond the
+/// mean damage and the crack state (bonded, softening, broken); with uplift the mean pore
+/// pressure and the mean effective normal stress σ'^n = −p_c.
 fn contact_fields(n_facets: usize, contact: &ContactSolution) -> Vec<Field> {
     type Column = (&'static str, &'static str, fn(&FaceState) -> f64);
     let mut columns: Vec<Column> = vec![
@@ -172,6 +172,12 @@ fn contact_fields(n_facets: usize, contact: &ContactSolution) -> Vec<Field> {
             ("slip", "m", |f| f.slip),
         ]);
     }
+    if contact.nitsche.has_bond() {
+        columns.extend([
+            ("damage", "1: opening / critical opening", (|f| f.damage) as fn(&FaceState) -> f64),
+            ("crack_state", CRACK_STATE_UNIT, FaceState::bond_state),
+        ]);
+    }
     if !contact.nitsche.uplift.is_empty() {
         columns.extend([
             ("uplift_pressure", "Pa", (|f| f.uplift) as fn(&FaceState) -> f64),
@@ -182,7 +188,8 @@ fn contact_fields(n_facets: usize, contact: &ContactSolution) -> Vec<Field> {
     columns
         .into_iter()
         .map(|(name, unit, value)| {
-            let mut field = vec![if name == "contact_status" { -1.0 } else { 0.0 }; n_facets];
+            let code = name == "contact_status" || name == "crack_state";
+            let mut field = vec![if code { -1.0 } else { 0.0 }; n_facets];
             for (facet, state) in &states {
                 field[*facet] = value(state);
             }
@@ -193,6 +200,9 @@ fn contact_fields(n_facets: usize, contact: &ContactSolution) -> Vec<Field> {
 
 /// The "unit" of `contact_status`: the meaning of its codes.
 const STATUS_UNIT: &str = "code: -1 not on the joint, 0 open, 1 closed (stick), 2 slip";
+
+/// The "unit" of `crack_state`: the meaning of its codes (the state of most of the facet).
+const CRACK_STATE_UNIT: &str = "code: -1 not on the joint, 0 bonded, 1 softening, 2 broken";
 
 /// What `summary.json` records of a solution (`solve`, and the last step of `adapt`), with
 /// the command's own part `command` (flattened into it).
@@ -298,6 +308,20 @@ struct CurveSummary {
     crack: Option<Crack>,
     #[serde(skip_serializing_if = "Option::is_none")]
     crack_rule: Option<CrackRule>,
+    /// A cohesive joint's σ_t and G_f, and the lengths of it that are bonded, softening (the
+    /// process zone) and broken \[m\].
+    #[serde(flatten)]
+    bond: Option<Bond>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    bond_lengths: Option<BondLengths>,
+}
+
+/// The lengths of a cohesive joint in each state \[m\] ([`BondState`](crate::contact::BondState)).
+#[derive(Serialize)]
+struct BondLengths {
+    bonded: f64,
+    process_zone: f64,
+    broken: f64,
 }
 
 impl CurveSummary {
@@ -318,6 +342,13 @@ impl CurveSummary {
                     uplift_force: diagram.map(|_| c.uplift_force_of(|k| faces[k].curve == curve)),
                     crack: diagram.and_then(|d| c.cracks.get(d).copied().flatten()),
                     crack_rule: diagram.map(|d| c.nitsche.uplift[d].diagram.rule),
+                    bond: l.bond,
+                    bond_lengths: l.bond.map(|_| {
+                        let on = c.faces.iter().zip(faces).filter(|(_, face)| face.curve == curve);
+                        let [bonded, process_zone, broken] =
+                            on.fold([0.0; 3], |s, (f, _)| [0, 1, 2].map(|i| s[i] + f.bond_lengths[i]));
+                        BondLengths { bonded, process_zone, broken }
+                    }),
                 })
             })
             .collect()

@@ -252,6 +252,11 @@ impl Nitsche {
         self.laws.iter().any(|c| c.law.has_friction())
     }
 
+    /// Whether some curve has a bond.
+    pub fn has_bond(&self) -> bool {
+        self.laws.iter().any(|c| c.bond.is_some())
+    }
+
     /// Whether some face's law softens as the joint opens: a cohesion lost
     /// ([`JointLaw::softens`]), or a bond.
     pub fn softens(&self) -> bool {
