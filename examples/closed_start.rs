@@ -5,7 +5,7 @@
 //! given), the Newton steps at δ_start = 0.1 × the stress scale from u = 0 and from the closed,
 //! sticking state (`ContactProblem::fully_active_start`), or why Newton stopped: the start from
 //! rest is the default of `damfem solve`, the closed one its fallback when the first stage fails
-//! from rest (docs/solver.md §4 and docs/method.md §1.10).
+//! from rest (docs/solver.md §4; measured in docs/results.md, "The closed start").
 //!
 //! Run: `cargo run --release --example closed_start -- SCENE.toml [SCENE.toml …] [--size-factor F]`
 //! from the crate root; prints a markdown table.

@@ -467,7 +467,7 @@ fn solve_level<'a>(
         estimates.n += inside.n;
         estimates.seconds += inside.seconds;
         // a Newton run that stalls at δ (steps cut short by the line search where the law is
-        // steep in P_γ, docs/method.md §1.10) starts again ([`Retry::after`]); a level that
+        // steep in P_γ, docs/solver.md §3) starts again (§9, [`Retry::after`]); a level that
         // ends at a δ_s solved before has its estimate, which bounds the error too (η_reg above
         // its share); (S_reg) then brings δ down
         let estimate = match attempt {

@@ -28,7 +28,7 @@ pub fn newton_steps(stages: &[Stage]) -> usize {
 /// reaches it in a few steps per stage. `delta_start ≤ delta` is one stage. A path from rest
 /// (x0 = 0) whose first stage fails starts that stage again from the closed (and sticking)
 /// state ([`ContactProblem::fully_active_start`]): from u = 0 Newton can slide a body that a
-/// frictional joint alone holds far into slip, where it stalls (docs/method.md §1.10), and
+/// frictional joint alone holds far into slip, where it stalls (docs/solver.md §4), and
 /// without friction the first step on a body that only its contact holds is set by round-off.
 pub fn continuation(
     contact: &mut ContactProblem,

@@ -224,7 +224,7 @@ mod tests {
     use super::CrackSearch;
 
     // A crack that feeds itself. Source: the base of geo/dam_lifts_on_rock_uplift.toml under a
-    // 55 m reservoir with its friction raised to 1.5 (docs/method.md §1.8), whose open lengths
+    // 55 m reservoir with its friction raised to 1.5 (docs/solver.md §8), whose open lengths
     // were 5.67 m with s_c = 0 and 17.53 m with s_c = 5.67 m. Goal: g = open − s_c grows with
     // s_c, so the secant through the two points has its root behind both (at −5.2 m); the next
     // crack must move the way g points (past the last crack, here the plain update s_c ← open),

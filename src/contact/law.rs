@@ -183,7 +183,7 @@ mod tests {
         assert_eq!(mc.tangential(0.5, 3.0, q, &NormalLaw::CONTACT).value, 0.0);
     }
 
-    /// Source: docs/method.md §1.10 (the start from the closed, sticking state). Goal: with
+    /// Source: docs/solver.md §4 (the start from the closed, sticking state). Goal: with
     /// Smoothing::CLOSED every frictional law sticks, Π = p_t with derivatives 1 and 0, also
     /// where P^n > 0 or |p_t| exceeds the law's threshold. Parameters: LAWS, p_n ∈ {−2, 0.5},
     /// p_t ∈ {−3, 0.4, 3}.

@@ -159,7 +159,7 @@ fn adapt_estimates_the_flood_combination() {
 }
 
 // `damfem solve` converges on the drains-blocked combination. Source:
-// geo/scene_a_combinations.toml, drains_blocked; docs/method.md §1.6 (with Coulomb's face
+// geo/scene_a_combinations.toml, drains_blocked; docs/solver.md §6 (with Coulomb's face
 // integrals inexact where both projections were smoothed, the residual depended on where the
 // cuts fell, and Newton stalled in the first stage, 100 steps at a relative residual of 1.18).
 // Goal: the solve succeeds and settles the crack at the heel. Parameters: P2, the file's mesh
@@ -473,7 +473,7 @@ fn safety_coarse(scene: &Path, dir: &Path, extra: &[&str]) -> Output {
 
 // The estimate of the dam on its rock with a Coulomb joint without cohesion, its sides remeshed
 // apart. Source: geo/scene_b_joint.toml without its cohesion (c = 0, P2); docs/method.md §1.6
-// (the face split at every kink of the traction) and §1.10. Goal: `damfem adapt` reaches its
+// (the face split at every kink of the traction) and §1.10, docs/solver.md §6. Goal: `damfem adapt` reaches its
 // second mesh, the first whose sides no longer match, with a guaranteed bound: the
 // equilibration checks of both meshes below EQUILIBRATION_TOLERANCE = 10⁻¹⁰ (a pair of close
 // crossings of a Coulomb margin, missed by Newton's split and the reconstruction's alike, made
@@ -829,7 +829,7 @@ fn safety_reports_the_dam_on_its_rock_with_a_frictional_joint() {
 
 // `damfem solve` from rest on a Coulomb joint that alone holds the dam. Source:
 // geo/scene_b_joint.toml without its cohesion (c = 0, P2, mesh sizes × 2: 3 862 unknowns, no
-// nested levels, so Newton starts from u = 0); docs/method.md §1.10. From u = 0 Newton slid the
+// nested levels, so Newton starts from u = 0); docs/solver.md §4. From u = 0 Newton slid the
 // dam far into slip and stalled at a relative residual of about 0.3 after 100 steps; the path
 // now starts again from the closed, sticking state. Goal: the solve converges, with
 // N + U = W (the rigid motions of the dam held by the joint alone are test functions) and

@@ -600,9 +600,9 @@ fn each_joint_has_its_own_uplift() {
 // that tolerance, U = ρ_w g 35 (s_c + (26 − s_c)/2) (the full head in the crack, then linear
 // to 0 at the toe), N + U = the upper block's weight to 10⁻⁵ and −T the thrust
 // ρ_w g ∫₂₀⁵⁰ (55 − y) dy to 10⁻⁶.
-// Parameters: P2, gmsh's sizes × 2, δ = 2·10⁴ Pa (the figures of docs/method.md §1.10; at the
-// default δ of `damfem solve` Newton on this Mohr–Coulomb joint settles the crack only with the
-// frozen steps of docs/solver.md §3).
+// Parameters: P2, gmsh's sizes × 2, δ = 2·10⁴ Pa (the figures of docs/results.md, "Joints
+// between two meshed bodies"; at the default δ of `damfem solve` Newton on this Mohr–Coulomb
+// joint settles the crack only with the frozen steps of docs/solver.md §3).
 #[test]
 fn a_lift_joint_cracks_under_its_own_uplift() {
     let tmp = TempDir::new("lift-crack");
