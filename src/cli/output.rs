@@ -247,7 +247,8 @@ pub struct ContactSummary {
     /// δ of the last Newton step.
     delta: f64,
     stress_scale: f64,
-    /// Length of the zone where P_γ(u_h) < 0, and its bounding box [[x, y], [x, y]].
+    /// Length of the zone where P_γ(u_h) < 0 (with a bond: where it is not broken), and its
+    /// bounding box [[x, y], [x, y]].
     pub contact_length: f64,
     contact_extent: Option<[Point; 2]>,
     /// Newton steps in all on this mesh: those of `stages` and the discarded ones.
@@ -421,6 +422,7 @@ impl<T> Summary<T> {
             lines.push(c.forces_line());
             lines.extend(c.resultant_line());
             lines.extend(c.drain_lines());
+            lines.extend(c.bond_lines());
         }
         lines
     }
@@ -483,6 +485,21 @@ impl ContactSummary {
             .collect()
     }
 
+    /// "bond of <curve> (σ_t = …, G_f = …): bonded …, process zone …, broken … m", per curve with
+    /// a bond.
+    fn bond_lines(&self) -> Vec<String> {
+        (self.curves.iter())
+            .filter_map(|curve| {
+                let (bond, l) = (curve.bond?, curve.bond_lengths.as_ref()?);
+                Some(format!(
+                    "bond of {} (tensile strength {:.4e} Pa, fracture energy {:.4e} N/m): bonded {:.4} m, process zone \
+                     {:.4} m, broken {:.4} m",
+                    curve.curve, bond.tensile_strength, bond.fracture_energy, l.bonded, l.process_zone, l.broken
+                ))
+            })
+            .collect()
+    }
+
     /// "crack … m from the heel, resultant at … m from the heel (e = … m, …)", on a straight
     /// joint with a heel.
     fn resultant_line(&self) -> Option<String> {
@@ -494,6 +511,7 @@ impl ContactSummary {
                 r.position, r.eccentricity
             )
         });
-        Some(format!("crack {crack:.4} m open from the heel{resultant}"))
+        let open = if self.curves.iter().any(|c| c.bond.is_some()) { "broken" } else { "open" };
+        Some(format!("crack {crack:.4} m {open} from the heel{resultant}"))
     }
 }

@@ -135,9 +135,10 @@ impl NormalLaw {
         levels
     }
 
-    /// The P above which the joint is open: σ_t with a bond, 0 without.
-    pub fn opens_at(&self) -> f64 {
-        self.bond.map_or(0.0, |[t, _]| t)
+    /// The P above which the joint carries no traction: the broken bond's w = γ o_c, or 0 (open)
+    /// without a bond. Below it the joint is in contact or bonded; a crack is where it is not.
+    pub fn carries_below(&self) -> f64 {
+        self.bond.map_or(0.0, |[_, w]| w)
     }
 
     /// The damage o/o_c ∈ [0, 1] of the exact law at P (0 without a bond).

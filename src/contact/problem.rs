@@ -51,7 +51,8 @@ pub struct FaceState {
     pub pressure: f64,
     /// Mean normal displacement (1/|F|) ∫_F u_h^n.
     pub normal_displacement: f64,
-    /// Length of the part of F where P_γ(u_h) < 0.
+    /// Length of the part of F where P_γ(u_h) < 0 (in contact), or, with a bond, where it is not
+    /// broken (P_γ(u_h) < γ o_c).
     pub contact_length: f64,
     /// max over the quadrature points of |[P_γ(u_h)]_{reg} − [P_γ(u_h)]_{R⁻}|.
     pub regularisation_error: f64,
@@ -429,8 +430,9 @@ fn face_state(nitsche: &Nitsche, smoothing: Smoothing, k: usize, u: &FaceDisplac
     let length = nitsche.faces[k].length;
     let mut state = FaceState { length, ..Default::default() };
     let (law, mut cuts) = (nitsche.normal_law(k), nitsche.kinks(k, u, smoothing));
-    // the joint is closed (or bonded) where P_γ is below the P at which it opens
-    let closes = law.opens_at();
+    // the joint is closed (in contact, or its bond not broken) where P_γ is below the P at
+    // which it carries nothing
+    let closes = law.carries_below();
     cuts.extend(nitsche.kinks(k, u, Smoothing::NONE));
     cuts.sort_by(f64::total_cmp);
     for (s, w) in nitsche.split_rule(k, &cuts) {

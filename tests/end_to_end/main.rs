@@ -5,6 +5,7 @@ mod adapt;
 mod bad_input;
 mod battery;
 mod bound;
+mod cohesive;
 mod cli;
 mod guard;
 mod input;

@@ -1,0 +1,69 @@
+//! End to end: a cohesive joint's keys, its checks and the crack–uplift coupling with a bond
+//! (docs/method.md §1.13).
+
+use super::support::{assert_ok, assert_solve_fails, check_summary, damfem, edited_scene, TempDir};
+use std::path::PathBuf;
+
+/// geo/scene_a_uplift.toml (its reservoir at 45 m, full uplift in the crack, Coulomb F = 0.84)
+/// with `bond` added to its [contact] table.
+fn bonded_scene(tmp: &TempDir, bond: &str) -> PathBuf {
+    edited_scene(tmp, "scene_a_uplift", |text| text.replace("[contact]\n", &format!("[contact]\n{bond}\n")))
+}
+
+/// The summary's contact part of `scene` solved at size factor 2.
+fn solved(tmp: &TempDir, name: &str, scene: &PathBuf) -> serde_json::Value {
+    let out = tmp.join(name);
+    assert_ok(&damfem(&["solve", "-q", scene.to_str().unwrap(), "--size-factor", "2", "-o", out.to_str().unwrap()]));
+    check_summary(&out)["contact"].clone()
+}
+
+// Source: docs/method.md §1.13 (the crack is the broken part of the bond) and §1.8 (full
+// uplift in the crack). Goal: on the dam of geo/scene_a_uplift.toml, a bond of σ_t = 0.2 MPa
+// and G_f = 100 N/m softens at the heel (a process zone of more than 0.3 m) but does not break:
+// no crack, so less uplift than the crack of the joint without a bond lets in; with G_f = 1 N/m
+// the bond breaks at the heel, the crack is that broken length, and its uplift lies between the
+// two. Parameters: P2, size factor 2.
+#[test]
+fn the_reservoir_fills_the_broken_part_of_a_bond_only() {
+    let tmp = TempDir::new("cohesive-uplift");
+    let plain = solved(&tmp, "plain", &edited_scene(&tmp, "scene_a_uplift", |t| t.to_string()));
+    let tough = solved(&tmp, "tough", &bonded_scene(&tmp, "tensile_strength = 2.0e5\nfracture_energy = 100.0"));
+    let brittle = solved(&tmp, "brittle", &bonded_scene(&tmp, "tensile_strength = 2.0e5\nfracture_energy = 1.0"));
+    let number = |c: &serde_json::Value, key: &str| c[key].as_f64().unwrap_or_else(|| panic!("{key} in {c}"));
+    let lengths = |c: &serde_json::Value| {
+        let l = &c["curves"][0]["bond_lengths"];
+        ["bonded", "process_zone", "broken"].map(|k| l[k].as_f64().unwrap_or_else(|| panic!("{k} in {l}")))
+    };
+    let [_, zone, broken] = lengths(&tough);
+    println!("tough: process zone {zone} m, broken {broken} m, crack {}", tough["crack_length"]);
+    assert!(zone > 0.3 && broken == 0.0 && number(&tough, "crack_length") == 0.0, "{tough}");
+    let [_, _, broken] = lengths(&brittle);
+    let crack = number(&brittle, "crack_length");
+    println!("brittle: broken {broken} m, crack {crack} m; plain crack {}", plain["crack_length"]);
+    assert!(broken > 0.3 && (crack - broken).abs() < 1e-9, "the crack is the broken length: {brittle}");
+    assert!((number(&brittle["crack"], "length") - crack).abs() < 1e-3, "the uplift's crack: {}", brittle["crack"]);
+    let [u_tough, u_brittle, u_plain] = [&tough, &brittle, &plain].map(|c| number(c, "uplift_force"));
+    assert!(u_tough < u_brittle && u_brittle < u_plain, "U: {u_tough}, {u_brittle}, {u_plain}");
+}
+
+// (bad input) The bond's keys: both or neither, positive, and a fracture energy the mesh can
+// resolve (γ o_c > σ_t on every face), each refused in one sentence naming the key.
+#[test]
+fn bond_keys_are_checked() {
+    let tmp = TempDir::new("cohesive-keys");
+    let cases = [
+        ("alone", "tensile_strength = 2.0e5", vec!["contact.tensile_strength is set without contact.fracture_energy"]),
+        ("negative", "tensile_strength = -1.0\nfracture_energy = 100.0", vec!["contact.tensile_strength = -1", "positive"]),
+        ("zero", "tensile_strength = 2.0e5\nfracture_energy = 0.0", vec!["contact.fracture_energy = 0", "positive"]),
+        (
+            "unresolved",
+            "tensile_strength = 2.0e6\nfracture_energy = 1.0e-3",
+            vec!["contact.fracture_energy = 0.001 N/m is too small for the mesh of curve 'base'", "gamma0"],
+        ),
+    ];
+    for (name, bond, keywords) in cases {
+        let scene = bonded_scene(&tmp, bond);
+        let message = assert_solve_fails(&format!("cohesive-{name}"), &scene, &keywords);
+        assert_eq!(message.trim().lines().count(), 1, "{name}: {message}");
+    }
+}
