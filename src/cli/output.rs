@@ -1,7 +1,8 @@
 //! ParaView files and summaries of one solution, shared by `solve` and `adapt`.
 
 use crate::contact::{
-    Bond, CoarseSolve, ContactSolution, Crack, CrackRule, FaceState, JointForces, JointLaw, JointLine, PathPoint,
+    Bond, BondLengths, CoarseSolve, ContactSolution, Crack, CrackRule, FaceState, JointForces, JointLaw, JointLine,
+    PathPoint,
 };
 use crate::elasticity::kernels::{principal, von_mises};
 use crate::elasticity::{Discretisation, Problem};
@@ -317,14 +318,6 @@ struct CurveSummary {
     bond_lengths: Option<BondLengths>,
 }
 
-/// The lengths of a cohesive joint in each state \[m\] ([`BondState`](crate::contact::BondState)).
-#[derive(Serialize)]
-struct BondLengths {
-    bonded: f64,
-    process_zone: f64,
-    broken: f64,
-}
-
 impl CurveSummary {
     /// Every curve of `c` that has faces.
     fn of_each(mesh: &Mesh, c: &ContactSolution) -> Vec<CurveSummary> {
@@ -345,10 +338,9 @@ impl CurveSummary {
                     crack_rule: diagram.map(|d| c.nitsche.uplift[d].diagram.rule),
                     bond: l.bond,
                     bond_lengths: l.bond.map(|_| {
-                        let on = c.faces.iter().zip(faces).filter(|(_, face)| face.curve == curve);
-                        let [bonded, process_zone, broken] =
-                            on.fold([0.0; 3], |s, (f, _)| [0, 1, 2].map(|i| s[i] + f.bond_lengths[i]));
-                        BondLengths { bonded, process_zone, broken }
+                        BondLengths::of(
+                            c.faces.iter().zip(faces).filter(|(_, face)| face.curve == curve).map(|(f, _)| f),
+                        )
                     }),
                 })
             })
@@ -368,6 +360,10 @@ pub fn drain_note(curve: &str, c: &Crack) -> Option<String> {
         )
     })
 }
+
+/// A fall of a face's mean damage along the load path above which the run says that the bond
+/// healed.
+const HEALING: f64 = 1e-3;
 
 /// What `summary.json` says of `max_von_mises`.
 const SINGULAR_MAXIMUM: &str = "mesh-dependent where it sits at a singular point (a re-entrant corner, the end of a \
@@ -488,6 +484,15 @@ impl ContactSummary {
     /// "bond of <curve> (σ_t = …, G_f = …): bonded …, process zone …, broken … m", per curve with
     /// a bond.
     fn bond_lines(&self) -> Vec<String> {
+        let healed = self.load_path.windows(2).max_by(|a, b| a[1].healing.total_cmp(&b[1].healing));
+        let warning = healed.filter(|w| w[1].healing > HEALING).map(|w| {
+            format!(
+                "warning: the bond healed on the load path: a face's mean damage fell by {:.3} from λ = {:.4} to \
+                 λ = {:.4}, which the holonomic law of docs/method.md §1.13 allows and an irreversible bond would not; \
+                 the result may differ from it there",
+                w[1].healing, w[0].load_factor, w[1].load_factor
+            )
+        });
         (self.curves.iter())
             .filter_map(|curve| {
                 let (bond, l) = (curve.bond?, curve.bond_lengths.as_ref()?);
@@ -497,6 +502,7 @@ impl ContactSummary {
                     curve.curve, bond.tensile_strength, bond.fracture_energy, l.bonded, l.process_zone, l.broken
                 ))
             })
+            .chain(warning)
             .collect()
     }
 

@@ -34,7 +34,7 @@ pub mod projection;
 mod solution;
 pub mod uplift;
 
-pub use bond::{Bond, BondState, NormalLaw};
+pub use bond::{Bond, BondLengths, BondState, NormalLaw};
 pub use continuation::{
     continuation, continuation_counted, nested_start, newton_steps, solve_by_continuation, solve_from,
     solve_system_along, solve_system_from, CarriedState, CoarseLevel, Continuation, NestedStart, Stage,

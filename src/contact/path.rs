@@ -84,6 +84,10 @@ pub struct PathPoint {
     /// Newton steps of this load step, its crack solves and the failed attempts at the steps
     /// before it (since the last state) included.
     pub newton_steps: usize,
+    /// On a bonded joint, the largest fall of a face's mean damage since the state before
+    /// (0 without a bond): where the holonomic bond healed, which the irreversible law would
+    /// not (docs/method.md §1.13).
+    pub healing: f64,
 }
 
 /// Why the path ended at λ* < 1: what the state at λ* shows.
@@ -167,8 +171,9 @@ pub fn follow(
     let (mut wasted, mut discarded_steps) = (0, 0);
     let (mut x, mut stages) = built(contact, (delta, delta_start), x0, options, &mut wasted)?;
     discarded_steps += wasted;
-    let mut path = Vec::new();
-    reached(&mut path, point(contact, &x, 0.0, std::mem::take(&mut wasted) + newton_steps(&stages)), trace);
+    let (mut path, mut damage) = (Vec::new(), Vec::new());
+    let first = point(contact, &x, 0.0, std::mem::take(&mut wasted) + newton_steps(&stages), &mut damage);
+    reached(&mut path, first, trace);
     let max_iter = options.max_iter.min(STEP_ITERATIONS);
     let on_path = NewtonOptions { max_iter, rtol: options.rtol.max(PATH_RTOL), ..*options };
     let at_end = NewtonOptions { max_iter, ..*options };
@@ -206,7 +211,7 @@ pub fn follow(
                 previous = Some((std::mem::replace(&mut x, y), lambda));
                 (lambda, cracks) = (trial, found);
                 stages.extend(more);
-                reached(&mut path, point(contact, &x, lambda, steps), trace);
+                reached(&mut path, point(contact, &x, lambda, steps, &mut damage), trace);
                 if planned.is_some() {
                     step = increment;
                 } else if first <= EASY_STEPS {
@@ -238,7 +243,8 @@ pub fn follow(
                     let mut more = Vec::new();
                     let at_once = solve_at(contact, x.clone(), options, (Crack::TOLERANCE, None), &mut more);
                     if let Ok((y, found)) = at_once.and_then(|s| contact.lift_off(&s.0, 1.0).map(|_| s)) {
-                        reached(&mut path, point(contact, &y, 1.0, wasted + newton_steps(&more)), trace);
+                        let last = point(contact, &y, 1.0, wasted + newton_steps(&more), &mut damage);
+                        reached(&mut path, last, trace);
                         stages.extend(more);
                         return Ok(Followed { x: y, stages, cracks: found, path, discarded_steps });
                     }
@@ -323,9 +329,19 @@ fn solve_at(
     settle_crack_to(contact, x, options, tolerance, stages)
 }
 
-/// The state at λ of the free unknowns `x`.
-fn point(contact: &ContactProblem, x: &[f64], load_factor: f64, newton_steps: usize) -> PathPoint {
+/// The state at λ of the free unknowns `x`, its healing against the faces' mean damage
+/// `damage` of the state before (empty at the first), which it replaces.
+fn point(
+    contact: &ContactProblem,
+    x: &[f64],
+    load_factor: f64,
+    newton_steps: usize,
+    damage: &mut Vec<f64>,
+) -> PathPoint {
     let solution = contact.solution(x.to_vec(), Vec::new(), Vec::new());
+    let now: Vec<f64> = solution.faces.iter().map(|f| f.damage).collect();
+    let healing = damage.iter().zip(&now).map(|(before, after)| before - after).fold(0.0, f64::max);
+    *damage = now;
     let forces = solution.forces(|_| true);
     let filled = contact.nitsche.uplift.iter().find(|up| up.diagram.rule.follows_crack());
     PathPoint {
@@ -336,6 +352,7 @@ fn point(contact: &ContactProblem, x: &[f64], load_factor: f64, newton_steps: us
         contact_length: forces.contact_length,
         sliding_safety_factor: forces.sliding_safety_factor,
         newton_steps,
+        healing,
     }
 }
 

@@ -53,7 +53,11 @@ fn bond_keys_are_checked() {
     let tmp = TempDir::new("cohesive-keys");
     let cases = [
         ("alone", "tensile_strength = 2.0e5", vec!["contact.tensile_strength is set without contact.fracture_energy"]),
-        ("negative", "tensile_strength = -1.0\nfracture_energy = 100.0", vec!["contact.tensile_strength = -1", "positive"]),
+        (
+            "negative",
+            "tensile_strength = -1.0\nfracture_energy = 100.0",
+            vec!["contact.tensile_strength = -1", "positive"],
+        ),
         ("zero", "tensile_strength = 2.0e5\nfracture_energy = 0.0", vec!["contact.fracture_energy = 0", "positive"]),
         (
             "unresolved",
@@ -65,5 +69,31 @@ fn bond_keys_are_checked() {
         let scene = bonded_scene(&tmp, bond);
         let message = assert_solve_fails(&format!("cohesive-{name}"), &scene, &keywords);
         assert_eq!(message.trim().lines().count(), 1, "{name}: {message}");
+    }
+}
+
+// Source: docs/reference.md (outputs). Goal: a bonded joint's outputs: `damage` and
+// `crack_state` on the boundary VTU, `bond_lengths` per curve in summary.json summing to the
+// joint's length, and the bonded, process-zone and broken lengths in the safety report.
+// Parameters: geo/scene_a_uplift.toml with σ_t = 0.2 MPa and G_f = 100 N/m, P2, size factor 2,
+// one adaptive step.
+#[test]
+fn a_bonded_joint_reports_its_damage() {
+    let tmp = TempDir::new("cohesive-outputs");
+    let scene = bonded_scene(&tmp, "tensile_strength = 2.0e5\nfracture_energy = 100.0");
+    let contact = solved(&tmp, "solve", &scene);
+    let lengths = &contact["curves"][0]["bond_lengths"];
+    let sum: f64 = ["bonded", "process_zone", "broken"].iter().map(|k| lengths[k].as_f64().unwrap()).sum();
+    assert!((sum - 40.0).abs() < 1e-9, "the base is 40 m long: {lengths}");
+    let boundary = std::fs::read_to_string(tmp.join("solve").join("scene_a_uplift_boundary.vtu")).unwrap();
+    for field in ["damage", "crack_state"] {
+        assert!(boundary.contains(&format!("Name=\"{field}\"")), "{field} on the boundary VTU");
+    }
+    let out = tmp.join("safety");
+    let args = ["safety", "-q", scene.to_str().unwrap(), "--size-factor", "2", "--max-steps", "1", "-o"];
+    assert_ok(&damfem(&[&args[..], &[out.to_str().unwrap()]].concat()));
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    for row in ["bond: length bonded", "bond: length in the process zone (softening)", "bond: length broken"] {
+        assert!(report.contains(row), "{row} in the report");
     }
 }

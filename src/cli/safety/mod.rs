@@ -10,7 +10,7 @@ use super::common::{output_dir, remove_earlier_outputs, stem, Input, Output, Pro
 use super::output::{drain_note, Units, UNITS};
 use super::settings::{self, Setting};
 use crate::adapt::{AdaptError, Step};
-use crate::contact::{ContactError, ContactJoint, ContactSolution, JointLine};
+use crate::contact::{BondLengths, ContactError, ContactJoint, ContactSolution, JointLine};
 use crate::elasticity::Problem;
 use crate::io::atomic::write_output;
 use crate::io::plot::write_linear_figure;
@@ -298,6 +298,8 @@ fn analyse(
         joint_line: line,
         contact_length: forces.contact_length,
         crack_length: solution.crack_from_heel(&line),
+        bond_lengths: (solution.nitsche.laws.iter().zip(&plane).any(|(c, &on)| on && c.bond.is_some()))
+            .then(|| BondLengths::of(&solution.faces_on(&line))),
         crack_rule: (solution.nitsche.uplift.iter())
             .find(|up| up.curves.iter().any(|&c| plane[c]))
             .map(|up| up.diagram.rule),

@@ -5,7 +5,7 @@
 use super::{Combination, Outcome, STALLED};
 use crate::cli::adapt::BestStep;
 use crate::cli::output::Units;
-use crate::contact::{ContactSolution, CrackRule, JointLine};
+use crate::contact::{BondLengths, ContactSolution, CrackRule, JointLine};
 use crate::geometry::Point;
 use crate::io::atomic::write_output;
 use crate::io::plot::{Figure, Mark, Series};
@@ -57,6 +57,8 @@ pub(super) struct Report {
     pub(super) crack_length: f64,
     /// What the water does in the crack of the sliding plane (None without uplift there).
     pub(super) crack_rule: Option<CrackRule>,
+    /// On a bonded sliding plane, its bonded, process-zone and broken lengths.
+    pub(super) bond_lengths: Option<BondLengths>,
     /// N, T, U, the resultant's point, position, eccentricity and the middle-third check; None
     /// when nothing presses on the joint.
     pub(super) resultant: Option<Resultant>,
@@ -89,6 +91,10 @@ pub(super) fn table(r: &Report) -> Vec<[String; 3]> {
         row("crack length from the heel", format!("{:.4}", r.crack_length), "m"),
     ];
     rows.extend(r.crack_rule.map(|rule| row("uplift in the crack", rule_words(rule), "")));
+    rows.extend(r.bond_lengths.iter().flat_map(|l| {
+        [("bonded", l.bonded), ("in the process zone (softening)", l.process_zone), ("broken", l.broken)]
+            .map(|(state, length)| row(&format!("bond: length {state}"), format!("{length:.4}"), "m"))
+    }));
     match &r.resultant {
         Some(f) => rows.extend([
             row("normal force N", force(f.normal_force), "N/m"),
@@ -589,6 +595,7 @@ mod tests {
             contact_length: 9.0,
             crack_length: 1.0,
             crack_rule: None,
+            bond_lengths: None,
             resultant: None,
             base_stresses: BaseStresses { length: 1.0, heel: 0.0, toe: -1.0, heel_closed: -0.5 },
             sliding_safety_factor: None,
