@@ -26,7 +26,7 @@ pub enum ContactError {
     )]
     CrackStep { from: f64, to: f64, limit: f64 },
     #[error(transparent)]
-    NoEquilibrium(#[from] NoEquilibrium),
+    NoEquilibrium(#[from] Box<NoEquilibrium>),
     #[error(
         "no equilibrium at λ = {load_factor:.4} of the loads that follow the self-weight: only the joint holds the \
          body, and {contact_length:.3} m of its {joint_length:.3} m remain in contact (less than {share} %): the body \

@@ -370,13 +370,13 @@ fn limit(path: Vec<PathPoint>, failure: ContactError, joint_length: f64) -> Cont
         None
     };
     match limit {
-        Some(limit) => ContactError::NoEquilibrium(NoEquilibrium {
+        Some(limit) => ContactError::NoEquilibrium(Box::new(NoEquilibrium {
             load_factor: at.load_factor,
             limit,
             joint_length,
             at_limit: at,
             path,
-        }),
+        })),
         None => ContactError::PathStalled { load_factor: at.load_factor, state: at, last: Box::new(failure) },
     }
 }

@@ -2,7 +2,7 @@
 //! (docs/method.md §1.13).
 
 use super::support::{assert_ok, assert_solve_fails, check_summary, damfem, edited_scene, TempDir};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// geo/scene_a_uplift.toml (its reservoir at 45 m, full uplift in the crack, Coulomb F = 0.84)
 /// with `bond` added to its [contact] table.
@@ -11,7 +11,7 @@ fn bonded_scene(tmp: &TempDir, bond: &str) -> PathBuf {
 }
 
 /// The summary's contact part of `scene` solved at size factor 2.
-fn solved(tmp: &TempDir, name: &str, scene: &PathBuf) -> serde_json::Value {
+fn solved(tmp: &TempDir, name: &str, scene: &Path) -> serde_json::Value {
     let out = tmp.join(name);
     assert_ok(&damfem(&["solve", "-q", scene.to_str().unwrap(), "--size-factor", "2", "-o", out.to_str().unwrap()]));
     check_summary(&out)["contact"].clone()
