@@ -25,7 +25,6 @@
 //! bond whose opening falls heals (the irreversible law is not built yet).
 
 use super::projection::Smoothing;
-use super::FaceState;
 
 /// A joint's bond (in `summary.json`: `{"tensile_strength": 5e5, "fracture_energy": 100}`).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -69,24 +68,6 @@ pub enum BondState {
     Softening = 1,
     /// o ≥ o_c: an open crack.
     Broken = 2,
-}
-
-/// The lengths of a bonded joint in each state \[m\] (in `summary.json` and `safety.json`).
-#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
-pub struct BondLengths {
-    pub bonded: f64,
-    /// Softening: the process zone.
-    pub process_zone: f64,
-    pub broken: f64,
-}
-
-impl BondLengths {
-    /// The lengths summed over `faces`.
-    pub fn of<'f>(faces: impl IntoIterator<Item = &'f FaceState>) -> BondLengths {
-        let [bonded, process_zone, broken] =
-            faces.into_iter().fold([0.0; 3], |s, f| [0, 1, 2].map(|i| s[i] + f.bond_lengths[i]));
-        BondLengths { bonded, process_zone, broken }
-    }
 }
 
 impl NormalLaw {

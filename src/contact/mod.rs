@@ -34,7 +34,7 @@ pub mod projection;
 mod solution;
 pub mod uplift;
 
-pub use bond::{Bond, BondLengths, BondState, NormalLaw};
+pub use bond::{Bond, BondState, NormalLaw};
 pub use continuation::{
     continuation, continuation_counted, nested_start, newton_steps, solve_by_continuation, solve_from,
     solve_system_along, solve_system_from, CarriedState, CoarseLevel, Continuation, NestedStart, Stage,
@@ -46,6 +46,6 @@ pub use law::JointLaw;
 pub use line::JointLine;
 pub use path::{LoadPath, NoEquilibrium, PathPoint};
 pub(crate) use problem::local_displacement;
-pub use problem::{lifts_off, open_from_heel, ContactProblem, FaceState, Linearisation};
+pub use problem::{lifts_off, open_from_heel, BondLengths, ContactProblem, FaceState, Linearisation};
 pub use solution::{CoarseSolve, CoarseTimings, ContactSolution, JointForces, Solution};
 pub use uplift::{CrackRule, Uplift};

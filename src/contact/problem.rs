@@ -76,8 +76,26 @@ pub struct FaceState {
     /// On a bonded joint, the mean damage (1/|F|) ∫_F o/o_c of the exact law.
     pub damage: f64,
     /// On a bonded joint, the lengths of F that are bonded, softening and broken
-    /// ([`BondState`], the exact law).
+    /// ([`BondState`](super::BondState), the exact law).
     pub bond_lengths: [f64; 3],
+}
+
+/// The lengths of a bonded joint in each state \[m\] (in `summary.json` and `safety.json`).
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
+pub struct BondLengths {
+    pub bonded: f64,
+    /// Softening: the process zone.
+    pub process_zone: f64,
+    pub broken: f64,
+}
+
+impl BondLengths {
+    /// The lengths summed over `faces`.
+    pub fn of<'f>(faces: impl IntoIterator<Item = &'f FaceState>) -> BondLengths {
+        let [bonded, process_zone, broken] =
+            faces.into_iter().fold([0.0; 3], |s, f| [0, 1, 2].map(|i| s[i] + f.bond_lengths[i]));
+        BondLengths { bonded, process_zone, broken }
+    }
 }
 
 impl FaceState {

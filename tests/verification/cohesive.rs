@@ -1,7 +1,10 @@
 //! Verification of the cohesive joint: tensile strength and linear softening
 //! (docs/method.md §1.13).
 
-use damfem::contact::{solve_by_continuation, Bond, ContactJoint, ContactSolution, Continuation, JointLaw};
+use damfem::contact::projection::Smoothing;
+use damfem::contact::{
+    solve_by_continuation, Bond, BondLengths, ContactJoint, ContactProblem, ContactSolution, Continuation, JointLaw,
+};
 use damfem::elasticity::{BodyForce, Dirichlet, Material, Problem};
 use damfem::mesh::structured::{rectangle, unit_square, BOTTOM, LEFT, RIGHT, TOP};
 use damfem::mesh::Mesh;
@@ -32,13 +35,25 @@ fn pulled_block(mesh: Mesh, lift: f64) -> Problem {
     }
 }
 
+/// The frictionless joint of the block's base with `bond` (None: without).
+fn base_joint(bond: Option<Bond>) -> ContactJoint {
+    ContactJoint::uniform(vec![BOTTOM], Vec::new(), JointLaw::Frictionless, crate::nitsche_parameters()).with_bond(bond)
+}
+
+/// The block (0, 4) × (0, 1) on an 8 × 2 grid pulled up unevenly, u_y = −0.01 + 0.01 x on its
+/// top: with [`BOND`] its joint is bonded, softening and broken at once.
+fn wide_block_pulled_unevenly(order: usize) -> Problem {
+    let mut problem = pulled_block(rectangle(0.0, 4.0, 0.0, 1.0, 8, 2, order), 0.0);
+    problem.dirichlet[0].value = Arc::new(|x| [0.0, -0.01 + 0.01 * x[0]]);
+    problem
+}
+
 /// The block pulled up by `lift`, solved at δ = 0 from a δ-continuation: the solution and the
 /// joint's mean opening o and mean normal traction σ'^n.
 fn pull(lift: f64, order: usize) -> (ContactSolution, f64, f64) {
     let problem = pulled_block(unit_square(4, order), lift);
     let disc = problem.discretise();
-    let joint = ContactJoint::uniform(vec![BOTTOM], Vec::new(), JointLaw::Frictionless, crate::nitsche_parameters())
-        .with_bond(Some(BOND));
+    let joint = base_joint(Some(BOND));
     let settings = Continuation { delta: 0.0, delta_start: 1e-3, newton: NewtonOptions::default(), path: None };
     let solution = solve_by_continuation(&problem, &disc, &joint, &settings)
         .unwrap_or_else(|e| panic!("P{order}, lift {lift}: {e}"));
@@ -129,55 +144,18 @@ fn two_blocks_pulled_apart_follow_the_softening_law() {
 /// γ₀ = 100.
 #[test]
 fn eta_tot_bounds_the_residual_of_a_softening_joint() {
-    use damfem::contact::projection::Smoothing;
-    use damfem::contact::{ContactProblem, Linearisation};
-    use damfem::estimate::reference::{sharp_reference, REFERENCE_AGREEMENT, REFERENCE_MAX_UNKNOWNS};
-    use damfem::solve::newton_until;
     for order in [1, 2] {
-        let mut problem = pulled_block(rectangle(0.0, 4.0, 0.0, 1.0, 8, 2, order), 0.0);
-        problem.dirichlet[0].value = Arc::new(|x| [0.0, -0.01 + 0.01 * x[0]]);
+        let problem = wide_block_pulled_unevenly(order);
         let disc = problem.discretise();
-        let joint =
-            ContactJoint::uniform(vec![BOTTOM], Vec::new(), JointLaw::Frictionless, crate::nitsche_parameters())
-                .with_bond(Some(BOND));
-        let mut contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 1e-3 });
-        let (mut x, mut rows) = (vec![0.0; disc.dofs.n_free], Vec::new());
-        for delta in [1e-3, 1e-6] {
-            contact.set_delta(delta);
-            let report = newton_until(&contact, x, &NewtonOptions::default(), |it| {
-                if it.last.step == 1.0 {
-                    let state = Linearisation::new(&problem, &disc, &contact.nitsche, contact.smoothing, it.x_prev);
-                    let e = damfem::estimate::estimate_iterate(&problem, &disc, it.x, Some(&state))
-                        .unwrap_or_else(|e| panic!("{e}"));
-                    let u = problem.displacement(&disc, it.x);
-                    let reference =
-                        sharp_reference(&problem, &u, Some(&joint), REFERENCE_AGREEMENT, REFERENCE_MAX_UNKNOWNS)
-                            .unwrap_or_else(|e| panic!("{e}"))
-                            .norm();
-                    rows.push((it.residual, e.estimators.global(), reference, e.equilibration.worst(order)));
-                }
-                false
-            })
-            .unwrap_or_else(|e| panic!("P{order}: {e}"));
-            x = report.x;
-        }
-        let faces = contact.face_states(&x);
-        let lengths = faces.iter().fold([0.0; 3], |s, f| [0, 1, 2].map(|i| s[i] + f.bond_lengths[i]));
-        println!("P{order}: bonded, softening, broken lengths {lengths:?}");
-        assert!(lengths.iter().all(|&l| l > 0.05), "P{order}: not every state is present: {lengths:?}");
-        assert!(rows.len() >= 2, "P{order}: {} full steps", rows.len());
-        for (residual, g, reference, worst) in rows {
-            println!(
-                "P{order} |F| {residual:.2e}: eta_tot {:.4e} (disc {:.2e} reg {:.2e} lin {:.2e}) reference {reference:.4e} I_eff {:.3}; worst check {worst:.1e}",
-                g.tot,
-                g.disc,
-                g.reg,
-                g.lin,
-                g.tot / reference
-            );
-            assert!(worst < 1e-10, "P{order}: equilibration {worst:e}");
-            assert!(g.tot >= reference, "P{order}: eta_tot {} below the reference {reference}", g.tot);
-        }
+        let joint = base_joint(Some(BOND));
+        let (x, steps) = crate::full_steps::full_steps(&problem, &disc, &joint, &[1e-3, 1e-6]);
+        let contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 1e-6 });
+        let lengths = BondLengths::of(&contact.face_states(&x));
+        println!("P{order}: {lengths:?}");
+        let all = [lengths.bonded, lengths.process_zone, lengths.broken];
+        assert!(all.iter().all(|&l| l > 0.05), "P{order}: not every state is present: {lengths:?}");
+        assert!(steps.len() >= 2, "P{order}: {} full steps", steps.len());
+        crate::full_steps::assert_bounds(&format!("P{order}"), &steps);
     }
 }
 
@@ -190,17 +168,11 @@ fn eta_tot_bounds_the_residual_of_a_softening_joint() {
 /// `eta_tot_bounds_the_residual_of_a_softening_joint`, δ = 0 from a δ-continuation, P1 and P2.
 #[test]
 fn a_vanishing_bond_is_plain_contact_and_a_strong_one_a_bonded_interface() {
-    use damfem::contact::projection::Smoothing;
-    use damfem::contact::ContactProblem;
     use damfem::solve::newton;
     for order in [1, 2] {
-        let mut problem = pulled_block(rectangle(0.0, 4.0, 0.0, 1.0, 8, 2, order), 0.0);
-        problem.dirichlet[0].value = Arc::new(|x| [0.0, -0.01 + 0.01 * x[0]]);
+        let problem = wide_block_pulled_unevenly(order);
         let disc = problem.discretise();
-        let joint = |bond| {
-            ContactJoint::uniform(vec![BOTTOM], Vec::new(), JointLaw::Frictionless, crate::nitsche_parameters())
-                .with_bond(bond)
-        };
+        let joint = base_joint;
         let settings = Continuation { delta: 0.0, delta_start: 1e-3, newton: NewtonOptions::default(), path: None };
         let solve = |bond| {
             solve_by_continuation(&problem, &disc, &joint(bond), &settings)

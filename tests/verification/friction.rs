@@ -367,45 +367,15 @@ fn the_estimator_vanishes_at_the_exact_stick_and_slip_solutions() {
 /// the stress scale, then at 10⁻⁴ × it; 4 × 4 grid, P1 and P2.
 #[test]
 fn eta_tot_bounds_the_residual_with_friction() {
-    use damfem::contact::projection::Smoothing;
-    use damfem::contact::{ContactProblem, Linearisation};
-    use damfem::solve::newton_until;
     let friction = 30f64.to_radians().tan();
     let alpha = 25f64.to_radians();
     for order in [1, 2] {
         let problem = incline(alpha, 4, order);
         let disc = problem.discretise();
-        let joint = incline_joint(friction);
         let scale = problem.stress_scale(&disc.topology);
-        let mut contact = ContactProblem::new(&problem, &disc, &joint, Smoothing { delta: 0.1 * scale });
-        let options = NewtonOptions::default();
-        let (mut x, mut rows) = (vec![0.0; disc.dofs.n_free], Vec::new());
-        for delta in [0.1 * scale, 1e-4 * scale] {
-            contact.set_delta(delta);
-            let report = newton_until(&contact, x, &options, |it| {
-                if it.last.step == 1.0 {
-                    let state = Linearisation::new(&problem, &disc, &contact.nitsche, contact.smoothing, it.x_prev);
-                    let (e, reference) = estimate_and_reference(&problem, &disc, &joint, it.x, &state, true);
-                    rows.push((it.residual, e.estimators.global(), reference.unwrap(), e.equilibration.worst(order)));
-                }
-                false
-            })
-            .expect("Newton converges");
-            x = report.x;
-        }
-        assert!(!rows.is_empty(), "P{order}: no full step");
-        for (residual, g, reference, worst) in rows {
-            println!(
-                "P{order} |F| {residual:.2e}: eta_tot {:.4e} (disc {:.2e} reg {:.2e} lin {:.2e}) reference {reference:.4e} I_eff {:.3}; worst check {worst:.1e}",
-                g.tot,
-                g.disc,
-                g.reg,
-                g.lin,
-                g.tot / reference
-            );
-            assert!(worst < 1e-10, "P{order}: equilibration {worst:e}");
-            assert!(g.tot >= reference, "P{order}: eta_tot {} below the reference {reference}", g.tot);
-        }
+        let (_, steps) =
+            crate::full_steps::full_steps(&problem, &disc, &incline_joint(friction), &[0.1 * scale, 1e-4 * scale]);
+        crate::full_steps::assert_bounds(&format!("P{order}"), &steps);
     }
 }
 

@@ -13,6 +13,7 @@ mod equilibration;
 mod estimator;
 mod estimator_components;
 mod friction;
+mod full_steps;
 mod hertz;
 mod stability;
 mod two_body;
