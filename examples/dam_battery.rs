@@ -13,14 +13,16 @@
 //! files and outputs go into DIR/seed_<seed>/ with `--keep`, else into a temporary directory
 //! removed at the end; with `--strength-reduction` each case runs `damfem solve
 //! --strength-reduction`, and the summary gives the largest distance of FS from FS_SR's
-//! bracket of the c = 0 results). Prints one row per case and a closing summary: the share of cases with
+//! bracket of the c = 0 results; with `--bond σ_t,G_f` every joint has that bond, against the
+//! same statics). Prints one row per case and a closing summary: the share of cases with
 //! a result where they hold or a verdict where they do not (either within 2 % of FS = 1), the
 //! largest FS error of the results with c = 0, the median and largest Newton steps (the most
 //! on one mesh, and summed over the levels of nested iteration), and each case that went wrong
 //! with its exit code and message.
 
 use anyhow::{bail, Context, Result};
-use damfem::verify::battery::{cases, header, row, run_with, summary, Record};
+use damfem::contact::Bond;
+use damfem::verify::battery::{cases, header, row, run_with, summary, DamCase, Record};
 use std::path::PathBuf;
 
 /// The options: cases, seed, and the directory to keep.
@@ -29,13 +31,15 @@ struct Options {
     seed: u64,
     keep: Option<PathBuf>,
     strength_reduction: bool,
+    bond: Option<Bond>,
 }
 
 /// The usage line.
-const USAGE: &str = "usage: dam_battery [--cases N (200)] [--seed S (1)] [--keep DIR] [--strength-reduction]";
+const USAGE: &str =
+    "usage: dam_battery [--cases N (200)] [--seed S (1)] [--keep DIR] [--strength-reduction] [--bond SIGMA_T,G_F]";
 
 fn options() -> Result<Option<Options>> {
-    let mut options = Options { cases: 200, seed: 1, keep: None, strength_reduction: false };
+    let mut options = Options { cases: 200, seed: 1, keep: None, strength_reduction: false, bond: None };
     let mut args = std::env::args().skip(1);
     while let Some(flag) = args.next() {
         match flag.as_str() {
@@ -51,6 +55,10 @@ fn options() -> Result<Option<Options>> {
             "--cases" => options.cases = value.parse()?,
             "--seed" => options.seed = value.parse()?,
             "--keep" => options.keep = Some(value.into()),
+            "--bond" => {
+                let (t, g) = value.split_once(',').with_context(|| format!("--bond {value}: give SIGMA_T,G_F"))?;
+                options.bond = Some(Bond { tensile_strength: t.parse()?, fracture_energy: g.parse()? });
+            }
             _ => bail!("unknown option {flag}; {USAGE}"),
         }
     }
@@ -74,6 +82,7 @@ fn main() -> Result<()> {
     let mut records = Vec::new();
     let extra: &[&str] = if options.strength_reduction { &["--strength-reduction"] } else { &[] };
     for case in cases(options.seed, options.cases) {
+        let case = DamCase { bond: options.bond, ..case };
         let dir = root.join(format!("seed_{}", case.seed));
         let record = Record::new(case.clone(), run_with(&binary, &case, &dir, extra)?);
         println!("{}", row(&record));

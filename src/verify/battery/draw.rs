@@ -49,6 +49,7 @@ impl DamCase {
             foundation,
             friction: 0.0,
             cohesion: 0.0,
+            bond: None,
             reservoir: 0.0,
             tailwater: None,
             drains: None,

@@ -121,6 +121,9 @@ impl DamCase {
         if self.cohesion > 0.0 {
             law += &format!("cohesion = {:?}\n", self.cohesion);
         }
+        if let Some(b) = self.bond {
+            law += &format!("tensile_strength = {:?}\nfracture_energy = {:?}\n", b.tensile_strength, b.fracture_energy);
+        }
         toml += &match self.foundation {
             Foundation::Rigid => format!("[boundary.base]\nrole = \"contact\"\n\n[contact]\n{law}max_iter = 100\n\n"),
             Foundation::Rock { .. } => {

@@ -151,6 +151,9 @@ pub struct DamCase {
     /// F = tan φ and c \[Pa\].
     pub friction: f64,
     pub cohesion: f64,
+    /// A bond on the joint (docs/method.md §1.13; not drawn, None unless set). The statics are
+    /// those of the joint without it: FS_LE counts the whole N, the bond's tension included.
+    pub bond: Option<crate::contact::Bond>,
     /// H_w and T_w \[m\].
     pub reservoir: f64,
     pub tailwater: Option<f64>,

@@ -31,6 +31,7 @@ fn scene_a_has_the_forces_of_the_readme() {
         foundation: Foundation::Rigid,
         friction: 0.8391,
         cohesion: 0.0,
+        bond: None,
         reservoir: 45.0,
         tailwater: None,
         drains: Some(Drains { distance: 5.0, efficiency: 0.6667 }),
