@@ -97,3 +97,29 @@ fn a_bonded_joint_reports_its_damage() {
         assert!(report.contains(row), "{row} in the report");
     }
 }
+
+// Source: docs/method.md §1.13 (a bond regularises the heel: its process zone has a length of
+// its own, set by σ_t, G_f and the dam, not by the mesh). Goal: on the worked dam's usual
+// combination with a bond of σ_t = 0.5 MPa and G_f = 100 N/m on its base, the process zone
+// converges under refinement: its change from size factor 0.5 to 0.25 is less than half of
+// that from 1 to 0.5, and the bond breaks on none of the meshes. Parameters: P2, gmsh's
+// sizes of geo/dam_combinations.geo times 1, 0.5 and 0.25.
+#[test]
+fn the_process_zone_at_the_heel_converges_under_refinement() {
+    let tmp = TempDir::new("cohesive-refinement");
+    let scene = edited_scene(&tmp, "dam_combinations", |text| {
+        text.replace("[joints.base]\n", "[joints.base]\ntensile_strength = 5.0e5\nfracture_energy = 100.0\n")
+    });
+    let zone = |factor: &str| {
+        let out = tmp.join(&format!("f{factor}"));
+        let args = ["solve", "-q", scene.to_str().unwrap(), "--combination", "usual", "--size-factor", factor, "-o"];
+        assert_ok(&damfem(&[&args[..], &[out.to_str().unwrap()]].concat()));
+        let lengths = check_summary(&out)["contact"]["curves"][0]["bond_lengths"].clone();
+        assert_eq!(lengths["broken"].as_f64(), Some(0.0), "size factor {factor}: {lengths}");
+        lengths["process_zone"].as_f64().unwrap_or_else(|| panic!("{lengths}"))
+    };
+    let zones = ["1", "0.5", "0.25"].map(zone);
+    println!("process zone at size factors 1, 0.5, 0.25: {zones:?} m");
+    assert!(zones.iter().all(|&z| z > 0.1), "{zones:?}");
+    assert!((zones[2] - zones[1]).abs() < 0.5 * (zones[1] - zones[0]).abs(), "{zones:?}");
+}
