@@ -192,3 +192,41 @@ fn a_vanishing_bond_is_plain_contact_and_a_strong_one_a_bonded_interface() {
         assert!(to_bonded <= 1e-10, "P{order}: {to_bonded}");
     }
 }
+
+/// The load path records where the holonomic bond heals. Source: docs/method.md §1.13 (D
+/// follows the present opening; `PathPoint::healing`). Goal: a block clamped on its right side
+/// and lifted by a body force opens its bond at the far end (softening there) at λ = 0; a
+/// pressure on its top, brought on by λ, closes the joint again, and the path's last state
+/// records a fall of a face's mean damage of more than 10⁻³, which the solve's lines turn into
+/// a warning, while a path that only opens the joint records none. Parameters: the block
+/// (0, 4) × (0, 1) on an 8 × 2 grid, P1, λ = μ = 1 with density 1, body force (0, 0.02), the
+/// pressure 0.1 (0 for the path that only opens), [`BOND`], γ₀ = 100, δ = 10⁻⁶.
+#[test]
+fn the_load_path_records_where_the_bond_heals() {
+    use damfem::contact::LoadPath;
+    use damfem::elasticity::{Neumann, Traction};
+    let healing = |pressure: f64| {
+        let mesh = rectangle(0.0, 4.0, 0.0, 1.0, 8, 2, 1);
+        let material = Material { density: 1.0, ..Material::from_lame(LAMBDA, MU) };
+        let problem = Problem {
+            materials: vec![material; mesh.n_cells()],
+            dirichlet: vec![Dirichlet { tag: RIGHT, fix: [true, true], value: Arc::new(|_| [0.0, 0.0]) }],
+            neumann: vec![Neumann { tag: TOP, traction: Traction::Constant([0.0, -pressure]) }],
+            body_force: BodyForce::Acceleration([0.0, 0.02]),
+            mesh,
+        };
+        let disc = problem.discretise();
+        let path = Some(LoadPath { weight: [0.0, 0.02], trace: None });
+        let settings = Continuation { delta: 1e-6, delta_start: 1e-3, newton: NewtonOptions::default(), path };
+        let solution = solve_by_continuation(&problem, &disc, &base_joint(Some(BOND)), &settings)
+            .unwrap_or_else(|e| panic!("pressure {pressure}: {e}"));
+        let first = solution.path.first().map(|p| p.load_factor);
+        let opened = BondLengths::of(&solution.faces);
+        println!("pressure {pressure}: path from λ = {first:?}, {} states, {opened:?}", solution.path.len());
+        solution.path.iter().map(|p| p.healing).fold(0.0, f64::max)
+    };
+    let (closing, opening) = (healing(0.1), healing(0.0));
+    println!("largest healing: closed again {closing:.3e}, only opened {opening:.3e}");
+    assert!(closing > 1e-3, "the bond closed again without healing: {closing}");
+    assert_eq!(opening, 0.0, "a path that only opens the joint healed: {opening}");
+}
