@@ -275,7 +275,7 @@ pub struct ContactSummary {
     /// ∫_{Γ_C} p_c ds and ∫_{Γ_C} t^t ds along τ = (−ν_y, ν_x) \[N/m\].
     pub normal_force: f64,
     pub tangential_force: f64,
-    /// With friction, FS_LE = ∫ (c q'(P_γ) + F p_c) / |∫ t^t| (docs/method.md §1.7, §1.9), on
+    /// With friction, FS_LE = ∫ (c b(P_γ) + F p_c) / |∫ t^t| (docs/method.md §1.7, §1.9, §1.13), on
     /// a Γ_C on one line (joints on several lines have each their own in `curves`).
     sliding_safety_factor: Option<f64>,
     /// With uplift: U = ∫_{Γ_C} p_u ds \[N/m\], and, with one diagram, the crack at the heel

@@ -68,8 +68,9 @@ pub struct FaceState {
     pub uplift: f64,
     /// The first moment ∫_F x p_c ds of the contact pressure.
     pub pressure_moment: [f64; 2],
-    /// ∫_F q'(P_γ(u_h)) ds, the length over which the solved equations apply a cohesion: the
-    /// smoothed closed indicator of docs/method.md §1.7 (the closed length at δ = 0).
+    /// ∫_F b(P_γ(u_h)) ds, the length over which the solved equations apply a cohesion: b the
+    /// smoothed closed indicator q' of docs/method.md §1.7 (the closed length at δ = 0), or a
+    /// bond's intact fraction (§1.13).
     pub cohesive_length: f64,
     /// The ends of the closed part of F (from its first closed point to its last), if any.
     pub closed: Option<[Point; 2]>,

@@ -104,9 +104,9 @@ impl ContactSolution {
     }
 
     /// The forces on the faces k with `on(k)`, each face with its curve's law (docs/method.md
-    /// §1.9): N = ∫ p_c ds, T = ∫ t^t ds, the contact length and FS_LE = ∫ (c q'(P_γ) + F p_c)
-    /// ds / |T| (s q'(P_γ) for Tresca, q' the smoothed closed indicator; 1_closed at δ = 0), None without friction or
-    /// shear there.
+    /// §1.9): N = ∫ p_c ds, T = ∫ t^t ds, the contact length and FS_LE = ∫ (c b(P_γ) + F p_c)
+    /// ds / |T| (s b(P_γ) for Tresca; b the smoothed closed indicator q', 1_closed at δ = 0, or
+    /// a bond's intact fraction), None without friction or shear there.
     pub fn forces(&self, on: impl Fn(usize) -> bool) -> JointForces {
         let (mut n, mut t, mut contact_length, mut capacity, mut friction) = (0.0, 0.0, 0.0, 0.0, false);
         for (k, f) in self.faces.iter().enumerate().filter(|&(k, _)| on(k)) {
