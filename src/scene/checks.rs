@@ -18,6 +18,14 @@ use std::path::Path;
 /// Scene keys that hold a plane vector [x, y].
 const VECTOR_KEYS: [&str; 6] = ["traction", "value", "gap_gradient", "direction", "acceleration", "heel"];
 
+/// The tensile strengths \[Pa\] of a bond below and above which the scene is warned of its
+/// unit: 10 kPa to 10 MPa.
+const TENSILE_STRENGTHS: [f64; 2] = [1e4, 1e7];
+
+/// The fracture energies \[N/m\] of a bond below and above which the scene is warned of its
+/// unit: 1 to 1 000 N/m.
+const FRACTURE_ENERGIES: [f64; 2] = [1.0, 1e3];
+
 /// Smallest γ₀ at which the θ = 1 and θ = 0 variants are known to converge on Scene A
 /// (docs/results.md, "Numerical stability": θ = 1 with γ₀ = 1 loses coercivity); θ = −1 is stable
 /// for every γ₀ > 0.
@@ -342,6 +350,7 @@ impl Scene {
         let mut warnings = self.unassigned_curves(mesh, &topology)?;
         warnings.extend(self.unassigned_surfaces(mesh));
         warnings.extend(self.uplift_warnings(mesh, joint));
+        warnings.extend(self.bond_warnings());
         let c = &self.contact;
         if !self.contact_tags(mesh)?.is_empty() && c.theta != -1.0 && c.gamma0 < GAMMA0_STABLE {
             warnings.push(format!(
@@ -367,6 +376,31 @@ impl Scene {
             }
         }
         Ok(warnings)
+    }
+
+    /// A bond's tensile strength outside [`TENSILE_STRENGTHS`] or fracture energy outside
+    /// [`FRACTURE_ENERGIES`], for each table that gives one: likely in the wrong unit.
+    fn bond_warnings(&self) -> Vec<String> {
+        let contact = [("contact".to_string(), self.contact.tensile_strength, self.contact.fracture_energy)];
+        let joints =
+            self.joints.iter().map(|(name, j)| (format!("joints.{name}"), j.tensile_strength, j.fracture_energy));
+        let mut warnings = Vec::new();
+        for (table, strength, energy) in contact.into_iter().chain(joints) {
+            let ([lo, hi], [e_lo, e_hi]) = (TENSILE_STRENGTHS, FRACTURE_ENERGIES);
+            if let Some(t) = strength.filter(|t| !(lo..=hi).contains(t)) {
+                warnings.push(format!(
+                    "{table}.tensile_strength = {t:e} Pa is outside {lo:e}–{hi:e} Pa, beyond a concrete–rock bond's \
+                     0.1–1.5 MPa and concrete's tensile strength: it is in Pa"
+                ));
+            }
+            if let Some(g) = energy.filter(|g| !(e_lo..=e_hi).contains(g)) {
+                warnings.push(format!(
+                    "{table}.fracture_energy = {g:e} N/m is outside {e_lo}–{e_hi} N/m, beyond a concrete–rock bond's \
+                     50–300 N/m: it is in N/m (J/m²)"
+                ));
+            }
+        }
+        warnings
     }
 
     /// Boundary curves without a role, and boundary segments in no physical curve: both are

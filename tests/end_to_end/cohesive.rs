@@ -123,3 +123,19 @@ fn the_process_zone_at_the_heel_converges_under_refinement() {
     assert!(zones.iter().all(|&z| z > 0.1), "{zones:?}");
     assert!((zones[2] - zones[1]).abs() < 0.5 * (zones[1] - zones[0]).abs(), "{zones:?}");
 }
+
+// (warnings) A bond given in the wrong unit, σ_t = 0.5 meant as MPa and G_f = 0.1 meant as
+// kN/m, is warned of by `damfem check`, naming each key, and refused under --strict.
+#[test]
+fn a_bond_in_the_wrong_unit_is_warned_of() {
+    let tmp = TempDir::new("cohesive-units");
+    let scene = bonded_scene(&tmp, "tensile_strength = 0.5\nfracture_energy = 0.1");
+    let out = damfem(&["check", scene.to_str().unwrap()]);
+    assert_ok(&out);
+    let warnings = super::support::stderr(&out);
+    for key in ["contact.tensile_strength = 5e-1 Pa is outside", "contact.fracture_energy = 1e-1 N/m is outside"] {
+        assert!(warnings.contains(key), "{key} in {warnings}");
+    }
+    let strict = damfem(&["check", "--strict", scene.to_str().unwrap()]);
+    assert_eq!(strict.status.code(), Some(1), "{}", super::support::stderr(&strict));
+}
