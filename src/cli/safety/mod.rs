@@ -274,7 +274,8 @@ fn analyse(
                 .0;
             let unbounded = (!sr.failed.is_finite()).then(|| format!("{} {:.0}", UNBOUNDED, sr.held));
             let fs_le = forces.sliding_safety_factor;
-            (Some(sr), unbounded.or_else(|| outside_note(fs_le?, &sr)))
+            let bonded = joint.laws.iter().zip(&plane).any(|(c, &on)| on && c.bond.is_some());
+            (Some(sr), unbounded.or_else(|| outside_note(fs_le?, &sr, bonded)))
         }
     };
     let eta_relative = record.eta.tot / record.stress_norm;
@@ -389,15 +390,23 @@ const STALLED: &str = "on the last mesh Newton stalled before the residual toler
 const FRICTIONLESS: &str = "the joint is frictionless (no [contact] friction, cohesion or threshold, or none \
      in the [joints] table of the sliding plane): it has no sliding resistance of its own, so FS_LE and FS_SR are not computed";
 
-/// Why FS_LE may lie outside FS_SR's bracket (docs/method.md §1.9), said where it does.
-fn outside_note(fs_le: f64, sr: &StrengthReduction) -> Option<String> {
+/// Why FS_LE may lie outside FS_SR's bracket (docs/method.md §1.9, §1.13), said where it does;
+/// `bonded`: the sliding plane has a bond.
+fn outside_note(fs_le: f64, sr: &StrengthReduction, bonded: bool) -> Option<String> {
     let side = if fs_le > sr.failed { "above" } else { "below" };
+    let bond = match bonded {
+        true => {
+            "; on a bonded joint FS_LE counts the whole N, the bond's tension included, while the friction \
+                 acts on the compressed part only, which carries N and that tension, so FS_SR may lie above it"
+        }
+        false => "",
+    };
     (fs_le < sr.held || fs_le > sr.failed).then(|| {
         format!(
             "FS_LE = {fs_le:.4} lies {side} FS_SR's bracket [{:.4}, {:.4}]: FS_LE counts the cohesion over the joint's \
              contact length under the loads, while FS_SR follows the joint as its strength is divided by k, and with \
-             the cohesion the contact length may change with k (the joint opens or closes); with friction alone on a \
-             straight joint the two agree within 0.5 %, or the run stops",
+             the cohesion the contact length may change with k (the joint opens or closes){bond}; with friction alone \
+             on a straight joint without a bond the two agree within 0.5 %, or the run stops",
             sr.held, sr.failed
         )
     })

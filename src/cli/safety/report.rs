@@ -650,15 +650,18 @@ mod tests {
     // Source: the usual and earthquake combinations of a 60 m dam on rock with a Mohr–Coulomb
     // joint (c = 0.2 MPa), FS_LE 2.1446 above FS_SR in [2.1393, 2.1423] and 1.0972 below
     // [1.1074, 1.1094]. Goal: FS_LE outside the bracket is said, on either side, with both
-    // numbers; inside it nothing is. Parameters: those brackets.
+    // numbers, and with a bond also why a bond lifts FS_SR; inside it nothing is. Parameters:
+    // those brackets.
     #[test]
     fn a_safety_factor_outside_the_strength_bracket_is_explained() {
         let sr = |held, failed| StrengthReduction { held, failed, solves: 9, retried: 0 };
-        let above = outside_note(2.1446, &sr(2.1393, 2.1423)).unwrap();
+        let above = outside_note(2.1446, &sr(2.1393, 2.1423), false).unwrap();
         assert!(above.contains("2.1446 lies above FS_SR's bracket [2.1393, 2.1423]"), "{above}");
-        let below = outside_note(1.0972, &sr(1.1074, 1.1094)).unwrap();
-        assert!(below.contains("lies below"), "{below}");
-        assert_eq!(outside_note(2.14, &sr(2.1393, 2.1423)), None);
+        let below = outside_note(1.0972, &sr(1.1074, 1.1094), false).unwrap();
+        assert!(below.contains("lies below") && !below.contains("bond's tension"), "{below}");
+        let bonded = outside_note(1.0972, &sr(1.1074, 1.1094), true).unwrap();
+        assert!(bonded.contains("the bond's tension included"), "{bonded}");
+        assert_eq!(outside_note(2.14, &sr(2.1393, 2.1423), false), None);
     }
 
     // Source: docs/method.md §5.3 (a last mesh whose Newton run stalls before the residual
