@@ -396,7 +396,10 @@ pub fn run(
         let eta_cells = &level.estimate.estimators.tot;
         let floor = marking::smallest_size(&problem.mesh).max(mesher.size_min().unwrap_or(0.0));
         let tol = settings.tolerance(stress);
-        let sizes = if done { Vec::new() } else { next_sizes(settings, &problem.mesh, eta_cells, tol, floor) };
+        let mut sizes = if done { Vec::new() } else { next_sizes(settings, &problem.mesh, eta_cells, tol, floor) };
+        if let Some(c) = level.solution.contact().filter(|_| !sizes.is_empty()) {
+            resolve_bonds(&mut sizes, c);
+        }
         let stall =
             (!sizes.is_empty()).then(|| stalled(settings.bulk, floor, &problem.mesh, eta_cells, &sizes)).flatten();
         seconds.remesh = clock.elapsed().as_secs_f64();
@@ -511,6 +514,17 @@ fn unfinished(e: AdaptError) -> AdaptError {
     match e {
         AdaptError::Newton { .. } => AdaptError::Finish(Box::new(e)),
         e => e,
+    }
+}
+
+/// A bonded joint's face resolves its softening only while h_F < γ₀ E o_c / σ_t (docs/method.md
+/// §1.13; γ = γ₀ E / h_F): the target size of each cell owning such a face is held at half that,
+/// so that a remesh does not coarsen the joint past it.
+fn resolve_bonds(sizes: &mut [f64], contact: &ContactSolution) {
+    for face in &contact.nitsche.faces {
+        let Some(bond) = contact.nitsche.laws[face.curve].bond else { continue };
+        let largest = face.length * face.gamma * bond.critical_opening() / bond.tensile_strength;
+        sizes[face.cell] = sizes[face.cell].min(0.5 * largest);
     }
 }
 

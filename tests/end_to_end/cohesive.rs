@@ -139,3 +139,19 @@ fn a_bond_in_the_wrong_unit_is_warned_of() {
     let strict = damfem(&["check", "--strict", scene.to_str().unwrap()]);
     assert_eq!(strict.status.code(), Some(1), "{}", super::support::stderr(&strict));
 }
+
+// Source: docs/method.md §1.13 (a face resolves the bond only while h_F < γ₀ E o_c / σ_t).
+// Goal: the adaptive loop holds the cells along a bonded joint below that size, so that no
+// remesh coarsens the joint past it: a bond that the first mesh resolves by a factor of 1.5
+// runs through every step (before, the second mesh coarsened a face of the base past it and
+// the run stopped there). Parameters: geo/scene_a_uplift.toml with σ_t = 2 MPa and
+// G_f = 0.74 N/m (o_c = 0.74 μm), P2, size factor 1, 4 adaptive steps.
+#[test]
+fn adaptive_remeshing_keeps_a_bond_resolved() {
+    let tmp = TempDir::new("cohesive-adapt");
+    let scene = bonded_scene(&tmp, "tensile_strength = 2.0e6\nfracture_energy = 0.74");
+    let out = tmp.join("adapt");
+    assert_ok(&damfem(&["adapt", "-q", scene.to_str().unwrap(), "--steps", "4", "-o", out.to_str().unwrap()]));
+    let history = std::fs::read_to_string(out.join("history.csv")).unwrap();
+    assert_eq!(history.lines().count(), 5, "a header and four steps:\n{history}");
+}
