@@ -59,15 +59,15 @@ pub struct NormalLaw {
     bond: Option<[f64; 2]>,
 }
 
-/// The state of a point of a bonded joint (on the boundary VTU: 0, 1, 2).
+/// The state of a point of a bonded joint.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum BondState {
     /// o = 0 (P ≤ σ_t).
-    Bonded = 0,
+    Bonded,
     /// 0 < o < o_c.
-    Softening = 1,
+    Softening,
     /// o ≥ o_c: an open crack.
-    Broken = 2,
+    Broken,
 }
 
 impl NormalLaw {
@@ -77,11 +77,6 @@ impl NormalLaw {
     /// The law of a face of Nitsche parameter `gamma` with `bond` (None: plain contact).
     pub fn new(bond: Option<Bond>, gamma: f64) -> NormalLaw {
         NormalLaw { bond: bond.map(|b| [b.tensile_strength, gamma * b.critical_opening()]) }
-    }
-
-    /// Whether the law has a bond.
-    pub fn is_bonded(&self) -> bool {
-        self.bond.is_some()
     }
 
     /// a = σ_t / (w − σ_t).

@@ -86,6 +86,11 @@ impl ContactJoint {
         self.laws.iter().zip(plane).any(|(c, &on)| on && c.law.has_friction())
     }
 
+    /// Whether some curve i with `plane[i]` has a bond.
+    pub fn has_bond_on(&self, plane: &[bool]) -> bool {
+        self.laws.iter().zip(plane).any(|(c, &on)| on && c.bond.is_some())
+    }
+
     /// The joint with the strength of the curves i with `plane[i]` divided by k (strength
     /// reduction on a sliding plane; the other curves keep theirs).
     pub fn reduced(&self, k: f64, plane: &[bool]) -> ContactJoint {

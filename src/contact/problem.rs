@@ -1,6 +1,7 @@
 //! The nonlinear system of contact, F(x) = 0 over the free displacement dofs, the state of its
 //! faces, and the linearisation an iterate hands to the estimator.
 
+use super::bond::BondState;
 use super::nitsche::{ContactFace, FaceDisplacement, Nitsche};
 use super::projection::Smoothing;
 use super::{path, ContactError, ContactJoint, ContactSolution, Cracks, JointLine, Stage};
@@ -76,9 +77,8 @@ pub struct FaceState {
     pub closed: Option<[Point; 2]>,
     /// On a bonded joint, the mean damage (1/|F|) ∫_F o/o_c of the exact law.
     pub damage: f64,
-    /// On a bonded joint, the lengths of F that are bonded, softening and broken
-    /// ([`BondState`](super::BondState), the exact law).
-    pub bond_lengths: [f64; 3],
+    /// On a bonded joint, the lengths of F that are bonded, softening and broken (the exact law).
+    pub bond_lengths: BondLengths,
 }
 
 /// The lengths of a bonded joint in each state \[m\] (in `summary.json` and `safety.json`).
@@ -93,9 +93,25 @@ pub struct BondLengths {
 impl BondLengths {
     /// The lengths summed over `faces`.
     pub fn of<'f>(faces: impl IntoIterator<Item = &'f FaceState>) -> BondLengths {
-        let [bonded, process_zone, broken] =
-            faces.into_iter().fold([0.0; 3], |s, f| [0, 1, 2].map(|i| s[i] + f.bond_lengths[i]));
-        BondLengths { bonded, process_zone, broken }
+        faces.into_iter().fold(BondLengths::default(), |sum, f| sum.plus(&f.bond_lengths))
+    }
+
+    /// These lengths and `other`'s, summed.
+    fn plus(&self, other: &BondLengths) -> BondLengths {
+        BondLengths {
+            bonded: self.bonded + other.bonded,
+            process_zone: self.process_zone + other.process_zone,
+            broken: self.broken + other.broken,
+        }
+    }
+
+    /// `length` more in `state`.
+    fn add(&mut self, state: BondState, length: f64) {
+        *match state {
+            BondState::Bonded => &mut self.bonded,
+            BondState::Softening => &mut self.process_zone,
+            BondState::Broken => &mut self.broken,
+        } += length;
     }
 }
 
@@ -118,7 +134,7 @@ impl FaceState {
             sum.stick_length += part.stick_length;
             sum.slip_length += part.slip_length;
             sum.damage += part.damage * w;
-            sum.bond_lengths = [0, 1, 2].map(|i| sum.bond_lengths[i] + part.bond_lengths[i]);
+            sum.bond_lengths = sum.bond_lengths.plus(&part.bond_lengths);
             sum.regularisation_error = sum.regularisation_error.max(part.regularisation_error);
             sum.pressure_moment = [0, 1].map(|i| sum.pressure_moment[i] + part.pressure_moment[i]);
             sum.closed = match (sum.closed, part.closed) {
@@ -137,10 +153,10 @@ impl FaceState {
 
     /// On a bonded joint, the state of most of the face: 0 bonded, 1 softening, 2 broken.
     pub fn bond_state(&self) -> f64 {
-        let [bonded, softening, broken] = self.bond_lengths;
-        if broken > bonded.max(softening) {
+        let BondLengths { bonded, process_zone, broken } = self.bond_lengths;
+        if broken > bonded.max(process_zone) {
             2.0
-        } else if softening > bonded {
+        } else if process_zone > bonded {
             1.0
         } else {
             0.0
@@ -470,7 +486,7 @@ fn face_state(nitsche: &Nitsche, smoothing: Smoothing, k: usize, u: &FaceDisplac
         state.contact_length += if p < closes { w } else { 0.0 };
         if let Some(bond) = law.state(p) {
             state.damage += law.damage(p) * mean;
-            state.bond_lengths[bond as usize] += w;
+            state.bond_lengths.add(bond, w);
         }
         let error = (t_n - law.value(p, Smoothing::NONE)).abs();
         state.regularisation_error = state.regularisation_error.max(error);

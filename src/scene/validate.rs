@@ -60,8 +60,8 @@ pub(super) fn check_bond(
     tensile_strength: Option<f64>,
     fracture_energy: Option<f64>,
 ) -> Result<(), String> {
-    let keys = [("tensile_strength", tensile_strength, "Pa"), ("fracture_energy", fracture_energy, "N/m")];
-    if let Some((key, Some(value), _)) = keys.iter().find(|(_, v, _)| v.is_some_and(|v| !(v.is_finite() && v > 0.0))) {
+    let keys = [("tensile_strength", tensile_strength), ("fracture_energy", fracture_energy)];
+    if let Some((key, Some(value))) = keys.iter().find(|(_, v)| v.is_some_and(|v| !(v.is_finite() && v > 0.0))) {
         return Err(format!("{table}.{key} = {value} must be a positive number"));
     }
     match (tensile_strength, fracture_energy) {
@@ -70,8 +70,10 @@ pub(super) fn check_bond(
              strength (it is in Pa)"
         )),
         (Some(_), None) | (None, Some(_)) => {
-            let (given, missing) =
-                if tensile_strength.is_some() { keys } else { [keys[1], keys[0]] }.map(|k| k.0).into();
+            let (given, missing) = match tensile_strength {
+                Some(_) => ("tensile_strength", "fracture_energy"),
+                None => ("fracture_energy", "tensile_strength"),
+            };
             Err(format!(
                 "{table}.{given} is set without {table}.{missing}: a cohesive joint needs both, its tensile strength \
                  in Pa and its fracture energy in N/m"

@@ -108,8 +108,7 @@ fn two_blocks_pulled_apart_follow_the_softening_law() {
             );
             let law = if o > 1e-12 * oc { t * (1.0 - o / oc).max(0.0) } else { sigma.min(t) };
             assert!((sigma - law).abs() <= 1e-12 * t, "P{order} U = {lift}: off the law");
-            let [bonded, softening, broken] =
-                solution.faces.iter().fold([0.0; 3], |s, f| [0, 1, 2].map(|i| s[i] + f.bond_lengths[i]));
+            let BondLengths { bonded, process_zone: softening, broken } = BondLengths::of(&solution.faces);
             let expected = if o_exact <= 1e-15 {
                 [1.0, 0.0, 0.0]
             } else if o_exact < oc * (1.0 - 1e-12) {

@@ -274,8 +274,7 @@ fn analyse(
                 .0;
             let unbounded = (!sr.failed.is_finite()).then(|| format!("{} {:.0}", UNBOUNDED, sr.held));
             let fs_le = forces.sliding_safety_factor;
-            let bonded = joint.laws.iter().zip(&plane).any(|(c, &on)| on && c.bond.is_some());
-            (Some(sr), unbounded.or_else(|| outside_note(fs_le?, &sr, bonded)))
+            (Some(sr), unbounded.or_else(|| outside_note(fs_le?, &sr, joint.has_bond_on(&plane))))
         }
     };
     let eta_relative = record.eta.tot / record.stress_norm;
@@ -299,8 +298,7 @@ fn analyse(
         joint_line: line,
         contact_length: forces.contact_length,
         crack_length: solution.crack_from_heel(&line),
-        bond_lengths: (solution.nitsche.laws.iter().zip(&plane).any(|(c, &on)| on && c.bond.is_some()))
-            .then(|| BondLengths::of(&solution.faces_on(&line))),
+        bond_lengths: joint.has_bond_on(&plane).then(|| BondLengths::of(&solution.faces_on(&line))),
         crack_rule: (solution.nitsche.uplift.iter())
             .find(|up| up.curves.iter().any(|&c| plane[c]))
             .map(|up| up.diagram.rule),

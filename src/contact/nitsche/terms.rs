@@ -54,7 +54,7 @@ impl Nitsche {
         mut jacobian: Option<&mut [f64]>,
     ) {
         let n = self.n_local();
-        let (gamma, theta) = (self.faces[k].gamma, self.theta(k));
+        let (gamma, theta, law) = (self.faces[k].gamma, self.theta(k), self.normal_law(k));
         residual[..n].fill(0.0);
         if let Some(j) = jacobian.as_deref_mut() {
             j[..n * n].fill(0.0);
@@ -79,7 +79,7 @@ impl Nitsche {
             }
             if let Some(j) = jacobian.as_deref_mut() {
                 // frozen: the slope of a law that does not soften, N' where it is ≥ 0, else 0
-                let slope = self.normal_law(k).derivative(p, smoothing);
+                let slope = law.derivative(p, smoothing);
                 let slope = if frozen { slope.max(0.0) } else { slope };
                 for r in 0..n {
                     for c in 0..n {
