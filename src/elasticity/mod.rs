@@ -1,11 +1,12 @@
-//! Isotropic linear elasticity in plane strain: material law, element kernels, the boundary
-//! value problem and its stresses.
+//! Isotropic linear elasticity in plane strain (material law, element kernels, the boundary
+//! value problem and its stresses) and of a solid on tetrahedra ([`solid`]).
 
 pub mod displacement;
 pub mod kernels;
 pub mod material;
 pub mod problem;
 pub mod rigid;
+pub mod solid;
 pub mod stress;
 
 pub use displacement::Displacement;

@@ -306,7 +306,7 @@ impl Problem {
                 }
             }
         }
-        let dofs = DofMap::new(self.mesh.n_points(), &constraints);
+        let dofs = DofMap::new(self.mesh.n_points(), 2, &constraints);
         let pattern = SparsePattern::new(&self.mesh, &dofs);
         Discretisation { topology, dofs, pattern }
     }

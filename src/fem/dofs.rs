@@ -1,6 +1,7 @@
 //! Degrees of freedom of vector-valued Lagrange fields.
 //!
-//! Node n carries the two displacement components as dofs 2n (x) and 2n + 1 (y). Dofs with a
+//! Node n carries the d displacement components as dofs d n + a (a = 0 for x, 1 for y, 2 for
+//! z; d = 2 in the plane, 3 in a solid). Dofs with a
 //! Dirichlet value are eliminated: the remaining *free* dofs are numbered 0..n_free in
 //! increasing dof order, which keeps the matrix bandwidth of the node numbering.
 
@@ -16,13 +17,15 @@ pub struct DofMap {
     pub fixed_value: Vec<f64>,
     /// Number of free dofs.
     pub n_free: usize,
+    /// Components per node d.
+    pub components: usize,
 }
 
 impl DofMap {
-    /// Dof map of `n_nodes` two-component nodes with `constraints` = (dof, value) pairs.
-    /// A dof constrained twice keeps the last value.
-    pub fn new(n_nodes: usize, constraints: &[(usize, f64)]) -> Self {
-        let n_dofs = 2 * n_nodes;
+    /// Dof map of `n_nodes` nodes of `components` components each, with `constraints` =
+    /// (dof, value) pairs. A dof constrained twice keeps the last value.
+    pub fn new(n_nodes: usize, components: usize, constraints: &[(usize, f64)]) -> Self {
+        let n_dofs = components * n_nodes;
         let mut fixed = vec![false; n_dofs];
         let mut fixed_value = vec![0.0; n_dofs];
         for &(dof, value) in constraints {
@@ -41,7 +44,7 @@ impl DofMap {
                 }
             })
             .collect();
-        DofMap { free, fixed_value, n_free }
+        DofMap { free, fixed_value, n_free, components }
     }
 
     pub fn n_dofs(&self) -> usize {

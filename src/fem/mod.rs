@@ -1,4 +1,4 @@
-//! Finite elements on affine triangles: quadrature, Lagrange P1/P2 bases, affine maps,
+//! Finite elements on affine triangles and tetrahedra: quadrature, Lagrange P1/P2 bases,
 //! degrees of freedom, sparse assembly and transfer of fields between meshes.
 
 pub mod dofs;
@@ -7,4 +7,5 @@ pub mod norms;
 pub mod quadrature;
 pub mod sparse;
 pub mod tabulate;
+pub mod tetrahedron;
 pub mod transfer;

@@ -23,18 +23,19 @@ pub struct SparsePattern {
 }
 
 impl SparsePattern {
-    /// Pattern coupling the free dofs of the nodes of each cell of `mesh`. The two columns of
+    /// Pattern coupling the free dofs of the nodes of each cell of `mesh`. The columns of
     /// a node hold the same rows: the free dofs of its neighbours, in order.
-    pub fn new(mesh: &Mesh, dofs: &DofMap) -> Self {
+    pub fn new<const D: usize>(mesh: &Mesh<D>, dofs: &DofMap) -> Self {
         Self::with_couplings(mesh, dofs, &[])
     }
 
     /// Pattern coupling the free dofs of the nodes of each cell of `mesh` and of each node
     /// set of `couplings` (the two cells that a two-body contact term joins).
-    pub fn with_couplings(mesh: &Mesh, dofs: &DofMap, couplings: &[Vec<usize>]) -> Self {
+    pub fn with_couplings<const D: usize>(mesh: &Mesh<D>, dofs: &DofMap, couplings: &[Vec<usize>]) -> Self {
         let groups = Groups::new(mesh, couplings);
-        let free = &dofs.free;
-        let n_free_of = |m: usize| (free[2 * m] != FIXED) as usize + (free[2 * m + 1] != FIXED) as usize;
+        let (free, nc) = (&dofs.free, dofs.components);
+        let node_dofs = |m: usize| &free[nc * m..nc * (m + 1)];
+        let n_free_of = |m: usize| node_dofs(m).iter().filter(|&&k| k != FIXED).count();
         // rows of each column of node n: the free dofs of its neighbours
         let rows_per_column: Vec<usize> = (0..mesh.n_points())
             .into_par_iter()
@@ -47,7 +48,7 @@ impl SparsePattern {
         col_ptr.push(0);
         for (dof, &k) in free.iter().enumerate() {
             if k != FIXED {
-                col_ptr.push(col_ptr[k] + rows_per_column[dof / 2]);
+                col_ptr.push(col_ptr[k] + rows_per_column[dof / nc]);
             }
         }
         // the columns of node n, and so their rows, are contiguous: [start[n], start[n + 1])
@@ -66,7 +67,7 @@ impl SparsePattern {
                     groups.neighbours(n, &mut list);
                     let node_rows;
                     (node_rows, rest) = rest.split_at_mut(start[n + 1] - start[n]);
-                    let column = list.iter().flat_map(|&m| [free[2 * m], free[2 * m + 1]]).filter(|&r| r != FIXED);
+                    let column = list.iter().flat_map(|&m| node_dofs(m)).copied().filter(|&r| r != FIXED);
                     for (r, row) in node_rows.iter_mut().zip(column.cycle()) {
                         *r = row;
                     }
@@ -117,15 +118,15 @@ impl SparsePattern {
 
 /// The node sets that couple their nodes: the cells of a mesh, then the extra `couplings`;
 /// with the sets of each node in CSR form.
-struct Groups<'a> {
-    mesh: &'a Mesh,
+struct Groups<'a, const D: usize> {
+    mesh: &'a Mesh<D>,
     couplings: &'a [Vec<usize>],
     offsets: Vec<usize>,
     of_node: Vec<usize>,
 }
 
-impl<'a> Groups<'a> {
-    fn new(mesh: &'a Mesh, couplings: &'a [Vec<usize>]) -> Self {
+impl<'a, const D: usize> Groups<'a, D> {
+    fn new(mesh: &'a Mesh<D>, couplings: &'a [Vec<usize>]) -> Self {
         let nodes = |g: usize| group_nodes(mesh, couplings, g);
         let n_groups = mesh.n_cells() + couplings.len();
         let mut offsets = vec![0; mesh.n_points() + 1];
@@ -158,7 +159,7 @@ impl<'a> Groups<'a> {
 }
 
 /// Nodes of set g: cell g of `mesh`, then the `couplings`.
-fn group_nodes<'a>(mesh: &'a Mesh, couplings: &'a [Vec<usize>], g: usize) -> &'a [usize] {
+fn group_nodes<'a, const D: usize>(mesh: &'a Mesh<D>, couplings: &'a [Vec<usize>], g: usize) -> &'a [usize] {
     match g.checked_sub(mesh.n_cells()) {
         None => mesh.cell(g),
         Some(k) => &couplings[k],
@@ -210,7 +211,7 @@ impl LinearSystem {
     }
 
     /// Adds Σ_cells of the local contributions. `dofs_of(c, out)` writes the global dofs of
-    /// cell c in node pairs (x, y), as [`vector_dofs`]; `kernel(c, local)` fills
+    /// cell c node by node, all components of a node together, as [`vector_dofs`]; `kernel(c, local)` fills
     /// `local.matrix` and `local.load` for those dofs.
     /// Constrained columns move to the right-hand side: b_i −= K_ij g_j.
     pub fn assemble<D, K>(
@@ -259,8 +260,8 @@ impl LinearSystem {
 }
 
 /// Adds the entries of `local` whose column (matrix) or row (load) lies in `range`. Local
-/// dofs come in node pairs (x, y), and the free dofs of a node are adjacent: the rows of
-/// node i in a column of node j start at the same offset k_i in both columns of node j. The
+/// dofs come node by node (x, y\[, z\]), and the free dofs of a node are adjacent: the rows of
+/// node i in a column of node j start at the same offset k_i in every column of node j. The
 /// offsets of all nodes i come from one pass along the sorted rows of node j's column.
 fn scatter(
     pattern: &SparsePattern,
@@ -271,16 +272,16 @@ fn scatter(
     values: &mut [f64],
     rhs: &mut [f64],
 ) {
-    let n = local.dofs.len();
-    debug_assert!(n.is_multiple_of(2) && n <= 2 * MAX_NODES, "local dofs come in node pairs");
+    let (n, nc) = (local.dofs.len(), map.components);
+    debug_assert!(n.is_multiple_of(nc) && n <= nc * MAX_NODES, "local dofs come node by node");
     let (col_ptr, row_idx) = (pattern.symbolic.col_ptr(), pattern.symbolic.row_idx());
     let owned = |k: usize| k != FIXED && (range.0..range.1).contains(&k);
-    let first_free = |pair: &[usize]| [map.free[pair[0]], map.free[pair[1]]].into_iter().find(|&k| k != FIXED);
+    let first_free = |node: &[usize]| node.iter().map(|&g| map.free[g]).find(|&k| k != FIXED);
     // the nodes with a free row, by increasing first free row
     let mut first_row = [(0, 0); MAX_NODES];
     let mut n_rows = 0;
-    for (i, pair) in local.dofs.chunks_exact(2).enumerate() {
-        if let Some(r) = first_free(pair) {
+    for (i, node) in local.dofs.chunks_exact(nc).enumerate() {
+        if let Some(r) = first_free(node) {
             first_row[n_rows] = (r, i);
             n_rows += 1;
         }
@@ -288,12 +289,11 @@ fn scatter(
     let first_row = &mut first_row[..n_rows];
     first_row.sort_unstable();
     let mut k = [0; MAX_NODES];
-    for (j, column_pair) in local.dofs.chunks_exact(2).enumerate() {
-        let columns = [map.free[column_pair[0]], map.free[column_pair[1]]];
-        if !owned(columns[0]) && !owned(columns[1]) {
+    for (j, column_node) in local.dofs.chunks_exact(nc).enumerate() {
+        if !column_node.iter().any(|&g| owned(map.free[g])) {
             continue;
         }
-        let first_column = first_free(column_pair).expect("an owned column is free");
+        let first_column = first_free(column_node).expect("an owned column is free");
         let mut p = col_ptr[first_column];
         for &(r, i) in first_row.iter() {
             while row_idx[p] < r {
@@ -302,17 +302,17 @@ fn scatter(
             assert!(row_idx[p] == r, "entry outside the sparsity pattern");
             k[i] = p - col_ptr[first_column];
         }
-        for (b, &col) in columns.iter().enumerate().filter(|&(_, &col)| owned(col)) {
-            let c = 2 * j + b;
+        for (b, col) in column_node.iter().map(|&g| map.free[g]).enumerate().filter(|&(_, col)| owned(col)) {
+            let c = nc * j + b;
             rhs[col - range.0] += local.load[c];
-            for (i, row_pair) in local.dofs.chunks_exact(2).enumerate() {
+            for (i, row_node) in local.dofs.chunks_exact(nc).enumerate() {
                 let mut next = col_ptr[col] + k[i] - offset;
-                for (a, &g) in row_pair.iter().enumerate() {
+                for (a, &g) in row_node.iter().enumerate() {
                     match map.free[g] {
                         // symmetric pattern: row `col` collects −K_{col,i} g_i
-                        FIXED => rhs[col - range.0] -= local.matrix[c * n + 2 * i + a] * map.fixed_value[g],
+                        FIXED => rhs[col - range.0] -= local.matrix[c * n + nc * i + a] * map.fixed_value[g],
                         _ => {
-                            values[next] += local.matrix[(2 * i + a) * n + c];
+                            values[next] += local.matrix[(nc * i + a) * n + c];
                             next += 1;
                         }
                     }
@@ -322,8 +322,8 @@ fn scatter(
     }
 }
 
-/// The most nodes of a cell (P2).
-const MAX_NODES: usize = 6;
+/// The most nodes of a cell (the P2 tetrahedron).
+const MAX_NODES: usize = 10;
 
 /// The cells that touch each of the contiguous `ranges` of free dofs, in increasing order.
 fn cells_of_ranges(
@@ -354,10 +354,15 @@ fn column_ranges(n: usize, parts: usize) -> Vec<(usize, usize)> {
     (0..n).step_by(size).map(|a| (a, (a + size).min(n))).collect()
 }
 
-/// Global dofs of a list of nodes: [2n₀, 2n₀+1, 2n₁, 2n₁+1, …].
+/// Global dofs of a list of nodes of the plane: [2n₀, 2n₀+1, 2n₁, 2n₁+1, …].
 pub fn vector_dofs(nodes: &[usize], out: &mut Vec<usize>) {
+    components_dofs::<2>(nodes, out);
+}
+
+/// Global dofs of a list of nodes of D components: [D n₀, D n₀ + 1, …, D n₁, …].
+pub fn components_dofs<const D: usize>(nodes: &[usize], out: &mut Vec<usize>) {
     out.clear();
-    out.extend(nodes.iter().flat_map(|&n| [2 * n, 2 * n + 1]));
+    out.extend(nodes.iter().flat_map(|&n| std::array::from_fn::<usize, D, _>(|a| D * n + a)));
 }
 
 #[cfg(test)]
@@ -368,7 +373,7 @@ mod tests {
     #[test]
     fn pattern_is_symmetric_and_complete() {
         let mesh = unit_square(2, 2);
-        let map = DofMap::new(mesh.n_points(), &[(0, 0.0), (1, 0.5)]);
+        let map = DofMap::new(mesh.n_points(), 2, &[(0, 0.0), (1, 0.5)]);
         let pattern = SparsePattern::new(&mesh, &map);
         assert_eq!(pattern.n(), 2 * mesh.n_points() - 2);
         let mut dofs = Vec::new();
@@ -392,7 +397,7 @@ mod tests {
     #[test]
     fn couplings_join_their_nodes_only() {
         let mesh = unit_square(3, 1);
-        let map = DofMap::new(mesh.n_points(), &[(10, 0.0)]);
+        let map = DofMap::new(mesh.n_points(), 2, &[(10, 0.0)]);
         let plain = SparsePattern::new(&mesh, &map);
         let coupled = SparsePattern::with_couplings(&mesh, &map, &[vec![0, 15]]);
         let (corner, opposite) = ([map.free[0], map.free[1]], [map.free[30], map.free[31]]);
@@ -408,7 +413,7 @@ mod tests {
     fn parallel_assembly_matches_serial_sum() {
         // K_ij = (i+1)(j+2) on each cell (non-symmetric), f_i = i + 1, one constrained dof
         let mesh = unit_square(5, 2);
-        let map = DofMap::new(mesh.n_points(), &[(3, 0.7)]);
+        let map = DofMap::new(mesh.n_points(), 2, &[(3, 0.7)]);
         let pattern = SparsePattern::new(&mesh, &map);
         let mut system = LinearSystem::zeros(&pattern);
         let n = 12;

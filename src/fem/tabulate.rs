@@ -1,23 +1,25 @@
-//! Lagrange basis functions tabulated at the points of a triangle quadrature rule.
+//! Lagrange basis functions tabulated at the points of a triangle or tetrahedron quadrature
+//! rule.
 //!
 //! Tabulating once per (degree, rule) keeps the element loops free of basis evaluations.
 
-use super::{lagrange, quadrature};
-use crate::geometry::{Point, Vector};
+use super::{lagrange, quadrature, tetrahedron};
 
-/// Values and reference gradients of the P_order basis at the points of a rule.
+/// Values and reference gradients of the P_order basis at the points of a rule on the
+/// reference simplex of dimension D.
 #[derive(Debug, Clone)]
-pub struct Tabulation {
+pub struct Tabulation<const D: usize = 2> {
     pub order: usize,
     /// Number of basis functions.
     pub n_basis: usize,
-    /// Reference points and weights (weights sum to 1/2).
-    pub points: Vec<Point>,
+    /// Reference points and weights (weights sum to 1/2 on the triangle, 1/6 on the
+    /// tetrahedron).
+    pub points: Vec<[f64; D]>,
     pub weights: Vec<f64>,
     /// φ_i(ξ_q) at `values[q * n_basis + i]`.
     pub values: Vec<f64>,
     /// ∇̂φ_i(ξ_q) at `gradients[q * n_basis + i]`.
-    pub gradients: Vec<Vector>,
+    pub gradients: Vec<[f64; D]>,
 }
 
 impl Tabulation {
@@ -34,12 +36,30 @@ impl Tabulation {
         }
         Tabulation { order, n_basis, points: rule.points.clone(), weights: rule.weights.clone(), values, gradients }
     }
+}
 
+impl Tabulation<3> {
+    /// Tabulates P_order at the points of the tetrahedron rule exact to `degree`.
+    pub fn tetrahedron(order: usize, degree: usize) -> Self {
+        let rule = quadrature::tetrahedron_cached(degree);
+        let n_basis = tetrahedron::n_basis(order);
+        let nq = rule.points.len();
+        let mut values = vec![0.0; nq * n_basis];
+        let mut gradients = vec![[0.0; 3]; nq * n_basis];
+        for (q, &xi) in rule.points.iter().enumerate() {
+            tetrahedron::values(order, xi, &mut values[q * n_basis..(q + 1) * n_basis]);
+            tetrahedron::gradients(order, xi, &mut gradients[q * n_basis..(q + 1) * n_basis]);
+        }
+        Tabulation { order, n_basis, points: rule.points.clone(), weights: rule.weights.clone(), values, gradients }
+    }
+}
+
+impl<const D: usize> Tabulation<D> {
     pub fn n_points(&self) -> usize {
         self.weights.len()
     }
 
-    /// The integrals ∫_T̂ φ̂_i ≈ Σ_q w_q φ̂_i(ξ_q) of the basis over the reference triangle.
+    /// The integrals ∫_T̂ φ̂_i ≈ Σ_q w_q φ̂_i(ξ_q) of the basis over the reference cell.
     pub fn integrals(&self) -> Vec<f64> {
         (0..self.n_basis).map(|i| (0..self.n_points()).map(|q| self.weights[q] * self.phi(q)[i]).sum()).collect()
     }
@@ -50,7 +70,7 @@ impl Tabulation {
     }
 
     /// Reference gradients at point q.
-    pub fn grad(&self, q: usize) -> &[Vector] {
+    pub fn grad(&self, q: usize) -> &[[f64; D]] {
         &self.gradients[q * self.n_basis..(q + 1) * self.n_basis]
     }
 }

@@ -4,19 +4,21 @@
 //! ([`Tensor`]: ε = [`sym_grad`], [`trace`], [`ddot`]) and the reference cell's vertex, edge and
 //! facet tables ([`CellType`]).
 //!
-//! The domain is plane (plane strain), D = 2. Where the 3D issue needs a dimension as a
-//! parameter it becomes `const D: usize` there; a facet is then a triangle and its frame has
-//! two tangents.
+//! The plane domain (plane strain) has D = 2; the solid one ([`tetrahedron`]) has three
+//! dimensions, with points [`Point3`], its cells tetrahedra and its facets triangles. The
+//! operations that read the same in both ([`sub`], [`dot`]) take any dimension.
 
 mod affine;
 mod cell;
 mod segment;
 mod tensor;
+pub mod tetrahedron;
 
 pub use affine::AffineMap;
 pub use cell::CellType;
 pub use segment::Segment;
 pub use tensor::{ddot, sym_grad, trace, Tensor};
+pub use tetrahedron::{distance3, norm3, Point3, TetMap, Vector3};
 
 /// The dimension of the domain.
 pub const D: usize = 2;
@@ -28,13 +30,13 @@ pub type Point = [f64; D];
 pub type Vector = [f64; D];
 
 /// a − b.
-pub fn sub(a: Point, b: Point) -> Vector {
-    [a[0] - b[0], a[1] - b[1]]
+pub fn sub<const N: usize>(a: [f64; N], b: [f64; N]) -> [f64; N] {
+    std::array::from_fn(|i| a[i] - b[i])
 }
 
 /// a · b.
-pub fn dot(a: Vector, b: Vector) -> f64 {
-    a[0] * b[0] + a[1] * b[1]
+pub fn dot<const N: usize>(a: [f64; N], b: [f64; N]) -> f64 {
+    (1..N).fold(a[0] * b[0], |s, i| s + a[i] * b[i])
 }
 
 /// |v|, without overflow or underflow in the squares.

@@ -6,19 +6,19 @@ use super::{Vector, D};
 /// A D × D tensor, `t[i][j]` its entry in row i and column j (for ∇u: ∂_j u_i).
 pub type Tensor = [Vector; D];
 
-/// sym t = ½ (t + tᵀ); of ∇u, the small strain ε(u).
-pub fn sym_grad(t: Tensor) -> Tensor {
+/// sym t = ½ (t + tᵀ); of ∇u, the small strain ε(u). (Of any dimension N, as the two below.)
+pub fn sym_grad<const N: usize>(t: [[f64; N]; N]) -> [[f64; N]; N] {
     std::array::from_fn(|i| std::array::from_fn(|j| 0.5 * (t[i][j] + t[j][i])))
 }
 
 /// tr t = Σ_i t_ii.
-pub fn trace(t: Tensor) -> f64 {
-    (1..D).fold(t[0][0], |s, i| s + t[i][i])
+pub fn trace<const N: usize>(t: [[f64; N]; N]) -> f64 {
+    (1..N).fold(t[0][0], |s, i| s + t[i][i])
 }
 
 /// a : b = Σ_ij a_ij b_ij.
-pub fn ddot(a: Tensor, b: Tensor) -> f64 {
-    (0..D).flat_map(|i| (0..D).map(move |j| (i, j))).fold(0.0, |s, (i, j)| s + a[i][j] * b[i][j])
+pub fn ddot<const N: usize>(a: [[f64; N]; N], b: [[f64; N]; N]) -> f64 {
+    (0..N).flat_map(|i| (0..N).map(move |j| (i, j))).fold(0.0, |s, (i, j)| s + a[i][j] * b[i][j])
 }
 
 #[cfg(test)]

@@ -1,9 +1,12 @@
 //! VTK XML unstructured grids (`.vtu`) for ParaView, written through `vtkio`.
 //!
 //! Files are VTK XML version 1.0 with inline base64 binary arrays (64-bit headers, no
-//! compression), which VTK 9 and ParaView read. Points are stored in 3D with z = 0. Cells are
-//! `VTK_TRIANGLE` / `VTK_QUADRATIC_TRIANGLE`, boundary facets `VTK_LINE` /
-//! `VTK_QUADRATIC_EDGE`; both node orders coincide with those of [`Mesh`].
+//! compression), which VTK 9 and ParaView read. Points are stored in 3D, with z = 0 in the
+//! plane. Cells are `VTK_TRIANGLE` / `VTK_QUADRATIC_TRIANGLE` in the plane, `VTK_TETRA` /
+//! `VTK_QUADRATIC_TETRA` in a solid; boundary facets `VTK_LINE` / `VTK_QUADRATIC_EDGE` in the
+//! plane, `VTK_TRIANGLE` / `VTK_QUADRATIC_TRIANGLE` in a solid. The node orders coincide with
+//! those of [`Mesh`], but for the 10-node tetrahedron's last two edge nodes: gmsh puts edge 32
+//! before edge 31, VTK edge 13 before edge 23, so nodes 8 and 9 swap.
 //!
 //! Every file carries field data (VTK's `FieldData`, meshio's `field_data`): an `Int32` array
 //! (tag, dimension) named after each physical group of the mesh, the convention meshio uses for
@@ -18,6 +21,7 @@ use super::atomic::{write_output, OutputError};
 use super::pvd::escape;
 use crate::geometry::Vector;
 use crate::mesh::Mesh;
+use std::borrow::Cow;
 use std::path::Path;
 use vtkio::model::{
     Attribute, Attributes, ByteOrder, CellType, Cells, DataArray, DataSet, UnstructuredGridPiece, Version,
@@ -46,22 +50,53 @@ impl Field {
         let values = values.iter().flat_map(|v| [v[0], v[1], 0.0]).collect();
         Field { name: name.into(), unit, components: 3, values }
     }
+
+    /// A vector of space per point or cell.
+    pub fn vector3(name: impl Into<String>, unit: &'static str, values: Vec<[f64; 3]>) -> Self {
+        Field { name: name.into(), unit, components: 3, values: values.into_flattened() }
+    }
 }
 
 /// Connectivity of the cells of one output file and the tag array attached to them.
 struct Grid<'a> {
-    nodes: &'a [usize],
+    nodes: Cow<'a, [usize]>,
     nodes_per_cell: usize,
     cell_type: CellType,
     tag_name: &'static str,
     tags: &'a [i32],
 }
 
-/// Writes the triangles of `mesh` with cell data `material` (the cell tags) and the given fields.
-pub fn write_mesh_vtu(path: &Path, mesh: &Mesh, point_data: &[Field], cell_data: &[Field]) -> Result<(), OutputError> {
-    let cell_type = if mesh.order == 1 { CellType::Triangle } else { CellType::QuadraticTriangle };
+/// The VTK type of the simplices of dimension `dim` and degree `order`.
+fn simplex_type(dim: usize, order: usize) -> CellType {
+    match (dim, order) {
+        (1, 1) => CellType::Line,
+        (1, _) => CellType::QuadraticEdge,
+        (2, 1) => CellType::Triangle,
+        (2, _) => CellType::QuadraticTriangle,
+        (_, 1) => CellType::Tetra,
+        (_, _) => CellType::QuadraticTetra,
+    }
+}
+
+/// The cells of `mesh` in VTK's node order.
+fn vtk_cell_nodes<const D: usize>(mesh: &Mesh<D>) -> Cow<'_, [usize]> {
+    if D < 3 || mesh.order == 1 {
+        return Cow::Borrowed(&mesh.cell_nodes);
+    }
+    let nodes = mesh.cell_nodes.chunks_exact(10).flat_map(|c| [c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[9], c[8]]);
+    Cow::Owned(nodes.collect())
+}
+
+/// Writes the cells of `mesh` with cell data `material` (the cell tags) and the given fields.
+pub fn write_mesh_vtu<const D: usize>(
+    path: &Path,
+    mesh: &Mesh<D>,
+    point_data: &[Field],
+    cell_data: &[Field],
+) -> Result<(), OutputError> {
+    let cell_type = simplex_type(D, mesh.order);
     let grid = Grid {
-        nodes: &mesh.cell_nodes,
+        nodes: vtk_cell_nodes(mesh),
         nodes_per_cell: mesh.nodes_per_cell(),
         cell_type,
         tag_name: "material",
@@ -73,15 +108,15 @@ pub fn write_mesh_vtu(path: &Path, mesh: &Mesh, point_data: &[Field], cell_data:
 /// Writes the boundary facets of `mesh` with cell data `physical_tag` and the given fields.
 ///
 /// The point array is the whole mesh's, so point fields of the mesh can be reused.
-pub fn write_boundary_vtu(
+pub fn write_boundary_vtu<const D: usize>(
     path: &Path,
-    mesh: &Mesh,
+    mesh: &Mesh<D>,
     point_data: &[Field],
     cell_data: &[Field],
 ) -> Result<(), OutputError> {
-    let cell_type = if mesh.order == 1 { CellType::Line } else { CellType::QuadraticEdge };
+    let cell_type = simplex_type(D - 1, mesh.order);
     let grid = Grid {
-        nodes: &mesh.facet_nodes,
+        nodes: Cow::Borrowed(&mesh.facet_nodes),
         nodes_per_cell: mesh.nodes_per_facet(),
         cell_type,
         tag_name: "physical_tag",
@@ -91,9 +126,9 @@ pub fn write_boundary_vtu(
 }
 
 /// Validates, encodes and atomically writes one unstructured grid.
-fn write_grid(
+fn write_grid<const D: usize>(
     path: &Path,
-    mesh: &Mesh,
+    mesh: &Mesh<D>,
     grid: &Grid,
     point_data: &[Field],
     cell_data: &[Field],
@@ -112,9 +147,9 @@ const TAG_UNIT: &str = "physical group tag";
 
 /// The `FieldData` element of a grid: the physical groups of `mesh` and the unit of every
 /// array. Err: two arrays of the same name (a group named as a unit array).
-fn field_data(
+fn field_data<const D: usize>(
     path: &Path,
-    mesh: &Mesh,
+    mesh: &Mesh<D>,
     grid: &Grid,
     point_data: &[Field],
     cell_data: &[Field],
@@ -158,10 +193,10 @@ fn with_field_data(path: &Path, xml: Vec<u8>, metadata: &str) -> Result<Vec<u8>,
 }
 
 /// The points, cells, tags and fields of one grid in `vtkio`'s model.
-fn piece(mesh: &Mesh, grid: &Grid, point_data: &[Field], cell_data: &[Field]) -> UnstructuredGridPiece {
+fn piece<const D: usize>(mesh: &Mesh<D>, grid: &Grid, point_data: &[Field], cell_data: &[Field]) -> UnstructuredGridPiece {
     let tags = DataArray::new(grid.tag_name, 1).with_data(grid.tags.to_vec());
     let cell = std::iter::once(Attribute::DataArray(tags)).chain(cell_data.iter().map(attribute)).collect();
-    let points: Vec<f64> = mesh.points.iter().flat_map(|p| [p[0], p[1], 0.0]).collect();
+    let points: Vec<f64> = mesh.points.iter().flat_map(|p| std::array::from_fn::<f64, 3, _>(|r| p.get(r).copied().unwrap_or(0.0))).collect();
     UnstructuredGridPiece {
         points: points.into(),
         cells: cells(grid),
@@ -210,11 +245,11 @@ fn attribute(field: &Field) -> Attribute {
     Attribute::DataArray(DataArray::new(field.name.as_str(), field.components as u32).with_data(field.values.clone()))
 }
 
-fn check_points(path: &Path, mesh: &Mesh) -> Result<(), OutputError> {
+fn check_points<const D: usize>(path: &Path, mesh: &Mesh<D>) -> Result<(), OutputError> {
     match first_non_finite(mesh.points.iter().flatten()) {
         Some((i, value)) => Err(OutputError::NonFinite {
             path: path.to_path_buf(),
-            location: format!("the coordinates of point {}", i / 2),
+            location: format!("the coordinates of point {}", i / D),
             value,
         }),
         None => Ok(()),
@@ -222,7 +257,7 @@ fn check_points(path: &Path, mesh: &Mesh) -> Result<(), OutputError> {
 }
 
 /// Checks the connectivity against the tag count and the number of points.
-fn check_grid(path: &Path, mesh: &Mesh, grid: &Grid) -> Result<(), OutputError> {
+fn check_grid<const D: usize>(path: &Path, mesh: &Mesh<D>, grid: &Grid) -> Result<(), OutputError> {
     let reason = if grid.nodes.len() != grid.tags.len() * grid.nodes_per_cell {
         format!(
             "{} connectivity entries for {} cells of {} nodes",

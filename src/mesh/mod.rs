@@ -1,15 +1,22 @@
-//! Triangle meshes of degree 1 or 2 with physical tags.
+//! Simplex meshes of degree 1 or 2 with physical tags, of the plane (`Mesh`, D = 2) or of
+//! space (`Mesh<3>`).
 //!
-//! A [`Mesh`] stores node coordinates, cells (3-node or 6-node triangles in gmsh/VTK order:
-//! vertices 0, 1, 2, then the midpoints of edges 01, 12, 20), boundary facets (2-node or 3-node
-//! segments: end points, then the midpoint) and the physical groups that tag them. Geometry is
-//! affine: midpoint nodes of a degree-2 mesh sit at the middle of straight edges.
+//! A [`Mesh`] stores node coordinates, cells, boundary facets and the physical groups that tag
+//! them, all in gmsh's node order:
+//! - D = 2: 3-node or 6-node triangles (vertices 0, 1, 2, then the midpoints of edges 01, 12,
+//!   20), facets 2-node or 3-node segments (end points, then the midpoint);
+//! - D = 3: 4-node or 10-node tetrahedra (vertices, then the midpoints of the edges of
+//!   [`tetrahedron::EDGES`](crate::geometry::tetrahedron::EDGES)), facets 3-node or 6-node
+//!   triangles.
+//!
+//! Geometry is affine: midpoint nodes of a degree-2 mesh sit at the middle of straight edges.
 //!
 //! The mesh knows nothing of finite elements: it only describes the domain.
 
 pub mod flat;
 pub mod interface;
 pub mod midpoints;
+mod solid;
 pub mod structured;
 pub mod topology;
 
@@ -17,7 +24,8 @@ pub use topology::Topology;
 
 use crate::geometry::{distance, CellType, Point};
 
-/// A named physical group of gmsh: `dim` 2 for material regions, 1 for boundary curves.
+/// A named physical group of gmsh: `dim` D for material regions, D − 1 for boundary curves
+/// (surfaces in 3D).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct PhysicalGroup {
     pub dim: u8,
@@ -25,11 +33,11 @@ pub struct PhysicalGroup {
     pub name: String,
 }
 
-/// Triangle mesh of degree `order` (1 or 2).
+/// Simplex mesh of dimension D and degree `order` (1 or 2).
 #[derive(Debug, Clone)]
-pub struct Mesh {
+pub struct Mesh<const D: usize = 2> {
     /// Coordinates of every node (vertices and, for degree 2, edge midpoints).
-    pub points: Vec<Point>,
+    pub points: Vec<[f64; D]>,
     /// Polynomial degree of the geometry and of the Lagrange space built on it.
     pub order: usize,
     /// Cell connectivity, `nodes_per_cell()` entries per cell.
@@ -40,23 +48,28 @@ pub struct Mesh {
     pub facet_nodes: Vec<usize>,
     /// Physical curve tag of each boundary facet.
     pub facet_tags: Vec<i32>,
-    /// Physical groups of dimension 1 and 2.
+    /// Physical groups of dimension D − 1 and D.
     pub groups: Vec<PhysicalGroup>,
 }
 
-impl Mesh {
-    /// 3 for P1 triangles, 6 for P2 triangles.
-    pub fn nodes_per_cell(&self) -> usize {
-        if self.order == 1 {
-            3
-        } else {
-            6
+impl<const D: usize> Mesh<D> {
+    /// The nodes of a P_order simplex of dimension `dim`: its dim + 1 vertices, and for P2
+    /// one on each of its (dim + 1) dim / 2 edges.
+    const fn simplex_nodes(dim: usize, order: usize) -> usize {
+        match order {
+            1 => dim + 1,
+            _ => (dim + 1) * (dim + 2) / 2,
         }
     }
 
-    /// 2 for P1 segments, 3 for P2 segments.
+    /// 3 or 6 for P1 or P2 triangles; 4 or 10 for tetrahedra.
+    pub fn nodes_per_cell(&self) -> usize {
+        Self::simplex_nodes(D, self.order)
+    }
+
+    /// 2 or 3 for P1 or P2 segments; 3 or 6 for triangles.
     pub fn nodes_per_facet(&self) -> usize {
-        self.order + 1
+        Self::simplex_nodes(D - 1, self.order)
     }
 
     /// The body of each cell: the connected components of the cells through their nodes.
@@ -105,6 +118,29 @@ impl Mesh {
         &self.cell_nodes[c * n..(c + 1) * n]
     }
 
+    /// The boundary facets whose physical tag is one of `tags`, in mesh order.
+    pub fn facets_tagged<'a>(&'a self, tags: &'a [i32]) -> impl Iterator<Item = usize> + 'a {
+        (0..self.n_facets()).filter(move |&f| tags.contains(&self.facet_tags[f]))
+    }
+
+    /// Node indices of boundary facet `f`.
+    pub fn facet(&self, f: usize) -> &[usize] {
+        let n = self.nodes_per_facet();
+        &self.facet_nodes[f * n..(f + 1) * n]
+    }
+
+    /// The physical group of dimension `dim` called `name` (case-insensitive).
+    pub fn group(&self, dim: u8, name: &str) -> Option<&PhysicalGroup> {
+        self.groups.iter().find(|g| g.dim == dim && g.name.eq_ignore_ascii_case(name))
+    }
+
+    /// Names of the physical groups of dimension `dim`.
+    pub fn group_names(&self, dim: u8) -> Vec<&str> {
+        self.groups.iter().filter(|g| g.dim == dim).map(|g| g.name.as_str()).collect()
+    }
+}
+
+impl Mesh {
     /// The P1 mesh in which every cell has its own copies of its three vertices (cell c,
     /// vertex v is point 3c + v), for fields that jump across edges.
     pub fn discontinuous(&self) -> Mesh {
@@ -119,17 +155,6 @@ impl Mesh {
         }
     }
 
-    /// The boundary facets whose physical tag is one of `tags`, in mesh order.
-    pub fn facets_tagged<'a>(&'a self, tags: &'a [i32]) -> impl Iterator<Item = usize> + 'a {
-        (0..self.n_facets()).filter(move |&f| tags.contains(&self.facet_tags[f]))
-    }
-
-    /// Node indices of boundary facet `f`.
-    pub fn facet(&self, f: usize) -> &[usize] {
-        let n = self.nodes_per_facet();
-        &self.facet_nodes[f * n..(f + 1) * n]
-    }
-
     /// Vertex coordinates of cell `c`.
     pub fn cell_vertices(&self, c: usize) -> [Point; 3] {
         let n = self.cell(c);
@@ -140,16 +165,6 @@ impl Mesh {
     pub fn cell_centroid(&self, c: usize) -> Point {
         let [a, b, d] = self.cell_vertices(c);
         [(a[0] + b[0] + d[0]) / 3.0, (a[1] + b[1] + d[1]) / 3.0]
-    }
-
-    /// The physical group of dimension `dim` called `name` (case-insensitive).
-    pub fn group(&self, dim: u8, name: &str) -> Option<&PhysicalGroup> {
-        self.groups.iter().find(|g| g.dim == dim && g.name.eq_ignore_ascii_case(name))
-    }
-
-    /// Names of the physical groups of dimension `dim`.
-    pub fn group_names(&self, dim: u8) -> Vec<&str> {
-        self.groups.iter().filter(|g| g.dim == dim).map(|g| g.name.as_str()).collect()
     }
 
     /// Signed area of cell `c` (positive for counter-clockwise vertices).

@@ -514,7 +514,7 @@ impl ScalarSystem {
             .filter(|&(_, fix)| fix)
             .map(|(dof, _)| (dof, 0.0))
             .collect();
-        let dofs = DofMap::new(mesh.n_points(), &constraints);
+        let dofs = DofMap::new(mesh.n_points(), 2, &constraints);
         let pattern = SparsePattern::new(mesh, &dofs);
         let mut system = LinearSystem::zeros(&pattern);
         let tab = Tabulation::new(2, 2);

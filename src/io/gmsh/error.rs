@@ -1,6 +1,6 @@
 //! Errors of the gmsh interface: each one prints as one sentence naming the file.
 
-use crate::geometry::Point;
+use crate::geometry::{Point, Point3};
 use std::path::PathBuf;
 
 /// Everything that can go wrong while opening, meshing, reading or writing through gmsh.
@@ -49,11 +49,17 @@ pub enum GmshError {
     /// The mesh has no 3-node or 6-node triangle.
     #[error("the mesh of {} has no triangles (does it define a surface?)", .path.display())]
     NoTriangles { path: PathBuf },
+    /// The mesh of a model with volumes has no 4-node or 10-node tetrahedron.
+    #[error("the mesh of {} has no tetrahedra (do its volumes have a mesh?)", .path.display())]
+    NoTetrahedra { path: PathBuf },
+    /// A tetrahedron has zero volume.
+    #[error("the mesh of {} has a flat tetrahedron at ({}, {}, {}); are some mesh sizes too small?", .path.display(), .x[0], .x[1], .x[2])]
+    FlatTetrahedron { path: PathBuf, x: Point3 },
     /// The mesh mixes elements of order 1 and 2.
     #[error("the mesh of {} mixes first- and second-order elements", .path.display())]
     MixedOrder { path: PathBuf },
     /// The mesh has elements other than triangles and segments of order 1 or 2 (e.g. quadrangles).
-    #[error("the mesh of {} has {element} elements, but only triangles and segments of order 1 or 2 are supported", .path.display())]
+    #[error("the mesh of {} has {element} elements, but only simplices (tetrahedra, triangles, segments) of order 1 or 2 are supported", .path.display())]
     Unsupported { path: PathBuf, element: String },
     /// A triangle has zero area (gmsh can produce them when sizes approach its tolerance).
     #[error("the mesh of {} has a degenerate triangle at ({x}, {y}); are some mesh sizes too small?", .path.display())]
@@ -68,9 +74,9 @@ pub enum GmshError {
     /// The `$PhysicalNames` of a `.msh` file give one physical group two names.
     #[error("cannot open {}: physical tag {tag} of dimension {dim} has two names, \"{first}\" and \"{second}\", of which gmsh would keep one; give each physical group one name", .path.display())]
     TwoNames { path: PathBuf, dim: i32, tag: i32, first: String, second: String },
-    /// A physical curve has nodes that no triangle uses.
-    #[error("physical curve \"{group}\" of {} does not lie on the triangles of the mesh", .path.display())]
-    DetachedCurve { path: PathBuf, group: String },
+    /// A physical curve (surface in 3D) has nodes that no cell uses.
+    #[error("physical {what} \"{group}\" of {} does not lie on the cells of the mesh", .path.display())]
+    DetachedCurve { path: PathBuf, group: String, what: &'static str },
     /// A [`MeshOptions`](super::MeshOptions) field is out of range.
     #[error("invalid mesh option {name} = {value}: expected {expected}")]
     BadOption { name: &'static str, value: String, expected: &'static str },

@@ -1,8 +1,8 @@
 //! Limits checked before gmsh meshes a surface, so that absurd sizes or coordinates give an
 //! error instead of a run that ends on gmsh's `bad_alloc` or never ends.
 //!
-//! - Coordinates: the model's bounding box must be finite and within ±[`MAX_COORDINATE`] m,
-//!   and flat (z = 0: damfem is plane strain).
+//! - Coordinates: the model's bounding box must be finite and within ±[`MAX_COORDINATE`] m;
+//!   a model without volumes must be flat (z = 0: a plane-strain section).
 //! - Sizes: `Mesh.MeshSizeMax` must be at least [`SIZE_FLOOR`] × the bounding box diagonal d.
 //! - Cell count: the curves are meshed first, with every size raised to [`SIZE_FLOOR`] d (so
 //!   that this pass has at most a few 10⁵ segments per curve); with h̄ the mean segment length
@@ -10,7 +10,8 @@
 //!   and refused when N exceeds the cell limit ([`set_cell_limit`], default
 //!   [`DEFAULT_CELL_LIMIT`]). The curve mesh is then cleared and the model meshed as asked.
 //!   With a size field h (a remesh), N ≈ ∫ 1/(√3/4 h²) over the field's triangles instead
-//!   ([`super::SizeField::cells`]).
+//!   ([`super::SizeField::cells`]). A model with volumes is estimated at
+//!   N ≈ |box| / (h̄³ / (6√2)) tetrahedra, the volume of the regular one of side h̄.
 //! - Time: reading and meshing one file may take [`set_time_limit`] seconds (none by
 //!   default). gmsh cannot be stopped from outside its loops, so the limit is an `alarm`:
 //!   SIGALRM reaches the process when the time is up, and the caller's handler reports
@@ -32,6 +33,8 @@ pub const DEFAULT_CELL_LIMIT: usize = 2_000_000;
 /// Area of the equilateral triangle of unit side, √3/4: a mesh of size h has about
 /// |Ω| / (√3/4 h²) triangles.
 pub(super) const TRIANGLE_AREA: f64 = 0.4330127018922193;
+/// Volume of the regular tetrahedron of unit side, 1/(6√2).
+const TETRAHEDRON_VOLUME: f64 = 0.11785113019775792;
 
 static CELL_LIMIT: AtomicUsize = AtomicUsize::new(DEFAULT_CELL_LIMIT);
 
@@ -113,32 +116,37 @@ impl Drop for Deadline {
     }
 }
 
-/// Checks the opened model: not empty, its coordinates finite, within ±[`MAX_COORDINATE`], and
-/// with z = 0 everywhere (no volume, no tilted plane).
-pub(super) fn check_plane(path: &Path) -> Result<(), GmshError> {
+/// Checks the opened model and gives its dimension: 3 with volumes, else 2. It must not be
+/// empty, its coordinates must be finite and within ±[`MAX_COORDINATE`], and a plane model
+/// must have z = 0 everywhere (no tilted plane).
+pub(super) fn check_model(path: &Path) -> Result<usize, GmshError> {
     let fail = |reason: String| Err(GmshError::Limit { path: path.into(), reason });
     if (0..=3).map(api::entities).collect::<Result<Vec<_>, _>>()?.iter().all(Vec::is_empty) {
         return fail("it is empty: it defines no point, curve or surface".into());
     }
     let b = api::bounding_box()?;
-    if !api::entities(3)?.is_empty() {
-        return fail("it is 3-D (it has volumes), but damfem meshes plane (2-D) surfaces".into());
-    }
     if let Some(x) = b.iter().find(|x| x.is_nan() || x.abs() > MAX_COORDINATE) {
         return fail(format!("coordinate {x:e} is beyond the limit of ±{MAX_COORDINATE:e} m"));
     }
-    if b[2] != 0.0 || b[5] != 0.0 {
-        return fail(format!("it is 3-D: z ranges over [{}, {}], but damfem needs z = 0", b[2], b[5]));
+    if !api::entities(3)?.is_empty() {
+        return Ok(3);
     }
-    Ok(())
+    if b[2] != 0.0 || b[5] != 0.0 {
+        return fail(format!(
+            "it is not plane: z ranges over [{}, {}], but a section needs z = 0 (a solid needs volumes)",
+            b[2], b[5]
+        ));
+    }
+    Ok(2)
 }
 
 /// Meshes the curves with sizes of at least [`SIZE_FLOOR`] d, estimates the number of
-/// triangles and refuses it above the cell limit; clears the curve mesh.
-pub(super) fn check_cell_count(path: &Path) -> Result<(), GmshError> {
-    let [x0, y0, _, x1, y1, _] = api::bounding_box()?;
-    let (width, height) = (x1 - x0, y1 - y0);
-    let floor = SIZE_FLOOR * width.hypot(height);
+/// cells of the model of dimension `dimension` and refuses it above the cell limit; clears
+/// the curve mesh.
+pub(super) fn check_cell_count(path: &Path, dimension: usize) -> Result<(), GmshError> {
+    let [x0, y0, z0, x1, y1, z1] = api::bounding_box()?;
+    let (width, height, depth) = (x1 - x0, y1 - y0, z1 - z0);
+    let floor = SIZE_FLOOR * width.hypot(height).hypot(depth);
     let fail = |reason: String| Err(GmshError::Limit { path: path.into(), reason });
     let (size_min, size_max, factor) = (
         api::get_number("Mesh.MeshSizeMin")?,
@@ -158,7 +166,11 @@ pub(super) fn check_cell_count(path: &Path) -> Result<(), GmshError> {
     api::clear_mesh()?;
     let Some(mean) = mean? else { return Ok(()) };
     let h = factor * mean;
-    check_estimate(path, width * height / (TRIANGLE_AREA * h * h), &format!("mean size {h:.3e} m on the curves"))
+    let estimate = match dimension {
+        3 => width * height * depth / (TETRAHEDRON_VOLUME * h * h * h),
+        _ => width * height / (TRIANGLE_AREA * h * h),
+    };
+    check_estimate(path, estimate, &format!("mean size {h:.3e} m on the curves"))
 }
 
 /// Refuses `estimate` triangles, estimated from `sizes` (what they were), above the cell limit.
@@ -168,7 +180,7 @@ pub(super) fn check_estimate(path: &Path, estimate: f64, sizes: &str) -> Result<
         return Err(GmshError::Limit {
             path: path.into(),
             reason: format!(
-                "its mesh would have about {estimate:.1e} triangles ({sizes}), above the limit of {limit}; \
+                "its mesh would have about {estimate:.1e} cells ({sizes}), above the limit of {limit}; \
                  coarsen the sizes or raise the limit with --max-cells"
             ),
         });

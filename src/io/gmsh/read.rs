@@ -1,4 +1,4 @@
-//! Conversion of gmsh's current mesh into a [`Mesh`].
+//! Conversion of gmsh's current mesh into a [`Mesh`] of the plane or of space.
 
 use super::{api, GmshError};
 use crate::geometry::Point;
@@ -12,25 +12,7 @@ use std::path::Path;
 /// its Delaunay-based algorithms leave along straight boundaries are flipped away
 /// ([`flip_flat_cells`]); any other cell of zero area is an error.
 pub(super) fn mesh(source: &Path, meshed: bool) -> Result<Mesh, GmshError> {
-    let cells = elements(2, source)?;
-    let order = cells.order.ok_or_else(|| GmshError::NoTriangles { path: source.into() })?;
-    let facets = elements(1, source)?;
-    if facets.order.is_some_and(|o| o != order) {
-        return Err(GmshError::MixedOrder { path: source.into() });
-    }
-    let groups = groups()?;
-    let mut numbering = Numbering::new()?;
-    let cell_nodes = cells.nodes.iter().map(|&tag| numbering.add(tag)).collect::<Result<_, _>>()?;
-    let facet_nodes = numbering.facets(&facets, &groups, source)?;
-    let mut mesh = Mesh {
-        points: numbering.points,
-        order,
-        cell_nodes,
-        cell_tags: cells.tags,
-        facet_nodes,
-        facet_tags: facets.tags,
-        groups,
-    };
+    let mut mesh: Mesh = simplices(source, || GmshError::NoTriangles { path: source.into() })?;
     if meshed {
         flip_flat_cells(&mut mesh).map_err(|[x, y]| GmshError::Degenerate { path: source.into(), x, y })?;
     }
@@ -43,6 +25,35 @@ pub(super) fn mesh(source: &Path, meshed: bool) -> Result<Mesh, GmshError> {
         return Err(GmshError::Folded { path: source.into(), edge });
     }
     Ok(mesh)
+}
+
+/// Reads the current mesh of a model with volumes: its tetrahedra and the triangles of its
+/// physical surfaces, the cells positively oriented. A tetrahedron of zero volume is an
+/// error.
+pub(super) fn solid(source: &Path) -> Result<Mesh<3>, GmshError> {
+    let mut mesh: Mesh<3> = simplices(source, || GmshError::NoTetrahedra { path: source.into() })?;
+    if let Some(c) = (0..mesh.n_cells()).find(|&c| mesh.cell_volume(c) == 0.0) {
+        let x = mesh.points[mesh.cell(c)[0]];
+        return Err(GmshError::FlatTetrahedron { path: source.into(), x });
+    }
+    mesh.orient_positively();
+    Ok(mesh)
+}
+
+/// The cells of dimension D (`none` if there is none), the facets of the physical groups of
+/// dimension D − 1 and the groups, as gmsh lists them.
+fn simplices<const D: usize>(source: &Path, none: impl Fn() -> GmshError) -> Result<Mesh<D>, GmshError> {
+    let cells = elements(D as i32, true, source)?;
+    let order = cells.order.ok_or_else(none)?;
+    let facets = elements(D as i32 - 1, false, source)?;
+    if facets.order.is_some_and(|o| o != order) {
+        return Err(GmshError::MixedOrder { path: source.into() });
+    }
+    let groups = groups(D as i32)?;
+    let mut numbering = Numbering::<D>::new()?;
+    let cell_nodes = cells.nodes.iter().map(|&tag| numbering.add(tag)).collect::<Result<_, _>>()?;
+    let facet_nodes = numbering.facets(&facets, &groups, source)?;
+    Ok(Mesh { points: numbering.points, order, cell_nodes, cell_tags: cells.tags, facet_nodes, facet_tags: facets.tags, groups })
 }
 
 /// An edge where counter-clockwise cells overlap: shared by more than two cells, or by two
@@ -72,12 +83,15 @@ struct Elements {
     tags: Vec<i32>,
 }
 
-/// Triangles of every surface (`dim` 2) or segments of every physical curve (`dim` 1).
-fn elements(dim: i32, source: &Path) -> Result<Elements, GmshError> {
+/// The simplices of every entity of dimension `dim` (`cells`) or of every physical group of
+/// that dimension (facets): tetrahedra (dim 3), triangles (2) or segments (1).
+fn elements(dim: i32, cells: bool, source: &Path) -> Result<Elements, GmshError> {
     let mut elements = Elements::default();
-    for (entity, tag) in tagged_entities(dim)? {
+    for (entity, tag) in tagged_entities(dim, cells)? {
         for &element_type in api::element_types(dim, entity)?.as_slice() {
             let (order, n) = match (dim, element_type) {
+                (3, 4) => (1, 4),
+                (3, 11) => (2, 10),
                 (2, 2) => (1, 3),
                 (2, 9) => (2, 6),
                 (1, 1) => (1, 2),
@@ -96,29 +110,30 @@ fn elements(dim: i32, source: &Path) -> Result<Elements, GmshError> {
     Ok(elements)
 }
 
-/// (entity, physical tag) pairs: every surface with its first group (0 if none), or every
-/// (curve, group) pair of the physical curve groups, by group, each group's curves in model
-/// order (as gmsh lists a group's entities). The groups of each curve are asked for, not the
-/// curves of each group, which gmsh finds by a pass over every group.
-fn tagged_entities(dim: i32) -> Result<Vec<(i32, i32)>, GmshError> {
+/// (entity, physical tag) pairs of dimension `dim`: of `cells`, every entity with its first
+/// group (0 if none); of facets, every (entity, group) pair of the physical groups, by group,
+/// each group's entities in model order (as gmsh lists a group's entities). The groups of each
+/// entity are asked for, not the entities of each group, which gmsh finds by a pass over every
+/// group.
+fn tagged_entities(dim: i32, cells: bool) -> Result<Vec<(i32, i32)>, GmshError> {
     let mut pairs = Vec::new();
-    if dim == 2 {
-        for (_, surface) in api::entities(2)? {
-            let groups = api::entity_groups(2, surface)?;
-            pairs.push((surface, groups.as_slice().first().copied().unwrap_or(0)));
+    if cells {
+        for (_, entity) in api::entities(dim)? {
+            let groups = api::entity_groups(dim, entity)?;
+            pairs.push((entity, groups.as_slice().first().copied().unwrap_or(0)));
         }
     } else {
-        let mut curves: HashMap<i32, Vec<i32>> = HashMap::new();
-        for (_, curve) in api::entities(1)? {
-            for &group in api::entity_groups(1, curve)?.as_slice() {
-                let listed = curves.entry(group).or_default();
-                if listed.last() != Some(&curve) {
-                    listed.push(curve);
+        let mut entities: HashMap<i32, Vec<i32>> = HashMap::new();
+        for (_, entity) in api::entities(dim)? {
+            for &group in api::entity_groups(dim, entity)?.as_slice() {
+                let listed = entities.entry(group).or_default();
+                if listed.last() != Some(&entity) {
+                    listed.push(entity);
                 }
             }
         }
-        for (_, group) in api::physical_groups(1)? {
-            pairs.extend(curves.remove(&group).unwrap_or_default().into_iter().map(|curve| (curve, group)));
+        for (_, group) in api::physical_groups(dim)? {
+            pairs.extend(entities.remove(&group).unwrap_or_default().into_iter().map(|entity| (entity, group)));
         }
     }
     Ok(pairs)
@@ -131,32 +146,32 @@ fn unsupported(element_type: i32, source: &Path) -> GmshError {
     }
 }
 
-/// Physical groups of dimension 1 and 2 with their names.
-fn groups() -> Result<Vec<PhysicalGroup>, GmshError> {
+/// Physical groups of dimension `d` − 1 and `d` with their names.
+fn groups(d: i32) -> Result<Vec<PhysicalGroup>, GmshError> {
     api::physical_groups(-1)?
         .into_iter()
-        .filter(|&(dim, _)| dim == 1 || dim == 2)
+        .filter(|&(dim, _)| dim == d - 1 || dim == d)
         .map(|(dim, tag)| Ok(PhysicalGroup { dim: dim as u8, tag, name: api::physical_name(dim, tag)? }))
         .collect()
 }
 
 /// Compact node numbering in order of first use.
-struct Numbering {
-    /// (x, y) of every gmsh node, by tag.
-    xy: HashMap<usize, Point>,
+struct Numbering<const D: usize> {
+    /// The first D coordinates of every gmsh node, by tag.
+    xy: HashMap<usize, [f64; D]>,
     /// gmsh tag → new index.
     index: HashMap<usize, usize>,
-    points: Vec<Point>,
+    points: Vec<[f64; D]>,
 }
 
-impl Numbering {
-    fn new() -> Result<Numbering, GmshError> {
+impl<const D: usize> Numbering<D> {
+    fn new() -> Result<Numbering<D>, GmshError> {
         let (tags, coords) = api::nodes()?;
         let xy = tags
             .as_slice()
             .iter()
             .zip(coords.as_slice().chunks_exact(3))
-            .map(|(&tag, c)| (tag, [c[0], c[1]]))
+            .map(|(&tag, c)| (tag, std::array::from_fn(|r| c[r])))
             .collect();
         Ok(Numbering { xy, index: HashMap::new(), points: Vec::new() })
     }
@@ -181,7 +196,7 @@ impl Numbering {
         let mut nodes = Vec::with_capacity(facets.nodes.len());
         for (facet, &tag) in facets.nodes.chunks(n).zip(&facets.tags) {
             for node in facet {
-                let index = self.index.get(node).ok_or_else(|| detached(tag, groups, source))?;
+                let index = self.index.get(node).ok_or_else(|| detached::<D>(tag, groups, source))?;
                 nodes.push(*index);
             }
         }
@@ -189,10 +204,10 @@ impl Numbering {
     }
 }
 
-fn detached(tag: i32, groups: &[PhysicalGroup], source: &Path) -> GmshError {
+fn detached<const D: usize>(tag: i32, groups: &[PhysicalGroup], source: &Path) -> GmshError {
     let group = groups
         .iter()
-        .find(|g| g.dim == 1 && g.tag == tag && !g.name.is_empty())
+        .find(|g| g.dim as usize == D - 1 && g.tag == tag && !g.name.is_empty())
         .map_or_else(|| tag.to_string(), |g| g.name.clone());
-    GmshError::DetachedCurve { path: source.into(), group }
+    GmshError::DetachedCurve { path: source.into(), group, what: ["curve", "surface"][D - 2] }
 }

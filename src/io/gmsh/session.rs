@@ -24,6 +24,11 @@ const RESET_OPTIONS: [&str; 12] = [
     "Mesh.SaveAll",
 ];
 
+/// Why a command of plane sections refuses a model with volumes.
+pub(super) const SOLID_REFUSED: &str =
+    "it is 3-D (it has volumes): this command works on plane sections so far; `damfem mesh`, `check` and `solve` \
+     take 3-D models (without contact)";
+
 /// gmsh 2D meshing algorithms (`Mesh.Algorithm`).
 const ALGORITHMS: [i32; 9] = [1, 2, 3, 5, 6, 7, 8, 9, 11];
 
@@ -42,6 +47,8 @@ pub struct Session {
     field_cells: Option<f64>,
     /// Whether gmsh meshed the model in this session (rather than reading a mesh file).
     meshed: bool,
+    /// The dimension of the opened model: 3 if it has volumes, else 2.
+    dimension: usize,
     /// Whether gmsh's messages are copied to stderr.
     verbose: bool,
 }
@@ -70,7 +77,7 @@ impl Session {
         api::clear()?;
         api::restart_logger()?;
         let source = PathBuf::from("the empty model");
-        Ok(Session { _lock: lock, source, log_seen: 0, field_cells: None, meshed: false, verbose })
+        Ok(Session { _lock: lock, source, log_seen: 0, field_cells: None, meshed: false, dimension: 2, verbose })
     }
 
     /// Opens a `.geo` file. Unless `allow_system_calls`, first refuses it if it, or a file it
@@ -81,7 +88,8 @@ impl Session {
             guard::check(path)?;
         }
         self.open(path)?;
-        limits::check_plane(path)
+        self.dimension = limits::check_model(path)?;
+        Ok(())
     }
 
     /// Opens a gmsh `.msh` file (refusing anything else: gmsh would parse it as a `.geo`).
@@ -106,7 +114,13 @@ impl Session {
             let message = line.strip_prefix("Warning: ").unwrap_or(line);
             return Err(GmshError::DuplicateTag { path: path.into(), message: format!("gmsh: {message}") });
         }
-        limits::check_plane(path)
+        self.dimension = limits::check_model(path)?;
+        Ok(())
+    }
+
+    /// The dimension of the opened model: 3 if it has volumes, else 2.
+    pub fn dimension(&self) -> usize {
+        self.dimension
     }
 
     fn open(&mut self, path: &Path) -> Result<(), GmshError> {
@@ -207,20 +221,21 @@ impl Session {
         api::set_number("Mesh.MeshSizeMax", size_max)
     }
 
-    /// Meshes the model in 2D; with `Mesh.ElementOrder` 2, gmsh then raises the mesh to order 2.
+    /// Meshes the model in its dimension; with `Mesh.ElementOrder` 2, gmsh then raises the
+    /// mesh to order 2.
     /// The cell count is first estimated, from the curves or from the size field, and refused
     /// above the limit (see the `limits` module).
     pub fn generate(&mut self) -> Result<(), GmshError> {
         let path = self.source.clone();
-        let field_cells = self.field_cells;
+        let (field_cells, dimension) = (self.field_cells, self.dimension);
         self.meshed = true;
         self.step(
             || {
                 match field_cells {
-                    None => limits::check_cell_count(&path)?,
+                    None => limits::check_cell_count(&path, dimension)?,
                     Some(cells) => limits::check_estimate(&path, cells, "from the target sizes of the previous mesh")?,
                 }
-                api::generate(2)
+                api::generate(dimension as i32)
             },
             |message| GmshError::Meshing { path: path.clone(), message },
         )
@@ -232,7 +247,17 @@ impl Session {
     /// appears twice). Node order is gmsh's, which is the [`Mesh`] convention; nodes are
     /// numbered from 0 in order of first use by a cell, and cells are counter-clockwise.
     pub fn mesh(&self) -> Result<Mesh, GmshError> {
+        if self.dimension == 3 {
+            return Err(GmshError::Limit { path: self.source.clone(), reason: SOLID_REFUSED.into() });
+        }
         read::mesh(&self.source, self.meshed)
+    }
+
+    /// Reads the current mesh of a model with volumes: 4-node or 10-node tetrahedra of every
+    /// volume, tagged with its first physical group, and the 3-node or 6-node triangles of the
+    /// surfaces of each physical surface group; cells positively oriented.
+    pub fn solid_mesh(&self) -> Result<Mesh<3>, GmshError> {
+        read::solid(&self.source)
     }
 
     /// Writes the mesh in the format of the extension. Only elements of physical groups are

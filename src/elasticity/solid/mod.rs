@@ -1,0 +1,202 @@
+//! Linear elasticity of a solid on tetrahedra (P1, P2).
+//!
+//! Find u_h ∈ V_h, u_h = g_D on Γ_D (nodal interpolation, per fixed component), such that for
+//! all v_h ∈ V_h,0
+//!
+//!   (σ(u_h), ε(v_h)) = (f, v_h) + (g_N, v_h)_{Γ_N},   σ = λ tr ε I + 2μ ε.
+//!
+//! The vertical axis is z: the weight is f = −ρ g e_z and a water pressure
+//! p = ρ_w g (H_w − z)₊ acts along −n. K u = F is solved by sparse Cholesky, as in the plane.
+
+pub mod facets;
+pub mod kernels;
+
+use super::material::Material;
+use crate::fem::dofs::DofMap;
+use crate::fem::sparse::{components_dofs, LinearSystem, SparsePattern};
+use crate::fem::tabulate::Tabulation;
+use crate::fem::{lagrange, tetrahedron};
+use crate::geometry::{Point3, TetMap, Vector3};
+use crate::mesh::Mesh;
+use crate::solve::{Cholesky, SolveError};
+use std::sync::Arc;
+
+/// A vector field of space x ↦ v(x).
+pub type SolidField = Arc<dyn Fn(Point3) -> Vector3 + Send + Sync>;
+
+/// Prescribed displacement on the facets tagged `tag`, for the components marked in `fix`.
+#[derive(Clone)]
+pub struct SolidDirichlet {
+    pub tag: i32,
+    pub fix: [bool; 3],
+    pub value: SolidField,
+}
+
+/// Traction g_N on a Neumann surface.
+#[derive(Clone)]
+pub enum SolidTraction {
+    /// A constant vector \[Pa\].
+    Constant(Vector3),
+    /// Water pressure p = ρ_w g (H_w − z)₊ along −n.
+    Hydrostatic { density: f64, gravity: f64, level: f64 },
+    /// Any field of x.
+    Field(SolidField),
+}
+
+impl SolidTraction {
+    /// g_N at x on a facet of outward normal n.
+    pub fn at(&self, x: Point3, n: Vector3) -> Vector3 {
+        match self {
+            SolidTraction::Constant(t) => *t,
+            SolidTraction::Hydrostatic { density, gravity, level } => {
+                let p = density * gravity * (level - x[2]).max(0.0);
+                n.map(|n| -p * n)
+            }
+            SolidTraction::Field(g) => g(x),
+        }
+    }
+}
+
+/// g_N on the facets tagged `tag`.
+#[derive(Clone)]
+pub struct SolidNeumann {
+    pub tag: i32,
+    pub traction: SolidTraction,
+}
+
+/// The body force.
+#[derive(Clone)]
+pub enum SolidBody {
+    /// The weight −ρ g e_z of each cell's material, g \[m/s²\].
+    Weight(f64),
+    /// Any field of x \[N/m³\].
+    Field(SolidField),
+}
+
+/// The boundary value problem of a solid.
+#[derive(Clone)]
+pub struct Solid {
+    pub mesh: Mesh<3>,
+    /// The material of each cell.
+    pub materials: Vec<Material>,
+    pub dirichlet: Vec<SolidDirichlet>,
+    pub neumann: Vec<SolidNeumann>,
+    pub body: SolidBody,
+}
+
+/// A solution: the nodal displacements and the size of the system solved.
+#[derive(Debug, Clone)]
+pub struct SolidSolution {
+    pub displacement: Vec<Vector3>,
+    /// Free unknowns.
+    pub unknowns: usize,
+    /// Stored entries of the stiffness matrix (both triangles).
+    pub nonzeros: usize,
+}
+
+/// Why a solid cannot be solved.
+#[derive(Debug, thiserror::Error)]
+pub enum SolidError {
+    #[error("boundary triangle {facet} (physical surface {tag}) is not a face of any tetrahedron")]
+    DetachedFacet { facet: usize, tag: i32 },
+    #[error(transparent)]
+    Solve(#[from] SolveError),
+}
+
+impl Solid {
+    /// The dof map: the Dirichlet values interpolated at the nodes of their facets.
+    pub fn dofs(&self) -> DofMap {
+        let mut constraints = Vec::new();
+        for bc in &self.dirichlet {
+            for f in self.mesh.facets_tagged(&[bc.tag]) {
+                for &n in self.mesh.facet(f) {
+                    let g = (bc.value)(self.mesh.points[n]);
+                    constraints.extend((0..3).filter(|&a| bc.fix[a]).map(|a| (3 * n + a, g[a])));
+                }
+            }
+        }
+        DofMap::new(self.mesh.n_points(), 3, &constraints)
+    }
+
+    /// K and F on the free dofs of `dofs`, assembled in parallel over the cells.
+    pub fn assemble(&self, dofs: &DofMap, pattern: &SparsePattern) -> Result<LinearSystem, SolidError> {
+        let (mesh, p) = (&self.mesh, self.mesh.order);
+        let nb = tetrahedron::n_basis(p);
+        let stiffness = Tabulation::tetrahedron(p, 2 * p - 2);
+        let load = Tabulation::tetrahedron(p, p + 4);
+        let mut system = LinearSystem::zeros(pattern);
+        let dofs_of = |c: usize, out: &mut Vec<usize>| components_dofs::<3>(mesh.cell(c), out);
+        system.assemble(pattern, dofs, mesh.n_cells(), 3 * nb, dofs_of, |c, local| {
+            let map = TetMap::new(mesh.cell_vertices(c));
+            let material = self.materials[c];
+            let (lambda, mu) = material.lame();
+            let mut grads = vec![[0.0; 3]; stiffness.n_points() * nb];
+            kernels::stiffness(&map, &stiffness, lambda, mu, &mut grads, &mut local.matrix);
+            match &self.body {
+                SolidBody::Weight(g) => {
+                    kernels::body_load(&map, &load, |_| [0.0, 0.0, -material.density * g], &mut local.load)
+                }
+                SolidBody::Field(f) => kernels::body_load(&map, &load, |x| f(x), &mut local.load),
+            }
+        });
+        self.add_tractions(dofs, &mut system)?;
+        Ok(system)
+    }
+
+    /// F += ∫_{Γ_N} g_N · φ_i, a water pressure's facets cut at the water plane.
+    fn add_tractions(&self, dofs: &DofMap, system: &mut LinearSystem) -> Result<(), SolidError> {
+        let mesh = &self.mesh;
+        let p = mesh.order;
+        let normals = facets::outward_normals(mesh)
+            .map_err(|facet| SolidError::DetachedFacet { facet, tag: mesh.facet_tags[facet] })?;
+        let whole = [[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]];
+        let (mut phi, mut f, mut local) = (vec![0.0; lagrange::n_basis(p)], Vec::new(), Vec::new());
+        for bc in &self.neumann {
+            for facet in mesh.facets_tagged(&[bc.tag]) {
+                let v = mesh.facet_vertices(facet);
+                let (parts, degree) = match &bc.traction {
+                    SolidTraction::Constant(_) => (whole.to_vec(), p),
+                    SolidTraction::Hydrostatic { level, .. } => (facets::wet_parts(v.map(|x| level - x[2])), p + 1),
+                    SolidTraction::Field(_) => (whole.to_vec(), p + 4),
+                };
+                f.clear();
+                f.resize(3 * phi.len(), 0.0);
+                let n = normals[facet];
+                facets::traction_load(v, p, &parts, degree, |x| bc.traction.at(x, n), &mut phi, &mut f);
+                components_dofs::<3>(mesh.facet(facet), &mut local);
+                system.add_load(dofs, &local, &f);
+            }
+        }
+        Ok(())
+    }
+
+    /// Solves K u = F by sparse Cholesky.
+    pub fn solve(&self) -> Result<SolidSolution, SolidError> {
+        let dofs = self.dofs();
+        let pattern = SparsePattern::new(&self.mesh, &dofs);
+        let system = self.assemble(&dofs, &pattern)?;
+        let x = Cholesky::analyse(&pattern)?.solve(&pattern, &system.values, &system.rhs)?;
+        let u = dofs.expand(&x);
+        Ok(SolidSolution {
+            displacement: u.chunks_exact(3).map(|u| [u[0], u[1], u[2]]).collect(),
+            unknowns: dofs.n_free,
+            nonzeros: pattern.nnz(),
+        })
+    }
+
+    /// The cell means of σ(u_h) in Voigt order: σ(u_h) is affine on a cell for p ≤ 2, so its
+    /// mean is its value at the centroid.
+    pub fn cell_stress(&self, u: &[Vector3]) -> Vec<[f64; 6]> {
+        let mesh = &self.mesh;
+        let mut grads = vec![[0.0; 3]; tetrahedron::n_basis(mesh.order)];
+        (0..mesh.n_cells())
+            .map(|c| {
+                let map = TetMap::new(mesh.cell_vertices(c));
+                let nodal: Vec<Vector3> = mesh.cell(c).iter().map(|&n| u[n]).collect();
+                let g = kernels::displacement_gradient(&map, mesh.order, [0.25; 3], &nodal, &mut grads);
+                let (lambda, mu) = self.materials[c].lame();
+                kernels::stress(g, lambda, mu)
+            })
+            .collect()
+    }
+}

@@ -1,0 +1,47 @@
+//! The tetrahedral mesh of a solid: its cells' vertices, volumes and sizes, and their
+//! orientation.
+
+use super::Mesh;
+use crate::geometry::tetrahedron::{signed_volume, EDGES};
+use crate::geometry::{distance3, Point3};
+
+impl Mesh<3> {
+    /// Vertex coordinates of cell `c`.
+    pub fn cell_vertices(&self, c: usize) -> [Point3; 4] {
+        let n = self.cell(c);
+        std::array::from_fn(|k| self.points[n[k]])
+    }
+
+    /// Vertex coordinates of boundary facet `f`.
+    pub fn facet_vertices(&self, f: usize) -> [Point3; 3] {
+        let n = self.facet(f);
+        std::array::from_fn(|k| self.points[n[k]])
+    }
+
+    /// Signed volume of cell `c` (positive for a positively oriented cell).
+    pub fn cell_volume(&self, c: usize) -> f64 {
+        signed_volume(self.cell_vertices(c))
+    }
+
+    /// Diameter h_T of cell `c` (its longest edge).
+    pub fn cell_diameter(&self, c: usize) -> f64 {
+        let v = self.cell_vertices(c);
+        EDGES.iter().map(|&[i, j]| distance3(v[i], v[j])).fold(0.0, f64::max)
+    }
+
+    /// Reorders every cell to a positive orientation (gmsh may hand out either).
+    pub fn orient_positively(&mut self) {
+        let n = self.nodes_per_cell();
+        for c in 0..self.n_cells() {
+            if self.cell_volume(c) < 0.0 {
+                let cell = &mut self.cell_nodes[c * n..(c + 1) * n];
+                // swap vertices 1 and 2: edges 01 ↔ 20 and 31 ↔ 32 swap, 12 and 30 stay
+                cell.swap(1, 2);
+                if n == 10 {
+                    cell.swap(4, 6);
+                    cell.swap(8, 9);
+                }
+            }
+        }
+    }
+}
