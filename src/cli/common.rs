@@ -1,7 +1,7 @@
 //! Options and steps shared by the subcommands.
 
 use crate::contact::PathPoint;
-use crate::io::gmsh;
+use crate::io::gmsh::{self, AnyMesh};
 use crate::io::input::check_regular;
 use crate::mesh::midpoints::elevate_to_p2;
 use crate::mesh::Mesh;
@@ -105,18 +105,41 @@ impl Input {
     /// Meshes the scene's geometry (or reads its .msh, at the degree of `--order` if given).
     pub fn mesh(&self, scene: &Scene) -> Result<Mesh> {
         let geometry = &scene.geometry;
-        let mesh = if geometry.extension().is_some_and(|e| e == "msh") {
-            let order = match self.order {
-                Some(order) => Some((order, format!("--order {order}"))),
-                None => scene
-                    .given_order()
-                    .map(|order| (order, format!("{}: mesh.order = {order}", scene.source.display()))),
-            };
-            at_order(gmsh::read_msh(geometry, self.verbose)?, order, geometry)?
+        let mesh = if is_msh(geometry) {
+            at_order(gmsh::read_msh(geometry, self.verbose)?, self.msh_order(scene), geometry)?
         } else {
             gmsh::mesh_geo(geometry, &scene.mesh_options(), self.verbose, self.allow_system_calls)?
         };
         Ok(mesh)
+    }
+
+    /// The degree asked of a .msh: `--order`, or the scene's `mesh.order`, with what asked it.
+    fn msh_order(&self, scene: &Scene) -> Option<(usize, String)> {
+        match self.order {
+            Some(order) => Some((order, format!("--order {order}"))),
+            None => scene.given_order().map(|order| (order, format!("{}: mesh.order = {order}", scene.source.display()))),
+        }
+    }
+
+    /// Meshes the scene's geometry (or reads its .msh) in its dimension: a plane mesh as
+    /// [`Input::mesh`] gives it, or a solid's, which a mesh file gives at its own degree.
+    pub fn model(&self, scene: &Scene) -> Result<AnyMesh> {
+        let geometry = &scene.geometry;
+        if !is_msh(geometry) {
+            return Ok(gmsh::mesh_geo_any(geometry, &scene.mesh_options(), self.verbose, self.allow_system_calls)?);
+        }
+        match gmsh::read_msh_any(geometry, self.verbose)? {
+            AnyMesh::Plane(mesh) => Ok(AnyMesh::Plane(at_order(mesh, self.msh_order(scene), geometry)?)),
+            AnyMesh::Solid(mesh) => match self.msh_order(scene) {
+                Some((order, by)) if order != mesh.order => anyhow::bail!(
+                    "{by}: {} holds degree-{} tetrahedra, which damfem does not raise or lower; mesh the .geo at \
+                     degree {order} instead",
+                    geometry.display(),
+                    mesh.order
+                ),
+                _ => Ok(AnyMesh::Solid(mesh)),
+            },
+        }
     }
 
     /// `scene` with the crack s₀ of its state before the earthquake where a seismic crack rule
@@ -155,6 +178,10 @@ impl Input {
 /// or the key): a degree-1 mesh is raised to degree 2 as gmsh raises it (a node at the middle
 /// of every straight edge, see [`elevate_to_p2`]); lowering, which would drop the file's
 /// midpoint nodes, is refused.
+fn is_msh(path: &Path) -> bool {
+    path.extension().is_some_and(|e| e == "msh")
+}
+
 fn at_order(mesh: Mesh, order: Option<(usize, String)>, path: &Path) -> Result<Mesh> {
     match order {
         None => Ok(mesh),

@@ -2,9 +2,11 @@
 
 use super::common::{remove_earlier_outputs, stem, Input, Output};
 use crate::io::atomic::Provisional;
-use crate::io::gmsh;
+use crate::io::gmsh::{self, AnyMesh};
 use crate::io::vtu::{write_boundary_vtu, write_mesh_vtu};
+use crate::mesh::Mesh;
 use anyhow::Result;
+use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -38,21 +40,32 @@ pub fn run(args: Args) -> Result<()> {
                 input.allow_system_calls,
             )?)
         },
-        |m| format!("{} nodes, {} cells, P{}", m.n_points(), m.n_cells(), m.order),
+        AnyMesh::describe,
     )?;
     // the .msh and the .vtu files are removed again if a later one fails
     let mut provisional = Provisional::default();
     provisional.add(&msh);
     let mut written = vec![msh.clone(), dir.join(format!("{name}_mesh.vtu"))];
-    write_mesh_vtu(&written[1], &mesh, &[], &[])?;
-    provisional.add(&written[1]);
     if scene.output.boundary {
         written.push(dir.join(format!("{name}_boundary.vtu")));
-        write_boundary_vtu(&written[2], &mesh, &[], &[])?;
-        provisional.add(&written[2]);
+    }
+    match &mesh {
+        AnyMesh::Plane(mesh) => write_vtus(mesh, &written[1..], &mut provisional)?,
+        AnyMesh::Solid(mesh) => write_vtus(mesh, &written[1..], &mut provisional)?,
     }
     remove_earlier_outputs(&dir, &name, &written)?;
     provisional.keep();
     progress.result(&msh.display().to_string());
+    Ok(())
+}
+
+/// The mesh's cells to `files[0]` and, if named, its boundary facets to `files[1]`.
+fn write_vtus<const D: usize>(mesh: &Mesh<D>, files: &[PathBuf], provisional: &mut Provisional) -> Result<()> {
+    write_mesh_vtu(&files[0], mesh, &[], &[])?;
+    provisional.add(&files[0]);
+    if let Some(boundary) = files.get(1) {
+        write_boundary_vtu(boundary, mesh, &[], &[])?;
+        provisional.add(boundary);
+    }
     Ok(())
 }

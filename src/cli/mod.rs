@@ -16,6 +16,7 @@ mod mesh;
 mod output;
 mod safety;
 mod settings;
+mod solid;
 mod solve;
 
 use crate::adapt::AdaptError;

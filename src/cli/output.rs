@@ -73,6 +73,16 @@ pub const UNITS: Units = Units {
     time: "s",
 };
 
+/// The units of the JSON files of a solid: SI, forces in newtons.
+pub const SOLID_UNITS: Units = Units {
+    length: "m (coordinates, lengths, displacements, mesh sizes)",
+    stress: "Pa (stresses, pressures)",
+    force: "N",
+    residual: "N",
+    estimator: "Pa m^(3/2) (L2 norms of stresses over the solid)",
+    time: "s",
+};
+
 /// The physical names of the numeric tags of the VTU files: `material` (cells) and
 /// `physical_tag` (boundary facets).
 #[derive(Serialize)]
@@ -82,9 +92,9 @@ pub struct TagNames {
 }
 
 impl TagNames {
-    pub fn new(mesh: &Mesh) -> Self {
+    pub fn new<const D: usize>(mesh: &Mesh<D>) -> Self {
         let names = |dim| mesh.groups.iter().filter(|g| g.dim == dim).map(|g| (g.tag, g.name.clone())).collect();
-        TagNames { material: names(2), physical_tag: names(1) }
+        TagNames { material: names(D as u8), physical_tag: names(D as u8 - 1) }
     }
 }
 
@@ -366,7 +376,7 @@ pub fn drain_note(curve: &str, c: &Crack) -> Option<String> {
 const HEALING: f64 = 1e-3;
 
 /// What `summary.json` says of `max_von_mises`.
-const SINGULAR_MAXIMUM: &str = "mesh-dependent where it sits at a singular point (a re-entrant corner, the end of a \
+pub const SINGULAR_MAXIMUM: &str = "mesh-dependent where it sits at a singular point (a re-entrant corner, the end of a \
      contact zone or of a support): a cell mean that grows with every refinement there";
 
 impl<T> Summary<T> {

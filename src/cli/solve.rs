@@ -4,6 +4,8 @@
 use super::common::{remove_earlier_outputs, stem, Input, Output, Progress, SolverFailed};
 use super::output::{write_results, EstimateSummary, Results, Summary, Units, UNITS};
 use super::settings::{self, Given, Setting};
+use super::solid;
+use crate::io::gmsh::AnyMesh;
 use crate::contact::{ContactError, ContactJoint, ContactSolution, Continuation, Solution, Stage};
 use crate::elasticity::stress::cell_mean_stress;
 use crate::elasticity::{Discretisation, Problem};
@@ -101,12 +103,17 @@ pub fn run(args: Args) -> Result<()> {
     }
     let scene = input.before_earthquake(scene)?;
     let dir = args.output.dir(&scene)?;
-    let (mesh, t) = progress.stage(
-        "mesh",
-        || input.mesh(&scene),
-        |m| format!("{} nodes, {} cells, P{}", m.n_points(), m.n_cells(), m.order),
-    )?;
+    let (mesh, t) = progress.stage("mesh", || input.model(&scene), AnyMesh::describe)?;
     seconds.mesh = t;
+    let mesh = match mesh {
+        AnyMesh::Plane(mesh) => mesh,
+        AnyMesh::Solid(mesh) => {
+            if let Some(flag) = plane_only_flag(&args) {
+                anyhow::bail!("{flag}: {} is a solid (it has volumes), which has no contact or error estimate yet; leave the flag out", scene.geometry.display());
+            }
+            return solid::solve(&scene, mesh, t, &dir, &progress);
+        }
+    };
     // 2. Problem: the elasticity problem, its contact joint, dofs and pattern
     let (problem, joint) = match scene.problem(mesh) {
         Ok(problem) => problem,
@@ -185,6 +192,21 @@ pub fn run(args: Args) -> Result<()> {
         progress.result(&line);
     }
     Ok(())
+}
+
+/// The first flag of contact or of the estimate given, which a solid has no use for yet.
+fn plane_only_flag(args: &Args) -> Option<&'static str> {
+    let values = [args.gamma0, args.theta, args.delta, args.friction, args.cohesion, args.threshold];
+    let names = ["--gamma0", "--theta", "--delta", "--friction", "--cohesion", "--threshold"];
+    let switches = [
+        (args.semismooth, "--semismooth"),
+        (args.strength_reduction, "--strength-reduction"),
+        (args.estimate, "--estimate"),
+        (args.check_equilibration, "--check-equilibration"),
+        (args.effectivity, "--effectivity"),
+    ];
+    (names.iter().zip(values).find(|(_, v)| v.is_some()).map(|(n, _)| *n))
+        .or_else(|| switches.iter().find(|s| s.0).map(|s| s.1))
 }
 
 /// The strength reduction from the contact solution `start` at k = 1, with its wall time.

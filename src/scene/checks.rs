@@ -18,6 +18,9 @@ use std::path::Path;
 /// Scene keys that hold a plane vector [x, y].
 const VECTOR_KEYS: [&str; 6] = ["traction", "value", "gap_gradient", "direction", "acceleration", "heel"];
 
+/// The vector keys a solid's scene gives with three components.
+const SOLID_VECTOR_KEYS: [&str; 2] = ["traction", "value"];
+
 /// The tensile strengths \[Pa\] of a bond below and above which the scene is warned of its
 /// unit: 10 kPa to 10 MPa.
 const TENSILE_STRENGTHS: [f64; 2] = [1e4, 1e7];
@@ -56,10 +59,16 @@ fn check_value(value: &toml::Value, key: &str) -> Result<(), String> {
     }
 }
 
-/// A plane-vector key `name` (full key `key`) must hold exactly two numbers.
+/// A vector key `name` (full key `key`) must hold two numbers, or three where a solid has the
+/// key (`traction`, `value`: their count is checked against the geometry later).
 fn check_vector(value: &toml::Value, name: &str, key: &str) -> Result<(), String> {
     match value {
-        toml::Value::Array(items) if VECTOR_KEYS.contains(&name) && items.len() != 2 => {
+        toml::Value::Array(items) if SOLID_VECTOR_KEYS.contains(&name) && !(2..=3).contains(&items.len()) => Err(
+            format!("{key} has {} components; a vector has two, [x, y], or three in a solid, [x, y, z]", items.len()),
+        ),
+        toml::Value::Array(items)
+            if VECTOR_KEYS.contains(&name) && !SOLID_VECTOR_KEYS.contains(&name) && items.len() != 2 =>
+        {
             Err(format!("{key} has {} components; a plane vector has two, [x, y]", items.len()))
         }
         _ => Ok(()),
@@ -153,19 +162,21 @@ impl Scene {
                     "boundary.{name}.hydrostatic needs loads.gravity > 0: its pressure rho_w g (level - y) vanishes at g = 0"
                 )));
             }
-            let free = match b.fix {
-                Fix::Both => None,
-                Fix::X => Some(("x", 1)),
-                Fix::Y => Some(("y", 0)),
+            let fixed = match b.fix {
+                Fix::All => None,
+                Fix::X => Some(("x", 0)),
+                Fix::Y => Some(("y", 1)),
+                Fix::Z => Some(("z", 2)),
             };
-            if let Some((fixed, k)) = free.filter(|&(_, k)| b.value[k] != 0.0) {
+            let free = (0..b.value.count()).find(|&k| fixed.is_some_and(|(_, f)| f != k) && b.value.at(k) != 0.0);
+            if let Some(((fixed, _), k)) = fixed.zip(free) {
                 return Err(self.invalid(format!(
-                    "boundary '{name}': fix = \"{fixed}\" leaves the other component free, so value[{k}] = {} has no \
-                     effect; set it to 0 or fix both",
-                    b.value[k]
+                    "boundary '{name}': fix = \"{fixed}\" leaves the other components free, so value[{k}] = {} has no \
+                     effect; set it to 0 or fix all",
+                    b.value.at(k)
                 )));
             }
-            if b.role != Role::Dirichlet && (b.fix != Fix::Both || b.value != [0.0; 2]) {
+            if b.role != Role::Dirichlet && (b.fix != Fix::All || !b.value.is_zero()) {
                 return Err(self.invalid(format!(
                     "boundary '{name}': fix and value prescribe a displacement and need role = \"dirichlet\", not {}",
                     role_name(b.role)

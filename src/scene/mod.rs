@@ -23,11 +23,12 @@ mod joints;
 mod nested;
 mod problem;
 mod sections;
+mod solid;
 mod validate;
 
 pub use joints::JointSection;
 pub use sections::{
-    BoundarySection, ContactSection, CrackKind, DrainsSection, Fix, Hydrostatic, IceSection, LoadSection, MeshSection,
+    BoundarySection, Components, ContactSection, CrackKind, DrainsSection, Fix, Hydrostatic, IceSection, LoadSection, MeshSection,
     OutputSection, ProjectionKind, Role, SafetySection, SiltSection, UpliftSection,
 };
 

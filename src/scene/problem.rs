@@ -1,7 +1,7 @@
 //! The finite-element problem of a scene on a mesh: boundary roles, materials, loads, the
 //! contact joint with its uplift diagrams and Westergaard's pressure, and the sliding plane.
 
-use super::sections::{BoundarySection, Fix, Role, UpliftSection};
+use super::sections::{BoundarySection, Components, Fix, Role, UpliftSection};
 use super::{list, Scene, SceneError};
 use crate::adapt::{AdaptError, Model};
 use crate::contact::nitsche::{Gap, Nitsche, NitscheParameters};
@@ -22,18 +22,19 @@ const HEEL_TOLERANCE: f64 = 1e-3;
 impl Scene {
     /// Boundary roles by physical-curve tag: the scene's tables, or the naming convention
     /// when the scene has none.
-    pub fn roles(&self, mesh: &Mesh) -> Result<Vec<(i32, String, BoundarySection)>, SceneError> {
+    pub fn roles<const D: usize>(&self, mesh: &Mesh<D>) -> Result<Vec<(i32, String, BoundarySection)>, SceneError> {
+        let facets = D as u8 - 1;
         if self.boundary.is_empty() {
             return Ok(mesh
                 .groups
                 .iter()
-                .filter(|g| g.dim == 1)
+                .filter(|g| g.dim == facets)
                 .filter_map(|g| {
                     conventional_role(&g.name).map(|role| {
                         let section = BoundarySection {
                             role,
-                            fix: Fix::Both,
-                            value: [0.0; 2],
+                            fix: Fix::All,
+                            value: Components::default(),
                             traction: None,
                             hydrostatic: None,
                             silt: None,
@@ -46,25 +47,31 @@ impl Scene {
         }
         self.boundary
             .iter()
-            .map(|(name, b)| Ok((self.group_tag(mesh, 1, name, "boundary")?, name.clone(), b.clone())))
+            .map(|(name, b)| Ok((self.group_tag(mesh, facets, name, "boundary")?, name.clone(), b.clone())))
             .collect()
     }
 
-    pub(super) fn group_tag(&self, mesh: &Mesh, dim: u8, name: &str, what: &'static str) -> Result<i32, SceneError> {
+    pub(super) fn group_tag<const D: usize>(
+        &self,
+        mesh: &Mesh<D>,
+        dim: u8,
+        name: &str,
+        what: &'static str,
+    ) -> Result<i32, SceneError> {
         mesh.group(dim, name).map(|g| g.tag).ok_or_else(|| SceneError::UnknownGroup {
             path: self.source.clone(),
             what,
             name: name.into(),
-            kind: if dim == 1 { "curve" } else { "surface" },
+            kind: ["point", "curve", "surface", "volume"][usize::from(dim).min(3)],
             available: list(&mesh.group_names(dim)),
         })
     }
 
     /// Material of every cell: by region name, the default for unnamed regions.
-    pub fn cell_materials(&self, mesh: &Mesh) -> Result<Vec<Material>, SceneError> {
+    pub fn cell_materials<const D: usize>(&self, mesh: &Mesh<D>) -> Result<Vec<Material>, SceneError> {
         let mut by_tag = BTreeMap::new();
         for (name, m) in &self.materials {
-            by_tag.insert(self.group_tag(mesh, 2, name, "material")?, *m);
+            by_tag.insert(self.group_tag(mesh, D as u8, name, "material")?, *m);
         }
         Ok(mesh.cell_tags.iter().map(|t| *by_tag.get(t).unwrap_or(&Self::DEFAULT_MATERIAL)).collect())
     }
@@ -101,6 +108,7 @@ impl Scene {
     /// curves of role "contact" or joints). The nodes of every joint curve are split between
     /// its two sides first.
     pub fn problem(&self, mut mesh: Mesh) -> Result<(Problem, Option<ContactJoint>), SceneError> {
+        self.check_dimension(2)?;
         self.check_boundaries(&mesh)?;
         let interfaces = self.split_joints(&mut mesh)?;
         let roles = self.roles(&mesh)?;
@@ -110,12 +118,8 @@ impl Scene {
         for (tag, _, b) in &roles {
             match b.role {
                 Role::Dirichlet => {
-                    let value = b.value;
-                    let fix = match b.fix {
-                        Fix::Both => [true, true],
-                        Fix::X => [true, false],
-                        Fix::Y => [false, true],
-                    };
+                    let value = b.value.vector();
+                    let fix = b.fix.components().expect("check_dimension refuses fix = \"z\" in the plane");
                     dirichlet.push(Dirichlet { tag: *tag, fix, value: Arc::new(move |_| value) });
                 }
                 Role::Neumann => neumann.push(Neumann { tag: *tag, traction: b.traction(g) }),

@@ -43,10 +43,55 @@ pub enum Role {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
 #[serde(rename_all = "lowercase")]
 pub enum Fix {
+    /// Every component ("both" in the plane).
     #[default]
-    Both,
+    #[serde(alias = "both")]
+    All,
     X,
     Y,
+    /// The vertical component of a solid.
+    Z,
+}
+
+impl Fix {
+    /// The fixed components of a D-dimensional displacement; None: z in the plane.
+    pub fn components<const D: usize>(self) -> Option<[bool; D]> {
+        let one = |k: usize| (k < D).then(|| std::array::from_fn(|a| a == k));
+        match self {
+            Fix::All => Some([true; D]),
+            Fix::X => one(0),
+            Fix::Y => one(1),
+            Fix::Z => one(2),
+        }
+    }
+}
+
+/// A vector of a scene file: \[x, y\] in a plane scene, \[x, y, z\] in a solid one; the
+/// geometry decides which ([`Scene::check_dimension`](super::Scene::check_dimension) checks
+/// the count). Not given: 0.
+#[derive(Debug, Clone, PartialEq, Default, Deserialize)]
+#[serde(transparent)]
+pub struct Components(Vec<f64>);
+
+impl Components {
+    /// The number of components given.
+    pub fn count(&self) -> usize {
+        self.0.len()
+    }
+
+    /// The vector of dimension N.
+    pub fn vector<const N: usize>(&self) -> [f64; N] {
+        std::array::from_fn(|k| self.0.get(k).copied().unwrap_or(0.0))
+    }
+
+    /// Component k (0 beyond those given).
+    pub fn at(&self, k: usize) -> f64 {
+        self.0.get(k).copied().unwrap_or(0.0)
+    }
+
+    pub fn is_zero(&self) -> bool {
+        self.0.iter().all(|&x| x == 0.0)
+    }
 }
 
 /// Water pressure ρ_w g (H_w − y)₊ along −n; g is the scene's gravity.
@@ -69,14 +114,14 @@ fn water_density() -> f64 {
 #[serde(deny_unknown_fields)]
 pub struct BoundarySection {
     pub role: Role,
-    /// Dirichlet: fixed components (default both).
+    /// Dirichlet: fixed components (default all).
     #[serde(default)]
     pub fix: Fix,
     /// Dirichlet: prescribed displacement \[m\] (default 0).
     #[serde(default)]
-    pub value: Vector,
+    pub value: Components,
     /// Neumann: constant traction \[Pa\].
-    pub traction: Option<Vector>,
+    pub traction: Option<Components>,
     /// Neumann: hydrostatic water pressure.
     pub hydrostatic: Option<Hydrostatic>,
     /// Neumann: silt against the face, beside the water.
@@ -115,9 +160,9 @@ pub struct IceSection {
 impl BoundarySection {
     /// g_N of a Neumann curve under gravity `g`: its traction or water, with its silt and ice.
     pub(super) fn traction(&self, g: f64) -> Traction {
-        let main = match (self.traction, self.hydrostatic) {
+        let main = match (&self.traction, self.hydrostatic) {
             (_, Some(h)) => Some(Traction::Hydrostatic { density: h.density, gravity: g, level: h.level }),
-            (Some(t), None) => Some(Traction::Constant(t)),
+            (Some(t), None) => Some(Traction::Constant(t.vector())),
             (None, None) => None,
         };
         let silt = self.silt.map(|s| Traction::Silt { gradient: s.coefficient * s.density * g, level: s.level });

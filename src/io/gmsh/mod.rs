@@ -49,6 +49,23 @@ pub use size_field::SizeField;
 use crate::mesh::Mesh;
 use std::path::Path;
 
+/// The mesh of a model, of the plane or of space as the model has no volumes or has some.
+#[derive(Debug, Clone)]
+pub enum AnyMesh {
+    Plane(Mesh),
+    Solid(Mesh<3>),
+}
+
+impl AnyMesh {
+    /// "n nodes, m cells, Pp" (with "tetrahedra" in space).
+    pub fn describe(&self) -> String {
+        match self {
+            AnyMesh::Plane(m) => format!("{} nodes, {} cells, P{}", m.n_points(), m.n_cells(), m.order),
+            AnyMesh::Solid(m) => format!("3-D: {} nodes, {} tetrahedra, P{}", m.n_points(), m.n_cells(), m.order),
+        }
+    }
+}
+
 /// How gmsh meshes a geometry.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MeshOptions {
@@ -108,10 +125,20 @@ pub fn remesh_geo_side(
     allow_system_calls: bool,
 ) -> Result<Mesh, GmshError> {
     let size = |session: &mut Session| session.set_side_size_field(field, joints, side, own);
-    generated(path, options, size, verbose, allow_system_calls)?.mesh()
+    generated(path, options, size, verbose, allow_system_calls, false)?.mesh()
 }
 
-/// Meshes the `.geo` file `path` like [`mesh_geo`] and also saves gmsh's mesh file `msh`
+/// Meshes the `.geo` file `path` in its dimension (3 if it has volumes) and reads the mesh.
+pub fn mesh_geo_any(
+    path: &Path,
+    options: &MeshOptions,
+    verbose: bool,
+    allow_system_calls: bool,
+) -> Result<AnyMesh, GmshError> {
+    generated(path, options, |_| Ok(()), verbose, allow_system_calls, true)?.any_mesh()
+}
+
+/// Meshes the `.geo` file `path` like [`mesh_geo_any`] and also saves gmsh's mesh file `msh`
 /// (format from its extension), written under a hidden name and renamed, so that a failed
 /// write leaves no partial file.
 pub fn save_geo_mesh(
@@ -120,9 +147,9 @@ pub fn save_geo_mesh(
     msh: &Path,
     verbose: bool,
     allow_system_calls: bool,
-) -> Result<Mesh, GmshError> {
-    let mut session = generated(path, options, |_| Ok(()), verbose, allow_system_calls)?;
-    let mesh = session.mesh()?;
+) -> Result<AnyMesh, GmshError> {
+    let mut session = generated(path, options, |_| Ok(()), verbose, allow_system_calls, true)?;
+    let mesh = session.any_mesh()?;
     let file = msh.file_name().map_or_else(|| "mesh.msh".into(), |f| f.to_string_lossy().into_owned());
     let partial = msh.with_file_name(format!(".{}.{file}", std::process::id()));
     let written = session.write(&partial).and_then(|()| check_written(&partial, msh)).and_then(|()| {
@@ -162,33 +189,47 @@ fn mesh_geo_with(
     allow_system_calls: bool,
 ) -> Result<Mesh, GmshError> {
     let size = |session: &mut Session| field.map_or(Ok(()), |field| session.set_size_field(field));
-    generated(path, options, size, verbose, allow_system_calls)?.mesh()
+    generated(path, options, size, verbose, allow_system_calls, false)?.mesh()
 }
 
-/// A session holding the 2D mesh of the `.geo` file `path`, with the mesh sizes that `size`
-/// sets once the file is open.
+/// A session holding the mesh of the `.geo` file `path` in its dimension, with the mesh
+/// sizes that `size` sets once the file is open; unless `solid`, a model with volumes is
+/// refused before it is meshed.
 fn generated(
     path: &Path,
     options: &MeshOptions,
     size: impl FnOnce(&mut Session) -> Result<(), GmshError>,
     verbose: bool,
     allow_system_calls: bool,
+    solid: bool,
 ) -> Result<Session, GmshError> {
     let _deadline = limits::Deadline::start(path);
     let mut session = Session::new(verbose)?;
     session.open_geo(path, allow_system_calls)?;
+    if !solid && session.dimension() == 3 {
+        return Err(GmshError::Limit { path: path.into(), reason: session::SOLID_REFUSED.into() });
+    }
     session.set_options(options)?;
     size(&mut session)?;
     session.generate()?;
     Ok(session)
 }
 
-/// Reads the gmsh mesh file `path` (`.msh`).
+/// Reads the gmsh mesh file `path` (`.msh`) of a plane model.
 pub fn read_msh(path: &Path, verbose: bool) -> Result<Mesh, GmshError> {
+    opened_msh(path, verbose)?.mesh()
+}
+
+/// Reads the gmsh mesh file `path` (`.msh`) in its dimension.
+pub fn read_msh_any(path: &Path, verbose: bool) -> Result<AnyMesh, GmshError> {
+    opened_msh(path, verbose)?.any_mesh()
+}
+
+fn opened_msh(path: &Path, verbose: bool) -> Result<Session, GmshError> {
     let _deadline = limits::Deadline::start(path);
     let mut session = Session::new(verbose)?;
     session.open_msh(path)?;
-    session.mesh()
+    Ok(session)
 }
 
 #[cfg(test)]

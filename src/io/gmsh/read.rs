@@ -77,6 +77,8 @@ fn folded_edge(mesh: &Mesh) -> Option<[Point; 2]> {
 #[derive(Default)]
 struct Elements {
     order: Option<usize>,
+    /// Nodes per element.
+    stride: usize,
     /// Node tags, element after element.
     nodes: Vec<usize>,
     /// Physical tag of each element.
@@ -101,6 +103,7 @@ fn elements(dim: i32, cells: bool, source: &Path) -> Result<Elements, GmshError>
             if *elements.order.get_or_insert(order) != order {
                 return Err(GmshError::MixedOrder { path: source.into() });
             }
+            elements.stride = n;
             let nodes = api::element_nodes(element_type, entity)?;
             elements.nodes.extend_from_slice(nodes.as_slice());
             let count = nodes.as_slice().len() / n;
@@ -192,7 +195,7 @@ impl<const D: usize> Numbering<D> {
 
     /// Facet connectivity in the numbering of the cells.
     fn facets(&self, facets: &Elements, groups: &[PhysicalGroup], source: &Path) -> Result<Vec<usize>, GmshError> {
-        let n = facets.order.map_or(1, |o| o + 1);
+        let n = facets.stride.max(1);
         let mut nodes = Vec::with_capacity(facets.nodes.len());
         for (facet, &tag) in facets.nodes.chunks(n).zip(&facets.tags) {
             for node in facet {

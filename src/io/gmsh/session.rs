@@ -253,6 +253,14 @@ impl Session {
         read::mesh(&self.source, self.meshed)
     }
 
+    /// Reads the current mesh in the model's dimension.
+    pub fn any_mesh(&self) -> Result<super::AnyMesh, GmshError> {
+        Ok(match self.dimension {
+            3 => super::AnyMesh::Solid(self.solid_mesh()?),
+            _ => super::AnyMesh::Plane(self.mesh()?),
+        })
+    }
+
     /// Reads the current mesh of a model with volumes: 4-node or 10-node tetrahedra of every
     /// volume, tagged with its first physical group, and the 3-node or 6-node triangles of the
     /// surfaces of each physical surface group; cells positively oriented.

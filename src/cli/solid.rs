@@ -1,0 +1,159 @@
+//! `damfem solve` on a solid (a geometry with volumes): assemble and solve its elasticity,
+//! write `<name>.vtu` (tetrahedra), `<name>_boundary.vtu` (triangles) and `summary.json`.
+
+use super::common::{remove_earlier_outputs, stem, Progress};
+use super::output::{TagNames, Units, SINGULAR_MAXIMUM, SOLID_UNITS};
+use crate::elasticity::solid::kernels::{principal, von_mises};
+use crate::elasticity::solid::{Solid, SolidSolution};
+use crate::geometry::{norm3, Point3, Vector3};
+use crate::io::atomic::{write_output, Provisional};
+use crate::io::vtu::{write_boundary_vtu, write_mesh_vtu, Field};
+use crate::mesh::Mesh;
+use crate::scene::Scene;
+use anyhow::Result;
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// What `summary.json` records of a solid's solution.
+#[derive(Serialize)]
+struct SolidSummary {
+    units: Units,
+    scene: PathBuf,
+    dimension: usize,
+    order: usize,
+    nodes: usize,
+    cells: usize,
+    unknowns: usize,
+    free_unknowns: usize,
+    matrix_nonzeros: usize,
+    max_displacement: f64,
+    max_displacement_at: Point3,
+    max_von_mises: f64,
+    /// The centroid of the cell of `max_von_mises`, and what that value is worth.
+    max_von_mises_at: Point3,
+    max_von_mises_note: &'static str,
+    min_principal_stress: f64,
+    max_principal_stress: f64,
+    seconds: Seconds,
+    files: Vec<PathBuf>,
+    tags: TagNames,
+}
+
+#[derive(Serialize)]
+struct Seconds {
+    mesh: f64,
+    solve: f64,
+    output: f64,
+}
+
+/// Solves the solid of `scene` on `mesh` (meshed in `mesh_seconds`) and writes its files to `dir`.
+pub fn solve(scene: &Scene, mesh: Mesh<3>, mesh_seconds: f64, dir: &Path, progress: &Progress) -> Result<()> {
+    let solid = scene.solid(mesh)?;
+    let (solution, solve_seconds) = progress.stage(
+        "solve",
+        || Ok(solid.solve()?),
+        |s: &SolidSolution| format!("{} unknowns, {} nonzeros", s.unknowns, s.nonzeros),
+    )?;
+    let u = &solution.displacement;
+    let sigma = solid.cell_stress(u);
+    let name = stem(&scene.source);
+    let mut provisional = Provisional::default();
+    let (files, output_seconds) = progress.stage(
+        "output",
+        || write_files(dir, &name, scene, &solid.mesh, u, &sigma, &mut provisional),
+        |f| format!("{} files in {}", f.len(), dir.display()),
+    )?;
+    let seconds = Seconds { mesh: mesh_seconds, solve: solve_seconds, output: output_seconds };
+    let summary = SolidSummary::new(scene, &solid, &solution, &sigma, files.clone(), seconds);
+    let json = dir.join("summary.json");
+    write_output(&json, serde_json::to_string_pretty(&summary)?.as_bytes())?;
+    provisional.add(&json);
+    remove_earlier_outputs(dir, &name, &[files, vec![json]].concat())?;
+    provisional.keep();
+    progress.say(&format!("results in {}", dir.display()));
+    progress.result(&format!(
+        "max |u| = {:.4e} m at ({:.3}, {:.3}, {:.3})",
+        summary.max_displacement,
+        summary.max_displacement_at[0],
+        summary.max_displacement_at[1],
+        summary.max_displacement_at[2]
+    ));
+    Ok(())
+}
+
+/// The cell fields of the stresses: the six components, von Mises and the principal stresses.
+fn stress_fields(sigma: &[[f64; 6]]) -> Vec<Field> {
+    const NAMES: [&str; 6] = ["sigma_xx", "sigma_yy", "sigma_zz", "sigma_yz", "sigma_xz", "sigma_xy"];
+    let principal: Vec<[f64; 3]> = sigma.iter().map(|&s| principal(s)).collect();
+    let mut fields: Vec<Field> =
+        NAMES.iter().enumerate().map(|(k, n)| Field::scalar(*n, "Pa", sigma.iter().map(|s| s[k]).collect())).collect();
+    fields.push(Field::scalar("von_mises", "Pa", sigma.iter().map(|&s| von_mises(s)).collect()));
+    for (k, n) in ["sigma_1", "sigma_2", "sigma_3"].iter().enumerate() {
+        fields.push(Field::scalar(*n, "Pa", principal.iter().map(|p| p[k]).collect()));
+    }
+    fields
+}
+
+/// Writes `<name>.vtu` and, as the scene asks, `<name>_boundary.vtu`, each added to `written`.
+fn write_files(
+    dir: &Path,
+    name: &str,
+    scene: &Scene,
+    mesh: &Mesh<3>,
+    u: &[Vector3],
+    sigma: &[[f64; 6]],
+    written: &mut Provisional,
+) -> Result<Vec<PathBuf>> {
+    let mut files = vec![dir.join(format!("{name}.vtu"))];
+    let displacement = [Field::vector3("displacement", "m", u.to_vec())];
+    write_mesh_vtu(&files[0], mesh, &displacement, &stress_fields(sigma))?;
+    written.add(&files[0]);
+    if scene.output.boundary {
+        files.push(dir.join(format!("{name}_boundary.vtu")));
+        write_boundary_vtu(&files[1], mesh, &displacement, &[])?;
+        written.add(&files[1]);
+    }
+    Ok(files)
+}
+
+impl SolidSummary {
+    fn new(
+        scene: &Scene,
+        solid: &Solid,
+        solution: &SolidSolution,
+        sigma: &[[f64; 6]],
+        files: Vec<PathBuf>,
+        seconds: Seconds,
+    ) -> Self {
+        let mesh = &solid.mesh;
+        let u = &solution.displacement;
+        let largest = |values: &mut dyn Iterator<Item = f64>| {
+            values.enumerate().fold((0, f64::NEG_INFINITY), |best, (k, v)| if v > best.1 { (k, v) } else { best })
+        };
+        let (node, max_u) = largest(&mut u.iter().map(|&v| norm3(v)));
+        let (peak, max_vm) = largest(&mut sigma.iter().map(|&s| von_mises(s)));
+        let principal: Vec<[f64; 3]> = sigma.iter().map(|&s| principal(s)).collect();
+        let v = mesh.cell_vertices(peak);
+        SolidSummary {
+            units: SOLID_UNITS,
+            scene: scene.source.clone(),
+            dimension: 3,
+            order: mesh.order,
+            nodes: mesh.n_points(),
+            cells: mesh.n_cells(),
+            unknowns: 3 * mesh.n_points(),
+            free_unknowns: solution.unknowns,
+            matrix_nonzeros: solution.nonzeros,
+            max_displacement: max_u,
+            max_displacement_at: mesh.points[node],
+            max_von_mises: max_vm,
+            max_von_mises_at: std::array::from_fn(|r| v.iter().map(|x| x[r]).sum::<f64>() / 4.0),
+            max_von_mises_note: SINGULAR_MAXIMUM,
+            min_principal_stress: principal.iter().map(|p| p[2]).fold(f64::INFINITY, f64::min),
+            max_principal_stress: principal.iter().map(|p| p[0]).fold(f64::NEG_INFINITY, f64::max),
+            seconds,
+            files,
+            tags: TagNames::new(mesh),
+        }
+    }
+}
