@@ -1,7 +1,8 @@
 //! `damfem check`: validate a scene and each of its load combinations against its geometry
 //! without solving.
 
-use super::common::Input;
+use super::common::{Input, Progress};
+use crate::io::gmsh::AnyMesh;
 use crate::contact::{ContactJoint, Uplift};
 use crate::geometry::Vector;
 use crate::mesh::Mesh;
@@ -22,11 +23,11 @@ pub fn run(args: Args) -> Result<()> {
     let input = &args.input;
     let progress = input.progress();
     let scene = input.scene()?;
-    let (mesh, _) = progress.stage(
-        "mesh",
-        || input.mesh(&scene),
-        |m| format!("{} nodes, {} cells, P{}", m.n_points(), m.n_cells(), m.order),
-    )?;
+    let (mesh, _) = progress.stage("mesh", || input.model(&scene), AnyMesh::describe)?;
+    let mesh = match mesh {
+        AnyMesh::Plane(mesh) => mesh,
+        AnyMesh::Solid(mesh) => return check_solid(&scene, mesh, &progress),
+    };
     let (problem, contact) = scene.problem(mesh.clone())?;
     let mut warnings = scene.warnings(&problem.mesh, contact.as_ref())?;
     let mut water = water_lines("scene", &scene, &problem.mesh, contact.as_ref());
@@ -68,6 +69,22 @@ pub fn run(args: Args) -> Result<()> {
     }
     for line in &water {
         progress.result(line);
+    }
+    progress.result(&format!("{}: ok", scene.source.display()));
+    Ok(())
+}
+
+/// The roles of a solid's surfaces with their areas and the materials of its volumes.
+fn check_solid(scene: &Scene, mesh: Mesh<3>, progress: &Progress) -> Result<()> {
+    let solid = scene.solid(mesh)?;
+    let mesh = &solid.mesh;
+    for (tag, name, b) in scene.roles(mesh)? {
+        progress.result(&format!("surface  {name:<20} {:?}, area {:.4}", b.role, mesh.boundary_area(tag)));
+    }
+    for g in mesh.groups.iter().filter(|g| g.dim == 3) {
+        let m = solid.materials[mesh.cell_tags.iter().position(|&t| t == g.tag).unwrap_or(0)];
+        progress
+            .result(&format!("region   {:<20} E = {:.4e}, nu = {}, rho = {}", g.name, m.young, m.poisson, m.density));
     }
     progress.result(&format!("{}: ok", scene.source.display()));
     Ok(())

@@ -2,8 +2,8 @@
 //! orientation.
 
 use super::Mesh;
-use crate::geometry::tetrahedron::{signed_volume, EDGES};
-use crate::geometry::{distance3, Point3};
+use crate::geometry::tetrahedron::{signed_volume, triangle_area_vector, EDGES};
+use crate::geometry::{distance3, norm3, Point3};
 
 impl Mesh<3> {
     /// Vertex coordinates of cell `c`.
@@ -16,6 +16,11 @@ impl Mesh<3> {
     pub fn facet_vertices(&self, f: usize) -> [Point3; 3] {
         let n = self.facet(f);
         std::array::from_fn(|k| self.points[n[k]])
+    }
+
+    /// Total area of the facets carrying physical tag `tag`.
+    pub fn boundary_area(&self, tag: i32) -> f64 {
+        self.facets_tagged(&[tag]).map(|f| norm3(triangle_area_vector(self.facet_vertices(f)))).sum()
     }
 
     /// Signed volume of cell `c` (positive for a positively oriented cell).

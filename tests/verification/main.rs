@@ -16,6 +16,7 @@ mod friction;
 mod full_steps;
 mod hertz;
 mod stability;
+mod solid;
 mod two_body;
 mod two_body_estimate;
 mod two_body_hertz;

@@ -1,0 +1,162 @@
+//! The solid (tetrahedra, P1 and P2) against exact solutions and fitted rates, on gmsh's
+//! unstructured meshes of geo/block3d.geo (2 m × 1 m × 1 m).
+
+use crate::common::fitted_rate;
+use damfem::elasticity::solid::kernels::displacement_gradient;
+use damfem::elasticity::solid::{Solid, SolidBody, SolidDirichlet, SolidNeumann};
+use damfem::elasticity::Material;
+use damfem::fem::tabulate::Tabulation;
+use damfem::geometry::{Point3, TetMap, Vector3};
+use damfem::io::gmsh::{mesh_geo_any, AnyMesh, MeshOptions};
+use damfem::mesh::Mesh;
+use damfem::scene::Scene;
+use std::path::Path;
+use std::sync::Arc;
+
+const CONCRETE: Material = Material { young: 3.0e10, poisson: 0.2, density: 2400.0 };
+
+fn block(order: usize, size_factor: f64) -> Mesh<3> {
+    let options = MeshOptions { order, size_factor, ..Default::default() };
+    match mesh_geo_any(Path::new("geo/block3d.geo"), &options, false, false).unwrap() {
+        AnyMesh::Solid(mesh) => mesh,
+        AnyMesh::Plane(_) => panic!("block3d.geo has a volume"),
+    }
+}
+
+fn tag(mesh: &Mesh<3>, name: &str) -> i32 {
+    mesh.group(2, name).unwrap_or_else(|| panic!("no surface {name}")).tag
+}
+
+fn roller(mesh: &Mesh<3>, name: &str, component: usize) -> SolidDirichlet {
+    SolidDirichlet { tag: tag(mesh, name), fix: std::array::from_fn(|a| a == component), value: Arc::new(|_| [0.0; 3]) }
+}
+
+fn max_nodal_error(mesh: &Mesh<3>, u_h: &[Vector3], u: impl Fn(Point3) -> Vector3) -> f64 {
+    let scale = mesh.points.iter().map(|&x| u(x).iter().fold(0.0f64, |m, v| m.max(v.abs()))).fold(0.0, f64::max);
+    let error = mesh.points.iter().zip(u_h).map(|(&x, uh)| (0..3).map(|a| (uh[a] - u(x)[a]).abs()).fold(0.0, f64::max));
+    error.fold(0.0, f64::max) / scale
+}
+
+/// Source: uniaxial compression, σ_zz = −q, the other stresses 0: u = (ν q x / E, ν q y / E,
+/// −q z / E), linear. The scene file geo/block3d.toml (rollers on x = 0, y = 0, z = 0; q = 1 MPa
+/// on the top), meshed by gmsh.
+/// Goal: P1 and P2 reproduce u at every node to round-off (relative 1e-12).
+/// Parameters: E = 30 GPa, ν = 0.2, the file's mesh sizes.
+#[test]
+fn a_block_under_uniform_pressure_is_exact_in_p1_and_p2() {
+    let scene = Scene::load(Path::new("geo/block3d.toml")).unwrap();
+    for order in [1, 2] {
+        let solid = scene.solid(block(order, 1.0)).unwrap();
+        let solution = solid.solve().unwrap();
+        let strain = 1e6 / CONCRETE.young;
+        let exact = |x: Point3| [0.2 * strain * x[0], 0.2 * strain * x[1], -strain * x[2]];
+        let error = max_nodal_error(&solid.mesh, &solution.displacement, exact);
+        println!("P{order}: {} tetrahedra, relative nodal error {error:.2e}", solid.mesh.n_cells());
+        assert!(error < 1e-12, "P{order}: {error}");
+        for s in solid.cell_stress(&solution.displacement) {
+            assert!((s[2] + 1e6).abs() < 1e-5 && s[0].abs() < 1e-5 && s[5].abs() < 1e-5, "{s:?}");
+        }
+    }
+}
+
+/// Source: a column of height H under its weight, u_x = u_y = 0 by rollers on its four sides,
+/// u_z = 0 at its foot, its top free: u_z = −ρ g (H z − z²/2) / (λ + 2μ), quadratic.
+/// Goal: P2 exact at the nodes to round-off (1e-11); P1 converging at rate 2 at the nodes
+/// (fitted over three meshes, ±0.5: nodal values of an unstructured mesh superconverge
+/// irregularly).
+/// Parameters: the block of geo/block3d.geo, H = 1 m, ρ = 2400 kg/m³, g = 9.81 m/s².
+#[test]
+fn a_column_under_its_weight_is_exact_in_p2() {
+    let solve = |order: usize, size_factor: f64| {
+        let mesh = block(order, size_factor);
+        let dirichlet = ["xmin", "xmax", "ymin", "ymax"]
+            .iter()
+            .enumerate()
+            .map(|(k, name)| roller(&mesh, name, k / 2))
+            .chain([roller(&mesh, "bottom", 2)])
+            .collect();
+        let materials = vec![CONCRETE; mesh.n_cells()];
+        let solid = Solid { mesh, materials, dirichlet, neumann: vec![], body: SolidBody::Weight(9.81) };
+        let solution = solid.solve().unwrap();
+        let (lambda, mu) = CONCRETE.lame();
+        let exact = |x: Point3| [0.0, 0.0, -CONCRETE.density * 9.81 * (x[2] - 0.5 * x[2] * x[2]) / (lambda + 2.0 * mu)];
+        (mean_size(&solid.mesh), max_nodal_error(&solid.mesh, &solution.displacement, exact))
+    };
+    let (_, p2) = solve(2, 1.0);
+    println!("P2: relative nodal error {p2:.2e}");
+    assert!(p2 < 1e-11, "P2: {p2}");
+    let runs: Vec<(f64, f64)> = [1.0, 0.5, 0.25].iter().map(|&f| solve(1, f)).collect();
+    let (h, e): (Vec<f64>, Vec<f64>) = runs.into_iter().unzip();
+    let rate = fitted_rate(&h, &e);
+    println!("P1: nodal errors {e:?}, rate {rate:.2}");
+    assert!(e[2] < e[1] && e[1] < e[0] && (rate - 2.0).abs() < 0.5, "P1 rate {rate}");
+}
+
+/// The manufactured field u = ∇φ + (x³, 0, x³), φ = e^{√2 x} cos y cos z (Δφ = 0, so ∇φ
+/// carries no body force): f = −∇·σ(u) = (−6 (λ + 2μ) x, 0, −6 μ x).
+fn manufactured(x: Point3) -> Vector3 {
+    let (e, r) = ((2f64.sqrt() * x[0]).exp(), 2f64.sqrt());
+    [r * e * x[1].cos() * x[2].cos() + x[0].powi(3), -e * x[1].sin() * x[2].cos(), -e * x[1].cos() * x[2].sin() + x[0].powi(3)]
+}
+
+fn manufactured_gradient(x: Point3) -> [Vector3; 3] {
+    let (e, r) = ((2f64.sqrt() * x[0]).exp(), 2f64.sqrt());
+    let (cy, sy, cz, sz) = (x[1].cos(), x[1].sin(), x[2].cos(), x[2].sin());
+    let phi = e * cy * cz;
+    let (xy, xz, yz) = (-r * e * sy * cz, -r * e * cy * sz, e * sy * sz);
+    let cubic = 3.0 * x[0] * x[0];
+    [[2.0 * phi + cubic, xy, xz], [xy, -phi, yz], [xz + cubic, yz, -phi]]
+}
+
+/// The mean cell size (|Ω| / cells)^{1/3}.
+fn mean_size(mesh: &Mesh<3>) -> f64 {
+    let volume: f64 = (0..mesh.n_cells()).map(|c| mesh.cell_volume(c)).sum();
+    (volume / mesh.n_cells() as f64).cbrt()
+}
+
+/// (h, L² error, H¹ error) of the manufactured field on the block at `size_factor`.
+fn manufactured_errors(order: usize, size_factor: f64) -> (f64, f64, f64) {
+    let mesh = block(order, size_factor);
+    let (lambda, mu) = CONCRETE.lame();
+    let exact: Arc<dyn Fn(Point3) -> Vector3 + Send + Sync> = Arc::new(manufactured);
+    let dirichlet = (mesh.groups.iter().filter(|g| g.dim == 2))
+        .map(|g| SolidDirichlet { tag: g.tag, fix: [true; 3], value: exact.clone() })
+        .collect();
+    let body = SolidBody::Field(Arc::new(move |x: Point3| [-6.0 * (lambda + 2.0 * mu) * x[0], 0.0, -6.0 * mu * x[0]]));
+    let materials = vec![CONCRETE; mesh.n_cells()];
+    let solid = Solid { mesh, materials, dirichlet, neumann: Vec::<SolidNeumann>::new(), body };
+    let u = solid.solve().unwrap().displacement;
+    let mesh = &solid.mesh;
+    let tab = Tabulation::tetrahedron(order, 2 * order + 3);
+    let (mut l2, mut h1, mut grads) = (0.0, 0.0, vec![[0.0; 3]; tab.n_basis]);
+    for c in 0..mesh.n_cells() {
+        let map = TetMap::new(mesh.cell_vertices(c));
+        let nodal: Vec<Vector3> = mesh.cell(c).iter().map(|&n| u[n]).collect();
+        for q in 0..tab.n_points() {
+            let (x, w) = (map.to_physical(tab.points[q]), tab.weights[q] * map.det.abs());
+            let uh = (0..3).map(|a| tab.phi(q).iter().zip(&nodal).map(|(p, v)| p * v[a]).sum::<f64>());
+            l2 += uh.zip(manufactured(x)).map(|(a, b)| (a - b).powi(2)).sum::<f64>() * w;
+            let g = displacement_gradient(&map, order, tab.points[q], &nodal, &mut grads);
+            let exact = manufactured_gradient(x);
+            h1 += (0..9).map(|k| (g[k / 3][k % 3] - exact[k / 3][k % 3]).powi(2)).sum::<f64>() * w;
+        }
+    }
+    (mean_size(mesh), l2.sqrt(), h1.sqrt())
+}
+
+/// Source: the manufactured field above, u = exact on the whole boundary.
+/// Goal: fitted rates |u − u_h|_{H¹} ~ h^p and ‖u − u_h‖_{L²} ~ h^{p+1}, h the mean cell size
+/// (|Ω| / cells)^{1/3}, within ±0.2 on gmsh's unstructured tetrahedra.
+/// Parameters: λ, μ of E = 30 GPa, ν = 0.2; size factors 1, ½, ¼ (P1) and 0.6, 0.4, 0.3 (P2).
+#[test]
+fn manufactured_rates_on_tetrahedra() {
+    for (order, factors) in [(1, [1.0, 0.5, 0.25]), (2, [0.6, 0.4, 0.3])] {
+        let runs: Vec<(f64, f64, f64)> = factors.iter().map(|&f| manufactured_errors(order, f)).collect();
+        let h: Vec<f64> = runs.iter().map(|r| r.0).collect();
+        let (l2, h1): (Vec<f64>, Vec<f64>) = runs.iter().map(|r| (r.1, r.2)).unzip();
+        let (rate_l2, rate_h1) = (fitted_rate(&h, &l2), fitted_rate(&h, &h1));
+        println!("P{order}: L2 {l2:?} rate {rate_l2:.3}; H1 {h1:?} rate {rate_h1:.3}");
+        assert!((rate_h1 - order as f64).abs() <= 0.2, "P{order} H1 rate {rate_h1}");
+        assert!((rate_l2 - (order + 1) as f64).abs() <= 0.2, "P{order} L2 rate {rate_l2}");
+    }
+}
