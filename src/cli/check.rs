@@ -2,9 +2,9 @@
 //! without solving.
 
 use super::common::{Input, Progress};
-use crate::io::gmsh::AnyMesh;
 use crate::contact::{ContactJoint, Uplift};
 use crate::geometry::Vector;
+use crate::io::gmsh::AnyMesh;
 use crate::mesh::Mesh;
 use crate::scene::{CrackKind, Scene, UpliftSection};
 use anyhow::{Context, Result};

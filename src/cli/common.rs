@@ -117,7 +117,9 @@ impl Input {
     fn msh_order(&self, scene: &Scene) -> Option<(usize, String)> {
         match self.order {
             Some(order) => Some((order, format!("--order {order}"))),
-            None => scene.given_order().map(|order| (order, format!("{}: mesh.order = {order}", scene.source.display()))),
+            None => {
+                scene.given_order().map(|order| (order, format!("{}: mesh.order = {order}", scene.source.display())))
+            }
         }
     }
 

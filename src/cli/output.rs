@@ -376,7 +376,8 @@ pub fn drain_note(curve: &str, c: &Crack) -> Option<String> {
 const HEALING: f64 = 1e-3;
 
 /// What `summary.json` says of `max_von_mises`.
-pub const SINGULAR_MAXIMUM: &str = "mesh-dependent where it sits at a singular point (a re-entrant corner, the end of a \
+pub const SINGULAR_MAXIMUM: &str =
+    "mesh-dependent where it sits at a singular point (a re-entrant corner, the end of a \
      contact zone or of a support): a cell mean that grows with every refinement there";
 
 impl<T> Summary<T> {

@@ -5,13 +5,13 @@ use super::common::{remove_earlier_outputs, stem, Input, Output, Progress, Solve
 use super::output::{write_results, EstimateSummary, Results, Summary, Units, UNITS};
 use super::settings::{self, Given, Setting};
 use super::solid;
-use crate::io::gmsh::AnyMesh;
 use crate::contact::{ContactError, ContactJoint, ContactSolution, Continuation, Solution, Stage};
 use crate::elasticity::stress::cell_mean_stress;
 use crate::elasticity::{Discretisation, Problem};
 use crate::estimate::reference::{effectivity, Effectivity};
 use crate::estimate::{estimate_displacement, Estimate};
 use crate::io::atomic::{write_output, Provisional};
+use crate::io::gmsh::AnyMesh;
 use crate::safety::strength::{reduce_strength, StrengthReduction, STRENGTH_TOLERANCE};
 use crate::scene::{ProjectionKind, Scene};
 use crate::solve::{diverged, NewtonError};

@@ -125,9 +125,10 @@ mod tests {
         pairs.dedup();
         assert_eq!(pairs.len(), 6);
         // the sum of a closed surface's vector areas vanishes
-        let total = FACES.iter().map(|f| triangle_area_vector(f.map(|k| CELL[k]))).fold([0.0; 3], |s, a| {
-            [s[0] + a[0], s[1] + a[1], s[2] + a[2]]
-        });
+        let total = FACES
+            .iter()
+            .map(|f| triangle_area_vector(f.map(|k| CELL[k])))
+            .fold([0.0; 3], |s, a| [s[0] + a[0], s[1] + a[1], s[2] + a[2]]);
         assert!(norm3(total) < 1e-15);
     }
 }

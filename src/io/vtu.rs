@@ -83,7 +83,8 @@ fn vtk_cell_nodes<const D: usize>(mesh: &Mesh<D>) -> Cow<'_, [usize]> {
     if D < 3 || mesh.order == 1 {
         return Cow::Borrowed(&mesh.cell_nodes);
     }
-    let nodes = mesh.cell_nodes.chunks_exact(10).flat_map(|c| [c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[9], c[8]]);
+    let nodes =
+        mesh.cell_nodes.chunks_exact(10).flat_map(|c| [c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[9], c[8]]);
     Cow::Owned(nodes.collect())
 }
 
@@ -193,10 +194,19 @@ fn with_field_data(path: &Path, xml: Vec<u8>, metadata: &str) -> Result<Vec<u8>,
 }
 
 /// The points, cells, tags and fields of one grid in `vtkio`'s model.
-fn piece<const D: usize>(mesh: &Mesh<D>, grid: &Grid, point_data: &[Field], cell_data: &[Field]) -> UnstructuredGridPiece {
+fn piece<const D: usize>(
+    mesh: &Mesh<D>,
+    grid: &Grid,
+    point_data: &[Field],
+    cell_data: &[Field],
+) -> UnstructuredGridPiece {
     let tags = DataArray::new(grid.tag_name, 1).with_data(grid.tags.to_vec());
     let cell = std::iter::once(Attribute::DataArray(tags)).chain(cell_data.iter().map(attribute)).collect();
-    let points: Vec<f64> = mesh.points.iter().flat_map(|p| std::array::from_fn::<f64, 3, _>(|r| p.get(r).copied().unwrap_or(0.0))).collect();
+    let points: Vec<f64> = mesh
+        .points
+        .iter()
+        .flat_map(|p| std::array::from_fn::<f64, 3, _>(|r| p.get(r).copied().unwrap_or(0.0)))
+        .collect();
     UnstructuredGridPiece {
         points: points.into(),
         cells: cells(grid),

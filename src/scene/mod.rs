@@ -28,8 +28,8 @@ mod validate;
 
 pub use joints::JointSection;
 pub use sections::{
-    BoundarySection, Components, ContactSection, CrackKind, DrainsSection, Fix, Hydrostatic, IceSection, LoadSection, MeshSection,
-    OutputSection, ProjectionKind, Role, SafetySection, SiltSection, UpliftSection,
+    BoundarySection, Components, ContactSection, CrackKind, DrainsSection, Fix, Hydrostatic, IceSection, LoadSection,
+    MeshSection, OutputSection, ProjectionKind, Role, SafetySection, SiltSection, UpliftSection,
 };
 
 /// A scene that cannot be read or does not fit its mesh.

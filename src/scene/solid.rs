@@ -86,7 +86,10 @@ impl Scene {
 
     /// Refuses the tables and keys a solid does not model yet, by name.
     fn refuse_plane_only(&self) -> Result<(), SceneError> {
-        if let Some(table) = PLANE_ONLY.iter().find(|t| self.table.contains_key(**t) || (**t == "combinations" && !self.combinations.is_empty())) {
+        if let Some(table) = PLANE_ONLY
+            .iter()
+            .find(|t| self.table.contains_key(**t) || (**t == "combinations" && !self.combinations.is_empty()))
+        {
             return Err(self.invalid(format!(
                 "[{table}]: a solid (a geometry with volumes) has no contact, joints, uplift, load combinations or \
                  safety factors yet; remove the table to solve its elasticity"

@@ -278,15 +278,14 @@ fn folded_or_duplicate_msh() {
     assert_refused("duplicate", "solve", &fixture("duplicate_node.msh"), &[], &["duplicate node 5", "own tag"]);
 }
 
-// 3-D inputs are refused with "3-D": a .geo with a volume, a .msh with z != 0; also by `mesh`.
+// A .msh with z != 0 and no volume is neither a section nor a solid: refused, naming z.
 #[test]
-fn three_dimensional_inputs() {
-    assert_refused("volume", "mesh", &fixture("volume.geo"), &[], &["volume.geo", "3-D"]);
+fn a_tilted_plane_is_refused() {
     let tmp = TempDir::new("tilted");
     let msh = tmp.join("tilted.msh");
     let body = std::fs::read_to_string(fixture("square.msh")).unwrap();
     std::fs::write(&msh, body.replace("\n4 0 1 0\n", "\n4 0 1 0.5\n")).unwrap();
-    assert_refused("tilted-out", "solve", &msh, &[], &["tilted.msh", "3-D"]);
+    assert_refused("tilted-out", "solve", &msh, &[], &["tilted.msh", "not plane", "z ranges"]);
 }
 
 // A directory given as the scene or as the scene's geometry says "is a directory".

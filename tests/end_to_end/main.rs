@@ -10,6 +10,7 @@ mod cohesive;
 mod guard;
 mod input;
 mod joint;
+mod solid;
 mod support;
 mod tutorial;
 mod two_body;

@@ -96,7 +96,11 @@ fn a_column_under_its_weight_is_exact_in_p2() {
 /// carries no body force): f = −∇·σ(u) = (−6 (λ + 2μ) x, 0, −6 μ x).
 fn manufactured(x: Point3) -> Vector3 {
     let (e, r) = ((2f64.sqrt() * x[0]).exp(), 2f64.sqrt());
-    [r * e * x[1].cos() * x[2].cos() + x[0].powi(3), -e * x[1].sin() * x[2].cos(), -e * x[1].cos() * x[2].sin() + x[0].powi(3)]
+    [
+        r * e * x[1].cos() * x[2].cos() + x[0].powi(3),
+        -e * x[1].sin() * x[2].cos(),
+        -e * x[1].cos() * x[2].sin() + x[0].powi(3),
+    ]
 }
 
 fn manufactured_gradient(x: Point3) -> [Vector3; 3] {

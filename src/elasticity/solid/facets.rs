@@ -106,7 +106,10 @@ mod tests {
     #[test]
     fn the_wet_parts_are_the_region_under_water() {
         let area = |parts: &[[Point; 3]]| {
-            parts.iter().map(|[a, b, c]| 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])).abs()).sum::<f64>()
+            parts
+                .iter()
+                .map(|[a, b, c]| 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])).abs())
+                .sum::<f64>()
         };
         assert_eq!(area(&wet_parts([1.0, 2.0, 3.0])), 0.5);
         assert!(wet_parts([-1.0, -2.0, -3.0]).is_empty());

@@ -53,7 +53,15 @@ fn simplices<const D: usize>(source: &Path, none: impl Fn() -> GmshError) -> Res
     let mut numbering = Numbering::<D>::new()?;
     let cell_nodes = cells.nodes.iter().map(|&tag| numbering.add(tag)).collect::<Result<_, _>>()?;
     let facet_nodes = numbering.facets(&facets, &groups, source)?;
-    Ok(Mesh { points: numbering.points, order, cell_nodes, cell_tags: cells.tags, facet_nodes, facet_tags: facets.tags, groups })
+    Ok(Mesh {
+        points: numbering.points,
+        order,
+        cell_nodes,
+        cell_tags: cells.tags,
+        facet_nodes,
+        facet_tags: facets.tags,
+        groups,
+    })
 }
 
 /// An edge where counter-clockwise cells overlap: shared by more than two cells, or by two

@@ -1,0 +1,87 @@
+//! `damfem` on solids (geometries with volumes): mesh, check and solve work; the commands and
+//! keys of plane sections are refused by name.
+
+use crate::support::{assert_ok, assert_refused, damfem, edited_scene, repo, stderr, TempDir};
+use std::ffi::OsStr;
+
+/// Source: geo/monolith.toml, the Scene A section extruded by 15 m on a rock block, rollers
+/// u_y = 0 on both sides (plane strain).
+/// Goal: `solve` writes the tetrahedra and the boundary triangles with the displacement and
+/// the stresses, and a summary of a 3-D P1 mesh (tests/python/test_solid_vtu.py reads them
+/// back).
+/// Parameters: the scene's P1 mesh.
+#[test]
+fn a_monolith_solves_in_plane_strain() {
+    let tmp = TempDir::new("monolith");
+    let out = tmp.join("out");
+    let run = damfem(&[OsStr::new("solve"), repo("geo/monolith.toml").as_os_str(), OsStr::new("-o"), out.as_os_str()]);
+    assert_ok(&run);
+    assert!(stderr(&run).contains("3-D:") && stderr(&run).contains("tetrahedra"), "{}", stderr(&run));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!((summary["dimension"].as_u64(), summary["order"].as_u64()), (Some(3), Some(1)));
+    assert!(summary["max_displacement"].as_f64().unwrap() > 1e-4, "{summary}");
+    let vtu = std::fs::read_to_string(out.join("monolith.vtu")).unwrap();
+    for name in ["displacement", "sigma_zz", "sigma_xz", "von_mises", "sigma_3"] {
+        assert!(vtu.contains(&format!("Name=\"{name}\"")), "no {name}");
+    }
+    assert!(out.join("monolith_boundary.vtu").exists());
+}
+
+/// Goal: `mesh` and `check` take a solid; `check` names each surface's role and area.
+#[test]
+fn mesh_and_check_take_a_solid() {
+    let tmp = TempDir::new("valley");
+    let out = tmp.join("out");
+    let scene = repo("geo/valley.toml");
+    assert_ok(&damfem(&[OsStr::new("mesh"), scene.as_os_str(), OsStr::new("-o"), out.as_os_str()]));
+    assert!(out.join("valley.msh").exists() && out.join("valley_mesh.vtu").exists());
+    let check = damfem(&[OsStr::new("check"), scene.as_os_str()]);
+    assert_ok(&check);
+    let text = String::from_utf8_lossy(&check.stdout);
+    assert!(text.contains("surface  upstream") && text.contains("area 2100.0000"), "{text}");
+    assert!(text.contains("region   rock") && text.contains(": ok"), "{text}");
+}
+
+/// Goal: what a solid does not have yet is refused in one sentence naming the command, flag
+/// or key, and no output is left: `adapt` and `safety`, `--estimate` and `--friction`, a
+/// contact role, load combinations, a vector of two or four components, and `fix = "z"` in a
+/// plane scene.
+#[test]
+fn what_a_solid_does_not_have_is_refused_by_name() {
+    let scene = repo("geo/block3d.toml");
+    for command in ["adapt", "safety"] {
+        assert_refused(&format!("solid-{command}"), command, &scene, &[], &["block3d.geo", "3-D", "plane sections"]);
+    }
+    assert_refused("solid-estimate", "solve", &scene, &["--estimate"], &["--estimate", "solid"]);
+    assert_refused("solid-friction", "solve", &scene, &["--friction", "0.7"], &["--friction", "solid"]);
+    let tmp = TempDir::new("solid-keys");
+    let edits: [(&str, fn(String) -> String, &[&str]); 4] = [
+        (
+            "contact",
+            |s| s.replace("[boundary.xmax]\nrole = \"free\"", "[boundary.xmax]\nrole = \"contact\""),
+            &["boundary.xmax", "contact"],
+        ),
+        ("combined", |s| s + "\n[combinations.heavy]\nloads = { gravity = 9.81 }\n", &["[combinations]", "solid"]),
+        (
+            "two",
+            |s| s.replace("traction = [0.0, 0.0, -1.0e6]", "traction = [0.0, -1.0e6]"),
+            &["boundary.top.traction", "2 components", "give 3"],
+        ),
+        (
+            "four",
+            |s| s.replace("traction = [0.0, 0.0, -1.0e6]", "traction = [0.0, 0.0, 0.0, -1.0e6]"),
+            &["boundary.top.traction", "4 components"],
+        ),
+    ];
+    for (name, edit, keywords) in edits {
+        let edited = edited_scene(&tmp, "block3d", edit);
+        let moved = tmp.join(&format!("{name}.toml"));
+        std::fs::rename(&edited, &moved).unwrap();
+        assert_refused(&format!("solid-{name}"), "solve", &moved, &[], keywords);
+    }
+    let plane = edited_scene(&tmp, "scene_a", |s| {
+        s.replace("[boundary.toe]\nrole = \"dirichlet\"", "[boundary.toe]\nrole = \"dirichlet\"\nfix = \"z\"")
+    });
+    assert_refused("plane-z", "solve", &plane, &[], &["boundary.toe.fix", "\"z\"", "plane section"]);
+}
