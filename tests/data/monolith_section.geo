@@ -1,0 +1,33 @@
+// The section of geo/monolith.geo in the plane (y up): the Scene A dam on the rock block of
+// the monolith, for the check that the extruded monolith in plane strain reproduces it.
+H = 50; B = 40; C = 5; Lu = 40; Ld = 40; D = 40;
+h = 5; hb = 2.5; hr = 10;
+Point(1) = {0, 0, 0, hb};
+Point(2) = {B, 0, 0, hb};
+Point(3) = {C, H, 0, h};
+Point(4) = {0, H, 0, h};
+Point(5) = {-Lu, 0, 0, hr};
+Point(6) = {-Lu, -D, 0, hr};
+Point(7) = {B + Ld, -D, 0, hr};
+Point(8) = {B + Ld, 0, 0, hr};
+Line(1) = {1, 2};
+Line(2) = {2, 3};
+Line(3) = {3, 4};
+Line(4) = {4, 1};
+Line(5) = {5, 1};
+Line(6) = {6, 5};
+Line(7) = {7, 6};
+Line(8) = {8, 7};
+Line(9) = {2, 8};
+Curve Loop(1) = {1, 2, 3, 4};
+Plane Surface(1) = {1};
+Curve Loop(2) = {5, 1, 9, 8, 7, 6};
+Plane Surface(2) = {-2};
+Physical Curve("upstream") = {4};
+Physical Curve("downstream") = {2};
+Physical Curve("crest") = {3};
+Physical Curve("rock_base") = {7};
+Physical Curve("rock_ends") = {6, 8};
+Physical Curve("rock_top") = {5, 9};
+Physical Surface("concrete") = {1};
+Physical Surface("rock") = {2};
