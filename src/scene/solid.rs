@@ -73,15 +73,22 @@ impl Scene {
                 Role::Free => {}
             }
         }
-        if dirichlet.is_empty() {
+        let materials = self.cell_materials(&mesh)?;
+        let solid = Solid { mesh, materials, dirichlet, neumann, body: SolidBody::Weight(g) };
+        if let Some((body, motion)) = solid.free_rigid_motion() {
+            let mesh = &solid.mesh;
+            let bodies = mesh.bodies();
+            let names: Vec<String> = (mesh.groups.iter())
+                .filter(|g| g.dim == 3 && (0..mesh.n_cells()).any(|c| bodies[c] == body && mesh.cell_tags[c] == g.tag))
+                .map(|g| format!("'{}'", g.name))
+                .collect();
             return Err(self.invalid(format!(
-                "{} has no Dirichlet surface, so the solid could move as a rigid body: give a physical surface role = \
-                 \"dirichlet\"",
-                self.geometry.display()
+                "nothing holds the body of {} against {motion}: its Dirichlet surfaces leave it free; fix more \
+                 components (role = \"dirichlet\", fix = \"x\", \"y\", \"z\" or \"all\")",
+                if names.is_empty() { "the unnamed volumes".into() } else { names.join(", ") }
             )));
         }
-        let materials = self.cell_materials(&mesh)?;
-        Ok(Solid { mesh, materials, dirichlet, neumann, body: SolidBody::Weight(g) })
+        Ok(solid)
     }
 
     /// Refuses the tables and keys a solid does not model yet, by name.

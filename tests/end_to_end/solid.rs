@@ -45,8 +45,9 @@ fn mesh_and_check_take_a_solid() {
 
 /// Goal: what a solid does not have yet is refused in one sentence naming the command, flag
 /// or key, and no output is left: `adapt` and `safety`, `--estimate` and `--friction`, a
-/// contact role, load combinations, a vector of two or four components, and `fix = "z"` in a
-/// plane scene.
+/// contact role, load combinations, a vector of two or four components, supports that leave
+/// a rigid motion free (the block without its roller along y), and `fix = "z"` in a plane
+/// scene.
 #[test]
 fn what_a_solid_does_not_have_is_refused_by_name() {
     let scene = repo("geo/block3d.toml");
@@ -56,7 +57,12 @@ fn what_a_solid_does_not_have_is_refused_by_name() {
     assert_refused("solid-estimate", "solve", &scene, &["--estimate"], &["--estimate", "solid"]);
     assert_refused("solid-friction", "solve", &scene, &["--friction", "0.7"], &["--friction", "solid"]);
     let tmp = TempDir::new("solid-keys");
-    let edits: [(&str, fn(String) -> String, &[&str]); 4] = [
+    let edits: [(&str, fn(String) -> String, &[&str]); 5] = [
+        (
+            "loose",
+            |s| s.replace("[boundary.ymin]\nrole = \"dirichlet\"\nfix = \"y\"", "[boundary.ymin]\nrole = \"free\""),
+            &["'block'", "a translation along y"],
+        ),
         (
             "contact",
             |s| s.replace("[boundary.xmax]\nrole = \"free\"", "[boundary.xmax]\nrole = \"contact\""),

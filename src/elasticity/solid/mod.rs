@@ -12,11 +12,12 @@ pub mod facets;
 pub mod kernels;
 
 use super::material::Material;
+use super::rigid::free_motions_3d;
 use crate::fem::dofs::DofMap;
 use crate::fem::sparse::{components_dofs, LinearSystem, SparsePattern};
 use crate::fem::tabulate::Tabulation;
 use crate::fem::{lagrange, tetrahedron};
-use crate::geometry::{Point3, TetMap, Vector3};
+use crate::geometry::{distance3, Point3, TetMap, Vector3};
 use crate::mesh::Mesh;
 use crate::solve::{Cholesky, SolveError};
 use std::sync::Arc;
@@ -181,6 +182,41 @@ impl Solid {
             displacement: u.chunks_exact(3).map(|u| [u[0], u[1], u[2]]).collect(),
             unknowns: dofs.n_free,
             nonzeros: pattern.nnz(),
+        })
+    }
+
+    /// The first body (connected set of cells) whose Dirichlet conditions leave a rigid motion
+    /// free, with that motion in words: the functionals r ↦ r_a(x_n) of its constrained dofs
+    /// must span the six rigid motions of space.
+    pub fn free_rigid_motion(&self) -> Option<(usize, String)> {
+        let mesh = &self.mesh;
+        let bodies = mesh.bodies();
+        let mut body_of_node = vec![0; mesh.n_points()];
+        for c in 0..mesh.n_cells() {
+            mesh.cell(c).iter().for_each(|&n| body_of_node[n] = bodies[c]);
+        }
+        (0..=bodies.iter().copied().max().unwrap_or(0)).find_map(|b| {
+            let points: Vec<Point3> =
+                (0..mesh.n_points()).filter(|&n| body_of_node[n] == b).map(|n| mesh.points[n]).collect();
+            let count = points.len() as f64;
+            let centre: Point3 = std::array::from_fn(|r| points.iter().map(|p| p[r]).sum::<f64>() / count);
+            let size = points.iter().map(|&p| distance3(p, centre)).fold(f64::MIN_POSITIVE, f64::max);
+            let fixed = self.dirichlet.iter().flat_map(|bc| {
+                let nodes =
+                    mesh.facets_tagged(std::slice::from_ref(&bc.tag)).flat_map(|f| mesh.facet(f).iter().copied());
+                let nodes = nodes.filter(|&n| body_of_node[n] == b);
+                nodes.flat_map(move |n| {
+                    (0..3)
+                        .filter(|&a| bc.fix[a])
+                        .map(move |a| (mesh.points[n], std::array::from_fn(|k| f64::from(u8::from(k == a)))))
+                })
+            });
+            let v = *free_motions_3d(fixed, centre, size).first()?;
+            let names = ["a translation along x", "a translation along y", "a translation along z"];
+            let turns = ["a rotation about x", "a rotation about y", "a rotation about z"];
+            let parts: Vec<&str> =
+                names.iter().chain(&turns).zip(v).filter(|(_, c)| c.abs() > 0.1).map(|(n, _)| *n).collect();
+            Some((b, parts.join(" combined with ")))
         })
     }
 
