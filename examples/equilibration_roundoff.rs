@@ -155,7 +155,8 @@ fn hertz(order: usize, steps: usize, shift: f64) {
     scene.mesh.order = order;
     scene.mesh.size_factor = 2.0;
     scene.contact.gap += shift;
-    scene.boundary.get_mut("top").expect("the top of geo/hertz.toml").value[1] -= shift;
+    let top = scene.boundary.get_mut("top").expect("the top of geo/hertz.toml");
+    top.value = [top.value.at(0), top.value.at(1) - shift].into();
     let mut mesher = scene.mesher(Refinement::Adaptive);
     let settings = AdaptSettings { steps, ..Default::default() };
     adapt::run(&settings, &mut mesher, &scene, |step| {

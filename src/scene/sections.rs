@@ -94,6 +94,12 @@ impl Components {
     }
 }
 
+impl<const N: usize> From<[f64; N]> for Components {
+    fn from(v: [f64; N]) -> Self {
+        Components(v.to_vec())
+    }
+}
+
 /// Water pressure ρ_w g (H_w − y)₊ along −n; g is the scene's gravity.
 #[derive(Debug, Clone, Copy, Deserialize)]
 #[serde(deny_unknown_fields)]
