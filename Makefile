@@ -9,7 +9,8 @@
 #               .msh and from the .geo (nested iteration); not part of make test
 # Each installation step runs only when something is missing, so a second run is fast.
 
-APT_PACKAGES := libgmsh-dev gmsh libclang-dev libgl1 libegl1 libegl-mesa0 libgl1-mesa-dri fonts-dejavu-core
+APT_PACKAGES := libgmsh-dev gmsh libclang-dev libgl1 libegl1 libegl-mesa0 libgl1-mesa-dri fonts-dejavu-core \
+	libpetsc-real-dev pkg-config
 VENV := .venv
 PYTHON := $(VENV)/bin/python
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)

@@ -4,7 +4,7 @@
 use super::common::{remove_earlier_outputs, stem, Progress};
 use super::output::{TagNames, Units, SINGULAR_MAXIMUM, SOLID_UNITS};
 use crate::elasticity::solid::kernels::{principal, von_mises};
-use crate::elasticity::solid::{Solid, SolidSolution};
+use crate::elasticity::solid::{Solid, SolidSolution, Solver};
 use crate::geometry::{norm3, Point3, Vector3};
 use crate::io::atomic::{write_output, Provisional};
 use crate::io::vtu::{write_boundary_vtu, write_mesh_vtu, Field};
@@ -26,6 +26,10 @@ struct SolidSummary {
     unknowns: usize,
     free_unknowns: usize,
     matrix_nonzeros: usize,
+    /// "direct" (sparse Cholesky) or "iterative" (CG with algebraic multigrid).
+    solver: &'static str,
+    /// CG iterations of the iterative solver.
+    iterations: Option<usize>,
     max_displacement: f64,
     max_displacement_at: Point3,
     max_von_mises: f64,
@@ -46,14 +50,18 @@ struct Seconds {
     output: f64,
 }
 
-/// Solves the solid of `scene` on `mesh` (meshed in `mesh_seconds`) and writes its files to `dir`.
-pub fn solve(scene: &Scene, mesh: Mesh<3>, mesh_seconds: f64, dir: &Path, progress: &Progress) -> Result<()> {
+/// Solves the solid of `scene` on `mesh` (meshed in `mesh_seconds`) by `solver` (by default
+/// the solver of its size) and writes its files to `dir`.
+pub fn solve(
+    scene: &Scene,
+    mesh: Mesh<3>,
+    solver: Option<Solver>,
+    mesh_seconds: f64,
+    dir: &Path,
+    progress: &Progress,
+) -> Result<()> {
     let solid = scene.solid(mesh)?;
-    let (solution, solve_seconds) = progress.stage(
-        "solve",
-        || Ok(solid.solve()?),
-        |s: &SolidSolution| format!("{} unknowns, {} nonzeros", s.unknowns, s.nonzeros),
-    )?;
+    let (solution, solve_seconds) = progress.stage("solve", || Ok(solid.solve(solver)?), describe)?;
     let u = &solution.displacement;
     let sigma = solid.cell_stress(u);
     let name = stem(&scene.source);
@@ -79,6 +87,15 @@ pub fn solve(scene: &Scene, mesh: Mesh<3>, mesh_seconds: f64, dir: &Path, progre
         summary.max_displacement_at[2]
     ));
     Ok(())
+}
+
+/// "N unknowns, M nonzeros, Cholesky" or "…, CG + AMG, k iterations".
+fn describe(s: &SolidSolution) -> String {
+    let how = match s.iterations {
+        Some(k) => format!("CG + AMG, {k} iterations"),
+        None => "Cholesky".into(),
+    };
+    format!("{} unknowns, {} nonzeros, {how}", s.unknowns, s.nonzeros)
 }
 
 /// The cell fields of the stresses: the six components, von Mises and the principal stresses.
@@ -144,6 +161,11 @@ impl SolidSummary {
             unknowns: 3 * mesh.n_points(),
             free_unknowns: solution.unknowns,
             matrix_nonzeros: solution.nonzeros,
+            solver: match solution.solver {
+                Solver::Direct => "direct",
+                Solver::Iterative => "iterative",
+            },
+            iterations: solution.iterations,
             max_displacement: max_u,
             max_displacement_at: mesh.points[node],
             max_von_mises: max_vm,

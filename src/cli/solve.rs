@@ -6,6 +6,7 @@ use super::output::{write_results, EstimateSummary, Results, Summary, Units, UNI
 use super::settings::{self, Given, Setting};
 use super::solid;
 use crate::contact::{ContactError, ContactJoint, ContactSolution, Continuation, Solution, Stage};
+use crate::elasticity::solid::Solver;
 use crate::elasticity::stress::cell_mean_stress;
 use crate::elasticity::{Discretisation, Problem};
 use crate::estimate::reference::{effectivity, Effectivity};
@@ -58,10 +59,22 @@ pub struct Args {
     /// run with --estimate, and an estimate that fails one is refused)
     #[arg(long)]
     check_equilibration: bool,
+    /// Linear solver of a solid: direct (sparse Cholesky) or iterative (CG with PETSc's
+    /// algebraic multigrid); default by size, iterative from 80 000 unknowns. A plane section
+    /// is solved directly
+    #[arg(long, value_enum)]
+    solver: Option<SolverArg>,
     /// Also compute a sharp lower bound of the error's dual norm and I_eff = eta_tot / bound,
     /// an upper bound of the true effectivity index (implies --estimate; costly)
     #[arg(long)]
     effectivity: bool,
+}
+
+/// `--solver`.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+enum SolverArg {
+    Direct,
+    Iterative,
 }
 
 /// What `summary.json` records of `solve` beside the solution.
@@ -111,9 +124,19 @@ pub fn run(args: Args) -> Result<()> {
             if let Some(flag) = plane_only_flag(&args) {
                 anyhow::bail!("{flag}: {} is a solid (it has volumes), which has no contact or error estimate yet; leave the flag out", scene.geometry.display());
             }
-            return solid::solve(&scene, mesh, t, &dir, &progress);
+            let solver = args.solver.map(|s| match s {
+                SolverArg::Direct => Solver::Direct,
+                SolverArg::Iterative => Solver::Iterative,
+            });
+            return solid::solve(&scene, mesh, solver, t, &dir, &progress);
         }
     };
+    if args.solver == Some(SolverArg::Iterative) {
+        anyhow::bail!(
+            "--solver iterative: {} is a plane section, which damfem solves by sparse Cholesky; leave the flag out",
+            scene.geometry.display()
+        );
+    }
     // 2. Problem: the elasticity problem, its contact joint, dofs and pattern
     let (problem, joint) = match scene.problem(mesh) {
         Ok(problem) => problem,

@@ -1,11 +1,12 @@
 //! Sparse direct solvers (faer) with the symbolic factorisation computed once per pattern,
-//! the Schur complement of a Jacobian on its nonlinear layer ([`schur`]), and Newton's method
-//! built on them.
+//! the Schur complement of a Jacobian on its nonlinear layer ([`schur`]), Newton's method
+//! built on them, and CG with PETSc's algebraic multigrid for large solids ([`petsc`]).
 
 pub mod cholesky;
 pub mod condition;
 pub mod lu;
 pub mod newton;
+pub mod petsc;
 pub mod schur;
 
 pub use cholesky::Cholesky;

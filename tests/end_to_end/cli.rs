@@ -30,7 +30,8 @@ fn every_scene_checks() {
         assert_ok(&out);
         let table = String::from_utf8_lossy(&out.stdout);
         assert!(table.lines().last().is_some_and(|l| l.ends_with(": ok")), "{table}");
-        assert!(table.lines().any(|l| l.starts_with("curve ")) && table.lines().any(|l| l.starts_with("region ")));
+        let roles = |l: &str| l.starts_with("curve ") || l.starts_with("surface ");
+        assert!(table.lines().any(roles) && table.lines().any(|l| l.starts_with("region ")), "{table}");
         let quiet = damfem(&["check".as_ref(), "-q".as_ref(), scene.as_os_str()]);
         assert_ok(&quiet);
         assert!(quiet.stdout.is_empty() && quiet.stderr.is_empty(), "{}", stderr(&quiet));

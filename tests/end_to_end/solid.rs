@@ -56,6 +56,14 @@ fn what_a_solid_does_not_have_is_refused_by_name() {
     }
     assert_refused("solid-estimate", "solve", &scene, &["--estimate"], &["--estimate", "solid"]);
     assert_refused("solid-friction", "solve", &scene, &["--friction", "0.7"], &["--friction", "solid"]);
+    let section = repo("geo/scene_a.toml");
+    assert_refused(
+        "plane-iterative",
+        "solve",
+        &section,
+        &["--solver", "iterative"],
+        &["--solver iterative", "plane section"],
+    );
     let tmp = TempDir::new("solid-keys");
     let edits: [(&str, fn(String) -> String, &[&str]); 5] = [
         (

@@ -47,7 +47,7 @@ fn a_block_under_uniform_pressure_is_exact_in_p1_and_p2() {
     let scene = Scene::load(Path::new("geo/block3d.toml")).unwrap();
     for order in [1, 2] {
         let solid = scene.solid(block(order, 1.0)).unwrap();
-        let solution = solid.solve().unwrap();
+        let solution = solid.solve(None).unwrap();
         let strain = 1e6 / CONCRETE.young;
         let exact = |x: Point3| [0.2 * strain * x[0], 0.2 * strain * x[1], -strain * x[2]];
         let error = max_nodal_error(&solid.mesh, &solution.displacement, exact);
@@ -77,7 +77,7 @@ fn a_column_under_its_weight_is_exact_in_p2() {
             .collect();
         let materials = vec![CONCRETE; mesh.n_cells()];
         let solid = Solid { mesh, materials, dirichlet, neumann: vec![], body: SolidBody::Weight(9.81) };
-        let solution = solid.solve().unwrap();
+        let solution = solid.solve(None).unwrap();
         let (lambda, mu) = CONCRETE.lame();
         let exact = |x: Point3| [0.0, 0.0, -CONCRETE.density * 9.81 * (x[2] - 0.5 * x[2] * x[2]) / (lambda + 2.0 * mu)];
         (mean_size(&solid.mesh), max_nodal_error(&solid.mesh, &solution.displacement, exact))
@@ -129,7 +129,7 @@ fn manufactured_errors(order: usize, size_factor: f64) -> (f64, f64, f64) {
     let body = SolidBody::Field(Arc::new(move |x: Point3| [-6.0 * (lambda + 2.0 * mu) * x[0], 0.0, -6.0 * mu * x[0]]));
     let materials = vec![CONCRETE; mesh.n_cells()];
     let solid = Solid { mesh, materials, dirichlet, neumann: Vec::<SolidNeumann>::new(), body };
-    let u = solid.solve().unwrap().displacement;
+    let u = solid.solve(None).unwrap().displacement;
     let mesh = &solid.mesh;
     let tab = Tabulation::tetrahedron(order, 2 * order + 3);
     let (mut l2, mut h1, mut grads) = (0.0, 0.0, vec![[0.0; 3]; tab.n_basis]);
@@ -207,7 +207,7 @@ fn the_extruded_monolith_reproduces_its_plane_strain_section() {
             panic!("monolith.geo has volumes")
         };
         let solid = monolith.solid(mesh).unwrap();
-        let solution = solid.solve().unwrap();
+        let solution = solid.solve(None).unwrap();
         let u3 = &solution.displacement;
         let max3 = u3.iter().map(|&v| damfem::geometry::norm3(v)).fold(0.0, f64::max);
         let mut worst = (max3 - max2).abs() / max2;
@@ -227,4 +227,42 @@ fn the_extruded_monolith_reproduces_its_plane_strain_section() {
         errors.push(worst);
     }
     assert!(errors[1] < 5e-3 && errors[1] < errors[0], "gaps {errors:?}");
+}
+
+/// Source: the same system solved by sparse Cholesky and by CG with PETSc's GAMG
+/// (src/solve/petsc), relative residual 1e-10.
+/// Goal: the iterative solution is the direct one to 1e-8 of max |u| (the monolith, dam and
+/// rock, P2) and the block's exact linear field to 1e-8.
+/// Parameters: geo/monolith.toml and geo/block3d.toml at their sizes, P2.
+#[test]
+fn the_iterative_solver_agrees_with_cholesky() {
+    use damfem::elasticity::solid::Solver;
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let monolith = Scene::load(&root.join("geo/monolith.toml")).unwrap();
+    let options = MeshOptions { order: 2, ..Default::default() };
+    let AnyMesh::Solid(mesh) = mesh_geo_any(&monolith.geometry, &options, false, false).unwrap() else {
+        panic!("monolith.geo has volumes")
+    };
+    let solid = monolith.solid(mesh).unwrap();
+    let direct = solid.solve(Some(Solver::Direct)).unwrap();
+    let iterative = solid.solve(Some(Solver::Iterative)).unwrap();
+    let scale = direct.displacement.iter().map(|&v| damfem::geometry::norm3(v)).fold(0.0, f64::max);
+    let gap = (direct.displacement.iter().zip(&iterative.displacement))
+        .map(|(a, b)| (0..3).map(|k| (a[k] - b[k]).abs()).fold(0.0, f64::max))
+        .fold(0.0, f64::max);
+    println!(
+        "monolith: {} unknowns, {:?} CG iterations, gap {:.2e}",
+        direct.unknowns,
+        iterative.iterations,
+        gap / scale
+    );
+    assert!(iterative.iterations.is_some_and(|k| k > 0) && gap < 1e-8 * scale, "gap {gap:e}");
+    let block = Scene::load(&root.join("geo/block3d.toml")).unwrap().solid(block(2, 1.0)).unwrap();
+    let solution = block.solve(Some(Solver::Iterative)).unwrap();
+    let strain = 1e6 / CONCRETE.young;
+    let error = max_nodal_error(&block.mesh, &solution.displacement, |x| {
+        [0.2 * strain * x[0], 0.2 * strain * x[1], -strain * x[2]]
+    });
+    println!("block: {:?} CG iterations, relative nodal error {error:.2e}", solution.iterations);
+    assert!(error < 1e-8, "{error}");
 }

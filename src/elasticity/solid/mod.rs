@@ -13,12 +13,13 @@ pub mod kernels;
 
 use super::material::Material;
 use super::rigid::free_motions_3d;
-use crate::fem::dofs::DofMap;
+use crate::fem::dofs::{DofMap, FIXED};
 use crate::fem::sparse::{components_dofs, LinearSystem, SparsePattern};
 use crate::fem::tabulate::Tabulation;
 use crate::fem::{lagrange, tetrahedron};
 use crate::geometry::{distance3, Point3, TetMap, Vector3};
 use crate::mesh::Mesh;
+use crate::solve::petsc::{cg_gamg, Csr};
 use crate::solve::{Cholesky, SolveError};
 use std::sync::Arc;
 
@@ -85,6 +86,32 @@ pub struct Solid {
     pub body: SolidBody,
 }
 
+/// How K u = F is solved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Solver {
+    /// Sparse Cholesky (faer).
+    Direct,
+    /// CG with PETSc's algebraic multigrid, to ‖r‖ ≤ [`ITERATIVE_RTOL`] ‖F‖.
+    Iterative,
+}
+
+impl Solver {
+    /// The solver of a system of `unknowns`: direct below [`ITERATIVE_FROM`], iterative from it.
+    pub fn for_size(unknowns: usize) -> Solver {
+        if unknowns < ITERATIVE_FROM {
+            Solver::Direct
+        } else {
+            Solver::Iterative
+        }
+    }
+}
+
+/// The size from which the iterative solver is the faster (docs/results.md, "Solids").
+pub const ITERATIVE_FROM: usize = 80_000;
+
+/// The relative residual of the iterative solve.
+pub const ITERATIVE_RTOL: f64 = 1e-10;
+
 /// A solution: the nodal displacements and the size of the system solved.
 #[derive(Debug, Clone)]
 pub struct SolidSolution {
@@ -93,6 +120,9 @@ pub struct SolidSolution {
     pub unknowns: usize,
     /// Stored entries of the stiffness matrix (both triangles).
     pub nonzeros: usize,
+    pub solver: Solver,
+    /// CG iterations of the iterative solver.
+    pub iterations: Option<usize>,
 }
 
 /// Why a solid cannot be solved.
@@ -102,6 +132,33 @@ pub enum SolidError {
     DetachedFacet { facet: usize, tag: i32 },
     #[error(transparent)]
     Solve(#[from] SolveError),
+}
+
+/// The system on every dof, in node blocks: the free rows of K and F, and d u_i = d g_i on a
+/// Dirichlet dof i, d the mean diagonal of K.
+fn whole_system(dofs: &DofMap, pattern: &SparsePattern, system: &LinearSystem) -> (Csr, Vec<f64>) {
+    let symbolic = pattern.symbolic();
+    let (col_ptr, row_idx) = (symbolic.col_ptr(), symbolic.row_idx());
+    let full_of: Vec<usize> = (0..dofs.n_dofs()).filter(|&i| dofs.free[i] != FIXED).collect();
+    let diagonal =
+        (0..pattern.n()).map(|k| system.values[pattern.position(k, k)]).sum::<f64>() / pattern.n().max(1) as f64;
+    let mut csr =
+        Csr { row_ptr: vec![0], col_idx: Vec::with_capacity(row_idx.len()), values: Vec::with_capacity(row_idx.len()) };
+    let mut rhs = Vec::with_capacity(dofs.n_dofs());
+    for (i, &k) in dofs.free.iter().enumerate() {
+        if k == FIXED {
+            csr.col_idx.push(i as i32);
+            csr.values.push(diagonal);
+            rhs.push(diagonal * dofs.fixed_value[i]);
+        } else {
+            // K is symmetric: column k of the pattern is row k
+            csr.col_idx.extend(row_idx[col_ptr[k]..col_ptr[k + 1]].iter().map(|&r| full_of[r] as i32));
+            csr.values.extend_from_slice(&system.values[col_ptr[k]..col_ptr[k + 1]]);
+            rhs.push(system.rhs[k]);
+        }
+        csr.row_ptr.push(csr.col_idx.len() as i32);
+    }
+    (csr, rhs)
 }
 
 impl Solid {
@@ -171,17 +228,30 @@ impl Solid {
         Ok(())
     }
 
-    /// Solves K u = F by sparse Cholesky.
-    pub fn solve(&self) -> Result<SolidSolution, SolidError> {
+    /// Solves K u = F by `solver`, or by the solver of its size ([`Solver::for_size`]).
+    pub fn solve(&self, solver: Option<Solver>) -> Result<SolidSolution, SolidError> {
         let dofs = self.dofs();
         let pattern = SparsePattern::new(&self.mesh, &dofs);
         let system = self.assemble(&dofs, &pattern)?;
-        let x = Cholesky::analyse(&pattern)?.solve(&pattern, &system.values, &system.rhs)?;
-        let u = dofs.expand(&x);
+        let solver = solver.unwrap_or(Solver::for_size(dofs.n_free));
+        let (u, iterations) = match solver {
+            Solver::Direct => {
+                (dofs.expand(&Cholesky::analyse(&pattern)?.solve(&pattern, &system.values, &system.rhs)?), None)
+            }
+            Solver::Iterative => {
+                let (matrix, rhs) = whole_system(&dofs, &pattern, &system);
+                let coordinates: Vec<f64> = self.mesh.points.iter().flatten().copied().collect();
+                let solution = cg_gamg(&matrix, &rhs, &coordinates, 3, ITERATIVE_RTOL)?;
+                let u = solution.x.iter().zip(&dofs.free).zip(&dofs.fixed_value);
+                (u.map(|((&x, &k), &g)| if k == FIXED { g } else { x }).collect(), Some(solution.iterations))
+            }
+        };
         Ok(SolidSolution {
             displacement: u.chunks_exact(3).map(|u| [u[0], u[1], u[2]]).collect(),
             unknowns: dofs.n_free,
             nonzeros: pattern.nnz(),
+            solver,
+            iterations,
         })
     }
 

@@ -170,17 +170,19 @@ pub(super) fn check_cell_count(path: &Path, dimension: usize) -> Result<(), Gmsh
         3 => width * height * depth / (TETRAHEDRON_VOLUME * h * h * h),
         _ => width * height / (TRIANGLE_AREA * h * h),
     };
-    check_estimate(path, estimate, &format!("mean size {h:.3e} m on the curves"))
+    let cells = if dimension == 3 { "tetrahedra" } else { "triangles" };
+    check_estimate(path, estimate, cells, &format!("mean size {h:.3e} m on the curves"))
 }
 
-/// Refuses `estimate` triangles, estimated from `sizes` (what they were), above the cell limit.
-pub(super) fn check_estimate(path: &Path, estimate: f64, sizes: &str) -> Result<(), GmshError> {
+/// Refuses `estimate` cells (`cells` names them), estimated from `sizes` (what they were),
+/// above the cell limit.
+pub(super) fn check_estimate(path: &Path, estimate: f64, cells: &str, sizes: &str) -> Result<(), GmshError> {
     let limit = cell_limit();
     if estimate.is_nan() || estimate > limit as f64 {
         return Err(GmshError::Limit {
             path: path.into(),
             reason: format!(
-                "its mesh would have about {estimate:.1e} cells ({sizes}), above the limit of {limit}; \
+                "its mesh would have about {estimate:.1e} {cells} ({sizes}), above the limit of {limit}; \
                  coarsen the sizes or raise the limit with --max-cells"
             ),
         });

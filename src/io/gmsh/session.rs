@@ -233,7 +233,9 @@ impl Session {
             || {
                 match field_cells {
                     None => limits::check_cell_count(&path, dimension)?,
-                    Some(cells) => limits::check_estimate(&path, cells, "from the target sizes of the previous mesh")?,
+                    Some(cells) => {
+                        limits::check_estimate(&path, cells, "triangles", "from the target sizes of the previous mesh")?
+                    }
                 }
                 api::generate(dimension as i32)
             },
