@@ -43,6 +43,9 @@ fn mesh_and_check_take_a_solid() {
     assert!(text.contains("region   rock") && text.contains(": ok"), "{text}");
 }
 
+/// A scene edit: its name, the edit of geo/block3d.toml, the keywords of its error.
+type Edit = (&'static str, fn(String) -> String, &'static [&'static str]);
+
 /// Goal: what a solid does not have yet is refused in one sentence naming the command, flag
 /// or key, and no output is left: `adapt` and `safety`, `--estimate` and `--friction`, a
 /// contact role, load combinations, a vector of two or four components, supports that leave
@@ -65,7 +68,7 @@ fn what_a_solid_does_not_have_is_refused_by_name() {
         &["--solver iterative", "plane section"],
     );
     let tmp = TempDir::new("solid-keys");
-    let edits: [(&str, fn(String) -> String, &[&str]); 5] = [
+    let edits: [Edit; 5] = [
         (
             "loose",
             |s| s.replace("[boundary.ymin]\nrole = \"dirichlet\"\nfix = \"y\"", "[boundary.ymin]\nrole = \"free\""),

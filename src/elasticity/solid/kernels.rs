@@ -30,14 +30,12 @@ pub fn stiffness(map: &TetMap, tab: &Tabulation<3>, lambda: f64, mu: f64, grads:
                 }
             }
             let tr = d[0][0] + d[1][1] + d[2][2];
-            for a in 0..3 {
-                for b in 0..3 {
-                    let value = lambda * d[a][b] + mu * (if a == b { tr } else { 0.0 } + d[b][a]);
-                    let (r, s) = (3 * i + a, 3 * j + b);
-                    if i < j || r <= s {
-                        k[r * n + s] = value;
-                        k[s * n + r] = value;
-                    }
+            for (a, b) in (0..3).flat_map(|a| (0..3).map(move |b| (a, b))) {
+                let value = lambda * d[a][b] + mu * (if a == b { tr } else { 0.0 } + d[b][a]);
+                let (r, s) = (3 * i + a, 3 * j + b);
+                if i < j || r <= s {
+                    k[r * n + s] = value;
+                    k[s * n + r] = value;
                 }
             }
         }

@@ -262,8 +262,8 @@ impl Solid {
         let mesh = &self.mesh;
         let bodies = mesh.bodies();
         let mut body_of_node = vec![0; mesh.n_points()];
-        for c in 0..mesh.n_cells() {
-            mesh.cell(c).iter().for_each(|&n| body_of_node[n] = bodies[c]);
+        for (c, &body) in bodies.iter().enumerate() {
+            mesh.cell(c).iter().for_each(|&n| body_of_node[n] = body);
         }
         (0..=bodies.iter().copied().max().unwrap_or(0)).find_map(|b| {
             let points: Vec<Point3> =
