@@ -1,7 +1,9 @@
-//! Generates the C API bindings of gmsh and of PETSc and links `libgmsh`, `libpetsc_real` and
-//! MPI. gmsh's header is `$GMSH_HEADER`, by default Debian's `/usr/include/gmshc.h`; PETSc's
-//! include and library paths come from `pkg-config PETSc mpi` (Debian's libpetsc-real-dev and
-//! Open MPI).
+//! Generates the C API bindings of gmsh and of PETSc and links `libgmsh`. gmsh's header is
+//! `$GMSH_HEADER`, by default Debian's `/usr/include/gmshc.h`. PETSc's include and library
+//! paths come from `pkg-config PETSc mpi` (Debian's libpetsc-real-dev and Open MPI); PETSc is
+//! not linked but loaded when the iterative solver first runs (src/solve/petsc), from the
+//! library whose path `PETSC_LIBRARY` gives the crate: loading it starts the threads of its
+//! BLAS, which must inherit the signal mask that `main` sets first.
 
 use std::path::PathBuf;
 use std::process::Command;
@@ -39,13 +41,10 @@ fn pkg_config(flag: &str) -> Vec<String> {
 }
 
 fn petsc(out: &std::path::Path) {
-    for word in pkg_config("--libs") {
-        if let Some(dir) = word.strip_prefix("-L") {
-            println!("cargo:rustc-link-search=native={dir}");
-        } else if let Some(lib) = word.strip_prefix("-l") {
-            println!("cargo:rustc-link-lib={lib}");
-        }
-    }
+    let libs = pkg_config("--libs");
+    let dir = libs.iter().find_map(|w| w.strip_prefix("-L")).expect("pkg-config gives PETSc's library directory");
+    let name = libs.iter().find_map(|w| w.strip_prefix("-l").filter(|l| l.starts_with("petsc"))).expect("a -lpetsc…");
+    println!("cargo:rustc-env=PETSC_LIBRARY={dir}/lib{name}.so");
     let includes = pkg_config("--cflags").into_iter().filter(|w| w.starts_with("-I"));
     bindgen::Builder::default()
         .header_contents("petsc_wrapper.h", "#include <petscksp.h>\n")
@@ -57,7 +56,9 @@ fn petsc(out: &std::path::Path) {
         .allowlist_function("Vec(CreateSeqWithArray|SetBlockSize|Destroy)")
         .allowlist_function("KSP(Create|SetOperators|SetType|GetPC|SetTolerances|SetFromOptions|Solve|GetIterationNumber|GetConvergedReason|GetResidualNorm|Destroy)")
         .allowlist_function("PCSetType")
-        .allowlist_var("ompi_mpi_comm_self")
+        .allowlist_type("ompi_predefined_communicator_t")
+        .dynamic_library_name("Petsc")
+        .dynamic_link_require_all(true)
         .generate()
         .unwrap_or_else(|e| panic!("cannot generate PETSc bindings: {e}"))
         .write_to_file(out.join("petsc_bindings.rs"))

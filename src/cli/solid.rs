@@ -4,7 +4,7 @@
 use super::common::{remove_earlier_outputs, stem, Progress};
 use super::output::{TagNames, Units, SINGULAR_MAXIMUM, SOLID_UNITS};
 use crate::elasticity::solid::kernels::{principal, von_mises};
-use crate::elasticity::solid::{Solid, SolidSolution, Solver};
+use crate::elasticity::solid::{Solid, SolidSolution, SolidSystem, Solver};
 use crate::geometry::{norm3, Point3, Vector3};
 use crate::io::atomic::{write_output, Provisional};
 use crate::io::vtu::{write_boundary_vtu, write_mesh_vtu, Field};
@@ -46,6 +46,7 @@ struct SolidSummary {
 #[derive(Serialize)]
 struct Seconds {
     mesh: f64,
+    assemble: f64,
     solve: f64,
     output: f64,
 }
@@ -61,7 +62,13 @@ pub fn solve(
     progress: &Progress,
 ) -> Result<()> {
     let solid = scene.solid(mesh)?;
-    let (solution, solve_seconds) = progress.stage("solve", || Ok(solid.solve(solver)?), describe)?;
+    let (system, assemble_seconds) = progress.stage(
+        "assemble",
+        || Ok(solid.system()?),
+        |s: &SolidSystem| format!("{} unknowns, {} nonzeros", s.dofs.n_free, s.pattern.nnz()),
+    )?;
+    let (solution, solve_seconds) = progress.stage("solve", || Ok(solid.solve_system(&system, solver)?), describe)?;
+    drop(system);
     let u = &solution.displacement;
     let sigma = solid.cell_stress(u);
     let name = stem(&scene.source);
@@ -71,7 +78,8 @@ pub fn solve(
         || write_files(dir, &name, scene, &solid.mesh, u, &sigma, &mut provisional),
         |f| format!("{} files in {}", f.len(), dir.display()),
     )?;
-    let seconds = Seconds { mesh: mesh_seconds, solve: solve_seconds, output: output_seconds };
+    let seconds =
+        Seconds { mesh: mesh_seconds, assemble: assemble_seconds, solve: solve_seconds, output: output_seconds };
     let summary = SolidSummary::new(scene, &solid, &solution, &sigma, files.clone(), seconds);
     let json = dir.join("summary.json");
     write_output(&json, serde_json::to_string_pretty(&summary)?.as_bytes())?;
@@ -89,13 +97,12 @@ pub fn solve(
     Ok(())
 }
 
-/// "N unknowns, M nonzeros, Cholesky" or "…, CG + AMG, k iterations".
+/// "sparse Cholesky" or "CG with algebraic multigrid, k iterations".
 fn describe(s: &SolidSolution) -> String {
-    let how = match s.iterations {
-        Some(k) => format!("CG + AMG, {k} iterations"),
-        None => "Cholesky".into(),
-    };
-    format!("{} unknowns, {} nonzeros, {how}", s.unknowns, s.nonzeros)
+    match s.iterations {
+        Some(k) => format!("CG with algebraic multigrid, {k} iterations"),
+        None => "sparse Cholesky".into(),
+    }
 }
 
 /// The cell fields of the stresses: the six components, von Mises and the principal stresses.

@@ -86,6 +86,13 @@ pub struct Solid {
     pub body: SolidBody,
 }
 
+/// The assembled system of a solid: its dofs, the pattern of K and K u = F on the free dofs.
+pub struct SolidSystem {
+    pub dofs: DofMap,
+    pub pattern: SparsePattern,
+    pub system: LinearSystem,
+}
+
 /// How K u = F is solved.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Solver {
@@ -228,18 +235,29 @@ impl Solid {
         Ok(())
     }
 
-    /// Solves K u = F by `solver`, or by the solver of its size ([`Solver::for_size`]).
-    pub fn solve(&self, solver: Option<Solver>) -> Result<SolidSolution, SolidError> {
+    /// The dofs, the pattern and K u = F assembled on them.
+    pub fn system(&self) -> Result<SolidSystem, SolidError> {
         let dofs = self.dofs();
         let pattern = SparsePattern::new(&self.mesh, &dofs);
         let system = self.assemble(&dofs, &pattern)?;
+        Ok(SolidSystem { dofs, pattern, system })
+    }
+
+    /// Solves K u = F by `solver`, or by the solver of its size ([`Solver::for_size`]).
+    pub fn solve(&self, solver: Option<Solver>) -> Result<SolidSolution, SolidError> {
+        self.solve_system(&self.system()?, solver)
+    }
+
+    /// Solves the assembled `system` by `solver`, or by the solver of its size.
+    pub fn solve_system(&self, system: &SolidSystem, solver: Option<Solver>) -> Result<SolidSolution, SolidError> {
+        let SolidSystem { dofs, pattern, system } = system;
         let solver = solver.unwrap_or(Solver::for_size(dofs.n_free));
         let (u, iterations) = match solver {
             Solver::Direct => {
-                (dofs.expand(&Cholesky::analyse(&pattern)?.solve(&pattern, &system.values, &system.rhs)?), None)
+                (dofs.expand(&Cholesky::analyse(pattern)?.solve(pattern, &system.values, &system.rhs)?), None)
             }
             Solver::Iterative => {
-                let (matrix, rhs) = whole_system(&dofs, &pattern, &system);
+                let (matrix, rhs) = whole_system(dofs, pattern, system);
                 let coordinates: Vec<f64> = self.mesh.points.iter().flatten().copied().collect();
                 let solution = cg_gamg(&matrix, &rhs, &coordinates, 3, ITERATIVE_RTOL)?;
                 let u = solution.x.iter().zip(&dofs.free).zip(&dofs.fixed_value);

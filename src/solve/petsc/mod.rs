@@ -7,8 +7,10 @@
 //! blocks stay whole for GAMG and the scale of the matrix is kept. GAMG's near null space is
 //! the six rigid motions of the node coordinates (`MatNullSpaceCreateRigidBody`).
 //!
-//! PETSc is initialised once per process with `-no_signal_handler` (the command line's signal
-//! handlers stay in place) and its errors are returned, not printed; it is never finalised.
+//! PETSc is loaded when first needed (its BLAS starts threads as it loads, which must inherit
+//! the signal mask of the command line: see `build.rs`), initialised once per process with
+//! `-no_signal_handler` (the command line's signal handling stays in place), its errors
+//! returned, not printed; it is never finalised.
 //! PETSc's options database may tune the solve (the environment's `PETSC_OPTIONS`, e.g.
 //! `-ksp_monitor`). This module and `io::gmsh` hold the crate's only `unsafe` code.
 
@@ -16,7 +18,7 @@ mod ffi;
 
 use super::SolveError;
 use std::ffi::{c_char, c_int, CStr};
-use std::sync::OnceLock;
+use std::sync::{Mutex, PoisonError};
 
 /// The CSR form of a square matrix with 32-bit indices (PETSc's `PetscInt`).
 pub struct Csr {
@@ -32,28 +34,38 @@ pub struct IterativeSolution {
     pub iterations: usize,
 }
 
-/// PETSc's error `code` of the call `call` as a [`SolveError`].
-fn check(code: c_int, call: &str) -> Result<(), SolveError> {
-    if code == 0 {
-        return Ok(());
-    }
-    let mut text: *const c_char = std::ptr::null();
-    // SAFETY: PetscErrorMessage writes a pointer to a static string for a PETSc error code.
-    let message = unsafe {
-        ffi::PetscErrorMessage(code, &mut text, std::ptr::null_mut());
-        if text.is_null() {
-            String::new()
-        } else {
-            CStr::from_ptr(text).to_string_lossy().into_owned()
-        }
-    };
-    Err(SolveError::Factorisation(format!("PETSc {call} failed (error {code}: {message})")))
+/// PETSc's library, initialised, and PETSC_COMM_SELF.
+struct Petsc {
+    api: ffi::Petsc,
+    comm_self: ffi::MPI_Comm,
 }
 
-/// Initialises PETSc once per process.
-fn initialise() -> Result<(), SolveError> {
-    static STATE: OnceLock<Result<(), String>> = OnceLock::new();
-    let state = STATE.get_or_init(|| {
+// SAFETY: the library handle and the communicator's address are process-wide and immutable;
+// the calls through them are made by one solve at a time (`PETSC` is locked).
+unsafe impl Send for Petsc {}
+
+/// PETSc, loaded and initialised on first use.
+static PETSC: Mutex<Option<Result<Petsc, String>>> = Mutex::new(None);
+
+impl Petsc {
+    /// Loads the library of `PETSC_LIBRARY` and initialises PETSc.
+    fn load() -> Result<Petsc, String> {
+        let path = env!("PETSC_LIBRARY");
+        let fail =
+            |e: libloading::Error| format!("cannot load PETSc from {path} (install Debian's libpetsc-real-dev): {e}");
+        // SAFETY: loading PETSc runs its and MPI's initialisers, which have no preconditions.
+        let api = unsafe { ffi::Petsc::new(path) }.map_err(fail)?;
+        // SAFETY: the same library again (a second reference), to find the data symbol of Open
+        // MPI's predefined communicator, which PETSC_COMM_SELF is the address of.
+        let comm_self = unsafe {
+            let library = libloading::Library::new(path).map_err(fail)?;
+            let symbol =
+                library.get::<*mut ffi::ompi_predefined_communicator_t>(b"ompi_mpi_comm_self\0").map_err(fail)?;
+            let address = (*symbol).cast();
+            std::mem::forget(library);
+            address
+        };
+        let petsc = Petsc { api, comm_self };
         let mut words: Vec<Vec<u8>> =
             ["damfem", "-no_signal_handler"].iter().map(|w| format!("{w}\0").into_bytes()).collect();
         let mut argv: Vec<*mut c_char> = words.iter_mut().map(|w| w.as_mut_ptr().cast()).collect();
@@ -62,48 +74,60 @@ fn initialise() -> Result<(), SolveError> {
         let mut argv_ptr = argv.as_mut_ptr();
         // SAFETY: argc/argv describe NUL-terminated strings, argv[argc] = NULL as MPI_Init
         // expects; both are leaked, since PETSc and MPI may keep pointers to them.
-        let code = unsafe { ffi::PetscInitialize(&mut argc, &mut argv_ptr, std::ptr::null(), std::ptr::null()) };
+        let code = unsafe { petsc.api.PetscInitialize(&mut argc, &mut argv_ptr, std::ptr::null(), std::ptr::null()) };
         std::mem::forget(words);
         std::mem::forget(argv);
-        check(code, "PetscInitialize").map_err(|e| e.to_string())?;
+        petsc.check(code, "PetscInitialize").map_err(|e| e.to_string())?;
         // SAFETY: PetscReturnErrorHandler is PETSc's handler that returns the error code silently.
-        let code = unsafe { ffi::PetscPushErrorHandler(Some(ffi::PetscReturnErrorHandler), std::ptr::null_mut()) };
-        check(code, "PetscPushErrorHandler").map_err(|e| e.to_string())
-    });
-    state.clone().map_err(SolveError::Factorisation)
-}
+        let code =
+            unsafe { petsc.api.PetscPushErrorHandler(Some(petsc.api.PetscReturnErrorHandler), std::ptr::null_mut()) };
+        petsc.check(code, "PetscPushErrorHandler").map_err(|e| e.to_string())?;
+        Ok(petsc)
+    }
 
-/// PETSC_COMM_SELF.
-fn comm_self() -> ffi::MPI_Comm {
-    // the address of Open MPI's predefined communicator, which PETSc's PETSC_COMM_SELF
-    // macro expands to
-    (&raw mut ffi::ompi_mpi_comm_self).cast()
+    /// PETSc's error `code` of the call `call` as a [`SolveError`].
+    fn check(&self, code: c_int, call: &str) -> Result<(), SolveError> {
+        if code == 0 {
+            return Ok(());
+        }
+        let mut text: *const c_char = std::ptr::null();
+        // SAFETY: PetscErrorMessage writes a pointer to a static string for a PETSc error code.
+        let message = unsafe {
+            self.api.PetscErrorMessage(code, &mut text, std::ptr::null_mut());
+            if text.is_null() {
+                String::new()
+            } else {
+                CStr::from_ptr(text).to_string_lossy().into_owned()
+            }
+        };
+        Err(SolveError::Factorisation(format!("PETSc {call} failed (error {code}: {message})")))
+    }
 }
 
 /// The PETSc objects of one solve, destroyed on drop in reverse order.
-#[derive(Default)]
-struct Objects {
+struct Objects<'a> {
+    api: &'a ffi::Petsc,
     matrix: ffi::Mat,
     null_space: ffi::MatNullSpace,
     vectors: Vec<ffi::Vec>,
     ksp: ffi::KSP,
 }
 
-impl Drop for Objects {
+impl Drop for Objects<'_> {
     fn drop(&mut self) {
         // SAFETY: each handle is null or was created by PETSc and is destroyed once.
         unsafe {
             if !self.ksp.is_null() {
-                ffi::KSPDestroy(&mut self.ksp);
+                self.api.KSPDestroy(&mut self.ksp);
             }
             for v in &mut self.vectors {
-                ffi::VecDestroy(v);
+                self.api.VecDestroy(v);
             }
             if !self.null_space.is_null() {
-                ffi::MatNullSpaceDestroy(&mut self.null_space);
+                self.api.MatNullSpaceDestroy(&mut self.null_space);
             }
             if !self.matrix.is_null() {
-                ffi::MatDestroy(&mut self.matrix);
+                self.api.MatDestroy(&mut self.matrix);
             }
         }
     }
@@ -118,10 +142,14 @@ pub fn cg_gamg(
     blocks: usize,
     rtol: f64,
 ) -> Result<IterativeSolution, SolveError> {
-    initialise()?;
-    let n = b.len();
-    let (comm, bs) = (comm_self(), blocks as ffi::PetscInt);
-    let mut o = Objects::default();
+    let mut loaded = PETSC.lock().unwrap_or_else(PoisonError::into_inner);
+    let petsc = match loaded.get_or_insert_with(Petsc::load) {
+        Ok(petsc) => &*petsc,
+        Err(message) => return Err(SolveError::Factorisation(message.clone())),
+    };
+    let (api, comm, bs, n) = (&petsc.api, petsc.comm_self, blocks as ffi::PetscInt, b.len());
+    let (matrix, null_space, ksp) = (std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut());
+    let mut o = Objects { api, matrix, null_space, vectors: Vec::new(), ksp };
     let mut x = vec![0.0; n];
     let mut iterations: ffi::PetscInt = 0;
     let mut reason: ffi::KSPConvergedReason = 0;
@@ -129,38 +157,41 @@ pub fn cg_gamg(
     // using it (`a`, `b`, `coordinates`, `x` outlive `o`, dropped at the end of this scope);
     // PETSc copies the CSR arrays into its own matrix.
     unsafe {
-        check(ffi::MatCreate(comm, &mut o.matrix), "MatCreate")?;
-        check(ffi::MatSetSizes(o.matrix, n as _, n as _, n as _, n as _), "MatSetSizes")?;
-        check(ffi::MatSetType(o.matrix, c"seqaij".as_ptr()), "MatSetType")?;
-        check(ffi::MatSetBlockSize(o.matrix, bs), "MatSetBlockSize")?;
-        check(
-            ffi::MatSeqAIJSetPreallocationCSR(o.matrix, a.row_ptr.as_ptr(), a.col_idx.as_ptr(), a.values.as_ptr()),
+        petsc.check(api.MatCreate(comm, &mut o.matrix), "MatCreate")?;
+        petsc.check(api.MatSetSizes(o.matrix, n as _, n as _, n as _, n as _), "MatSetSizes")?;
+        petsc.check(api.MatSetType(o.matrix, c"seqaij".as_ptr()), "MatSetType")?;
+        petsc.check(api.MatSetBlockSize(o.matrix, bs), "MatSetBlockSize")?;
+        petsc.check(
+            api.MatSeqAIJSetPreallocationCSR(o.matrix, a.row_ptr.as_ptr(), a.col_idx.as_ptr(), a.values.as_ptr()),
             "MatSeqAIJSetPreallocationCSR",
         )?;
         let mut coords: ffi::Vec = std::ptr::null_mut();
-        check(
-            ffi::VecCreateSeqWithArray(comm, bs, coordinates.len() as _, coordinates.as_ptr(), &mut coords),
+        petsc.check(
+            api.VecCreateSeqWithArray(comm, bs, coordinates.len() as _, coordinates.as_ptr(), &mut coords),
             "VecCreateSeqWithArray",
         )?;
         o.vectors.push(coords);
-        check(ffi::MatNullSpaceCreateRigidBody(coords, &mut o.null_space), "MatNullSpaceCreateRigidBody")?;
-        check(ffi::MatSetNearNullSpace(o.matrix, o.null_space), "MatSetNearNullSpace")?;
+        petsc.check(api.MatNullSpaceCreateRigidBody(coords, &mut o.null_space), "MatNullSpaceCreateRigidBody")?;
+        petsc.check(api.MatSetNearNullSpace(o.matrix, o.null_space), "MatSetNearNullSpace")?;
         let (mut rhs, mut solution): (ffi::Vec, ffi::Vec) = (std::ptr::null_mut(), std::ptr::null_mut());
-        check(ffi::VecCreateSeqWithArray(comm, 1, n as _, b.as_ptr(), &mut rhs), "VecCreateSeqWithArray")?;
+        petsc.check(api.VecCreateSeqWithArray(comm, 1, n as _, b.as_ptr(), &mut rhs), "VecCreateSeqWithArray")?;
         o.vectors.push(rhs);
-        check(ffi::VecCreateSeqWithArray(comm, 1, n as _, x.as_mut_ptr(), &mut solution), "VecCreateSeqWithArray")?;
+        petsc.check(
+            api.VecCreateSeqWithArray(comm, 1, n as _, x.as_mut_ptr(), &mut solution),
+            "VecCreateSeqWithArray",
+        )?;
         o.vectors.push(solution);
-        check(ffi::KSPCreate(comm, &mut o.ksp), "KSPCreate")?;
-        check(ffi::KSPSetOperators(o.ksp, o.matrix, o.matrix), "KSPSetOperators")?;
-        check(ffi::KSPSetType(o.ksp, c"cg".as_ptr()), "KSPSetType")?;
+        petsc.check(api.KSPCreate(comm, &mut o.ksp), "KSPCreate")?;
+        petsc.check(api.KSPSetOperators(o.ksp, o.matrix, o.matrix), "KSPSetOperators")?;
+        petsc.check(api.KSPSetType(o.ksp, c"cg".as_ptr()), "KSPSetType")?;
         let mut pc: ffi::PC = std::ptr::null_mut();
-        check(ffi::KSPGetPC(o.ksp, &mut pc), "KSPGetPC")?;
-        check(ffi::PCSetType(pc, c"gamg".as_ptr()), "PCSetType")?;
-        check(ffi::KSPSetTolerances(o.ksp, rtol, 0.0, 1e10, 10_000), "KSPSetTolerances")?;
-        check(ffi::KSPSetFromOptions(o.ksp), "KSPSetFromOptions")?;
-        check(ffi::KSPSolve(o.ksp, rhs, solution), "KSPSolve")?;
-        check(ffi::KSPGetIterationNumber(o.ksp, &mut iterations), "KSPGetIterationNumber")?;
-        check(ffi::KSPGetConvergedReason(o.ksp, &mut reason), "KSPGetConvergedReason")?;
+        petsc.check(api.KSPGetPC(o.ksp, &mut pc), "KSPGetPC")?;
+        petsc.check(api.PCSetType(pc, c"gamg".as_ptr()), "PCSetType")?;
+        petsc.check(api.KSPSetTolerances(o.ksp, rtol, 0.0, 1e10, 10_000), "KSPSetTolerances")?;
+        petsc.check(api.KSPSetFromOptions(o.ksp), "KSPSetFromOptions")?;
+        petsc.check(api.KSPSolve(o.ksp, rhs, solution), "KSPSolve")?;
+        petsc.check(api.KSPGetIterationNumber(o.ksp, &mut iterations), "KSPGetIterationNumber")?;
+        petsc.check(api.KSPGetConvergedReason(o.ksp, &mut reason), "KSPGetConvergedReason")?;
     }
     drop(o);
     if reason <= 0 {
