@@ -124,7 +124,7 @@ impl Input {
     }
 
     /// Meshes the scene's geometry (or reads its .msh) in its dimension: a plane mesh as
-    /// [`Input::mesh`] gives it, or a solid's, which a mesh file gives at its own degree.
+    /// [`Input::mesh`] gives it, or a solid's, a mesh file's raised to degree 2 as a plane one.
     pub fn model(&self, scene: &Scene) -> Result<AnyMesh> {
         let geometry = &scene.geometry;
         if !is_msh(geometry) {
@@ -132,15 +132,7 @@ impl Input {
         }
         match gmsh::read_msh_any(geometry, self.verbose)? {
             AnyMesh::Plane(mesh) => Ok(AnyMesh::Plane(at_order(mesh, self.msh_order(scene), geometry)?)),
-            AnyMesh::Solid(mesh) => match self.msh_order(scene) {
-                Some((order, by)) if order != mesh.order => anyhow::bail!(
-                    "{by}: {} holds degree-{} tetrahedra, which damfem does not raise or lower; mesh the .geo at \
-                     degree {order} instead",
-                    geometry.display(),
-                    mesh.order
-                ),
-                _ => Ok(AnyMesh::Solid(mesh)),
-            },
+            AnyMesh::Solid(mesh) => Ok(AnyMesh::Solid(at_order(mesh, self.msh_order(scene), geometry)?)),
         }
     }
 
@@ -184,15 +176,16 @@ fn is_msh(path: &Path) -> bool {
     path.extension().is_some_and(|e| e == "msh")
 }
 
-fn at_order(mesh: Mesh, order: Option<(usize, String)>, path: &Path) -> Result<Mesh> {
+fn at_order<const D: usize>(mesh: Mesh<D>, order: Option<(usize, String)>, path: &Path) -> Result<Mesh<D>> {
     match order {
         None => Ok(mesh),
         Some((order, _)) if order == mesh.order => Ok(mesh),
         Some((2, _)) => Ok(elevate_to_p2(&mesh)),
         Some((_, by)) => anyhow::bail!(
-            "{by}: {} holds degree-{} triangles; a mesh file can be raised to degree 2, not lowered",
+            "{by}: {} holds degree-{} {}; a mesh file can be raised to degree 2, not lowered",
             path.display(),
-            mesh.order
+            mesh.order,
+            if D == 3 { "tetrahedra" } else { "triangles" }
         ),
     }
 }

@@ -2,7 +2,7 @@
 //! of the vertices of a degree-2 mesh.
 
 use super::Mesh;
-use crate::geometry::Point;
+use crate::geometry::{tetrahedron, CellType};
 use std::collections::HashMap;
 
 /// Midpoint nodes created on demand, one per unordered node pair.
@@ -27,10 +27,10 @@ impl Midpoints {
     }
 
     /// The node at the middle of a–b, appended to `points` on first request.
-    pub fn get(&mut self, a: usize, b: usize, points: &mut Vec<Point>) -> usize {
+    pub fn get<const D: usize>(&mut self, a: usize, b: usize, points: &mut Vec<[f64; D]>) -> usize {
         *self.index.entry((a.min(b), a.max(b))).or_insert_with(|| {
             let (pa, pb) = (points[a], points[b]);
-            points.push([0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1])]);
+            points.push(std::array::from_fn(|r| 0.5 * (pa[r] + pb[r])));
             points.len() - 1
         })
     }
@@ -40,24 +40,28 @@ impl Midpoints {
 /// (a degree-2 mesh is returned unchanged). Every midpoint sits at the middle of its straight
 /// edge, on the boundary too, as gmsh places them with `Mesh.SecondOrderLinear`: a curved
 /// boundary stays the polygon of the degree-1 mesh.
-pub fn elevate_to_p2(mesh: &Mesh) -> Mesh {
+/// Of a mesh of tetrahedra too, whose triangles get the midpoints of their three edges.
+pub fn elevate_to_p2<const D: usize>(mesh: &Mesh<D>) -> Mesh<D> {
     if mesh.order == 2 {
         return mesh.clone();
     }
     assert_eq!(mesh.order, 1, "order must be 1 or 2");
+    let triangle = CellType::Triangle.edges();
+    let (cell_edges, facet_edges): (&[[usize; 2]], &[[usize; 2]]) =
+        if D == 3 { (&tetrahedron::EDGES, triangle) } else { (triangle, &[[0, 1]]) };
     let mut points = mesh.points.clone();
     let mut mid = Midpoints::new();
-    let mut cell_nodes = Vec::with_capacity(2 * mesh.cell_nodes.len());
+    let mut with_midpoints = |nodes: &[usize], edges: &[[usize; 2]], out: &mut Vec<usize>| {
+        out.extend_from_slice(nodes);
+        out.extend(edges.iter().map(|&[i, j]| mid.get(nodes[i], nodes[j], &mut points)));
+    };
+    let mut cell_nodes = Vec::with_capacity(3 * mesh.cell_nodes.len());
     for c in 0..mesh.n_cells() {
-        let n = mesh.cell(c);
-        cell_nodes.extend_from_slice(n);
-        let m = [mid.get(n[0], n[1], &mut points), mid.get(n[1], n[2], &mut points), mid.get(n[2], n[0], &mut points)];
-        cell_nodes.extend(m);
+        with_midpoints(mesh.cell(c), cell_edges, &mut cell_nodes);
     }
-    let mut facet_nodes = Vec::with_capacity(3 * mesh.n_facets());
+    let mut facet_nodes = Vec::with_capacity(2 * mesh.facet_nodes.len());
     for f in 0..mesh.n_facets() {
-        let n = mesh.facet(f);
-        facet_nodes.extend([n[0], n[1], mid.get(n[0], n[1], &mut points)]);
+        with_midpoints(mesh.facet(f), facet_edges, &mut facet_nodes);
     }
     Mesh {
         points,

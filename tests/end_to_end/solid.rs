@@ -102,3 +102,36 @@ fn what_a_solid_does_not_have_is_refused_by_name() {
     });
     assert_refused("plane-z", "solve", &plane, &[], &["boundary.toe.fix", "\"z\"", "plane section"]);
 }
+
+/// Source: geo/block3d.toml, whose exact solution is linear.
+/// Goal: a degree-1 .msh of tetrahedra that `mesh.order = 2` asks for is raised to degree 2 as
+/// gmsh raises it (the nodes of gmsh's own degree-2 mesh, 1 462) and solved exactly; a
+/// degree-2 .msh asked for degree 1 is refused, naming the key.
+#[test]
+fn a_degree_one_msh_of_a_solid_is_raised_to_degree_two() {
+    let tmp = TempDir::new("solid-msh");
+    let (p1, p2) = (tmp.join("p1"), tmp.join("p2"));
+    for (dir, order) in [(&p1, "1"), (&p2, "2")] {
+        let scene = repo("geo/block3d.toml");
+        let args = [OsStr::new("mesh"), scene.as_os_str(), OsStr::new("--order"), OsStr::new(order), OsStr::new("-q")];
+        assert_ok(&damfem(&[&args[..], &[OsStr::new("-o"), dir.as_os_str()]].concat()));
+    }
+    let body = std::fs::read_to_string(repo("geo/block3d.toml")).unwrap();
+    let raised = tmp.join("raised.toml");
+    let msh = p1.join("block3d.msh").display().to_string();
+    std::fs::write(&raised, body.replace("geometry = \"block3d.geo\"", &format!("geometry = {msh:?}"))).unwrap();
+    let out = tmp.join("out");
+    assert_ok(&damfem(&[OsStr::new("solve"), raised.as_os_str(), OsStr::new("-q"), OsStr::new("-o"), out.as_os_str()]));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!((summary["order"].as_u64(), summary["nodes"].as_u64()), (Some(2), Some(1462)), "{summary}");
+    // u at (2, 1, 1): (2ν, ν, −1) q/E, ν = 0.2, q/E = 1e6/3e10
+    let exact = (1e6 / 3e10) * (0.16f64 + 0.04 + 1.0).sqrt();
+    assert!((summary["max_displacement"].as_f64().unwrap() - exact).abs() < 1e-12 * exact, "{summary}");
+    let lowered = tmp.join("lowered.toml");
+    let msh = p2.join("block3d.msh").display().to_string();
+    let body =
+        body.replace("geometry = \"block3d.geo\"", &format!("geometry = {msh:?}")).replace("order = 2", "order = 1");
+    std::fs::write(&lowered, body).unwrap();
+    assert_refused("solid-lowered", "solve", &lowered, &[], &["mesh.order = 1", "degree-2 tetrahedra", "not lowered"]);
+}
