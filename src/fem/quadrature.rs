@@ -9,8 +9,10 @@
 //!   tensor product of two `n`-point Gauss rules with `2n − 1 ≥ d + 1` is exact for every
 //!   polynomial of total degree `≤ d` (in fact `≤ 2n − 2`). Weights sum to `1/2`.
 //! * [`triangle_cached`]`(d)`: the same rule, built once per degree and shared.
-//! * [`tetrahedron`]`(d)`: the collapsed rule on the reference tetrahedron (0,0,0), (1,0,0),
-//!   (0,1,0), (0,0,1). With `x = u`, `y = (1 − u) v`, `z = (1 − u)(1 − v) w` and
+//! * [`tetrahedron`]`(d)`: on the reference tetrahedron (0,0,0), (1,0,0), (0,1,0), (0,0,1),
+//!   the centroid for d ≤ 1, the symmetric 4-point rule for d = 2 (the points a e_i + b Σ_{j≠i}
+//!   e_j in barycentric coordinates, b = (5 − √5)/20, a = 1 − 3b, weights 1/24), and above the
+//!   collapsed rule: with `x = u`, `y = (1 − u) v`, `z = (1 − u)(1 − v) w` and
 //!   `dx dy dz = (1 − u)² (1 − v) du dv dw`, a polynomial of total degree `d` has degree
 //!   `≤ d + 2` in `u`, `≤ d + 1` in `v` and `≤ d` in `w`: `n` Gauss points per direction with
 //!   `2n − 1 ≥ d + 2` integrate it exactly. Weights sum to `1/6`.
@@ -137,11 +139,23 @@ pub struct TetrahedronRule {
     pub degree: usize,
 }
 
-/// Collapsed Gauss rule exact for total degree `≤ degree` on the reference tetrahedron:
-/// `n³` points with the smallest `n` such that `2n − 1 ≥ degree + 2`.
+/// A rule exact for total degree `≤ degree` on the reference tetrahedron: the centroid
+/// (degree ≤ 1), the symmetric 4-point rule (degree 2), or the collapsed Gauss rule of `n³`
+/// points with the smallest `n` such that `2n − 1 ≥ degree + 2`.
 ///
-/// Point `(uᵢ, (1 − uᵢ) vⱼ, (1 − uᵢ)(1 − vⱼ) w_k)`, weight `(1 − uᵢ)² (1 − vⱼ) wᵢ wⱼ w_k`.
+/// Collapsed: point `(uᵢ, (1 − uᵢ) vⱼ, (1 − uᵢ)(1 − vⱼ) w_k)`, weight
+/// `(1 − uᵢ)² (1 − vⱼ) wᵢ wⱼ w_k`.
 pub fn tetrahedron(degree: usize) -> TetrahedronRule {
+    match degree {
+        0 | 1 => return TetrahedronRule { points: vec![[0.25; 3]], weights: vec![1.0 / 6.0], degree },
+        2 => {
+            let b = (5.0 - 5f64.sqrt()) / 20.0;
+            let a = 1.0 - 3.0 * b;
+            let points = vec![[b, b, b], [a, b, b], [b, a, b], [b, b, a]];
+            return TetrahedronRule { points, weights: vec![1.0 / 24.0; 4], degree };
+        }
+        _ => {}
+    }
     let n = (degree + 4) / 2;
     let g = gauss_segment(n);
     let rule = || g.points.iter().zip(&g.weights);
@@ -171,7 +185,8 @@ mod tests {
 
     /// Source: the Dirichlet integral ∫_T̂ x^a y^b z^c = a! b! c! / (a + b + c + 3)!.
     /// Goal: the tetrahedron rule of degree d integrates every monomial of degree ≤ d to
-    /// round-off, and its point count is the smallest the collapsed product allows.
+    /// round-off; its point count is 1 (d ≤ 1), 4 (d = 2) or the smallest the collapsed
+    /// product allows.
     /// Parameters: d = 0..=12, all monomials of degree ≤ d.
     #[test]
     fn the_tetrahedron_rule_integrates_every_monomial_of_its_degree() {
@@ -179,7 +194,8 @@ mod tests {
         for d in 0..=12 {
             let rule = tetrahedron_cached(d);
             let n = (d + 4) / 2;
-            assert!(2 * n > d + 2 && 2 * (n - 1) <= d + 2 && rule.points.len() == n * n * n);
+            let count = [1, 1, 4].get(d).copied().unwrap_or(n * n * n);
+            assert!(2 * n > d + 2 && 2 * (n - 1) <= d + 2 && rule.points.len() == count);
             for a in 0..=d {
                 for b in 0..=d - a {
                     for c in 0..=d - a - b {

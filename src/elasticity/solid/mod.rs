@@ -116,6 +116,10 @@ impl Solver {
 /// The size from which the iterative solver is the faster (docs/results.md, "Solids").
 pub const ITERATIVE_FROM: usize = 80_000;
 
+/// The physical gradients of the stiffness rule: its 4 points (degree 2) × the 10 P2 basis
+/// functions.
+const STIFFNESS_GRADIENTS: usize = 4 * 10;
+
 /// The relative residual of the iterative solve.
 pub const ITERATIVE_RTOL: f64 = 1e-10;
 
@@ -188,15 +192,27 @@ impl Solid {
         let (mesh, p) = (&self.mesh, self.mesh.order);
         let nb = tetrahedron::n_basis(p);
         let stiffness = Tabulation::tetrahedron(p, 2 * p - 2);
-        let load = Tabulation::tetrahedron(p, p + 4);
+        // the weight is constant on a cell: φ_i's degree p is integrated exactly
+        let load_degree = match self.body {
+            SolidBody::Weight(_) => p,
+            SolidBody::Field(_) => p + 4,
+        };
+        let load = Tabulation::tetrahedron(p, load_degree);
         let mut system = LinearSystem::zeros(pattern);
         let dofs_of = |c: usize, out: &mut Vec<usize>| components_dofs::<3>(mesh.cell(c), out);
         system.assemble(pattern, dofs, mesh.n_cells(), 3 * nb, dofs_of, |c, local| {
             let map = TetMap::new(mesh.cell_vertices(c));
             let material = self.materials[c];
             let (lambda, mu) = material.lame();
-            let mut grads = vec![[0.0; 3]; stiffness.n_points() * nb];
-            kernels::stiffness(&map, &stiffness, lambda, mu, &mut grads, &mut local.matrix);
+            let mut grads = [[0.0; 3]; STIFFNESS_GRADIENTS];
+            kernels::stiffness(
+                &map,
+                &stiffness,
+                lambda,
+                mu,
+                &mut grads[..stiffness.n_points() * nb],
+                &mut local.matrix,
+            );
             match &self.body {
                 SolidBody::Weight(g) => {
                     kernels::body_load(&map, &load, |_| [0.0, 0.0, -material.density * g], &mut local.load)
