@@ -60,7 +60,7 @@ pub struct Args {
     #[arg(long)]
     check_equilibration: bool,
     /// Linear solver of a solid: direct (sparse Cholesky) or iterative (CG with PETSc's
-    /// algebraic multigrid); default by size, iterative from 80 000 unknowns. A plane section
+    /// algebraic multigrid); default by size, iterative from 100 000 unknowns. A plane section
     /// is solved directly
     #[arg(long, value_enum)]
     solver: Option<SolverArg>,

@@ -114,7 +114,7 @@ impl Solver {
 }
 
 /// The size from which the iterative solver is the faster (docs/results.md, "Solids").
-pub const ITERATIVE_FROM: usize = 80_000;
+pub const ITERATIVE_FROM: usize = 100_000;
 
 /// The physical gradients of the stiffness rule: its 4 points (degree 2) × the 10 P2 basis
 /// functions.
