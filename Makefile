@@ -15,7 +15,7 @@ VENV := .venv
 PYTHON := $(VENV)/bin/python
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: demo test test-quick bench-peers getfem rust deps apt-deps python-deps build
+.PHONY: demo test test-quick bench-peers bench-peers-solid getfem rust deps apt-deps python-deps build
 
 demo: rust deps build
 	./target/release/damfem safety geo/dam_combinations.toml -o out/dam; code=$$?; [ $$code -eq 0 ] || [ $$code -eq 3 ]
@@ -42,6 +42,9 @@ test-quick: rust deps build
 
 bench-peers: rust apt-deps getfem build
 	/usr/bin/python3 scripts/bench_peers.py $(if $(LARGE),--large)
+
+bench-peers-solid: rust apt-deps getfem build
+	/usr/bin/python3 scripts/bench_peers_solid.py $(if $(LARGE),--sizes 2e4 1e5 4e5)
 
 getfem:
 	@dpkg-query -W -f='$${Status}' python3-getfem 2>/dev/null | grep -q "install ok installed" || { \

@@ -179,12 +179,16 @@ def vtu_array(text, name):
     return np.frombuffer(raw[8:], dtype="<f8").reshape(-1, 3)
 
 
+def vtu_points(text):
+    """The points of a damfem .vtu (raw binary, base64, UInt64 header), as rows of 3."""
+    points = re.search(r'<Points><DataArray type="Float64"[^>]*>([^<]*)<', text)
+    return np.frombuffer(base64.b64decode(points.group(1))[8:], dtype="<f8").reshape(-1, 3)
+
+
 def damfem_displacement(vtu):
     """(nodes, displacement) of a damfem solution file."""
     text = Path(vtu).read_text()
-    points = re.search(r'<Points><DataArray type="Float64"[^>]*>([^<]*)<', text)
-    nodes = np.frombuffer(base64.b64decode(points.group(1))[8:], dtype="<f8").reshape(-1, 3)
-    return nodes[:, :2], vtu_array(text, "displacement")[:, :2]
+    return vtu_points(text)[:, :2], vtu_array(text, "displacement")[:, :2]
 
 
 def by_position(nodes):
