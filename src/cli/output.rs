@@ -224,12 +224,8 @@ pub struct Summary<T> {
     /// The load combination solved, if not the scene's own loads.
     #[serde(skip_serializing_if = "Option::is_none")]
     combination: Option<String>,
-    order: usize,
-    nodes: usize,
-    cells: usize,
-    unknowns: usize,
-    free_unknowns: usize,
-    matrix_nonzeros: usize,
+    #[serde(flatten)]
+    size: ProblemSize,
     max_displacement: f64,
     max_von_mises: f64,
     /// The centroid of the cell of `max_von_mises`, and what that value is worth.
@@ -244,6 +240,18 @@ pub struct Summary<T> {
     files: Vec<PathBuf>,
     /// The physical names of the tags in the VTU files.
     tags: TagNames,
+}
+
+/// The size of a discrete problem, as `summary.json` records it.
+#[derive(Serialize)]
+pub struct ProblemSize {
+    pub order: usize,
+    pub nodes: usize,
+    pub cells: usize,
+    /// Every dof, the constrained ones included.
+    pub unknowns: usize,
+    pub free_unknowns: usize,
+    pub matrix_nonzeros: usize,
 }
 
 /// Contact part of the summary.
@@ -398,12 +406,14 @@ impl<T> Summary<T> {
             units: UNITS,
             scene: scene.source.clone(),
             combination: scene.combination_name.clone(),
-            order: problem.mesh.order,
-            nodes: problem.mesh.n_points(),
-            cells: problem.mesh.n_cells(),
-            unknowns: problem.n_dofs(),
-            free_unknowns: disc.dofs.n_free,
-            matrix_nonzeros: disc.pattern.nnz(),
+            size: ProblemSize {
+                order: problem.mesh.order,
+                nodes: problem.mesh.n_points(),
+                cells: problem.mesh.n_cells(),
+                unknowns: problem.n_dofs(),
+                free_unknowns: disc.dofs.n_free,
+                matrix_nonzeros: disc.pattern.nnz(),
+            },
             max_displacement: u.iter().map(|&v| norm(v)).fold(0.0, f64::max),
             max_von_mises: von_mises(sigma[peak]),
             max_von_mises_at: problem.mesh.cell_centroid(peak),

@@ -2,7 +2,7 @@
 //! write `<name>.vtu` (tetrahedra), `<name>_boundary.vtu` (triangles) and `summary.json`.
 
 use super::common::{remove_earlier_outputs, stem, Progress};
-use super::output::{TagNames, Units, SINGULAR_MAXIMUM, SOLID_UNITS};
+use super::output::{ProblemSize, TagNames, Units, SINGULAR_MAXIMUM, SOLID_UNITS};
 use crate::elasticity::solid::kernels::{principal, von_mises};
 use crate::elasticity::solid::{Solid, SolidSolution, SolidSystem, Solver};
 use crate::geometry::{norm3, Point3, Vector3};
@@ -20,12 +20,8 @@ struct SolidSummary {
     units: Units,
     scene: PathBuf,
     dimension: usize,
-    order: usize,
-    nodes: usize,
-    cells: usize,
-    unknowns: usize,
-    free_unknowns: usize,
-    matrix_nonzeros: usize,
+    #[serde(flatten)]
+    size: ProblemSize,
     /// "direct" (sparse Cholesky) or "iterative" (CG with algebraic multigrid).
     solver: &'static str,
     /// CG iterations of the iterative solver.
@@ -162,12 +158,14 @@ impl SolidSummary {
             units: SOLID_UNITS,
             scene: scene.source.clone(),
             dimension: 3,
-            order: mesh.order,
-            nodes: mesh.n_points(),
-            cells: mesh.n_cells(),
-            unknowns: 3 * mesh.n_points(),
-            free_unknowns: solution.unknowns,
-            matrix_nonzeros: solution.nonzeros,
+            size: ProblemSize {
+                order: mesh.order,
+                nodes: mesh.n_points(),
+                cells: mesh.n_cells(),
+                unknowns: 3 * mesh.n_points(),
+                free_unknowns: solution.unknowns,
+                matrix_nonzeros: solution.nonzeros,
+            },
             solver: match solution.solver {
                 Solver::Direct => "direct",
                 Solver::Iterative => "iterative",

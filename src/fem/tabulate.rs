@@ -26,15 +26,13 @@ impl Tabulation {
     /// Tabulates P_order at the points of the triangle rule exact to `degree`.
     pub fn new(order: usize, degree: usize) -> Self {
         let rule = quadrature::triangle_cached(degree);
-        let n_basis = lagrange::n_basis(order);
-        let nq = rule.points.len();
-        let mut values = vec![0.0; nq * n_basis];
-        let mut gradients = vec![[0.0; 2]; nq * n_basis];
-        for (q, &xi) in rule.points.iter().enumerate() {
-            lagrange::values(order, xi, &mut values[q * n_basis..(q + 1) * n_basis]);
-            lagrange::gradients(order, xi, &mut gradients[q * n_basis..(q + 1) * n_basis]);
-        }
-        Tabulation { order, n_basis, points: rule.points.clone(), weights: rule.weights.clone(), values, gradients }
+        Self::of_rule(
+            order,
+            lagrange::n_basis(order),
+            (&rule.points, &rule.weights),
+            lagrange::values,
+            lagrange::gradients,
+        )
     }
 }
 
@@ -43,18 +41,29 @@ impl Tabulation<3> {
     pub fn tetrahedron(order: usize, degree: usize) -> Self {
         let rule = quadrature::tetrahedron_cached(degree);
         let n_basis = tetrahedron::n_basis(order);
-        let nq = rule.points.len();
-        let mut values = vec![0.0; nq * n_basis];
-        let mut gradients = vec![[0.0; 3]; nq * n_basis];
-        for (q, &xi) in rule.points.iter().enumerate() {
-            tetrahedron::values(order, xi, &mut values[q * n_basis..(q + 1) * n_basis]);
-            tetrahedron::gradients(order, xi, &mut gradients[q * n_basis..(q + 1) * n_basis]);
-        }
-        Tabulation { order, n_basis, points: rule.points.clone(), weights: rule.weights.clone(), values, gradients }
+        Self::of_rule(order, n_basis, (&rule.points, &rule.weights), tetrahedron::values, tetrahedron::gradients)
     }
 }
 
 impl<const D: usize> Tabulation<D> {
+    /// The `n_basis` functions of P_order, evaluated by `values` and `gradients`, at the
+    /// points of a rule.
+    fn of_rule(
+        order: usize,
+        n_basis: usize,
+        (points, weights): (&[[f64; D]], &[f64]),
+        values: fn(usize, [f64; D], &mut [f64]),
+        gradients: fn(usize, [f64; D], &mut [[f64; D]]),
+    ) -> Self {
+        let nq = points.len();
+        let (mut phi, mut grad) = (vec![0.0; nq * n_basis], vec![[0.0; D]; nq * n_basis]);
+        for (q, &xi) in points.iter().enumerate() {
+            values(order, xi, &mut phi[q * n_basis..(q + 1) * n_basis]);
+            gradients(order, xi, &mut grad[q * n_basis..(q + 1) * n_basis]);
+        }
+        Tabulation { order, n_basis, points: points.to_vec(), weights: weights.to_vec(), values: phi, gradients: grad }
+    }
+
     pub fn n_points(&self) -> usize {
         self.weights.len()
     }
