@@ -2,7 +2,10 @@
 //!
 //! Plane-strain elasticity for concrete dams on their foundations, with unilateral contact
 //! and friction (Tresca, Coulomb, Mohr–Coulomb) on the joint by Nitsche's method and guaranteed a posteriori error estimates by
-//! equilibrated stress reconstruction, from a gmsh `.geo` file to ParaView files.
+//! equilibrated stress reconstruction, from a gmsh `.geo` file to ParaView files; and the
+//! elasticity of solids on tetrahedra (a `.geo` with volumes: `elasticity::solid`, solved by
+//! sparse Cholesky or by CG with PETSc's multigrid, `solve::petsc`), without contact or
+//! estimator yet.
 //!
 //! ## Pipeline
 //!
@@ -38,7 +41,8 @@
 //! ```
 //!
 //! Under them all, `geometry` holds the dimension D = 2, points and vectors with their
-//! arithmetic, the affine map of a cell, the straight facet and the frame of its normal.
+//! arithmetic, the affine map of a cell, the straight facet and the frame of its normal, and
+//! the tetrahedron of a solid (`Mesh<3>`).
 //!
 //! Data flows one way: a module never calls a module above it; `cli` drives the pipeline and
 //! holds no numerical work of its own. The method is described in `docs/method.md`.

@@ -7,7 +7,7 @@
 //! defaults for the options that shape the mesh, and silences gmsh's console (stdout): its
 //! messages go to its logger, which the session reads, and to stderr if `verbose`. `gmshFinalize` is never called: gmsh lives until the process ends.
 //!
-//! This module holds the crate's only `unsafe` code, in `api`: every C call goes through
+//! This module and `solve::petsc` hold the crate's only `unsafe` code, here in `api`: every C call goes through
 //! one `check(ierr, "gmshName")` helper that turns a non-zero `ierr` into
 //! [`GmshError::Call`] with gmsh's last error, and every array gmsh allocates is owned by a
 //! `GmshVec` that frees it on drop.
