@@ -12,6 +12,7 @@ use crate::mesh::Mesh;
 use crate::scene::Scene;
 use anyhow::Result;
 use serde::Serialize;
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// What `summary.json` records of a solid's solution.
@@ -34,6 +35,9 @@ struct SolidSummary {
     max_von_mises_note: &'static str,
     min_principal_stress: f64,
     max_principal_stress: f64,
+    /// The reaction force of each Dirichlet surface [N], by name (a node that two surfaces fix
+    /// counts for the first).
+    reactions: BTreeMap<String, Vector3>,
     seconds: Seconds,
     files: Vec<PathBuf>,
     tags: TagNames,
@@ -44,6 +48,7 @@ struct Seconds {
     mesh: f64,
     assemble: f64,
     solve: f64,
+    reactions: f64,
     output: f64,
 }
 
@@ -67,6 +72,8 @@ pub fn solve(
     drop(system);
     let u = &solution.displacement;
     let sigma = solid.cell_stress(u);
+    let (reactions, reactions_seconds) =
+        progress.stage("reactions", || Ok(solid.reactions(u)?), |r| describe_reactions(&solid.mesh, r))?;
     let name = stem(&scene.source);
     let mut provisional = Provisional::default();
     let (files, output_seconds) = progress.stage(
@@ -74,9 +81,15 @@ pub fn solve(
         || write_files(dir, &name, scene, &solid.mesh, u, &sigma, &mut provisional),
         |f| format!("{} files in {}", f.len(), dir.display()),
     )?;
-    let seconds =
-        Seconds { mesh: mesh_seconds, assemble: assemble_seconds, solve: solve_seconds, output: output_seconds };
-    let summary = SolidSummary::new(scene, &solid, &solution, &sigma, files.clone(), seconds);
+    let seconds = Seconds {
+        mesh: mesh_seconds,
+        assemble: assemble_seconds,
+        solve: solve_seconds,
+        reactions: reactions_seconds,
+        output: output_seconds,
+    };
+    let mut summary = SolidSummary::new(scene, &solid, &solution, &sigma, files.clone(), seconds);
+    summary.reactions = reactions.iter().map(|&(tag, r)| (surface_name(&solid.mesh, tag), r)).collect();
     let json = dir.join("summary.json");
     write_output(&json, serde_json::to_string_pretty(&summary)?.as_bytes())?;
     provisional.add(&json);
@@ -91,6 +104,18 @@ pub fn solve(
         summary.max_displacement_at[2]
     ));
     Ok(())
+}
+
+/// The name of the physical surface `tag`.
+fn surface_name(mesh: &Mesh<3>, tag: i32) -> String {
+    mesh.groups.iter().find(|g| g.dim == 2 && g.tag == tag).map_or_else(|| tag.to_string(), |g| g.name.clone())
+}
+
+/// "their sum (R_x, R_y, R_z) N over k surfaces".
+fn describe_reactions(mesh: &Mesh<3>, reactions: &[(i32, Vector3)]) -> String {
+    let total = reactions.iter().fold([0.0; 3], |s, (_, r)| [s[0] + r[0], s[1] + r[1], s[2] + r[2]]);
+    let names: Vec<String> = reactions.iter().map(|&(tag, _)| surface_name(mesh, tag)).collect();
+    format!("({:.4e}, {:.4e}, {:.4e}) N on {}", total[0], total[1], total[2], names.join(", "))
 }
 
 /// "sparse Cholesky" or "CG with algebraic multigrid, k iterations".
@@ -178,6 +203,7 @@ impl SolidSummary {
             max_von_mises_note: SINGULAR_MAXIMUM,
             min_principal_stress: principal.iter().map(|p| p[2]).fold(f64::INFINITY, f64::min),
             max_principal_stress: principal.iter().map(|p| p[0]).fold(f64::NEG_INFINITY, f64::max),
+            reactions: BTreeMap::new(),
             seconds,
             files,
             tags: TagNames::new(mesh),

@@ -21,6 +21,9 @@ fn a_monolith_solves_in_plane_strain() {
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     assert_eq!((summary["dimension"].as_u64(), summary["order"].as_u64()), (Some(3), Some(1)));
     assert!(summary["max_displacement"].as_f64().unwrap() > 1e-4, "{summary}");
+    let reactions = summary["reactions"].as_object().expect("reactions by surface");
+    let names: Vec<&str> = reactions.keys().map(String::as_str).collect();
+    assert_eq!(names, ["rock_base", "rock_ends", "rock_sides", "sides"], "{summary}");
     let vtu = std::fs::read_to_string(out.join("monolith.vtu")).unwrap();
     for name in ["displacement", "sigma_zz", "sigma_xz", "von_mises", "sigma_3"] {
         assert!(vtu.contains(&format!("Name=\"{name}\"")), "no {name}");

@@ -312,3 +312,31 @@ fn the_iterative_solver_agrees_with_cholesky() {
     println!("block: {:?} CG iterations, relative nodal error {error:.2e}", solution.iterations);
     assert!(error < 1e-8, "{error}");
 }
+
+/// Source: the statics of the monolith (geo/monolith.toml): the supports carry the weight,
+/// Σ ρ g |T| over the cells, and the water's thrust on the upstream face, ρ_w g W H²/2 with
+/// W = 15 m and H = 45 m (the face is vertical, x = 0).
+/// Goal: the sum of the reactions of the Dirichlet surfaces is (−thrust, 0, weight) to 1e-9
+/// of the weight, P1 and P2, direct and iterative.
+#[test]
+fn the_reactions_balance_the_weight_and_the_water() {
+    use damfem::elasticity::solid::Solver;
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let monolith = Scene::load(&root.join("geo/monolith.toml")).unwrap();
+    for (order, solver) in [(1, Solver::Direct), (2, Solver::Direct), (2, Solver::Iterative)] {
+        let options = MeshOptions { order, ..Default::default() };
+        let AnyMesh::Solid(mesh) = mesh_geo_any(&monolith.geometry, &options, false, false).unwrap() else {
+            panic!("monolith.geo has volumes")
+        };
+        let solid = monolith.solid(mesh).unwrap();
+        let u = solid.solve(Some(solver)).unwrap().displacement;
+        let total =
+            solid.reactions(&u).unwrap().iter().fold([0.0; 3], |s, (_, r)| [s[0] + r[0], s[1] + r[1], s[2] + r[2]]);
+        let mesh = &solid.mesh;
+        let weight: f64 = (0..mesh.n_cells()).map(|c| solid.materials[c].density * 9.81 * mesh.cell_volume(c)).sum();
+        let thrust = 1000.0 * 9.81 * 15.0 * 45.0 * 45.0 / 2.0;
+        let gaps = [total[0] + thrust, total[1], total[2] - weight].map(|g| g.abs() / weight);
+        println!("P{order} {solver:?}: reactions {total:?}, weight {weight:.6e}, thrust {thrust:.6e}, gaps {gaps:?}");
+        assert!(gaps.iter().all(|&g| g < 1e-9), "P{order} {solver:?}: {gaps:?}");
+    }
+}

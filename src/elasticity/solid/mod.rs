@@ -289,6 +289,34 @@ impl Solid {
         })
     }
 
+    /// The reaction force \[N\] of each Dirichlet surface, in the order of `dirichlet`:
+    /// R = K u − F on every dof (assembled again without constraints), summed over the dofs
+    /// the surface fixes; a node that two surfaces fix counts for the first.
+    pub fn reactions(&self, u: &[Vector3]) -> Result<Vec<(i32, Vector3)>, SolidError> {
+        let all = DofMap::new(self.mesh.n_points(), 3, &[]);
+        let pattern = SparsePattern::new(&self.mesh, &all);
+        let system = self.assemble(&all, &pattern)?;
+        let x: Vec<f64> = u.iter().flatten().copied().collect();
+        let mut r = vec![0.0; x.len()];
+        pattern.multiply(&system.values, &x, &mut r);
+        let mut claimed = vec![false; x.len()];
+        let reaction = |bc: &SolidDirichlet, claimed: &mut [bool]| {
+            let mut total = [0.0; 3];
+            for f in self.mesh.facets_tagged(std::slice::from_ref(&bc.tag)) {
+                for &n in self.mesh.facet(f) {
+                    for a in (0..3).filter(|&a| bc.fix[a]) {
+                        let dof = 3 * n + a;
+                        if !std::mem::replace(&mut claimed[dof], true) {
+                            total[a] += r[dof] - system.rhs[dof];
+                        }
+                    }
+                }
+            }
+            (bc.tag, total)
+        };
+        Ok(self.dirichlet.iter().map(|bc| reaction(bc, &mut claimed)).collect())
+    }
+
     /// The first body (connected set of cells) whose Dirichlet conditions leave a rigid motion
     /// free, with that motion in words: the functionals r ↦ r_a(x_n) of its constrained dofs
     /// must span the six rigid motions of space.
