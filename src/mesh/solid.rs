@@ -2,8 +2,9 @@
 //! orientation.
 
 use super::Mesh;
-use crate::geometry::tetrahedron::{signed_volume, triangle_area_vector, EDGES};
+use crate::geometry::tetrahedron::{signed_volume, triangle_area_vector, EDGES, FACES};
 use crate::geometry::{distance3, norm3, Point3};
+use std::collections::HashMap;
 
 impl Mesh<3> {
     /// Vertex coordinates of cell `c`.
@@ -16,6 +17,26 @@ impl Mesh<3> {
     pub fn facet_vertices(&self, f: usize) -> [Point3; 3] {
         let n = self.facet(f);
         std::array::from_fn(|k| self.points[n[k]])
+    }
+
+    /// Whether each boundary facet is a face of two cells (an interface inside the solid)
+    /// rather than of one.
+    pub fn interior_facets(&self) -> Vec<bool> {
+        let key = |mut nodes: [usize; 3]| {
+            nodes.sort_unstable();
+            nodes
+        };
+        let mut cells: HashMap<[usize; 3], usize> =
+            (0..self.n_facets()).map(|f| (key(std::array::from_fn(|k| self.facet(f)[k])), 0)).collect();
+        for c in 0..self.n_cells() {
+            let cell = self.cell(c);
+            for face in FACES {
+                if let Some(count) = cells.get_mut(&key(face.map(|k| cell[k]))) {
+                    *count += 1;
+                }
+            }
+        }
+        (0..self.n_facets()).map(|f| cells[&key(std::array::from_fn(|k| self.facet(f)[k]))] > 1).collect()
     }
 
     /// Total area of the facets carrying physical tag `tag`.

@@ -305,11 +305,12 @@ impl Scene {
     /// Names are matched to physical groups ignoring case: two groups of the geometry whose
     /// names differ only in case, or two tables (`[materials]`, or `[boundary]` and `[joints]`)
     /// that name one group, are refused.
-    fn check_one_table_per_group(&self, mesh: &Mesh) -> Result<(), SceneError> {
+    pub(super) fn check_one_table_per_group<const D: usize>(&self, mesh: &Mesh<D>) -> Result<(), SceneError> {
+        let kind = |dim: u8| ["point", "curve", "surface", "volume"][usize::from(dim).min(3)];
         let mut seen: HashMap<(u8, String), &str> = HashMap::new();
         for g in &mesh.groups {
             let Some(first) = seen.insert((g.dim, g.name.to_ascii_lowercase()), &g.name) else { continue };
-            let (geometry, kind) = (self.geometry.display(), if g.dim == 1 { "curve" } else { "surface" });
+            let (geometry, kind) = (self.geometry.display(), kind(g.dim));
             return Err(self.invalid(if first == g.name {
                 format!(
                     "the geometry {geometry} has two physical {kind} groups named '{first}', which scene names \
@@ -325,7 +326,8 @@ impl Scene {
         }
         let curves = (self.boundary.keys().map(|n| ("boundary", n))).chain(self.joints.keys().map(|n| ("joints", n)));
         let surfaces = self.materials.keys().map(|n| ("materials", n));
-        for (dim, tables) in [(1, curves.collect::<Vec<_>>()), (2, surfaces.collect())] {
+        let facets = D as u8 - 1;
+        for (dim, tables) in [(facets, curves.collect::<Vec<_>>()), (facets + 1, surfaces.collect())] {
             let mut seen: BTreeMap<i32, (&str, &String)> = BTreeMap::new();
             for (table, name) in tables {
                 let Some(group) = mesh.group(dim, name) else { continue };
@@ -333,7 +335,7 @@ impl Scene {
                     return Err(self.invalid(format!(
                         "[{other_table}.{other}] and [{table}.{name}] name the same physical {} '{}' (names are \
                          matched ignoring case); keep one table",
-                        if dim == 1 { "curve" } else { "surface" },
+                        kind(dim),
                         group.name
                     )));
                 }

@@ -41,6 +41,8 @@ impl Scene {
     pub fn solid(&self, mesh: Mesh<3>) -> Result<Solid, SceneError> {
         self.check_dimension(3)?;
         self.refuse_plane_only()?;
+        self.check_one_table_per_group(&mesh)?;
+        let interior = mesh.interior_facets();
         let g = self.loads.gravity;
         let (mut dirichlet, mut neumann) = (Vec::new(), Vec::new());
         for (tag, name, b) in self.roles(&mesh)? {
@@ -55,6 +57,12 @@ impl Scene {
                         return Err(self.invalid(format!(
                             "boundary.{name}.{}: silt and ice on a solid are not available yet",
                             key.0
+                        )));
+                    }
+                    if mesh.facets_tagged(&[tag]).any(|f| interior[f]) {
+                        return Err(self.invalid(format!(
+                            "boundary.{name}: physical surface '{name}' lies inside the solid (between two of its \
+                             volumes), where a load has no outward side; give the load to a surface on the boundary"
                         )));
                     }
                     let traction = match (&b.traction, b.hydrostatic) {

@@ -52,7 +52,8 @@ type Edit = (&'static str, fn(String) -> String, &'static [&'static str]);
 /// Goal: what a solid does not have yet is refused in one sentence naming the command, flag
 /// or key, and no output is left: `adapt` and `safety`, `--estimate` and `--friction`, a
 /// contact role, load combinations, a vector of two or four components, supports that leave
-/// a rigid motion free (the block without its roller along y), and `fix = "z"` in a plane
+/// a rigid motion free (the block without its roller along y), a load on a surface inside the
+/// solid (tests/data/two_blocks.toml), two tables naming one volume, and `fix = "z"` in a plane
 /// scene.
 #[test]
 fn what_a_solid_does_not_have_is_refused_by_name() {
@@ -100,6 +101,16 @@ fn what_a_solid_does_not_have_is_refused_by_name() {
         std::fs::rename(&edited, &moved).unwrap();
         assert_refused(&format!("solid-{name}"), "solve", &moved, &[], keywords);
     }
+    let interior = repo("tests/data/two_blocks.toml");
+    assert_refused("solid-interior", "solve", &interior, &[], &["boundary.middle", "inside the solid"]);
+    let twice = edited_scene(&tmp, "block3d", |s| s + "\n[materials.BLOCK]\nE = 1.0e10\nnu = 0.2\nrho = 2400.0\n");
+    assert_refused(
+        "solid-twice",
+        "solve",
+        &twice,
+        &[],
+        &["[materials.block]", "[materials.BLOCK]", "same physical volume"],
+    );
     let plane = edited_scene(&tmp, "scene_a", |s| {
         s.replace("[boundary.toe]\nrole = \"dirichlet\"", "[boundary.toe]\nrole = \"dirichlet\"\nfix = \"z\"")
     });

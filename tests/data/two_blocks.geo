@@ -1,0 +1,25 @@
+// Two unit cubes stacked along z, bonded: a solid whose physical surface "middle" lies
+// inside it, between the two cubes (built in the plane y = 0 and extruded along y).
+Point(1) = {0, 0, 0, 0.5};
+Point(2) = {1, 0, 0, 0.5};
+Point(3) = {1, 0, 1, 0.5};
+Point(4) = {0, 0, 1, 0.5};
+Point(5) = {1, 0, 2, 0.5};
+Point(6) = {0, 0, 2, 0.5};
+Line(1) = {1, 2};
+Line(2) = {2, 3};
+Line(3) = {3, 4};
+Line(4) = {4, 1};
+Line(5) = {3, 5};
+Line(6) = {5, 6};
+Line(7) = {6, 4};
+Curve Loop(1) = {1, 2, 3, 4};
+Plane Surface(1) = {1};
+Curve Loop(2) = {-3, 5, 6, 7};
+Plane Surface(2) = {2};
+// ext[2..5]: swept by lines 1, 2, 3, 4; ext[8..11]: by lines -3, 5, 6, 7 (ext[8] = ext[4])
+ext[] = Extrude {0, 1, 0} { Surface{1, 2}; };
+Physical Surface("bottom") = {ext[2]};
+Physical Surface("middle") = {ext[4]};
+Physical Surface("top") = {ext[10]};
+Physical Volume("block") = {ext[1], ext[7]};
