@@ -88,8 +88,8 @@ pub fn solve(
         reactions: reactions_seconds,
         output: output_seconds,
     };
-    let mut summary = SolidSummary::new(scene, &solid, &solution, &sigma, files.clone(), seconds);
-    summary.reactions = reactions.iter().map(|&(tag, r)| (surface_name(&solid.mesh, tag), r)).collect();
+    let reactions = reactions.iter().map(|&(tag, r)| (surface_name(&solid.mesh, tag), r)).collect();
+    let summary = SolidSummary::new(scene, &solid, &solution, (&sigma, reactions), files.clone(), seconds);
     let json = dir.join("summary.json");
     write_output(&json, serde_json::to_string_pretty(&summary)?.as_bytes())?;
     provisional.add(&json);
@@ -166,7 +166,7 @@ impl SolidSummary {
         scene: &Scene,
         solid: &Solid,
         solution: &SolidSolution,
-        sigma: &[[f64; 6]],
+        (sigma, reactions): (&[[f64; 6]], BTreeMap<String, Vector3>),
         files: Vec<PathBuf>,
         seconds: Seconds,
     ) -> Self {
@@ -203,7 +203,7 @@ impl SolidSummary {
             max_von_mises_note: SINGULAR_MAXIMUM,
             min_principal_stress: principal.iter().map(|p| p[2]).fold(f64::INFINITY, f64::min),
             max_principal_stress: principal.iter().map(|p| p[0]).fold(f64::NEG_INFINITY, f64::max),
-            reactions: BTreeMap::new(),
+            reactions,
             seconds,
             files,
             tags: TagNames::new(mesh),
