@@ -27,6 +27,8 @@ struct SolidSummary {
     solver: &'static str,
     /// CG iterations of the iterative solver.
     iterations: Option<usize>,
+    /// The processes that solved (the iterative solver's MPI ranks).
+    processes: usize,
     max_displacement: f64,
     max_displacement_at: Point3,
     max_von_mises: f64,
@@ -118,9 +120,12 @@ fn describe_reactions(mesh: &Mesh<3>, reactions: &[(i32, Vector3)]) -> String {
     format!("({:.4e}, {:.4e}, {:.4e}) N on {}", total[0], total[1], total[2], names.join(", "))
 }
 
-/// "sparse Cholesky" or "CG with algebraic multigrid, k iterations".
+/// "sparse Cholesky" or "CG with algebraic multigrid on p processes, k iterations".
 fn describe(s: &SolidSolution) -> String {
     match s.iterations {
+        Some(k) if s.processes > 1 => {
+            format!("CG with algebraic multigrid on {} processes, {k} iterations", s.processes)
+        }
         Some(k) => format!("CG with algebraic multigrid, {k} iterations"),
         None => "sparse Cholesky".into(),
     }
@@ -196,6 +201,7 @@ impl SolidSummary {
                 Solver::Iterative => "iterative",
             },
             iterations: solution.iterations,
+            processes: solution.processes,
             max_displacement: max_u,
             max_displacement_at: mesh.points[node],
             max_von_mises: max_vm,

@@ -149,3 +149,40 @@ fn a_degree_one_msh_of_a_solid_is_raised_to_degree_two() {
     std::fs::write(&lowered, body).unwrap();
     assert_refused("solid-lowered", "solve", &lowered, &[], &["mesh.order = 1", "degree-2 tetrahedra", "not lowered"]);
 }
+
+/// Source: geo/monolith.toml in P2 (21 656 unknowns), solved by CG with GAMG.
+/// Goal: the iterative solve on a team of two processes (this one and a worker it starts)
+/// gives the solution of the solve on one process (RAYON_NUM_THREADS = 1): the same max |u|
+/// and reactions to 10⁻⁸ (each solve is to a relative residual of 10⁻¹⁰); the summary and the
+/// progress name the processes.
+/// Parameters: `--order 2 --solver iterative`, 1 and 2 threads.
+#[test]
+fn two_processes_solve_as_one() {
+    let (tmp, scene) = (TempDir::new("team"), repo("geo/monolith.toml"));
+    let summary = |threads: &str| {
+        let out = tmp.join(threads);
+        let args = [OsStr::new("solve"), scene.as_os_str(), OsStr::new("-o"), out.as_os_str()];
+        let run = std::process::Command::new(env!("CARGO_BIN_EXE_damfem"))
+            .args(args)
+            .args(["--order", "2", "--solver", "iterative"])
+            .env("RAYON_NUM_THREADS", threads)
+            .output()
+            .unwrap();
+        assert_ok(&run);
+        let text = std::fs::read_to_string(out.join("summary.json")).unwrap();
+        (serde_json::from_str::<serde_json::Value>(&text).unwrap(), stderr(&run))
+    };
+    let ((one, _), (two, log)) = (summary("1"), summary("2"));
+    assert_eq!((one["processes"].as_u64(), two["processes"].as_u64()), (Some(1), Some(2)), "{log}");
+    assert!(log.contains("on 2 processes"), "{log}");
+    let close = |a: f64, b: f64, scale: f64| (a - b).abs() <= 1e-8 * scale;
+    let u = one["max_displacement"].as_f64().unwrap();
+    assert!(close(u, two["max_displacement"].as_f64().unwrap(), u), "{one} {two}");
+    let reactions = |s: &serde_json::Value| -> Vec<f64> {
+        let by_surface = s["reactions"].as_object().unwrap().values();
+        by_surface.flat_map(|r| r.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect::<Vec<_>>()).collect()
+    };
+    let (r1, r2) = (reactions(&one), reactions(&two));
+    let scale = r1.iter().fold(0.0f64, |m, r| m.max(r.abs()));
+    assert!(r1.iter().zip(&r2).all(|(&a, &b)| close(a, b, scale)), "{r1:?} {r2:?}");
+}

@@ -134,6 +134,8 @@ pub struct SolidSolution {
     pub solver: Solver,
     /// CG iterations of the iterative solver.
     pub iterations: Option<usize>,
+    /// The processes that solved: 1, or the iterative solver's team (`solve::petsc`).
+    pub processes: usize,
 }
 
 /// Why a solid cannot be solved.
@@ -268,16 +270,17 @@ impl Solid {
     pub fn solve_system(&self, system: &SolidSystem, solver: Option<Solver>) -> Result<SolidSolution, SolidError> {
         let SolidSystem { dofs, pattern, system } = system;
         let solver = solver.unwrap_or(Solver::for_size(dofs.n_free));
-        let (u, iterations) = match solver {
+        let (u, iterations, processes) = match solver {
             Solver::Direct => {
-                (dofs.expand(&Cholesky::analyse(pattern)?.solve(pattern, &system.values, &system.rhs)?), None)
+                (dofs.expand(&Cholesky::analyse(pattern)?.solve(pattern, &system.values, &system.rhs)?), None, 1)
             }
             Solver::Iterative => {
                 let (matrix, rhs) = whole_system(dofs, pattern, system);
                 let coordinates: Vec<f64> = self.mesh.points.iter().flatten().copied().collect();
                 let solution = cg_gamg(&matrix, &rhs, &coordinates, 3, ITERATIVE_RTOL)?;
                 let u = solution.x.iter().zip(&dofs.free).zip(&dofs.fixed_value);
-                (u.map(|((&x, &k), &g)| if k == FIXED { g } else { x }).collect(), Some(solution.iterations))
+                let u = u.map(|((&x, &k), &g)| if k == FIXED { g } else { x }).collect();
+                (u, Some(solution.iterations), solution.processes)
             }
         };
         Ok(SolidSolution {
@@ -286,6 +289,7 @@ impl Solid {
             nonzeros: pattern.nnz(),
             solver,
             iterations,
+            processes,
         })
     }
 

@@ -1,11 +1,14 @@
 //! CG preconditioned by smoothed-aggregation algebraic multigrid, PETSc's GAMG, through its C
-//! API (Debian's libpetsc-real-dev, one process): the iterative solver of large solids, whose
-//! sparse Cholesky factor fills like N^{4/3} (docs/results.md, "Solids").
+//! API (Debian's libpetsc-real-dev): the iterative solver of large solids, whose sparse
+//! Cholesky factor fills like N^{4/3} (docs/results.md, "Solids").
 //!
 //! The system is handed over with every dof, in blocks of three per node: a Dirichlet dof is
 //! a row and column of its own, d u_i = d g_i with d the mean diagonal of K, so that the
 //! blocks stay whole for GAMG and the scale of the matrix is kept. GAMG's near null space is
 //! the six rigid motions of the node coordinates (`MatNullSpaceCreateRigidBody`).
+//!
+//! The solve runs on a team of MPI processes ([`team`]): this one alone, or with the workers
+//! the command line asked for ([`set_workers`]), each owning a contiguous range of nodes.
 //!
 //! PETSc is loaded when first needed (its BLAS starts threads as it loads, which must inherit
 //! the signal mask of the command line: see `build.rs`), initialised once per process with
@@ -15,10 +18,16 @@
 //! `-ksp_monitor`). This module and `io::gmsh` hold the crate's only `unsafe` code.
 
 mod ffi;
+mod team;
+
+pub use team::{serve, set_workers, WORKER_FLAG};
 
 use super::SolveError;
+use std::borrow::Cow;
 use std::ffi::{c_char, c_int, CStr};
+use std::ops::Range;
 use std::sync::{Mutex, PoisonError};
+use team::Team;
 
 /// The CSR form of a square matrix with 32-bit indices (PETSc's `PetscInt`).
 pub struct Csr {
@@ -27,25 +36,42 @@ pub struct Csr {
     pub values: Vec<f64>,
 }
 
-/// An iterative solution: x, the CG iterations and the final ‖r‖ / ‖b‖ (preconditioned).
+/// An iterative solution: x, the CG iterations and the processes that solved.
 #[derive(Debug, Clone)]
 pub struct IterativeSolution {
     pub x: Vec<f64>,
     pub iterations: usize,
+    pub processes: usize,
 }
 
-/// PETSc's library, initialised, and PETSC_COMM_SELF.
+/// PETSc's library, initialised, with the MPI handles the solve needs.
 struct Petsc {
     api: ffi::Petsc,
     comm_self: ffi::MPI_Comm,
+    comm_null: ffi::MPI_Comm,
+    byte: ffi::MPI_Datatype,
+    info_null: ffi::MPI_Info,
+    errors_return: ffi::MPI_Errhandler,
+    team: Option<Team>,
 }
 
-// SAFETY: the library handle and the communicator's address are process-wide and immutable;
-// the calls through them are made by one solve at a time (`PETSC` is locked).
+// SAFETY: the library handle and the MPI handles are process-wide and immutable; the calls
+// through them are made by one solve at a time (`PETSC` is locked).
 unsafe impl Send for Petsc {}
 
 /// PETSc, loaded and initialised on first use.
 static PETSC: Mutex<Option<Result<Petsc, String>>> = Mutex::new(None);
+
+/// The address of the data symbol `name` of the library at `path` (and its dependencies).
+///
+/// # Safety
+/// `T` must be the symbol's C type.
+unsafe fn data_symbol<T, H>(path: &str, name: &[u8]) -> Result<*mut H, libloading::Error> {
+    let library = libloading::Library::new(path)?;
+    let address = (*library.get::<*mut T>(name)?).cast();
+    std::mem::forget(library);
+    Ok(address)
+}
 
 impl Petsc {
     /// Loads the library of `PETSC_LIBRARY` and initialises PETSc.
@@ -53,19 +79,23 @@ impl Petsc {
         let path = env!("PETSC_LIBRARY");
         let fail =
             |e: libloading::Error| format!("cannot load PETSc from {path} (install Debian's libpetsc-real-dev): {e}");
-        // SAFETY: loading PETSc runs its and MPI's initialisers, which have no preconditions.
-        let api = unsafe { ffi::Petsc::new(path) }.map_err(fail)?;
-        // SAFETY: the same library again (a second reference), to find the data symbol of Open
-        // MPI's predefined communicator, which PETSC_COMM_SELF is the address of.
-        let comm_self = unsafe {
-            let library = libloading::Library::new(path).map_err(fail)?;
-            let symbol =
-                library.get::<*mut ffi::ompi_predefined_communicator_t>(b"ompi_mpi_comm_self\0").map_err(fail)?;
-            let address = (*symbol).cast();
-            std::mem::forget(library);
-            address
+        // SAFETY: loading PETSc runs its and MPI's initialisers, which have no preconditions;
+        // the data symbols are Open MPI's predefined objects, whose addresses the MPI handles are.
+        let petsc = unsafe {
+            Petsc {
+                api: ffi::Petsc::new(path).map_err(fail)?,
+                comm_self: data_symbol::<ffi::ompi_predefined_communicator_t, _>(path, b"ompi_mpi_comm_self\0")
+                    .map_err(fail)?,
+                comm_null: data_symbol::<ffi::ompi_predefined_communicator_t, _>(path, b"ompi_mpi_comm_null\0")
+                    .map_err(fail)?,
+                byte: data_symbol::<ffi::ompi_predefined_datatype_t, _>(path, b"ompi_mpi_byte\0").map_err(fail)?,
+                info_null: data_symbol::<ffi::ompi_predefined_info_t, _>(path, b"ompi_mpi_info_null\0")
+                    .map_err(fail)?,
+                errors_return: data_symbol::<ffi::ompi_predefined_errhandler_t, _>(path, b"ompi_mpi_errors_return\0")
+                    .map_err(fail)?,
+                team: None,
+            }
         };
-        let petsc = Petsc { api, comm_self };
         let mut words: Vec<Vec<u8>> =
             ["damfem", "-no_signal_handler"].iter().map(|w| format!("{w}\0").into_bytes()).collect();
         let mut argv: Vec<*mut c_char> = words.iter_mut().map(|w| w.as_mut_ptr().cast()).collect();
@@ -104,6 +134,48 @@ impl Petsc {
     }
 }
 
+/// The rows of A x = b one process owns: its CSR rows (local row pointers, global column
+/// indices), b and the node coordinates on them.
+struct Part<'a> {
+    row_ptr: Cow<'a, [i32]>,
+    col_idx: Cow<'a, [i32]>,
+    values: Cow<'a, [f64]>,
+    b: Cow<'a, [f64]>,
+    coordinates: Cow<'a, [f64]>,
+}
+
+impl<'a> Part<'a> {
+    /// The `rows` of the whole system; borrowed when they start at row 0.
+    fn of(a: &'a Csr, b: &'a [f64], coordinates: &'a [f64], rows: Range<usize>) -> Part<'a> {
+        let (first, last) = (a.row_ptr[rows.start] as usize, a.row_ptr[rows.end] as usize);
+        let row_ptr = &a.row_ptr[rows.start..=rows.end];
+        Part {
+            row_ptr: if first == 0 { row_ptr.into() } else { row_ptr.iter().map(|p| p - first as i32).collect() },
+            col_idx: a.col_idx[first..last].into(),
+            values: a.values[first..last].into(),
+            b: b[rows.clone()].into(),
+            coordinates: coordinates[rows].into(),
+        }
+    }
+}
+
+/// What every process of a team is told of a solve: the global size, the block size (dofs
+/// per node) and the relative residual.
+#[derive(Debug, Clone, Copy)]
+struct Task {
+    n: usize,
+    blocks: usize,
+    rtol: f64,
+}
+
+impl Task {
+    /// The first row of each of `processes` processes, and the end: whole nodes, in order.
+    fn first_rows(&self, processes: usize) -> Vec<usize> {
+        let nodes = self.n / self.blocks;
+        (0..=processes).map(|r| self.blocks * (nodes * r / processes)).collect()
+    }
+}
+
 /// The PETSc objects of one solve, destroyed on drop in reverse order.
 struct Objects<'a> {
     api: &'a ffi::Petsc,
@@ -133,8 +205,110 @@ impl Drop for Objects<'_> {
     }
 }
 
+/// An option of PETSc's database set for one solve where the user's `PETSC_OPTIONS` left it
+/// unset, and cleared on drop.
+struct TeamDefault<'a> {
+    api: &'a ffi::Petsc,
+    name: Option<&'static CStr>,
+}
+
+impl<'a> TeamDefault<'a> {
+    /// `name` = `value` unless the database has `name`.
+    fn set(petsc: &'a Petsc, name: &'static CStr, value: &CStr) -> Result<TeamDefault<'a>, SolveError> {
+        let (api, mut given) = (&petsc.api, ffi::PetscBool_PETSC_FALSE);
+        let options = std::ptr::null_mut();
+        // SAFETY: the global options database (null), a NUL-terminated name and value.
+        unsafe {
+            petsc.check(
+                api.PetscOptionsHasName(options, std::ptr::null(), name.as_ptr(), &mut given),
+                "PetscOptionsHasName",
+            )?;
+            if given == ffi::PetscBool_PETSC_TRUE {
+                return Ok(TeamDefault { api, name: None });
+            }
+            petsc.check(api.PetscOptionsSetValue(options, name.as_ptr(), value.as_ptr()), "PetscOptionsSetValue")?;
+        }
+        Ok(TeamDefault { api, name: Some(name) })
+    }
+}
+
+impl Drop for TeamDefault<'_> {
+    fn drop(&mut self) {
+        if let Some(name) = self.name {
+            // SAFETY: clears the option this guard set in the global database.
+            unsafe { self.api.PetscOptionsClearValue(std::ptr::null_mut(), name.as_ptr()) };
+        }
+    }
+}
+
+/// One process's share of a solve on `comm` (collective): its rows of x, the iterations and
+/// PETSc's converged reason (positive when converged).
+///
+/// On a team, GAMG's Galerkin products P^T A P take PETSc's "nonscalable" algorithm (a dense
+/// accumulator per row, for parallel matrices only): 3.0 s of setup against 3.7 s with the
+/// default at 1.4·10⁵ unknowns on two processes (docs/results.md, "Solids").
+fn solve_part(
+    petsc: &Petsc,
+    comm: ffi::MPI_Comm,
+    task: Task,
+    part: &Part,
+) -> Result<(Vec<f64>, usize, i32), SolveError> {
+    let _galerkin = match team::rank_and_size(petsc, comm)?.1 {
+        1 => None,
+        _ => Some(TeamDefault::set(petsc, c"-matptap_via", c"nonscalable")?),
+    };
+    let (api, bs, n, m) = (&petsc.api, task.blocks as ffi::PetscInt, task.n as ffi::PetscInt, part.b.len());
+    let (matrix, null_space, ksp) = (std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut());
+    let mut o = Objects { api, matrix, null_space, vectors: Vec::new(), ksp };
+    let mut x = vec![0.0; m];
+    let mut iterations: ffi::PetscInt = 0;
+    let mut reason: ffi::KSPConvergedReason = 0;
+    let vector = |o: &mut Objects, values: *const f64| -> Result<ffi::Vec, SolveError> {
+        let mut v: ffi::Vec = std::ptr::null_mut();
+        // SAFETY: `values` points to the m entries this process owns, which outlive `o`.
+        petsc.check(
+            unsafe { api.VecCreateMPIWithArray(comm, bs, m as _, n, values, &mut v) },
+            "VecCreateMPIWithArray",
+        )?;
+        o.vectors.push(v);
+        Ok(v)
+    };
+    let coordinates = vector(&mut o, part.coordinates.as_ptr())?;
+    let rhs = vector(&mut o, part.b.as_ptr())?;
+    let solution = vector(&mut o, x.as_mut_ptr())?;
+    // SAFETY: every pointer handed over points into a buffer that outlives the PETSc object
+    // using it (`part` and `x` outlive `o`, dropped at the end of this scope); PETSc copies
+    // the CSR arrays into its own matrix ("aij" is sequential on one process, and the other
+    // type's preallocation call does nothing).
+    unsafe {
+        petsc.check(api.MatCreate(comm, &mut o.matrix), "MatCreate")?;
+        petsc.check(api.MatSetSizes(o.matrix, m as _, m as _, n, n), "MatSetSizes")?;
+        petsc.check(api.MatSetType(o.matrix, c"aij".as_ptr()), "MatSetType")?;
+        petsc.check(api.MatSetBlockSize(o.matrix, bs), "MatSetBlockSize")?;
+        let (i, j, v) = (part.row_ptr.as_ptr(), part.col_idx.as_ptr(), part.values.as_ptr());
+        petsc.check(api.MatSeqAIJSetPreallocationCSR(o.matrix, i, j, v), "MatSeqAIJSetPreallocationCSR")?;
+        petsc.check(api.MatMPIAIJSetPreallocationCSR(o.matrix, i, j, v), "MatMPIAIJSetPreallocationCSR")?;
+        petsc.check(api.MatNullSpaceCreateRigidBody(coordinates, &mut o.null_space), "MatNullSpaceCreateRigidBody")?;
+        petsc.check(api.MatSetNearNullSpace(o.matrix, o.null_space), "MatSetNearNullSpace")?;
+        petsc.check(api.KSPCreate(comm, &mut o.ksp), "KSPCreate")?;
+        petsc.check(api.KSPSetOperators(o.ksp, o.matrix, o.matrix), "KSPSetOperators")?;
+        petsc.check(api.KSPSetType(o.ksp, c"cg".as_ptr()), "KSPSetType")?;
+        let mut pc: ffi::PC = std::ptr::null_mut();
+        petsc.check(api.KSPGetPC(o.ksp, &mut pc), "KSPGetPC")?;
+        petsc.check(api.PCSetType(pc, c"gamg".as_ptr()), "PCSetType")?;
+        petsc.check(api.KSPSetTolerances(o.ksp, task.rtol, 0.0, 1e10, 10_000), "KSPSetTolerances")?;
+        petsc.check(api.KSPSetFromOptions(o.ksp), "KSPSetFromOptions")?;
+        petsc.check(api.KSPSolve(o.ksp, rhs, solution), "KSPSolve")?;
+        petsc.check(api.KSPGetIterationNumber(o.ksp, &mut iterations), "KSPGetIterationNumber")?;
+        petsc.check(api.KSPGetConvergedReason(o.ksp, &mut reason), "KSPGetConvergedReason")?;
+    }
+    drop(o);
+    Ok((x, iterations as usize, reason))
+}
+
 /// Solves A x = b (A symmetric positive definite, in `blocks` of dofs per node with node
-/// coordinates `coordinates`, `blocks` per node) by CG with GAMG to ‖r‖ ≤ `rtol` ‖b‖.
+/// coordinates `coordinates`, `blocks` per node) by CG with GAMG to ‖r‖ ≤ `rtol` ‖b‖, on this
+/// process and its workers.
 pub fn cg_gamg(
     a: &Csr,
     b: &[f64],
@@ -144,60 +318,26 @@ pub fn cg_gamg(
 ) -> Result<IterativeSolution, SolveError> {
     let mut loaded = PETSC.lock().unwrap_or_else(PoisonError::into_inner);
     let petsc = match loaded.get_or_insert_with(Petsc::load) {
-        Ok(petsc) => &*petsc,
+        Ok(petsc) => petsc,
         Err(message) => return Err(SolveError::Factorisation(message.clone())),
     };
-    let (api, comm, bs, n) = (&petsc.api, petsc.comm_self, blocks as ffi::PetscInt, b.len());
-    let (matrix, null_space, ksp) = (std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut());
-    let mut o = Objects { api, matrix, null_space, vectors: Vec::new(), ksp };
-    let mut x = vec![0.0; n];
-    let mut iterations: ffi::PetscInt = 0;
-    let mut reason: ffi::KSPConvergedReason = 0;
-    // SAFETY: every pointer handed over points into a buffer that outlives the PETSc object
-    // using it (`a`, `b`, `coordinates`, `x` outlive `o`, dropped at the end of this scope);
-    // PETSc copies the CSR arrays into its own matrix.
-    unsafe {
-        petsc.check(api.MatCreate(comm, &mut o.matrix), "MatCreate")?;
-        petsc.check(api.MatSetSizes(o.matrix, n as _, n as _, n as _, n as _), "MatSetSizes")?;
-        petsc.check(api.MatSetType(o.matrix, c"seqaij".as_ptr()), "MatSetType")?;
-        petsc.check(api.MatSetBlockSize(o.matrix, bs), "MatSetBlockSize")?;
-        petsc.check(
-            api.MatSeqAIJSetPreallocationCSR(o.matrix, a.row_ptr.as_ptr(), a.col_idx.as_ptr(), a.values.as_ptr()),
-            "MatSeqAIJSetPreallocationCSR",
-        )?;
-        let mut coords: ffi::Vec = std::ptr::null_mut();
-        petsc.check(
-            api.VecCreateSeqWithArray(comm, bs, coordinates.len() as _, coordinates.as_ptr(), &mut coords),
-            "VecCreateSeqWithArray",
-        )?;
-        o.vectors.push(coords);
-        petsc.check(api.MatNullSpaceCreateRigidBody(coords, &mut o.null_space), "MatNullSpaceCreateRigidBody")?;
-        petsc.check(api.MatSetNearNullSpace(o.matrix, o.null_space), "MatSetNearNullSpace")?;
-        let (mut rhs, mut solution): (ffi::Vec, ffi::Vec) = (std::ptr::null_mut(), std::ptr::null_mut());
-        petsc.check(api.VecCreateSeqWithArray(comm, 1, n as _, b.as_ptr(), &mut rhs), "VecCreateSeqWithArray")?;
-        o.vectors.push(rhs);
-        petsc.check(
-            api.VecCreateSeqWithArray(comm, 1, n as _, x.as_mut_ptr(), &mut solution),
-            "VecCreateSeqWithArray",
-        )?;
-        o.vectors.push(solution);
-        petsc.check(api.KSPCreate(comm, &mut o.ksp), "KSPCreate")?;
-        petsc.check(api.KSPSetOperators(o.ksp, o.matrix, o.matrix), "KSPSetOperators")?;
-        petsc.check(api.KSPSetType(o.ksp, c"cg".as_ptr()), "KSPSetType")?;
-        let mut pc: ffi::PC = std::ptr::null_mut();
-        petsc.check(api.KSPGetPC(o.ksp, &mut pc), "KSPGetPC")?;
-        petsc.check(api.PCSetType(pc, c"gamg".as_ptr()), "PCSetType")?;
-        petsc.check(api.KSPSetTolerances(o.ksp, rtol, 0.0, 1e10, 10_000), "KSPSetTolerances")?;
-        petsc.check(api.KSPSetFromOptions(o.ksp), "KSPSetFromOptions")?;
-        petsc.check(api.KSPSolve(o.ksp, rhs, solution), "KSPSolve")?;
-        petsc.check(api.KSPGetIterationNumber(o.ksp, &mut iterations), "KSPGetIterationNumber")?;
-        petsc.check(api.KSPGetConvergedReason(o.ksp, &mut reason), "KSPGetConvergedReason")?;
+    let task = Task { n: b.len(), blocks, rtol };
+    let team = team::join(petsc);
+    let rows = task.first_rows(team.size);
+    let solved = team.hand_out(petsc, task, |r| Part::of(a, b, coordinates, rows[r]..rows[r + 1])).and_then(|()| {
+        let (mut x, iterations, reason) = solve_part(petsc, team.comm, task, &Part::of(a, b, coordinates, 0..rows[1]))?;
+        x.resize(task.n, 0.0);
+        team.gather(petsc, &mut x, &rows)?;
+        Ok((x, iterations, reason))
+    });
+    if solved.is_err() {
+        petsc.team = Some(Team::alone(petsc));
     }
-    drop(o);
+    let (x, iterations, reason) = solved?;
     if reason <= 0 {
         return Err(SolveError::Factorisation(format!(
             "CG with GAMG did not converge to a relative residual of {rtol:e} (PETSc reason {reason}, {iterations} iterations)"
         )));
     }
-    Ok(IterativeSolution { x, iterations: iterations as usize })
+    Ok(IterativeSolution { x, iterations, processes: team.size })
 }
