@@ -78,6 +78,7 @@ pub fn run(args: Args) -> Result<()> {
 fn check_solid(scene: &Scene, mesh: Mesh<3>, progress: &Progress) -> Result<()> {
     let solid = scene.solid(mesh)?;
     let mesh = &solid.mesh;
+    progress.warn(&scene.solid_warnings(mesh)?);
     for (tag, name, b) in scene.roles(mesh)? {
         progress.result(&format!("surface  {name:<20} {:?}, area {:.4}", b.role, mesh.boundary_area(tag)));
     }

@@ -65,6 +65,7 @@ pub fn solve(
     progress: &Progress,
 ) -> Result<()> {
     let solid = scene.solid(mesh)?;
+    progress.warn(&scene.solid_warnings(&solid.mesh)?);
     let (system, assemble_seconds) = progress.stage(
         "assemble",
         || Ok(solid.system()?),

@@ -361,7 +361,7 @@ impl Scene {
     pub fn warnings(&self, mesh: &Mesh, joint: Option<&ContactJoint>) -> Result<Vec<String>, SceneError> {
         let topology = Topology::new(mesh);
         let mut warnings = self.unassigned_curves(mesh, &topology)?;
-        warnings.extend(self.unassigned_surfaces(mesh));
+        warnings.extend(self.unassigned_materials(mesh));
         warnings.extend(self.uplift_warnings(mesh, joint));
         warnings.extend(self.bond_warnings());
         let c = &self.contact;
@@ -379,16 +379,22 @@ impl Scene {
                 c.rtol
             ));
         }
-        if mesh.order == 1 {
-            for (name, m) in self.materials.iter().filter(|(_, m)| m.poisson > P1_LOCKING_POISSON) {
-                warnings.push(format!(
+        warnings.extend(self.locking_warnings(mesh.order));
+        Ok(warnings)
+    }
+
+    /// Materials with ν > [`P1_LOCKING_POISSON`] on a mesh of `order` 1.
+    pub(super) fn locking_warnings(&self, order: usize) -> Vec<String> {
+        let locking = self.materials.iter().filter(|(_, m)| order == 1 && m.poisson > P1_LOCKING_POISSON);
+        locking
+            .map(|(name, m)| {
+                format!(
                     "material '{name}': nu = {} > {P1_LOCKING_POISSON} with P1 elements, which lock near \
                      incompressibility; use mesh.order = 2",
                     m.poisson
-                ));
-            }
-        }
-        Ok(warnings)
+                )
+            })
+            .collect()
     }
 
     /// A bond's tensile strength outside [`TENSILE_STRENGTHS`] or fracture energy outside
@@ -446,21 +452,23 @@ impl Scene {
         Ok(warnings)
     }
 
-    /// Surfaces without a material, and cells in no physical surface: both get the default.
-    fn unassigned_surfaces(&self, mesh: &Mesh) -> Vec<String> {
+    /// Regions (surfaces of a section, volumes of a solid) without a material, and cells in no
+    /// physical region: both get the default.
+    pub(super) fn unassigned_materials<const D: usize>(&self, mesh: &Mesh<D>) -> Vec<String> {
         let m = Self::DEFAULT_MATERIAL;
         let default =
             format!("the default concrete (E = {:e} Pa, nu = {}, rho = {} kg/m3)", m.young, m.poisson, m.density);
+        let region = if D == 3 { "volume" } else { "surface" };
         let named = |name: &str| self.materials.keys().any(|k| k.eq_ignore_ascii_case(name));
         let mut warnings: Vec<String> = mesh
             .groups
             .iter()
-            .filter(|g| g.dim == 2 && !named(&g.name))
-            .map(|g| format!("surface '{}' has no material: it is given {default}", g.name))
+            .filter(|g| usize::from(g.dim) == D && !named(&g.name))
+            .map(|g| format!("{region} '{}' has no material: it is given {default}", g.name))
             .collect();
         let untagged = mesh.cell_tags.iter().filter(|&&t| t == 0).count();
         if untagged > 0 {
-            warnings.push(format!("{untagged} cells lie in no physical surface: they are given {default}"));
+            warnings.push(format!("{untagged} cells lie in no physical {region}: they are given {default}"));
         }
         warnings
     }

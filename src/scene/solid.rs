@@ -37,6 +37,24 @@ impl Scene {
         Ok(())
     }
 
+    /// What `damfem check` and `solve` warn about on a solid's `mesh`: physical surfaces on
+    /// the boundary without a role (traction-free), volumes without a material and cells in no
+    /// physical volume (with the defaults they get), and P1 with ν > 0.45.
+    pub fn solid_warnings(&self, mesh: &Mesh<3>) -> Result<Vec<String>, SceneError> {
+        let roled: Vec<i32> = self.roles(mesh)?.iter().map(|(t, _, _)| *t).collect();
+        let interior = mesh.interior_facets();
+        let mut warnings: Vec<String> = mesh
+            .groups
+            .iter()
+            .filter(|g| g.dim == 2 && !roled.contains(&g.tag))
+            .filter(|g| mesh.facets_tagged(&[g.tag]).any(|f| !interior[f]))
+            .map(|g| format!("boundary surface '{}' has no role: it is taken as free (traction-free)", g.name))
+            .collect();
+        warnings.extend(self.unassigned_materials(mesh));
+        warnings.extend(self.locking_warnings(mesh.order));
+        Ok(warnings)
+    }
+
     /// The elasticity problem of this scene on the solid's `mesh`.
     pub fn solid(&self, mesh: Mesh<3>) -> Result<Solid, SceneError> {
         self.check_dimension(3)?;

@@ -1,7 +1,7 @@
 //! `damfem` on solids (geometries with volumes): mesh, check and solve work; the commands and
 //! keys of plane sections are refused by name.
 
-use crate::support::{assert_ok, assert_refused, damfem, edited_scene, repo, stderr, TempDir};
+use crate::support::{assert_ok, assert_refused, check_warnings, damfem, edited_scene, repo, stderr, TempDir};
 use std::ffi::OsStr;
 
 /// Source: geo/monolith.toml, the Scene A section extruded by 15 m on a rock block, rollers
@@ -185,4 +185,27 @@ fn two_processes_solve_as_one() {
     let (r1, r2) = (reactions(&one), reactions(&two));
     let scale = r1.iter().fold(0.0f64, |m, r| m.max(r.abs()));
     assert!(r1.iter().zip(&r2).all(|(&a, &b)| close(a, b, scale)), "{r1:?} {r2:?}");
+}
+
+/// Source: geo/monolith.toml with the rock's material and the crest's table taken out.
+/// Goal: `check` and `solve` on a solid warn, as on a section, of a volume without a material
+/// (naming the default it gets) and of a boundary surface without a role (traction-free);
+/// the scene as shipped has no warning.
+/// Parameters: the scene's P1 mesh.
+#[test]
+fn a_solid_warns_of_what_it_takes_by_default() {
+    let tmp = TempDir::new("solid-warnings");
+    assert_eq!(check_warnings(&repo("geo/monolith.toml"), &[]), Vec::<String>::new());
+    let scene = edited_scene(&tmp, "monolith", |s| {
+        let s = s.replace("[materials.rock]\nE = 2.0e10\nnu = 0.25\nrho = 2600.0\n", "");
+        s.replace("[boundary.crest]\nrole = \"free\"\n", "")
+    });
+    let warnings = check_warnings(&scene, &[]);
+    assert_eq!(warnings.len(), 2, "{warnings:?}");
+    assert!(warnings.iter().any(|w| w.contains("volume 'rock' has no material") && w.contains("default concrete")));
+    assert!(warnings.iter().any(|w| w.contains("boundary surface 'crest' has no role")), "{warnings:?}");
+    let out = tmp.join("out");
+    let run = damfem(&[OsStr::new("solve"), scene.as_os_str(), OsStr::new("-o"), out.as_os_str()]);
+    assert_ok(&run);
+    assert!(stderr(&run).contains("warning: volume 'rock' has no material"), "{}", stderr(&run));
 }

@@ -7,7 +7,7 @@
 //! blocks stay whole for GAMG and the scale of the matrix is kept. GAMG's near null space is
 //! the six rigid motions of the node coordinates (`MatNullSpaceCreateRigidBody`).
 //!
-//! The solve runs on a team of MPI processes ([`team`]): this one alone, or with the workers
+//! The solve runs on a team of MPI processes (`team.rs`): this one alone, or with the workers
 //! the command line asked for ([`set_workers`]), each owning a contiguous range of nodes.
 //!
 //! PETSc is loaded when first needed (its BLAS starts threads as it loads, which must inherit
