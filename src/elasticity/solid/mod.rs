@@ -14,7 +14,7 @@ pub mod kernels;
 use super::material::Material;
 use super::rigid::free_motions_3d;
 use crate::fem::dofs::{DofMap, FIXED};
-use crate::fem::sparse::{components_dofs, LinearSystem, SparsePattern};
+use crate::fem::sparse::{components_dofs, LinearSystem, Local, SparsePattern};
 use crate::fem::tabulate::Tabulation;
 use crate::fem::{lagrange, tetrahedron};
 use crate::geometry::{distance3, Point3, TetMap, Vector3};
@@ -191,43 +191,46 @@ impl Solid {
 
     /// K and F on the free dofs of `dofs`, assembled in parallel over the cells.
     pub fn assemble(&self, dofs: &DofMap, pattern: &SparsePattern) -> Result<LinearSystem, SolidError> {
-        let (mesh, p) = (&self.mesh, self.mesh.order);
-        let nb = tetrahedron::n_basis(p);
-        let stiffness = Tabulation::tetrahedron(p, 2 * p - 2);
+        let rules = self.cell_rules();
+        let mut system = LinearSystem::zeros(pattern);
+        let mesh = &self.mesh;
+        let dofs_of = |c: usize, out: &mut Vec<usize>| components_dofs::<3>(mesh.cell(c), out);
+        let n_local = 3 * tetrahedron::n_basis(mesh.order);
+        system.assemble(pattern, dofs, mesh.n_cells(), n_local, dofs_of, |c, local| self.cell_system(c, &rules, local));
+        self.add_tractions(|local, f| system.add_load(dofs, local, f))?;
+        Ok(system)
+    }
+
+    /// The rules of the cell kernel: the stiffness's (degree 2p − 2) and the body load's.
+    fn cell_rules(&self) -> [Tabulation<3>; 2] {
+        let p = self.mesh.order;
         // the weight is constant on a cell: φ_i's degree p is integrated exactly
         let load_degree = match self.body {
             SolidBody::Weight(_) => p,
             SolidBody::Field(_) => p + 4,
         };
-        let load = Tabulation::tetrahedron(p, load_degree);
-        let mut system = LinearSystem::zeros(pattern);
-        let dofs_of = |c: usize, out: &mut Vec<usize>| components_dofs::<3>(mesh.cell(c), out);
-        system.assemble(pattern, dofs, mesh.n_cells(), 3 * nb, dofs_of, |c, local| {
-            let map = TetMap::new(mesh.cell_vertices(c));
-            let material = self.materials[c];
-            let (lambda, mu) = material.lame();
-            let mut grads = [[0.0; 3]; STIFFNESS_GRADIENTS];
-            kernels::stiffness(
-                &map,
-                &stiffness,
-                lambda,
-                mu,
-                &mut grads[..stiffness.n_points() * nb],
-                &mut local.matrix,
-            );
-            match &self.body {
-                SolidBody::Weight(g) => {
-                    kernels::body_load(&map, &load, |_| [0.0, 0.0, -material.density * g], &mut local.load)
-                }
-                SolidBody::Field(f) => kernels::body_load(&map, &load, |x| f(x), &mut local.load),
-            }
-        });
-        self.add_tractions(dofs, &mut system)?;
-        Ok(system)
+        [Tabulation::tetrahedron(p, 2 * p - 2), Tabulation::tetrahedron(p, load_degree)]
     }
 
-    /// F += ∫_{Γ_N} g_N · φ_i, a water pressure's facets cut at the water plane.
-    fn add_tractions(&self, dofs: &DofMap, system: &mut LinearSystem) -> Result<(), SolidError> {
+    /// Cell c's stiffness K_e and body load F_e into `local`, with the `rules` of [`Self::cell_rules`].
+    fn cell_system(&self, c: usize, [stiffness, load]: &[Tabulation<3>; 2], local: &mut Local) {
+        let map = TetMap::new(self.mesh.cell_vertices(c));
+        let material = self.materials[c];
+        let (lambda, mu) = material.lame();
+        let mut grads = [[0.0; 3]; STIFFNESS_GRADIENTS];
+        let nb = stiffness.n_basis;
+        kernels::stiffness(&map, stiffness, lambda, mu, &mut grads[..stiffness.n_points() * nb], &mut local.matrix);
+        match &self.body {
+            SolidBody::Weight(g) => {
+                kernels::body_load(&map, load, |_| [0.0, 0.0, -material.density * g], &mut local.load)
+            }
+            SolidBody::Field(f) => kernels::body_load(&map, load, |x| f(x), &mut local.load),
+        }
+    }
+
+    /// The loads ∫_F g_N · φ_i of each Neumann facet F, handed to `add` with the facet's dofs;
+    /// a water pressure's facets cut at the water plane.
+    fn add_tractions(&self, mut add: impl FnMut(&[usize], &[f64])) -> Result<(), SolidError> {
         let mesh = &self.mesh;
         let p = mesh.order;
         let normals = facets::outward_normals(mesh)
@@ -247,7 +250,7 @@ impl Solid {
                 let n = normals[facet];
                 facets::traction_load(v, p, &parts, degree, |x| bc.traction.at(x, n), &mut phi, &mut f);
                 components_dofs::<3>(mesh.facet(facet), &mut local);
-                system.add_load(dofs, &local, &f);
+                add(&local, &f);
             }
         }
         Ok(())
@@ -294,24 +297,37 @@ impl Solid {
     }
 
     /// The reaction force \[N\] of each Dirichlet surface, in the order of `dirichlet`:
-    /// R = K u − F on every dof (assembled again without constraints), summed over the dofs
-    /// the surface fixes; a node that two surfaces fix counts for the first.
+    /// R = K u − F on its fixed dofs, summed element by element over the cells and the Neumann
+    /// facets that touch a fixed node; a node that two surfaces fix counts for the first.
     pub fn reactions(&self, u: &[Vector3]) -> Result<Vec<(i32, Vector3)>, SolidError> {
-        let all = DofMap::new(self.mesh.n_points(), 3, &[]);
-        let pattern = SparsePattern::new(&self.mesh, &all);
-        let system = self.assemble(&all, &pattern)?;
-        let x: Vec<f64> = u.iter().flatten().copied().collect();
-        let mut r = vec![0.0; x.len()];
-        pattern.multiply(&system.values, &x, &mut r);
-        let mut claimed = vec![false; x.len()];
+        let mesh = &self.mesh;
+        let mut fixed = vec![false; mesh.n_points()];
+        for f in mesh.facets_tagged(&self.dirichlet.iter().map(|bc| bc.tag).collect::<Vec<_>>()) {
+            mesh.facet(f).iter().for_each(|&n| fixed[n] = true);
+        }
+        let rules = self.cell_rules();
+        let mut local = Local::new(3 * tetrahedron::n_basis(mesh.order));
+        let mut r = vec![0.0; 3 * mesh.n_points()];
+        for c in (0..mesh.n_cells()).filter(|&c| mesh.cell(c).iter().any(|&n| fixed[n])) {
+            components_dofs::<3>(mesh.cell(c), &mut local.dofs);
+            self.cell_system(c, &rules, &mut local);
+            let n = local.dofs.len();
+            for (i, &gi) in local.dofs.iter().enumerate() {
+                let ku: f64 =
+                    local.dofs.iter().enumerate().map(|(j, &gj)| local.matrix[i * n + j] * u[gj / 3][gj % 3]).sum();
+                r[gi] += ku - local.load[i];
+            }
+        }
+        self.add_tractions(|dofs, f| dofs.iter().zip(f).for_each(|(&g, &fi)| r[g] -= fi))?;
+        let mut claimed = vec![false; r.len()];
         let reaction = |bc: &SolidDirichlet, claimed: &mut [bool]| {
             let mut total = [0.0; 3];
-            for f in self.mesh.facets_tagged(std::slice::from_ref(&bc.tag)) {
-                for &n in self.mesh.facet(f) {
+            for f in mesh.facets_tagged(std::slice::from_ref(&bc.tag)) {
+                for &n in mesh.facet(f) {
                     for a in (0..3).filter(|&a| bc.fix[a]) {
                         let dof = 3 * n + a;
                         if !std::mem::replace(&mut claimed[dof], true) {
-                            total[a] += r[dof] - system.rhs[dof];
+                            total[a] += r[dof];
                         }
                     }
                 }
