@@ -209,3 +209,29 @@ fn a_solid_warns_of_what_it_takes_by_default() {
     assert_ok(&run);
     assert!(stderr(&run).contains("warning: volume 'rock' has no material"), "{}", stderr(&run));
 }
+
+/// Source: geo/monolith.toml and geo/block3d.toml, meshed by gmsh.
+/// Goal: the estimate of a solid's tetrahedra before meshing (the bounding box in regular
+/// tetrahedra of the curves' mean segment, measured in 3D) bounds the count gmsh makes from
+/// above, by at most 4 times, so that the cell limit refuses what is too large and no more.
+/// Parameters: `--size-factor 0.5`; `--max-cells 1` to have the estimate printed.
+#[test]
+fn the_estimate_of_a_solid_bounds_its_tetrahedra_closely() {
+    let tmp = TempDir::new("solid-estimate");
+    for scene in ["geo/monolith.toml", "geo/block3d.toml"] {
+        let (out, path) = (tmp.join("out"), repo(scene));
+        let mesh = |extra: &[&str]| {
+            let mut args = vec![OsStr::new("mesh"), path.as_os_str(), OsStr::new("-o"), out.as_os_str()];
+            args.extend(["--size-factor", "0.5"].iter().chain(extra).map(OsStr::new));
+            stderr(&damfem(&args))
+        };
+        let count = |text: &str, before: &str| -> f64 {
+            let at = text.find(" tetrahedra").unwrap_or_else(|| panic!("{text}"));
+            let word = text[..at].rsplit(before).next().unwrap();
+            word.parse().unwrap_or_else(|_| panic!("{word:?} in {text}"))
+        };
+        let estimate = count(&mesh(&["--max-cells", "1"]), "about ");
+        let made = count(&mesh(&[]), " ");
+        assert!(made <= estimate && estimate <= 4.0 * made, "{scene}: estimate {estimate:e}, made {made}");
+    }
+}

@@ -19,7 +19,7 @@
 //!   [`NOTICE_AFTER`] seconds the limit is stated once on stderr.
 
 use super::{api, GmshError};
-use crate::geometry::{distance, Point};
+use crate::geometry::tetrahedron::{distance3, Point3};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU32, AtomicUsize, Ordering};
 use std::sync::{Mutex, PoisonError};
@@ -193,15 +193,15 @@ pub(super) fn check_estimate(path: &Path, estimate: f64, cells: &str, sizes: &st
 /// Mean length of the curve segments of the current mesh, `None` if there is none.
 fn mean_segment_length() -> Result<Option<f64>, GmshError> {
     let (tags, coords) = api::nodes()?;
-    let xy: std::collections::HashMap<usize, Point> =
-        tags.as_slice().iter().zip(coords.as_slice().chunks_exact(3)).map(|(&t, c)| (t, [c[0], c[1]])).collect();
+    let xyz: std::collections::HashMap<usize, Point3> =
+        tags.as_slice().iter().zip(coords.as_slice().chunks_exact(3)).map(|(&t, c)| (t, [c[0], c[1], c[2]])).collect();
     let (mut total, mut count) = (0.0, 0usize);
     for (_, curve) in api::entities(1)? {
         for &element_type in api::element_types(1, curve)?.as_slice() {
             let stride = if element_type == 8 { 3 } else { 2 };
             for segment in api::element_nodes(element_type, curve)?.as_slice().chunks_exact(stride) {
-                let (Some(a), Some(b)) = (xy.get(&segment[0]), xy.get(&segment[1])) else { continue };
-                total += distance(*a, *b);
+                let (Some(a), Some(b)) = (xyz.get(&segment[0]), xyz.get(&segment[1])) else { continue };
+                total += distance3(*a, *b);
                 count += 1;
             }
         }
