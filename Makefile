@@ -10,7 +10,7 @@
 # Each installation step runs only when something is missing, so a second run is fast.
 
 APT_PACKAGES := libgmsh-dev gmsh libclang-dev libgl1 libegl1 libegl-mesa0 libgl1-mesa-dri fonts-dejavu-core \
-	libpetsc-real-dev pkg-config
+	libpetsc-real-dev openmpi-bin pkg-config
 VENV := .venv
 PYTHON := $(VENV)/bin/python
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
