@@ -60,8 +60,9 @@ pub struct Args {
     #[arg(long)]
     check_equilibration: bool,
     /// Linear solver of a solid: direct (sparse Cholesky) or iterative (CG with PETSc's
-    /// algebraic multigrid); default by size, iterative from 100 000 unknowns. A plane section
-    /// is solved directly
+    /// algebraic multigrid, on one MPI process per thread: RAYON_NUM_THREADS, by default the
+    /// cores); default by size, iterative from 100 000 unknowns. A plane section is solved
+    /// directly
     #[arg(long, value_enum)]
     solver: Option<SolverArg>,
     /// Also compute a sharp lower bound of the error's dual norm and I_eff = eta_tot / bound,

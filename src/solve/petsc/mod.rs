@@ -62,15 +62,12 @@ unsafe impl Send for Petsc {}
 /// PETSc, loaded and initialised on first use.
 static PETSC: Mutex<Option<Result<Petsc, String>>> = Mutex::new(None);
 
-/// The address of the data symbol `name` of the library at `path` (and its dependencies).
+/// The address of the data symbol `name` of `library` (or of its dependencies).
 ///
 /// # Safety
 /// `T` must be the symbol's C type.
-unsafe fn data_symbol<T, H>(path: &str, name: &[u8]) -> Result<*mut H, libloading::Error> {
-    let library = libloading::Library::new(path)?;
-    let address = (*library.get::<*mut T>(name)?).cast();
-    std::mem::forget(library);
-    Ok(address)
+unsafe fn data_symbol<T, H>(library: &libloading::Library, name: &[u8]) -> Result<*mut H, libloading::Error> {
+    Ok((*library.get::<*mut T>(name)?).cast())
 }
 
 impl Petsc {
@@ -82,19 +79,26 @@ impl Petsc {
         // SAFETY: loading PETSc runs its and MPI's initialisers, which have no preconditions;
         // the data symbols are Open MPI's predefined objects, whose addresses the MPI handles are.
         let petsc = unsafe {
-            Petsc {
+            let library = libloading::Library::new(path).map_err(fail)?;
+            let petsc = Petsc {
                 api: ffi::Petsc::new(path).map_err(fail)?,
-                comm_self: data_symbol::<ffi::ompi_predefined_communicator_t, _>(path, b"ompi_mpi_comm_self\0")
+                comm_self: data_symbol::<ffi::ompi_predefined_communicator_t, _>(&library, b"ompi_mpi_comm_self\0")
                     .map_err(fail)?,
-                comm_null: data_symbol::<ffi::ompi_predefined_communicator_t, _>(path, b"ompi_mpi_comm_null\0")
+                comm_null: data_symbol::<ffi::ompi_predefined_communicator_t, _>(&library, b"ompi_mpi_comm_null\0")
                     .map_err(fail)?,
-                byte: data_symbol::<ffi::ompi_predefined_datatype_t, _>(path, b"ompi_mpi_byte\0").map_err(fail)?,
-                info_null: data_symbol::<ffi::ompi_predefined_info_t, _>(path, b"ompi_mpi_info_null\0")
+                byte: data_symbol::<ffi::ompi_predefined_datatype_t, _>(&library, b"ompi_mpi_byte\0").map_err(fail)?,
+                info_null: data_symbol::<ffi::ompi_predefined_info_t, _>(&library, b"ompi_mpi_info_null\0")
                     .map_err(fail)?,
-                errors_return: data_symbol::<ffi::ompi_predefined_errhandler_t, _>(path, b"ompi_mpi_errors_return\0")
-                    .map_err(fail)?,
+                errors_return: data_symbol::<ffi::ompi_predefined_errhandler_t, _>(
+                    &library,
+                    b"ompi_mpi_errors_return\0",
+                )
+                .map_err(fail)?,
                 team: None,
-            }
+            };
+            // the addresses stay valid as long as the library is loaded: for the process
+            std::mem::forget(library);
+            petsc
         };
         let mut words: Vec<Vec<u8>> =
             ["damfem", "-no_signal_handler"].iter().map(|w| format!("{w}\0").into_bytes()).collect();
